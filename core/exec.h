@@ -1,0 +1,67 @@
+// core/exec.h — execution policy: how many threads, and reference vs fast traversal.
+//
+// Algorithms never depend on the policy: a stage's per-pixel maths is a pure function, and the
+// traversal only decides the order in which independent output pixels are computed (one writer
+// per pixel/tile), so the bytes cannot depend on the thread count.
+#pragma once
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "core/image.h"
+
+namespace aq {
+
+enum class Traversal {
+    Reference,  //!< plain single-threaded row-major loop: obviously correct, the oracle
+    Fast,       //!< tiled, oneTBB-parallel, vectorisable
+};
+
+struct Exec {
+    int threads = 0;                        //!< 0 = all hardware threads; >= 1 caps the arena
+    Traversal traversal = Traversal::Fast;  //!< Reference forces one thread, row-major
+    int tile = 64;                          //!< tile side for the fast traversal
+
+    static Exec reference() { return {1, Traversal::Reference, 64}; }
+    static Exec fast(int threads = 0) { return {threads, Traversal::Fast, 64}; }
+};
+
+//! Runs body(int max_concurrency) inside a task arena honouring ex.threads.
+template <class F>
+void with_arena(const Exec& ex, F&& body) {
+    const int n = ex.threads > 0 ? ex.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(n);
+    arena.execute([&] { body(); });
+}
+
+//! Calls f(Roi tile) over roi: one row-major loop for Reference, tiles on oneTBB for Fast.
+//! Each output pixel belongs to exactly one tile; f must only write pixels inside its tile.
+template <class F>
+void for_each_tile(const Exec& ex, Roi roi, F&& f) {
+    if (roi.empty()) return;
+    if (ex.traversal == Traversal::Reference) {
+        f(roi);
+        return;
+    }
+    const int t = std::max(8, ex.tile);
+    with_arena(ex, [&] {
+        tbb::parallel_for(
+            tbb::blocked_range2d<int>(roi.y0, roi.y1, t, roi.x0, roi.x1, t),
+            [&](const tbb::blocked_range2d<int>& r) {
+                f(Roi{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
+            },
+            tbb::simple_partitioner());
+    });
+}
+
+//! Per-pixel convenience: f(x, y) for every pixel of roi, with the traversal of ex.
+template <class F>
+void for_each_pixel(const Exec& ex, Roi roi, F&& f) {
+    for_each_tile(ex, roi, [&](Roi r) {
+        for (int y = r.y0; y < r.y1; ++y)
+            for (int x = r.x0; x < r.x1; ++x) f(x, y);
+    });
+}
+
+}  // namespace aq

@@ -1,0 +1,116 @@
+// core/image.h — float images with 1..4 interleaved channels, typed views, regions and borders.
+//
+// Every G-buffer target and every stylization intermediate is an ImageF. Stages get typed views
+// (View<float>, View<glm::vec4>, ...) whose element size must match the channel count; the check
+// happens once, at the view's creation, so inner loops index without checks.
+#pragma once
+
+#include <algorithm>
+#include <climits>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace aq {
+
+//! Error raised for invalid input at an API entry (bad sizes, names, ranges, files).
+struct Error : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+//! Largest image side and pixel count we allocate (docs/limits.md). A request above these is
+//! refused before any allocation. 32 Mpx covers 8K UHD; at ~100 B/px of G-buffer plus the
+//! stylization intermediates this stays well inside our 24 GiB machines.
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr std::int64_t kMaxImagePixels = 32LL * 1024 * 1024;
+
+//! Throws aq::Error unless 1 <= w,h <= kMaxImageSide and w*h <= kMaxImagePixels.
+void check_image_size(int w, int h, const std::string& what = "image");
+
+//! Half-open pixel region [x0, x1) x [y0, y1). Roi::all() means the whole image.
+struct Roi {
+    int x0 = 0, y0 = 0, x1 = INT_MAX, y1 = INT_MAX;
+    static constexpr Roi all() { return {}; }
+    Roi clipped(int w, int h) const {
+        return {std::max(x0, 0), std::max(y0, 0), std::min(x1, w), std::min(y1, h)};
+    }
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+};
+
+//! How a neighbourhood read outside the image is resolved. Always named, never accidental.
+enum class Border { Clamp, Mirror };
+
+//! Maps an out-of-range coordinate into [0, n) with the given border rule (n >= 1).
+inline int resolve_border(int i, int n, Border b) {
+    if (i >= 0 && i < n) return i;
+    if (b == Border::Clamp) return i < 0 ? 0 : n - 1;
+    // Mirror without repeating the edge texel (GL_MIRRORED_REPEAT-like about the edge centre):
+    // -1 -> 1, n -> n-2. Period 2(n-1); n == 1 degenerates to 0.
+    if (n == 1) return 0;
+    const int period = 2 * (n - 1);
+    int m = i % period;
+    if (m < 0) m += period;
+    return m < n ? m : period - m;
+}
+
+const char* border_name(Border b);
+Border parse_border(const std::string& s);  // "clamp" | "mirror", throws aq::Error
+
+template <class T>
+struct View {
+    T* data = nullptr;
+    int width = 0, height = 0;
+    std::ptrdiff_t stride = 0;  //!< elements per row
+
+    T& operator()(int x, int y) const { return data[y * stride + x]; }
+    T* row(int y) const { return data + y * stride; }
+    //! Read with the border rule applied (neighbourhood taps).
+    const T& at(int x, int y, Border b) const {
+        return data[resolve_border(y, height, b) * stride + resolve_border(x, width, b)];
+    }
+};
+
+//! Interleaved float image, 1..4 channels, row-major, no padding.
+class ImageF {
+public:
+    ImageF() = default;
+    ImageF(int w, int h, int channels, float fill = 0.0f);
+
+    int width() const { return w_; }
+    int height() const { return h_; }
+    int channels() const { return c_; }
+    bool empty() const { return pixels_.empty(); }
+    std::size_t num_values() const { return pixels_.size(); }
+    float* data() { return pixels_.data(); }
+    const float* data() const { return pixels_.data(); }
+    float& at(int x, int y, int c) { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
+    float at(int x, int y, int c) const { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
+    bool same_size(const ImageF& o) const { return w_ == o.w_ && h_ == o.h_; }
+
+    //! Typed view; T must be float, glm::vec2, glm::vec3 or glm::vec4 matching channels().
+    template <class T>
+    View<T> view() {
+        check_view(sizeof(T) / sizeof(float));
+        return {reinterpret_cast<T*>(pixels_.data()), w_, h_, w_};
+    }
+    template <class T>
+    View<const T> view() const {
+        check_view(sizeof(T) / sizeof(float));
+        return {reinterpret_cast<const T*>(pixels_.data()), w_, h_, w_};
+    }
+
+    bool operator==(const ImageF& o) const = default;
+
+private:
+    void check_view(std::size_t c) const;
+    int w_ = 0, h_ = 0, c_ = 0;
+    std::vector<float> pixels_;
+};
+
+}  // namespace aq

@@ -1,0 +1,140 @@
+// scenes/scene.h — the in-memory scene every loader produces and the rasterizer consumes.
+//
+// Loaders (glTF, scene files, procedural generators) resolve everything that does not depend on
+// the view: triangle lists (strips and fans expanded), normals and tangents computed where
+// missing, vertex colours widened to RGBA float, and the per-vertex control values already mapped
+// onto the four WC18/MNPR control targets (spec §1). The rasterizer only transforms and shades.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+
+namespace aq::scene {
+
+enum class Wrap { Repeat, ClampToEdge, MirroredRepeat };
+enum class Filter { Nearest, Linear };
+
+struct Sampler {
+    Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
+    Filter mag = Filter::Linear, min = Filter::Linear;  //!< mipmaps are not used: min maps to its base filter
+};
+
+struct Texture {
+    std::string name;  //!< URI or image name, for messages
+    ImageF image;      //!< RGBA float, values as stored (no transfer curve applied)
+    bool srgb = false; //!< base colour textures are sRGB-encoded in glTF; decoded at load if true
+};
+
+struct TextureRef {
+    int texture = -1;  //!< index into Scene::textures, -1 = none
+    int texcoord = 0;  //!< which TEXCOORD_n (only 0 is loaded; others fall back to 0 with a warning)
+    Sampler sampler;
+    float scale = 1.0f;  //!< normalTexture.scale
+};
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
+//! Number of control targets in the WC18/MNPR layout (spec §1 table).
+inline constexpr int kNumControlTargets = 4;
+enum ControlTarget { kCtrlPigment = 0, kCtrlSubstrate = 1, kCtrlEdge = 2, kCtrlAbstraction = 3 };
+
+//! Per-material watercolor parameters: the second of WC18 §5's three levels of control.
+struct WatercolorMaterial {
+    // Reflectance model, WC17 eq. 3-5 (MNPR defaults).
+    float dilute = 0.8f;        //!< d, [0, 1]
+    float cangiante = 0.2f;     //!< c, [0, 1]
+    float diffuse_factor = 0.2f;//!< k in DF = lerp(1, sat(N.L), k), [0, 1]
+    float dilute_area = 1.0f;   //!< dA, [0.01, 1]
+    float shade_wrap = 0.0f;    //!< wraps the diffuse term, [0, 1]
+    glm::vec3 shade_color{0.0f};//!< colour of the shaded side mixed by (1 - DF), MNPR default black (off)
+    float specular = 0.0f;      //!< Blinn-Phong specular intensity, [0, 1]
+    float specular_power = 32.0f;
+    //! Constant control values added to the per-vertex ones (per target, RGB used).
+    std::array<glm::vec4, kNumControlTargets> control{};
+    //! Optional control textures sampled with TEXCOORD_0 (third source of control, spec §1).
+    std::array<TextureRef, kNumControlTargets> control_texture{};
+};
+
+struct Material {
+    std::string name;
+    glm::vec4 base_color{1.0f};
+    TextureRef base_color_texture;
+    TextureRef normal_texture;
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha_cutoff = 0.5f;
+    bool double_sided = false;
+    WatercolorMaterial wc;
+};
+
+//! One draw: an indexed triangle list with a material.
+struct Primitive {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;   //!< always filled (computed when the file has none)
+    std::vector<glm::vec4> tangents;  //!< filled when the material has a normal map, else empty
+    std::vector<glm::vec2> uv0;       //!< empty when absent
+    std::vector<glm::vec4> colors;    //!< COLOR_0 as RGBA float, empty when absent
+    //! Per-vertex control values mapped onto the WC18 layout; an empty vector means zero.
+    std::array<std::vector<glm::vec4>, kNumControlTargets> control;
+    std::vector<std::uint32_t> indices;  //!< triangle list, 3 per triangle, all < positions.size()
+    int material = 0;                    //!< index into Scene::materials (a default one exists)
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<Primitive> primitives;
+};
+
+//! A mesh placed in the world. object_id is unique per instance, starting at 1 (0 = background).
+struct Instance {
+    int mesh = 0;
+    glm::mat4 world{1.0f};
+    std::uint32_t object_id = 1;
+    std::string name;
+};
+
+struct Camera {
+    std::string name;
+    glm::mat4 view{1.0f};   //!< world -> eye (right-handed, looking down -Z)
+    bool orthographic = false;
+    float yfov = 0.8f;      //!< radians, perspective
+    float xmag = 1.0f, ymag = 1.0f;  //!< orthographic half extents
+    float znear = 0.1f;
+    float zfar = 100.0f;    //!< finite far plane (glTF infinite projections get a computed one)
+    std::optional<float> aspect;     //!< glTF aspectRatio; when absent the image's is used
+};
+
+//! Directional light; direction points from the surface towards the light, world space.
+struct Light {
+    glm::vec3 direction{0.0f, 0.0f, 1.0f};
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+};
+
+struct Bounds {
+    glm::vec3 min{0.0f}, max{0.0f};
+    bool valid = false;
+};
+
+struct Scene {
+    std::vector<Mesh> meshes;
+    std::vector<Instance> instances;
+    std::vector<Material> materials;  //!< materials[0] may be the default material
+    std::vector<Texture> textures;
+    std::vector<Camera> cameras;
+    std::vector<Light> lights;
+    glm::vec3 ambient{0.0f};
+    std::vector<std::string> warnings;  //!< non-fatal problems met while loading
+    std::string source;                 //!< file it came from, for messages
+
+    Bounds world_bounds() const;  //!< over finite positions of all instances
+    std::size_t triangle_count() const;
+};
+
+}  // namespace aq::scene

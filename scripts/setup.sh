@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Installs Aquarelle's Debian 12 dependencies (idempotent) and builds the project into build/.
+# Usage: scripts/setup.sh [--no-install] [--build-dir DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=build
+install=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --no-install) install=0 ;;
+    --build-dir) build_dir="$2"; shift ;;
+    -h|--help) sed -n '2,3p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# Every package the build, the tests and the GL reference need (../shared/platform-notes.md).
+pkgs=(build-essential cmake ninja-build pkg-config
+      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev libbenchmark-dev libgtest-dev
+      nlohmann-json3-dev libssl-dev
+      libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)
+
+if [ "$install" = 1 ]; then
+  missing=()
+  for p in "${pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "setup: installing ${missing[*]}"
+    sudo_cmd=""
+    [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+    $sudo_cmd apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  else
+    echo "setup: all Debian packages present"
+  fi
+fi
+
+gen=()
+command -v ninja >/dev/null && gen=(-G Ninja)
+if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+  cmake -S . -B "$build_dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=Release
+fi
+cmake --build "$build_dir" --parallel "$(nproc)"
+echo "setup: built into $build_dir/"

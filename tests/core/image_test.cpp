@@ -1,0 +1,42 @@
+// tests/core/image_test.cpp — border rules, size limits, typed views.
+#include "core/image.h"
+
+#include <gtest/gtest.h>
+
+namespace aq {
+
+TEST(Border, ClampAndMirrorMapIntoRange) {
+    EXPECT_EQ(resolve_border(-3, 5, Border::Clamp), 0);
+    EXPECT_EQ(resolve_border(7, 5, Border::Clamp), 4);
+    EXPECT_EQ(resolve_border(-1, 5, Border::Mirror), 1);
+    EXPECT_EQ(resolve_border(5, 5, Border::Mirror), 3);
+    EXPECT_EQ(resolve_border(-4, 5, Border::Mirror), 4);
+    EXPECT_EQ(resolve_border(9, 5, Border::Mirror), 1);
+    for (int i = -40; i < 40; ++i) {
+        for (int n : {1, 2, 3, 7}) {
+            int m = resolve_border(i, n, Border::Mirror);
+            EXPECT_GE(m, 0);
+            EXPECT_LT(m, n);
+        }
+    }
+}
+
+TEST(ImageF, RefusesAbsurdSizesBeforeAllocating) {
+    EXPECT_THROW(ImageF(0, 10, 4), Error);
+    EXPECT_THROW(ImageF(-5, 10, 4), Error);
+    EXPECT_THROW(ImageF(kMaxImageSide + 1, 1, 1), Error);
+    EXPECT_THROW(ImageF(16384, 16384, 4), Error);  // 256 Mpx > limit
+    EXPECT_THROW(ImageF(4, 4, 5), Error);
+    EXPECT_NO_THROW(ImageF(4, 4, 1));
+}
+
+TEST(ImageF, ViewChannelCountIsChecked) {
+    ImageF img(3, 2, 4, 0.5f);
+    EXPECT_NO_THROW(img.view<glm::vec4>());
+    EXPECT_THROW(img.view<float>(), Error);
+    auto v = img.view<glm::vec4>();
+    v(2, 1) = glm::vec4(1, 2, 3, 4);
+    EXPECT_EQ(img.at(2, 1, 2), 3.0f);
+}
+
+}  // namespace aq
