@@ -1,0 +1,102 @@
+// stylize/stage.cpp — registry storage, lookup and parameter validation.
+#include "stylize/stage.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace aq::stylize {
+
+void Registry::add(StageVariant v) {
+    if (has(v.stage, v.variant)) throw Error("stage variant '" + v.key() + "' registered twice");
+    variants_.push_back(std::move(v));
+}
+
+bool Registry::has(const std::string& stage, const std::string& variant) const {
+    for (auto& v : variants_)
+        if (v.stage == stage && v.variant == variant) return true;
+    return false;
+}
+
+const StageVariant& Registry::get(const std::string& stage, const std::string& variant) const {
+    for (auto& v : variants_)
+        if (v.stage == stage && v.variant == variant) return v;
+    std::string have;
+    for (auto* v : variants(stage)) have += (have.empty() ? "" : ", ") + v->variant;
+    if (have.empty()) {
+        std::string all;
+        for (auto& s : stages()) all += (all.empty() ? "" : ", ") + s;
+        throw Error("unknown stage '" + stage + "' (stages: " + all + ")");
+    }
+    throw Error("unknown variant '" + variant + "' of stage '" + stage + "' (variants: " + have + ")");
+}
+
+const StageVariant& Registry::default_variant(const std::string& stage) const {
+    auto vs = variants(stage);
+    if (vs.empty()) return get(stage, "");  // throws with the list of stages
+    return *vs.front();
+}
+
+std::vector<std::string> Registry::stages() const {
+    std::vector<std::string> out;
+    for (auto& v : variants_) {
+        bool seen = false;
+        for (auto& s : out) seen |= (s == v.stage);
+        if (!seen) out.push_back(v.stage);
+    }
+    return out;
+}
+
+std::vector<const StageVariant*> Registry::variants(const std::string& stage) const {
+    std::vector<const StageVariant*> out;
+    for (auto& v : variants_)
+        if (v.stage == stage) out.push_back(&v);
+    return out;
+}
+
+std::vector<const StageVariant*> Registry::all() const {
+    std::vector<const StageVariant*> out;
+    for (auto& v : variants_) out.push_back(&v);
+    return out;
+}
+
+ParamValues Registry::resolve_params(const StageVariant& v, const std::map<std::string, double>& overrides,
+                                     const std::string& where) {
+    ParamValues out;
+    for (auto& d : v.params) out[d.name] = d.def;
+    for (auto& [name, value] : overrides) {
+        const ParamDesc* d = nullptr;
+        for (auto& p : v.params)
+            if (p.name == name) d = &p;
+        if (!d) {
+            std::string have;
+            for (auto& p : v.params) have += (have.empty() ? "" : ", ") + p.name;
+            throw Error(where + ": unknown parameter '" + name + "' of " + v.key() + " (parameters: " +
+                        (have.empty() ? "none" : have) + ")");
+        }
+        std::ostringstream range;
+        range << "[" << d->lo << ", " << d->hi << "]";
+        if (!std::isfinite(value) || value < d->lo || value > d->hi) {
+            std::ostringstream msg;
+            msg << where << ": " << v.key() << "." << name << " = " << value << " is outside " << range.str();
+            throw Error(msg.str());
+        }
+        if (d->kind == ParamKind::Int && value != std::floor(value))
+            throw Error(where + ": " + v.key() + "." + name + " must be an integer");
+        if (d->kind == ParamKind::Bool && value != 0.0 && value != 1.0)
+            throw Error(where + ": " + v.key() + "." + name + " must be true/false (1/0)");
+        out[name] = value;
+    }
+    return out;
+}
+
+const Registry& builtin_registry() {
+    static const Registry r = [] {
+        Registry reg;
+        register_stages_a(reg);
+        register_stages_b(reg);
+        return reg;
+    }();
+    return r;
+}
+
+}  // namespace aq::stylize

@@ -1,0 +1,146 @@
+// stylize/stage.h — the stage registry: every image-space effect, every published variant, by name.
+//
+// A stage variant is data: {stage, variant, ports it reads and writes, parameter table, run}.
+// Tests, benchmarks, the CLI and pipeline files all find variants here by name (conventions.md:
+// "variants are registered, not copy-pasted"). The per-pixel maths lives in typed functions in
+// stylize/stages/*.h; the registry entry only adapts them to named targets and parameter maps.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "core/targets.h"
+
+namespace aq::stylize {
+
+// ---------------------------------------------------------------------------------------------
+// Parameters: a struct with defaults (the stage's typed API) plus a table of names and ranges.
+
+enum class ParamKind { Float, Int, Bool };
+
+struct ParamDesc {
+    std::string name;
+    ParamKind kind = ParamKind::Float;
+    double def = 0, lo = 0, hi = 1;
+    std::string doc;
+};
+
+//! Complete, validated parameter values of one stage instance (every declared name present).
+using ParamValues = std::map<std::string, double>;
+
+//! Binds the fields of a parameter struct P to names and ranges.
+template <class P>
+class ParamTable {
+public:
+    ParamTable& f(const char* name, float P::*m, double lo, double hi, const char* doc) {
+        add({name, ParamKind::Float, double(P{}.*m), lo, hi, doc},
+            [m](P& p, double v) { p.*m = float(v); });
+        return *this;
+    }
+    ParamTable& i(const char* name, int P::*m, int lo, int hi, const char* doc) {
+        add({name, ParamKind::Int, double(P{}.*m), double(lo), double(hi), doc},
+            [m](P& p, double v) { p.*m = int(v); });
+        return *this;
+    }
+    ParamTable& b(const char* name, bool P::*m, const char* doc) {
+        add({name, ParamKind::Bool, (P{}.*m) ? 1.0 : 0.0, 0.0, 1.0, doc},
+            [m](P& p, double v) { p.*m = v != 0.0; });
+        return *this;
+    }
+    const std::vector<ParamDesc>& descs() const { return descs_; }
+    //! Values must already be validated (see Registry::resolve_params).
+    P from(const ParamValues& v) const {
+        P p{};
+        for (std::size_t k = 0; k < descs_.size(); ++k) {
+            auto it = v.find(descs_[k].name);
+            if (it != v.end()) setters_[k](p, it->second);
+        }
+        return p;
+    }
+
+private:
+    void add(ParamDesc d, std::function<void(P&, double)> s) {
+        descs_.push_back(std::move(d));
+        setters_.push_back(std::move(s));
+    }
+    std::vector<ParamDesc> descs_;
+    std::vector<std::function<void(P&, double)>> setters_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Pipeline-wide values every stage may read (paper colour, paper texture, depth range).
+
+struct Globals {
+    glm::vec3 substrate_color{1.0f, 1.0f, 1.0f};  //!< paper colour Cp (spec: default white)
+    //! Paper texture prepared for this image size: RGB = (normal.x, normal.y) in [0,1] 0.5-centred,
+    //! height in B (MNPR layout), tiled one texel per pixel at scale 1. Empty when no paper is set.
+    const ImageF* paper = nullptr;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Ports: the logical inputs and outputs of a stage, bound to target names by the pipeline.
+
+struct Port {
+    std::string name;            //!< logical name used in pipeline files ("color", "edges", ...)
+    std::string default_target;  //!< target name used when the pipeline does not bind the port
+    int channels = 4;            //!< required channel count
+    bool optional = false;       //!< inputs only: may be absent (stage documents its fallback)
+};
+
+//! What a stage sees when it runs: resolved inputs (nullptr for an absent optional input) and the
+//! outputs it must fill (it allocates them, choosing their size, e.g. half resolution).
+struct StageIO {
+    std::vector<const ImageF*> in;
+    std::vector<ImageF*> out;
+    const Globals* globals = nullptr;
+};
+
+using RunFn = std::function<void(StageIO& io, const ParamValues& params, const Exec& ex)>;
+
+struct StageVariant {
+    std::string stage;    //!< e.g. "bleed"
+    std::string variant;  //!< e.g. "joint_bilateral"
+    std::string doc;      //!< one line, with the paper and equation it implements
+    std::vector<Port> inputs;
+    std::vector<Port> outputs;
+    std::vector<ParamDesc> params;
+    RunFn run;
+    bool exact_fast = true;  //!< fast traversal equals reference bit for bit (else: ulp bound documented)
+    std::string key() const { return stage + "/" + variant; }
+};
+
+class Registry {
+public:
+    //! Adds a variant; throws aq::Error on duplicate stage/variant.
+    void add(StageVariant v);
+    //! Throws aq::Error naming the stage and listing what exists.
+    const StageVariant& get(const std::string& stage, const std::string& variant) const;
+    const StageVariant& default_variant(const std::string& stage) const;  //!< first registered
+    bool has(const std::string& stage, const std::string& variant) const;
+    std::vector<std::string> stages() const;                      //!< in registration order
+    std::vector<const StageVariant*> variants(const std::string& stage) const;
+    std::vector<const StageVariant*> all() const;
+
+    //! Defaults overlaid with `overrides`; throws aq::Error for unknown names, non-finite or
+    //! out-of-range values, non-integers for Int and non-0/1 for Bool. `where` prefixes messages.
+    static ParamValues resolve_params(const StageVariant& v, const std::map<std::string, double>& overrides,
+                                      const std::string& where);
+
+private:
+    std::vector<StageVariant> variants_;
+};
+
+//! The registry holding every built-in stage variant (built once, thread-safe).
+const Registry& builtin_registry();
+
+// Registration entry points, one per source group (see stylize/stages/).
+void register_stages_a(Registry& r);  // adjust, edges, pigment density, blurs, bleeding blend
+void register_stages_b(Registry& r);  // edge darkening, gaps & overlaps, pigment application, substrate
+
+}  // namespace aq::stylize
