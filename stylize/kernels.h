@@ -1,0 +1,53 @@
+// stylize/kernels.h — small shared building blocks for stages: clamps, luminance, Gaussian
+// weights, bilinear sampling. Pure functions, no allocation, safe for inner loops.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+
+namespace aq::stylize {
+
+inline float sat(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x); }
+inline glm::vec3 sat(glm::vec3 v) { return {sat(v.x), sat(v.y), sat(v.z)}; }
+inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
+inline glm::vec3 lerp(glm::vec3 a, glm::vec3 b, float t) { return a + (b - a) * t; }
+//! GLSL smoothstep.
+inline float smoothstep(float e0, float e1, float x) {
+    const float t = sat((x - e0) / (e1 - e0));
+    return t * t * (3.0f - 2.0f * t);
+}
+//! Rec. 709 luma weights (MNPR's luminance()).
+inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+//! Normalised 1-D Gaussian weights for offsets -radius..radius (2*radius+1 taps).
+inline std::vector<float> gaussian_weights(int radius, float sigma) {
+    std::vector<float> w(2 * radius + 1);
+    float sum = 0.0f;
+    for (int i = -radius; i <= radius; ++i) {
+        w[i + radius] = std::exp(-float(i * i) / (2.0f * sigma * sigma));
+        sum += w[i + radius];
+    }
+    for (float& x : w) x /= sum;
+    return w;
+}
+
+//! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
+//! texture() with GL_LINEAR), with the given border rule for the four taps.
+template <class T>
+T sample_bilinear(const View<const T>& v, float px, float py, Border b) {
+    const float fx = px - 0.5f, fy = py - 0.5f;
+    const float x0f = std::floor(fx), y0f = std::floor(fy);
+    const float tx = fx - x0f, ty = fy - y0f;
+    const int x0 = int(x0f), y0 = int(y0f);
+    const T a = v.at(x0, y0, b), c = v.at(x0 + 1, y0, b);
+    const T d = v.at(x0, y0 + 1, b), e = v.at(x0 + 1, y0 + 1, b);
+    const T top = a + (c - a) * tx;
+    const T bot = d + (e - d) * tx;
+    return top + (bot - top) * ty;
+}
+
+}  // namespace aq::stylize

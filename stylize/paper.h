@@ -1,0 +1,25 @@
+// stylize/paper.h — paper substrates: the real papers in ../shared/assets/paper, tiled and scaled
+// to the output size in the MNPR layout (R,G = normal x,y 0.5-centred; B = height).
+#pragma once
+
+#include <string>
+
+#include "core/image.h"
+
+namespace aq::stylize {
+
+struct PaperSpec {
+    std::string file;          //!< image path; MNPR layout, or a height/displacement map (see layout)
+    std::string layout = "mnpr";  //!< "mnpr": RG normal, B height. "height": normals derived from height
+    float scale = 1.0f;        //!< paper texels per output pixel = 1/scale; [0.1, 10]
+    float roughness = 1.0f;    //!< MNPR adjust: (tex - 0.5) * roughness + 0.5, [0, 5]
+};
+
+//! Loads (cached per file), converts and tiles the paper to width x height, 3 channels.
+//! Throws aq::Error with the path on unreadable files.
+ImageF prepare_paper(const PaperSpec& spec, int width, int height);
+
+//! A flat paper (normal (0,0,1) -> 0.5, 0.5; height 0.5) for pipelines without a paper file.
+ImageF flat_paper(int width, int height);
+
+}  // namespace aq::stylize
