@@ -1,0 +1,156 @@
+// stylize/paper.cpp — paper substrates (spec §4 "paper substrate"; WC17 §3.3, WC18 §4).
+//
+// Every paper becomes a 3-channel texture in the MNPR layout: R,G = normal x,y encoded 0.5-centred
+// (n*0.5 + 0.5), B = height, all in [0,1]. Two source layouts:
+//   "mnpr"   the texture already holds RG normal + B height (MNPR's rough_default_2k.jpg);
+//   "height" a height/displacement map (ambientCG Paper001_*_Displacement.jpg): channel 0 is the
+//            height, normals are derived with wrapped central differences (see derive_normals).
+// The source is decoded once per (file, layout) and cached; prepare_paper then tiles (wraps) it to
+// the output size at the requested scale and applies MNPR's roughness adjust.
+#include "stylize/paper.h"
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "core/io.h"
+#include "stylize/kernels.h"
+
+namespace aq::stylize {
+
+namespace {
+
+//! Strength of the height gradient when deriving normals from a displacement map: the normal is
+//! normalize(-k*dh/dx, -k*dh/dy, 1) with dh in height units per texel. Chosen so the ambientCG
+//! paper's normal spread is of the same order as MNPR's shipped paper (docs/stylize_b.md).
+constexpr float kHeightNormalStrength = 8.0f;
+
+//! Wrapped index into [0, n).
+inline int wrap(int i, int n) {
+    int m = i % n;
+    return m < 0 ? m + n : m;
+}
+
+//! Normals from a height field by wrapped central differences (the paper tiles, so the
+//! neighbourhood wraps too): dh/dx = (h[x+1] - h[x-1]) / 2, likewise for y (rows go down).
+//! Encodes n.xy*0.5 + 0.5 in R,G and copies the height into B. A flat field gives (0.5, 0.5, h).
+ImageF derive_normals(const ImageF& src, float strength) {
+    const int w = src.width(), h = src.height(), c = src.channels();
+    ImageF out(w, h, 3);
+    auto height = [&](int x, int y) { return src.data()[(std::size_t(wrap(y, h)) * w + wrap(x, w)) * c]; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float dx = (height(x + 1, y) - height(x - 1, y)) * 0.5f;
+            const float dy = (height(x, y + 1) - height(x, y - 1)) * 0.5f;
+            const glm::vec3 n = glm::normalize(glm::vec3(-strength * dx, -strength * dy, 1.0f));
+            out.at(x, y, 0) = n.x * 0.5f + 0.5f;
+            out.at(x, y, 1) = n.y * 0.5f + 0.5f;
+            out.at(x, y, 2) = height(x, y);
+        }
+    return out;
+}
+
+//! Converts a decoded file to the MNPR layout (3 channels) according to `layout`.
+ImageF to_mnpr_layout(const ImageF& img, const std::string& layout, const std::string& path) {
+    if (layout == "mnpr") {
+        if (img.channels() < 3)
+            throw Error("paper '" + path + "': layout \"mnpr\" needs 3 channels (RG normal, B height), file has " +
+                        std::to_string(img.channels()));
+        if (img.channels() == 3) return img;
+        ImageF out(img.width(), img.height(), 3);
+        for (int y = 0; y < img.height(); ++y)
+            for (int x = 0; x < img.width(); ++x)
+                for (int k = 0; k < 3; ++k) out.at(x, y, k) = img.at(x, y, k);
+        return out;
+    }
+    if (layout == "height") return derive_normals(img, kHeightNormalStrength);
+    throw Error("paper '" + path + "': unknown layout \"" + layout + "\" (expected \"mnpr\" or \"height\")");
+}
+
+std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::string& layout) {
+    static std::mutex mu;
+    static std::map<std::string, std::shared_ptr<const ImageF>> cache;
+    const std::string key = layout + "|" + path;
+    {
+        std::lock_guard<std::mutex> lock(mu);
+        auto it = cache.find(key);
+        if (it != cache.end()) return it->second;
+    }
+    ImageF img;
+    try {
+        img = read_image(path);
+    } catch (const Error& e) {
+        throw Error(std::string("paper file '") + path + "' could not be read: " + e.what());
+    }
+    auto tex = std::make_shared<const ImageF>(to_mnpr_layout(img, layout, path));
+    std::lock_guard<std::mutex> lock(mu);
+    return cache.emplace(key, std::move(tex)).first->second;
+}
+
+}  // namespace
+
+ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
+    check_image_size(width, height, "paper");
+    if (spec.file.empty()) throw Error("paper: no file given");
+    if (!std::isfinite(spec.scale) || spec.scale < 0.1f || spec.scale > 10.0f)
+        throw Error("paper '" + spec.file + "': scale " + std::to_string(spec.scale) + " outside [0.1, 10]");
+    if (!std::isfinite(spec.roughness) || spec.roughness < 0.0f || spec.roughness > 5.0f)
+        throw Error("paper '" + spec.file + "': roughness " + std::to_string(spec.roughness) + " outside [0, 5]");
+    const auto tex_ptr = load_cached(spec.file, spec.layout);
+    const ImageF& tex = *tex_ptr;
+    const int tw = tex.width(), th = tex.height();
+    const float r = spec.roughness;
+    ImageF out(width, height, 3);
+    const float* t = tex.data();
+    float* o = out.data();
+    // MNPR's adjust-load: (tex - 0.5) * roughness + 0.5, saturated so the texture stays in [0,1].
+    auto adjust = [r](float v) { return sat((v - 0.5f) * r + 0.5f); };
+    if (spec.scale == 1.0f) {
+        // One texel per pixel: an exact wrapped copy.
+        for (int y = 0; y < height; ++y) {
+            const float* trow = t + std::size_t(y % th) * tw * 3;
+            for (int x = 0; x < width; ++x) {
+                const float* s = trow + std::size_t(x % tw) * 3;
+                float* d = o + (std::size_t(y) * width + x) * 3;
+                d[0] = adjust(s[0]);
+                d[1] = adjust(s[1]);
+                d[2] = adjust(s[2]);
+            }
+        }
+        return out;
+    }
+    // Other scales: output pixel centre (x + 0.5) maps to texel coordinate (x + 0.5) / scale; the
+    // texture is sampled bilinearly with texel centres at +0.5 and wrapping taps (GL_REPEAT).
+    const float inv = 1.0f / spec.scale;
+    for (int y = 0; y < height; ++y) {
+        const float fy = (float(y) + 0.5f) * inv - 0.5f;
+        const float y0f = std::floor(fy);
+        const float ty = fy - y0f;
+        const int y0 = wrap(int(y0f), th), y1 = wrap(int(y0f) + 1, th);
+        for (int x = 0; x < width; ++x) {
+            const float fx = (float(x) + 0.5f) * inv - 0.5f;
+            const float x0f = std::floor(fx);
+            const float tx = fx - x0f;
+            const int x0 = wrap(int(x0f), tw), x1 = wrap(int(x0f) + 1, tw);
+            const float* a = t + (std::size_t(y0) * tw + x0) * 3;
+            const float* b = t + (std::size_t(y0) * tw + x1) * 3;
+            const float* c = t + (std::size_t(y1) * tw + x0) * 3;
+            const float* d = t + (std::size_t(y1) * tw + x1) * 3;
+            float* dst = o + (std::size_t(y) * width + x) * 3;
+            for (int k = 0; k < 3; ++k) {
+                const float top = a[k] + (b[k] - a[k]) * tx;
+                const float bot = c[k] + (d[k] - c[k]) * tx;
+                dst[k] = adjust(top + (bot - top) * ty);
+            }
+        }
+    }
+    return out;
+}
+
+ImageF flat_paper(int width, int height) {
+    check_image_size(width, height, "flat paper");
+    return ImageF(width, height, 3, 0.5f);
+}
+
+}  // namespace aq::stylize
