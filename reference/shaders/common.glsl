@@ -1,0 +1,37 @@
+// reference/shaders/common.glsl — shared GLSL helpers for the stage twins. Prepended to every
+// fragment shader by aq::ref::assemble_fragment, after #version and the pass defines.
+//
+// Border rules are resolved here, not by the sampler: texelFetch ignores wrap modes, and
+// GL_MIRRORED_REPEAT repeats the edge texel while aq::Border::Mirror reflects about the edge
+// texel's centre (-1 -> 1, n -> n-2), see core/image.h.
+
+precision highp float;
+precision highp int;
+
+layout(location = 0) out vec4 o_color;
+uniform ivec2 u_out_size;            // size of the target being written
+uniform vec3 u_substrate_color;      // paper colour Cp (Globals::substrate_color)
+
+int aq_clamp_i(int i, int n) { return clamp(i, 0, n - 1); }
+int aq_mirror_i(int i, int n) {
+    if (i >= 0 && i < n) return i;
+    if (n == 1) return 0;
+    int period = 2 * (n - 1);
+    // GLSL leaves % undefined for negative operands (llvmpipe computes it unsigned): fold first.
+    int m = i < 0 ? (period - (-i) % period) % period : i % period;
+    return m < n ? m : period - m;
+}
+ivec2 aq_clamp(ivec2 p, ivec2 n) { return ivec2(aq_clamp_i(p.x, n.x), aq_clamp_i(p.y, n.y)); }
+ivec2 aq_mirror(ivec2 p, ivec2 n) { return ivec2(aq_mirror_i(p.x, n.x), aq_mirror_i(p.y, n.y)); }
+
+// Exact taps with the stage's border rule.
+vec4 fetch_clamp(sampler2D s, ivec2 p) { return texelFetch(s, aq_clamp(p, textureSize(s, 0)), 0); }
+vec4 fetch_mirror(sampler2D s, ivec2 p) { return texelFetch(s, aq_mirror(p, textureSize(s, 0)), 0); }
+vec4 fetch(sampler2D s, ivec2 p) { return texelFetch(s, p, 0); }  // p known to be inside
+
+ivec2 pixel() { return ivec2(gl_FragCoord.xy); }
+
+float sat(float x) { return clamp(x, 0.0, 1.0); }
+vec3 sat(vec3 x) { return clamp(x, 0.0, 1.0); }
+// Rec. 709 luma (MNPR luminance()).
+float luminance(vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
