@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,7 +30,9 @@ struct Sampler {
 struct Texture {
     std::string name;  //!< URI or image name, for messages
     ImageF image;      //!< RGBA float, values as stored (no transfer curve applied)
-    bool srgb = false; //!< base colour textures are sRGB-encoded in glTF; decoded at load if true
+    //! The file declares these values sRGB-encoded (glTF base colour). Loaders do NOT decode
+    //! them: the watercolor maths runs on display-referred colour like MNPR (docs/scenes.md).
+    bool srgb = false;
 };
 
 struct TextureRef {
@@ -84,6 +87,10 @@ struct Primitive {
     std::array<std::vector<glm::vec4>, kNumControlTargets> control;
     std::vector<std::uint32_t> indices;  //!< triangle list, 3 per triangle, all < positions.size()
     int material = 0;                    //!< index into Scene::materials (a default one exists)
+    //! Further vertex attributes kept for the scene file's control mapping (COLOR_1..n,
+    //! TEXCOORD_1..n, custom "_NAME"), widened to vec4 (missing components 0; colour alpha 1).
+    //! The rasterizer does not read them.
+    std::map<std::string, std::vector<glm::vec4>> attributes;
 };
 
 struct Mesh {

@@ -1,0 +1,983 @@
+// scenes/gltf_loader.cpp — glTF 2.0 into aq::scene::Scene, validating everything it reads.
+//
+// tinygltf parses the JSON and loads buffers; it does not check that accessors, bufferViews and
+// strides stay inside their buffers, nor index values, nor node cycles. This file checks all of
+// that (overflow-safe) before reading a byte, so every malformed input ends in an aq::Error.
+// Images are not decoded by tinygltf: a callback keeps the encoded bytes and OpenImageIO decodes
+// the ones a material uses (base colour, normal map), keeping stored values (docs/scenes.md).
+#include "scenes/gltf_loader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+#include <string_view>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "scenes/material_params.h"
+
+namespace aq::scene {
+namespace {
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Files (also used as tinygltf's file-system callbacks, so external buffers and images go through
+// the same checks: regular files only, size-capped).
+
+bool read_file_bytes(const std::string& path, std::vector<unsigned char>* out, std::string* err) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (ec || !fs::exists(st)) {
+        *err = "file not found";
+        return false;
+    }
+    if (!fs::is_regular_file(st)) {
+        *err = "not a regular file";
+        return false;
+    }
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec) {
+        *err = "cannot get the file size";
+        return false;
+    }
+    if (size > kMaxFileBytes) {
+        *err = "file of " + std::to_string(size) + " bytes exceeds the limit of " +
+               std::to_string(kMaxFileBytes);
+        return false;
+    }
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        *err = "cannot open the file";
+        return false;
+    }
+    out->resize(std::size_t(size));
+    if (size > 0) f.read(reinterpret_cast<char*>(out->data()), std::streamsize(size));
+    if (!f) {
+        *err = "read error";
+        return false;
+    }
+    return true;
+}
+
+bool fs_exists(const std::string& p, void*) {
+    std::error_code ec;
+    return fs::is_regular_file(p, ec);
+}
+std::string fs_expand(const std::string& p, void*) { return p; }
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& p, void*) {
+    std::string e;
+    if (read_file_bytes(p, out, &e)) return true;
+    if (err) *err += "'" + p + "': " + e + "\n";
+    return false;
+}
+bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "writing is disabled in the loader\n";
+    return false;
+}
+
+// Keeps encoded bytes of URI / data-URI images. Images in bufferViews are skipped: tinygltf
+// hands us a pointer it has not range-checked, so those bytes are fetched later through our own
+// validated bufferView access.
+bool keep_image_bytes(tinygltf::Image* img, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (img->bufferView >= 0) return true;
+    if (bytes && size > 0) img->image.assign(bytes, bytes + size);
+    img->as_is = true;
+    return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::uint32_t le32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+           std::uint32_t(p[3]) << 24;
+}
+
+// Our own GLB container checks (before tinygltf sees the bytes).
+void check_glb(const std::vector<unsigned char>& b, std::string* warn_out, const std::string& where) {
+    auto fail = [&](const std::string& m) { throw Error(where + ": invalid GLB: " + m); };
+    if (b.size() < 20) fail("truncated: " + std::to_string(b.size()) + " bytes, the header needs 20");
+    const std::uint32_t version = le32(&b[4]), length = le32(&b[8]);
+    const std::uint32_t c0len = le32(&b[12]), c0type = le32(&b[16]);
+    if (version != 2) fail("container version " + std::to_string(version) + ", expected 2");
+    if (length > b.size())
+        fail("truncated: header says " + std::to_string(length) + " bytes, file has " +
+             std::to_string(b.size()));
+    if (length < b.size())
+        *warn_out = "GLB header length " + std::to_string(length) + " is smaller than the file (" +
+                    std::to_string(b.size()) + " bytes); trailing bytes ignored";
+    if (length < 20) fail("header length " + std::to_string(length) + " is smaller than the header");
+    if (c0type != 0x4E4F534Au) fail("first chunk is not JSON");
+    if (c0len == 0 || std::uint64_t(c0len) + 20 > length) fail("JSON chunk exceeds the file");
+    std::uint64_t off = 20ull + c0len;
+    off = (off + 3) & ~std::uint64_t(3);  // chunks are 4-byte aligned
+    if (off + 8 <= length) {
+        const std::uint32_t c1len = le32(&b[off]), c1type = le32(&b[off + 4]);
+        if (c1type != 0x004E4942u) fail("second chunk is not BIN");
+        if (off + 8 + std::uint64_t(c1len) > length) fail("BIN chunk exceeds the file");
+    }
+}
+
+int component_size(int ct) {
+    switch (ct) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+        default: return 0;
+    }
+}
+
+int num_components(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR: return 1;
+        case TINYGLTF_TYPE_VEC2: return 2;
+        case TINYGLTF_TYPE_VEC3: return 3;
+        case TINYGLTF_TYPE_VEC4: return 4;
+        case TINYGLTF_TYPE_MAT2: return 4;
+        case TINYGLTF_TYPE_MAT3: return 9;
+        case TINYGLTF_TYPE_MAT4: return 16;
+        default: return 0;
+    }
+}
+
+const char* type_name(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+        case TINYGLTF_TYPE_VEC2: return "VEC2";
+        case TINYGLTF_TYPE_VEC3: return "VEC3";
+        case TINYGLTF_TYPE_VEC4: return "VEC4";
+        default: return "MAT";
+    }
+}
+
+//! A validated accessor: every element i lies in [base + i*stride, base + i*stride + elem).
+struct AccessorView {
+    const unsigned char* base = nullptr;  //!< nullptr: no bufferView, all zeros (glTF rule)
+    std::size_t count = 0, stride = 0;
+    int comp_type = 0, ncomp = 0;
+    bool normalized = false;
+
+    float component(std::size_t i, int c) const {
+        if (!base) return 0.0f;
+        const unsigned char* p = base + i * stride + std::size_t(c) * component_size(comp_type);
+        switch (comp_type) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+                float f;
+                std::memcpy(&f, p, 4);
+                return f;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+                const float v = float(p[0]);
+                return normalized ? v / 255.0f : v;
+            }
+            case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                const float v = float(std::int8_t(p[0]));
+                return normalized ? std::max(v / 127.0f, -1.0f) : v;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                std::uint16_t u;
+                std::memcpy(&u, p, 2);
+                return normalized ? float(u) / 65535.0f : float(u);
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                std::int16_t s;
+                std::memcpy(&s, p, 2);
+                return normalized ? std::max(float(s) / 32767.0f, -1.0f) : float(s);
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+                std::uint32_t u;
+                std::memcpy(&u, p, 4);
+                return float(u);
+            }
+            default: return 0.0f;
+        }
+    }
+    std::uint32_t index(std::size_t i) const {
+        if (!base) return 0;
+        const unsigned char* p = base + i * stride;
+        switch (comp_type) {
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[0];
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                std::uint16_t u;
+                std::memcpy(&u, p, 2);
+                return u;
+            }
+            default: {
+                std::uint32_t u;
+                std::memcpy(&u, p, 4);
+                return u;
+            }
+        }
+    }
+};
+
+glm::mat4 checked_mat4(const std::vector<double>& m) {
+    glm::mat4 r;
+    for (int i = 0; i < 16; ++i) glm::value_ptr(r)[i] = float(m[std::size_t(i)]);
+    return r;
+}
+
+bool finite(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+class Loader {
+public:
+    Loader(const std::string& path, const tinygltf::Model& m) : path_(path), m_(m) {}
+
+    Scene run();
+    std::vector<std::string> warnings;
+
+private:
+    [[noreturn]] void fail(const std::string& msg) const { throw Error("glTF '" + path_ + "': " + msg); }
+    void warn(const std::string& msg) { warnings.push_back("glTF '" + path_ + "': " + msg); }
+
+    AccessorView accessor(int index, const std::string& what) const;
+    std::pair<const unsigned char*, std::size_t> buffer_view_bytes(int index, const std::string& what) const;
+    Material convert_material(int index);
+    TextureRef texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what);
+    void convert_meshes();
+    bool convert_primitive(const tinygltf::Primitive& gp, const std::string& where, Primitive& out);
+    void traverse(int node, const glm::mat4& parent, int depth);
+    void add_camera(const tinygltf::Camera& gc, const glm::mat4& world, const std::string& node_name);
+
+    std::string path_;
+    const tinygltf::Model& m_;
+    Scene scene_;
+    std::map<std::pair<int, bool>, int> texture_cache_;  //!< (image, srgb) -> scene texture or -1
+    std::vector<bool> material_needs_tangents_;
+    bool need_default_material_ = false;
+    std::size_t total_triangles_ = 0, nonfinite_positions_ = 0;
+    std::vector<char> node_state_;  //!< 0 unvisited, 1 on the current path, 2 done
+    std::uint32_t next_object_id_ = 1;
+    std::vector<std::size_t> infinite_cameras_;
+};
+
+std::pair<const unsigned char*, std::size_t> Loader::buffer_view_bytes(int index,
+                                                                     const std::string& what) const {
+    if (index < 0 || std::size_t(index) >= m_.bufferViews.size())
+        fail(what + ": bufferView " + std::to_string(index) + " does not exist (the file has " +
+             std::to_string(m_.bufferViews.size()) + ")");
+    const tinygltf::BufferView& bv = m_.bufferViews[std::size_t(index)];
+    if (bv.buffer < 0 || std::size_t(bv.buffer) >= m_.buffers.size())
+        fail(what + ": bufferView " + std::to_string(index) + " refers to buffer " +
+             std::to_string(bv.buffer) + " which does not exist (the file has " +
+             std::to_string(m_.buffers.size()) + ")");
+    const std::vector<unsigned char>& data = m_.buffers[std::size_t(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+        fail(what + ": bufferView " + std::to_string(index) + " [offset " + std::to_string(bv.byteOffset) +
+             ", length " + std::to_string(bv.byteLength) + "] exceeds buffer " + std::to_string(bv.buffer) +
+             " of " + std::to_string(data.size()) + " bytes");
+    return {data.data() + bv.byteOffset, bv.byteLength};
+}
+
+AccessorView Loader::accessor(int index, const std::string& what) const {
+    if (index < 0 || std::size_t(index) >= m_.accessors.size())
+        fail(what + ": accessor " + std::to_string(index) + " does not exist (the file has " +
+             std::to_string(m_.accessors.size()) + ")");
+    const tinygltf::Accessor& a = m_.accessors[std::size_t(index)];
+    const std::string name = what + ": accessor " + std::to_string(index);
+    if (a.sparse.isSparse) fail(name + " is sparse; sparse accessors are not supported");
+    const int csize = component_size(a.componentType);
+    if (csize == 0) fail(name + " has invalid componentType " + std::to_string(a.componentType));
+    const int nc = num_components(a.type);
+    if (nc == 0) fail(name + " has an invalid type");
+    if (a.count > kMaxVertices)
+        fail(name + " has count " + std::to_string(a.count) + ", above the limit of " +
+             std::to_string(kMaxVertices));
+    AccessorView v;
+    v.count = a.count;
+    v.comp_type = a.componentType;
+    v.ncomp = nc;
+    v.normalized = a.normalized;
+    const std::size_t elem = std::size_t(csize) * std::size_t(nc);
+    v.stride = elem;
+    if (a.bufferView == -1) return v;  // no bufferView: zeros (glTF 2.0 §3.6.2.2)
+    const auto [bytes, length] = buffer_view_bytes(a.bufferView, name);
+    const tinygltf::BufferView& bv = m_.bufferViews[std::size_t(a.bufferView)];
+    if (bv.byteStride != 0) {
+        if (bv.byteStride < elem || bv.byteStride > 252)
+            fail(name + ": byteStride " + std::to_string(bv.byteStride) + " of bufferView " +
+                 std::to_string(a.bufferView) + " is invalid for " + std::to_string(elem) +
+                 "-byte elements (allowed: element size..252)");
+        v.stride = bv.byteStride;
+    }
+    if (a.count > 0) {
+        // offset + (count-1)*stride + elem <= length, without overflow.
+        if (a.byteOffset > length || length - a.byteOffset < elem ||
+            (a.count - 1) > (length - a.byteOffset - elem) / v.stride)
+            fail(name + " (offset " + std::to_string(a.byteOffset) + ", count " + std::to_string(a.count) +
+                 ", stride " + std::to_string(v.stride) + ") exceeds bufferView " +
+                 std::to_string(a.bufferView) + " of " + std::to_string(length) + " bytes");
+    }
+    v.base = bytes + a.byteOffset;
+    return v;
+}
+
+// --- images and textures -------------------------------------------------------------------------
+
+TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what) {
+    TextureRef ref;
+    if (tex_index < 0) return ref;
+    if (std::size_t(tex_index) >= m_.textures.size())
+        fail(what + ": texture " + std::to_string(tex_index) + " does not exist (the file has " +
+             std::to_string(m_.textures.size()) + ")");
+    const tinygltf::Texture& t = m_.textures[std::size_t(tex_index)];
+    if (texcoord != 0)
+        warn(what + ": uses TEXCOORD_" + std::to_string(texcoord) + "; only TEXCOORD_0 is loaded, used instead");
+    if (t.sampler >= 0) {
+        if (std::size_t(t.sampler) >= m_.samplers.size())
+            fail(what + ": sampler " + std::to_string(t.sampler) + " does not exist");
+        const tinygltf::Sampler& s = m_.samplers[std::size_t(t.sampler)];
+        auto wrap = [&](int w) {
+            switch (w) {
+                case TINYGLTF_TEXTURE_WRAP_REPEAT: return Wrap::Repeat;
+                case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::ClampToEdge;
+                case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::MirroredRepeat;
+                default:
+                    warn(what + ": unknown wrap mode " + std::to_string(w) + ", REPEAT used");
+                    return Wrap::Repeat;
+            }
+        };
+        ref.sampler.wrap_s = wrap(s.wrapS);
+        ref.sampler.wrap_t = wrap(s.wrapT);
+        ref.sampler.mag = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
+        // Mipmaps are not built: each minification filter maps to its base filter.
+        ref.sampler.min = (s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ||
+                           s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
+                           s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR)
+                              ? Filter::Nearest
+                              : Filter::Linear;
+    }
+    const std::string fallback = srgb ? "white base colour" : "flat normal";
+    if (t.source < 0) {
+        warn(what + ": texture " + std::to_string(tex_index) + " has no image; treated as absent (" +
+             fallback + ")");
+        return ref;
+    }
+    if (std::size_t(t.source) >= m_.images.size())
+        fail(what + ": image " + std::to_string(t.source) + " does not exist (the file has " +
+             std::to_string(m_.images.size()) + ")");
+    const auto key = std::make_pair(t.source, srgb);
+    if (auto it = texture_cache_.find(key); it != texture_cache_.end()) {
+        ref.texture = it->second;
+        return ref;
+    }
+    const tinygltf::Image& img = m_.images[std::size_t(t.source)];
+    std::string label = !img.uri.empty() ? img.uri : !img.name.empty() ? img.name : "image " + std::to_string(t.source);
+    if (label.rfind("data:", 0) == 0) label = "embedded image " + std::to_string(t.source);
+    int result = -1;
+    const unsigned char* bytes = nullptr;
+    std::size_t size = 0;
+    if (img.bufferView >= 0) {
+        const auto bv = buffer_view_bytes(img.bufferView, what + ": image " + std::to_string(t.source));
+        bytes = bv.first;
+        size = bv.second;
+    } else {
+        bytes = img.image.data();
+        size = img.image.size();
+    }
+    if (size == 0) {
+        warn(what + ": texture '" + label + "' is missing or unreadable; treated as absent (" + fallback + ")");
+    } else {
+        try {
+            Texture tex;
+            tex.name = label;
+            tex.image = decode_image_bytes(bytes, size, label);
+            tex.srgb = srgb;
+            scene_.textures.push_back(std::move(tex));
+            result = int(scene_.textures.size()) - 1;
+        } catch (const Error& e) {
+            warn(what + ": texture '" + label + "' cannot be decoded (" + e.what() + "); treated as absent (" +
+                 fallback + ")");
+        }
+    }
+    texture_cache_[key] = result;
+    ref.texture = result;
+    return ref;
+}
+
+Material Loader::convert_material(int index) {
+    const tinygltf::Material& gm = m_.materials[std::size_t(index)];
+    const std::string what = "material " + std::to_string(index) + (gm.name.empty() ? "" : " '" + gm.name + "'");
+    Material mat;
+    mat.name = gm.name.empty() ? "material_" + std::to_string(index) : gm.name;
+    const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
+    if (f.size() != 4) fail(what + ": baseColorFactor must have 4 values");
+    for (int i = 0; i < 4; ++i) {
+        if (!std::isfinite(f[std::size_t(i)])) fail(what + ": baseColorFactor is not finite");
+        mat.base_color[i] = float(std::clamp(f[std::size_t(i)], 0.0, 1.0));
+    }
+    mat.base_color_texture = texture_ref(gm.pbrMetallicRoughness.baseColorTexture.index,
+                                         gm.pbrMetallicRoughness.baseColorTexture.texCoord, true,
+                                         what + " base colour");
+    mat.normal_texture = texture_ref(gm.normalTexture.index, gm.normalTexture.texCoord, false, what + " normal map");
+    mat.normal_texture.scale = std::isfinite(gm.normalTexture.scale) ? float(gm.normalTexture.scale) : 1.0f;
+    if (gm.alphaMode == "OPAQUE" || gm.alphaMode.empty()) mat.alpha_mode = AlphaMode::Opaque;
+    else if (gm.alphaMode == "MASK") mat.alpha_mode = AlphaMode::Mask;
+    else if (gm.alphaMode == "BLEND") mat.alpha_mode = AlphaMode::Blend;
+    else {
+        warn(what + ": unknown alphaMode '" + gm.alphaMode + "', OPAQUE used");
+        mat.alpha_mode = AlphaMode::Opaque;
+    }
+    mat.alpha_cutoff = std::isfinite(gm.alphaCutoff) ? float(std::clamp(gm.alphaCutoff, 0.0, 1.0)) : 0.5f;
+    mat.double_sided = gm.doubleSided;
+    if (!gm.extras_json_string.empty()) {
+        nlohmann::json ex = nlohmann::json::parse(gm.extras_json_string, nullptr, false);
+        if (ex.is_object()) {
+            std::vector<std::string> w;
+            const std::string where = "glTF '" + path_ + "' " + what + " extras";
+            if (ex.contains("watercolor")) detail::apply_watercolor_json(mat.wc, ex["watercolor"], where + ".watercolor", false, &w);
+            else detail::apply_watercolor_json(mat.wc, ex, where, false, &w);
+            for (auto& s : w) warnings.push_back(s);
+        }
+    }
+    return mat;
+}
+
+// --- meshes ------------------------------------------------------------------------------------
+
+bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string& where, Primitive& out) {
+    const int mode = gp.mode < 0 ? TINYGLTF_MODE_TRIANGLES : gp.mode;
+    if (mode == TINYGLTF_MODE_POINTS || mode == TINYGLTF_MODE_LINE || mode == TINYGLTF_MODE_LINE_LOOP ||
+        mode == TINYGLTF_MODE_LINE_STRIP) {
+        warn(where + ": points/lines primitive (mode " + std::to_string(mode) + ") skipped");
+        return false;
+    }
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        fail(where + ": invalid primitive mode " + std::to_string(mode));
+    if (!gp.targets.empty()) warn(where + ": morph targets ignored");
+
+    auto attr = gp.attributes.find("POSITION");
+    if (attr == gp.attributes.end()) fail(where + ": no POSITION attribute");
+    const AccessorView pos = accessor(attr->second, where + " POSITION");
+    if (pos.ncomp != 3 || m_.accessors[std::size_t(attr->second)].type != TINYGLTF_TYPE_VEC3)
+        fail(where + " POSITION: expected VEC3");
+    const std::size_t n = pos.count;
+
+    // Index count and triangle count are known before anything is allocated.
+    std::size_t nidx = n;
+    AccessorView iv;
+    if (gp.indices >= 0) {
+        iv = accessor(gp.indices, where + " indices");
+        if (m_.accessors[std::size_t(gp.indices)].type != TINYGLTF_TYPE_SCALAR ||
+            (iv.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+             iv.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+             iv.comp_type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+            fail(where + " indices: expected SCALAR unsigned byte/short/int");
+        nidx = iv.count;
+    } else if (gp.indices != -1) {
+        fail(where + ": invalid indices accessor " + std::to_string(gp.indices));
+    }
+    const std::size_t ntri = mode == TINYGLTF_MODE_TRIANGLES ? nidx / 3 : (nidx >= 3 ? nidx - 2 : 0);
+    if (ntri > kMaxTriangles - total_triangles_)
+        fail(where + ": more than " + std::to_string(kMaxTriangles) + " triangles in the file (limit)");
+    total_triangles_ += ntri;
+
+    std::vector<std::uint32_t> idx(nidx);
+    if (gp.indices >= 0) {
+        for (std::size_t i = 0; i < nidx; ++i) {
+            idx[i] = iv.index(i);
+            if (idx[i] >= n)
+                fail(where + " indices: index " + std::to_string(idx[i]) + " at position " + std::to_string(i) +
+                     " is out of range (" + std::to_string(n) + " vertices)");
+        }
+    } else {
+        std::iota(idx.begin(), idx.end(), 0u);
+    }
+    if (mode == TINYGLTF_MODE_TRIANGLES && nidx % 3 != 0)
+        warn(where + ": " + std::to_string(nidx % 3) + " trailing indices do not form a triangle, ignored");
+    out.indices = to_triangle_list(mode, idx);
+    idx.clear();
+    idx.shrink_to_fit();
+
+    out.positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        out.positions[i] = {pos.component(i, 0), pos.component(i, 1), pos.component(i, 2)};
+        if (!std::isfinite(out.positions[i].x) || !std::isfinite(out.positions[i].y) ||
+            !std::isfinite(out.positions[i].z))
+            ++nonfinite_positions_;
+    }
+
+    auto read_attr = [&](const std::string& name, std::initializer_list<int> types, bool colour) -> AccessorView {
+        auto it = gp.attributes.find(name);
+        if (it == gp.attributes.end()) return {};
+        AccessorView v = accessor(it->second, where + " " + name);
+        const int t = m_.accessors[std::size_t(it->second)].type;
+        if (std::find(types.begin(), types.end(), t) == types.end())
+            fail(where + " " + name + ": unexpected type " + type_name(t));
+        if (v.count != n)
+            fail(where + " " + name + ": count " + std::to_string(v.count) + " differs from POSITION count " +
+                 std::to_string(n));
+        // Integer colours are normalised by definition (glTF 2.0 §3.7.2.1), whatever the flag says.
+        if (colour && v.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT) v.normalized = true;
+        return v;
+    };
+
+    if (AccessorView v = read_attr("NORMAL", {TINYGLTF_TYPE_VEC3}, false); v.count) {
+        out.normals.resize(n);
+        for (std::size_t i = 0; i < n; ++i) out.normals[i] = {v.component(i, 0), v.component(i, 1), v.component(i, 2)};
+    } else {
+        out.normals = compute_normals(out.positions, out.indices);
+    }
+    if (AccessorView v = read_attr("TEXCOORD_0", {TINYGLTF_TYPE_VEC2}, false); v.count) {
+        out.uv0.resize(n);
+        for (std::size_t i = 0; i < n; ++i) out.uv0[i] = {v.component(i, 0), v.component(i, 1)};
+    }
+    if (AccessorView v = read_attr("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, true); v.count) {
+        out.colors.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            out.colors[i] = {v.component(i, 0), v.component(i, 1), v.component(i, 2), v.ncomp == 4 ? v.component(i, 3) : 1.0f};
+    }
+    // Further attributes the scene file's control mapping may read (COLOR_n, TEXCOORD_n, _CUSTOM).
+    for (const auto& [name, acc] : gp.attributes) {
+        (void)acc;
+        const bool colour = name.rfind("COLOR_", 0) == 0;
+        if (!(colour && name != "COLOR_0") && !(name.rfind("TEXCOORD_", 0) == 0 && name != "TEXCOORD_0") &&
+            !(name.rfind("_", 0) == 0))
+            continue;
+        AccessorView v = read_attr(name, {TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC2, TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, colour);
+        auto& dst = out.attributes[name];
+        dst.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::vec4 c(0.0f, 0.0f, 0.0f, colour ? 1.0f : 0.0f);
+            for (int k = 0; k < v.ncomp; ++k) c[k] = v.component(i, k);
+            dst[i] = c;
+        }
+    }
+
+    if (gp.material >= 0) {
+        if (std::size_t(gp.material) >= m_.materials.size())
+            fail(where + ": material " + std::to_string(gp.material) + " does not exist (the file has " +
+                 std::to_string(m_.materials.size()) + ")");
+        out.material = gp.material;
+    } else {
+        if (gp.material != -1) fail(where + ": invalid material index " + std::to_string(gp.material));
+        out.material = int(m_.materials.size());  // the default material, appended after the file's
+        need_default_material_ = true;
+    }
+    if (out.material < int(material_needs_tangents_.size()) && material_needs_tangents_[std::size_t(out.material)]) {
+        if (AccessorView v = read_attr("TANGENT", {TINYGLTF_TYPE_VEC4}, false); v.count) {
+            out.tangents.resize(n);
+            for (std::size_t i = 0; i < n; ++i)
+                out.tangents[i] = {v.component(i, 0), v.component(i, 1), v.component(i, 2), v.component(i, 3)};
+        } else {
+            if (out.uv0.empty())
+                warn(where + ": normal-mapped material without TEXCOORD_0; tangents are arbitrary");
+            out.tangents = compute_tangents(out.positions, out.normals, out.uv0, out.indices);
+        }
+    }
+    return true;
+}
+
+void Loader::convert_meshes() {
+    for (std::size_t mi = 0; mi < m_.meshes.size(); ++mi) {
+        const tinygltf::Mesh& gm = m_.meshes[mi];
+        Mesh mesh;
+        mesh.name = gm.name.empty() ? "mesh_" + std::to_string(mi) : gm.name;
+        for (std::size_t pi = 0; pi < gm.primitives.size(); ++pi) {
+            Primitive p;
+            const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi);
+            if (convert_primitive(gm.primitives[pi], where, p)) mesh.primitives.push_back(std::move(p));
+        }
+        scene_.meshes.push_back(std::move(mesh));
+    }
+}
+
+// --- nodes and cameras -------------------------------------------------------------------------
+
+void Loader::add_camera(const tinygltf::Camera& gc, const glm::mat4& world, const std::string& node_name) {
+    Camera cam;
+    cam.name = !gc.name.empty() ? gc.name : node_name;
+    // glTF cameras look down -Z of their node; scale is not allowed on camera nodes, so it is
+    // removed by orthonormalising the frame (Z kept, Y re-derived).
+    const glm::vec3 eye(world[3]);
+    glm::vec3 z(world[2]), y(world[1]);
+    if (glm::length(z) < 1e-12f || glm::length(y) < 1e-12f) fail("camera node '" + node_name + "' has a degenerate transform");
+    z = glm::normalize(z);
+    glm::vec3 x = glm::cross(y, z);
+    if (glm::length(x) < 1e-12f) fail("camera node '" + node_name + "' has a degenerate transform");
+    x = glm::normalize(x);
+    y = glm::cross(z, x);
+    glm::mat4 cam_to_world(glm::vec4(x, 0.0f), glm::vec4(y, 0.0f), glm::vec4(z, 0.0f), glm::vec4(eye, 1.0f));
+    cam.view = glm::inverse(cam_to_world);
+    const std::string what = "camera '" + cam.name + "'";
+    bool infinite = false;
+    if (gc.type == "perspective") {
+        const auto& p = gc.perspective;
+        if (!(p.yfov > 0.0 && p.yfov < 3.14159)) fail(what + ": yfov " + std::to_string(p.yfov) + " outside (0, pi)");
+        if (!(p.znear > 0.0 && std::isfinite(p.znear))) fail(what + ": znear must be > 0");
+        cam.yfov = float(p.yfov);
+        cam.znear = float(p.znear);
+        if (p.zfar == 0.0) infinite = true;
+        else if (!(p.zfar > p.znear) || !std::isfinite(p.zfar)) fail(what + ": zfar must be > znear");
+        else cam.zfar = float(p.zfar);
+        if (p.aspectRatio > 0.0 && std::isfinite(p.aspectRatio)) cam.aspect = float(p.aspectRatio);
+    } else if (gc.type == "orthographic") {
+        const auto& o = gc.orthographic;
+        if (!(std::isfinite(o.xmag) && std::isfinite(o.ymag) && o.xmag != 0.0 && o.ymag != 0.0))
+            fail(what + ": xmag and ymag must be finite and non-zero");
+        if (!(o.znear >= 0.0 && std::isfinite(o.znear) && o.zfar > o.znear && std::isfinite(o.zfar)))
+            fail(what + ": needs 0 <= znear < zfar");
+        cam.orthographic = true;
+        cam.xmag = float(std::abs(o.xmag));
+        cam.ymag = float(std::abs(o.ymag));
+        cam.znear = float(o.znear);
+        cam.zfar = float(o.zfar);
+    } else {
+        fail(what + ": unknown camera type '" + gc.type + "'");
+    }
+    if (infinite) infinite_cameras_.push_back(scene_.cameras.size());
+    scene_.cameras.push_back(cam);
+}
+
+void Loader::traverse(int index, const glm::mat4& parent, int depth) {
+    if (index < 0 || std::size_t(index) >= m_.nodes.size())
+        fail("node " + std::to_string(index) + " does not exist (the file has " + std::to_string(m_.nodes.size()) + ")");
+    if (depth > kMaxNodeDepth) fail("node hierarchy deeper than " + std::to_string(kMaxNodeDepth));
+    char& state = node_state_[std::size_t(index)];
+    if (state == 1) fail("node " + std::to_string(index) + " is its own ancestor (cycle in the node hierarchy)");
+    if (state == 2) fail("node " + std::to_string(index) + " has more than one parent");
+    state = 1;
+    const tinygltf::Node& n = m_.nodes[std::size_t(index)];
+    const std::string what = "node " + std::to_string(index) + (n.name.empty() ? "" : " '" + n.name + "'");
+    glm::mat4 local(1.0f);
+    if (!n.matrix.empty()) {
+        if (n.matrix.size() != 16) fail(what + ": matrix must have 16 values");
+        local = checked_mat4(n.matrix);
+        if (!finite(local)) fail(what + ": matrix has a non-finite value");
+    } else {
+        auto check = [&](const std::vector<double>& v, std::size_t size, const char* name) {
+            if (v.empty()) return false;
+            if (v.size() != size) fail(what + ": " + name + " must have " + std::to_string(size) + " values");
+            for (double d : v)
+                if (!std::isfinite(d)) fail(what + ": " + name + " has a non-finite value");
+            return true;
+        };
+        glm::mat4 t(1.0f), r(1.0f), s(1.0f);
+        if (check(n.translation, 3, "translation"))
+            t[3] = glm::vec4(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]), 1.0f);
+        if (check(n.rotation, 4, "rotation")) {
+            glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
+            const float len = glm::length(q);
+            if (!(len > 1e-6f) || !std::isfinite(len)) fail(what + ": rotation is not a unit quaternion");
+            r = glm::mat4_cast(q / len);
+        }
+        if (check(n.scale, 3, "scale")) s = glm::mat4(glm::vec4(float(n.scale[0]), 0, 0, 0), glm::vec4(0, float(n.scale[1]), 0, 0),
+                                                      glm::vec4(0, 0, float(n.scale[2]), 0), glm::vec4(0, 0, 0, 1));
+        local = t * r * s;
+    }
+    const glm::mat4 world = parent * local;
+    if (!finite(world)) fail(what + ": world transform overflows");
+    if (n.mesh >= 0) {
+        if (std::size_t(n.mesh) >= m_.meshes.size())
+            fail(what + ": mesh " + std::to_string(n.mesh) + " does not exist (the file has " +
+                 std::to_string(m_.meshes.size()) + ")");
+        Instance inst;
+        inst.mesh = n.mesh;
+        inst.world = world;
+        inst.object_id = next_object_id_++;
+        inst.name = !n.name.empty() ? n.name : scene_.meshes[std::size_t(n.mesh)].name;
+        scene_.instances.push_back(inst);
+    } else if (n.mesh != -1) {
+        fail(what + ": invalid mesh index " + std::to_string(n.mesh));
+    }
+    if (n.camera >= 0) {
+        if (std::size_t(n.camera) >= m_.cameras.size())
+            fail(what + ": camera " + std::to_string(n.camera) + " does not exist");
+        add_camera(m_.cameras[std::size_t(n.camera)], world, n.name.empty() ? what : n.name);
+    }
+    for (int c : n.children) traverse(c, world, depth + 1);
+    state = 2;
+}
+
+Scene Loader::run() {
+    scene_.source = path_;
+    for (const std::string& ext : m_.extensionsRequired)
+        if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" || ext == "KHR_texture_basisu")
+            fail("required extension " + ext + " is not supported");
+        else if (ext != "KHR_mesh_quantization")
+            warn("required extension " + ext + " is ignored");
+    if (!m_.skins.empty() || !m_.animations.empty()) warn("skins and animations are ignored (static bind pose)");
+
+    // Which materials need tangents (normal map present and its image decodable).
+    scene_.materials.reserve(m_.materials.size() + 1);
+    for (std::size_t i = 0; i < m_.materials.size(); ++i) {
+        scene_.materials.push_back(convert_material(int(i)));
+        material_needs_tangents_.push_back(scene_.materials.back().normal_texture.texture >= 0);
+    }
+    convert_meshes();
+    if (need_default_material_) {
+        Material def;
+        def.name = "default";
+        scene_.materials.push_back(def);
+    }
+
+    node_state_.assign(m_.nodes.size(), 0);
+    std::vector<int> roots;
+    if (!m_.scenes.empty()) {
+        int si = m_.defaultScene;
+        if (si < 0) si = 0;
+        if (std::size_t(si) >= m_.scenes.size()) fail("default scene " + std::to_string(si) + " does not exist");
+        roots = m_.scenes[std::size_t(si)].nodes;
+    } else {
+        // No scene: every node that is nobody's child is a root.
+        std::vector<char> is_child(m_.nodes.size(), 0);
+        for (const tinygltf::Node& n : m_.nodes)
+            for (int c : n.children) {
+                if (c < 0 || std::size_t(c) >= m_.nodes.size()) fail("node child " + std::to_string(c) + " does not exist");
+                is_child[std::size_t(c)] = 1;
+            }
+        for (std::size_t i = 0; i < m_.nodes.size(); ++i)
+            if (!is_child[i]) roots.push_back(int(i));
+    }
+    for (int r : roots) traverse(r, glm::mat4(1.0f), 0);
+
+    if (nonfinite_positions_ > 0)
+        warn(std::to_string(nonfinite_positions_) +
+             " vertex positions are not finite; kept (the rasterizer drops their triangles)");
+    if (!infinite_cameras_.empty()) {
+        const Bounds b = scene_.world_bounds();
+        for (std::size_t ci : infinite_cameras_) {
+            Camera& c = scene_.cameras[ci];
+            float far = c.znear * 1000.0f;
+            if (b.valid) {
+                const glm::mat4 inv = glm::inverse(c.view);
+                const glm::vec3 eye(inv[3]);
+                float d = 0.0f;
+                for (int k = 0; k < 8; ++k) {
+                    const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                                           (k & 4) ? b.max.z : b.min.z);
+                    d = std::max(d, glm::length(corner - eye));
+                }
+                far = std::max(d * 1.5f, c.znear * 2.0f);
+            }
+            c.zfar = far;
+        }
+    }
+    scene_.warnings = warnings;
+    return std::move(scene_);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+std::vector<glm::vec3> compute_normals(const std::vector<glm::vec3>& p, const std::vector<std::uint32_t>& idx) {
+    std::vector<glm::vec3> n(p.size(), glm::vec3(0.0f));
+    for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const std::uint32_t a = idx[t], b = idx[t + 1], c = idx[t + 2];
+        if (a >= p.size() || b >= p.size() || c >= p.size()) continue;
+        // The cross product's length is twice the area: summing it weights faces by area.
+        const glm::vec3 fn = glm::cross(p[b] - p[a], p[c] - p[a]);
+        if (!std::isfinite(fn.x) || !std::isfinite(fn.y) || !std::isfinite(fn.z)) continue;
+        n[a] += fn;
+        n[b] += fn;
+        n[c] += fn;
+    }
+    for (glm::vec3& v : n) {
+        const float len = glm::length(v);
+        v = (len > 0.0f && std::isfinite(len)) ? v / len : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+    return n;
+}
+
+namespace {
+glm::vec3 any_perpendicular(const glm::vec3& n) {
+    const glm::vec3 a = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 t = glm::cross(a, n);
+    const float len = glm::length(t);
+    return len > 0.0f ? t / len : glm::vec3(1, 0, 0);
+}
+}  // namespace
+
+std::vector<glm::vec4> compute_tangents(const std::vector<glm::vec3>& p, const std::vector<glm::vec3>& nrm,
+                                        const std::vector<glm::vec2>& uv, const std::vector<std::uint32_t>& idx) {
+    const std::size_t n = p.size();
+    std::vector<glm::vec3> tan(n, glm::vec3(0.0f)), bit(n, glm::vec3(0.0f));
+    if (uv.size() == n) {
+        for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+            const std::uint32_t a = idx[t], b = idx[t + 1], c = idx[t + 2];
+            if (a >= n || b >= n || c >= n) continue;
+            const glm::vec3 e1 = p[b] - p[a], e2 = p[c] - p[a];
+            const glm::vec2 d1 = uv[b] - uv[a], d2 = uv[c] - uv[a];
+            const float det = d1.x * d2.y - d2.x * d1.y;
+            if (det == 0.0f || !std::isfinite(det)) continue;
+            // Unnormalised by |det| on purpose: weights each face by its area in position space
+            // and keeps the sign for the handedness.
+            const float r = 1.0f / det;
+            const glm::vec3 sdir = (e1 * d2.y - e2 * d1.y) * r;
+            const glm::vec3 tdir = (e2 * d1.x - e1 * d2.x) * r;
+            if (!std::isfinite(sdir.x + sdir.y + sdir.z + tdir.x + tdir.y + tdir.z)) continue;
+            for (std::uint32_t v : {a, b, c}) {
+                tan[v] += sdir;
+                bit[v] += tdir;
+            }
+        }
+    }
+    std::vector<glm::vec4> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 N = i < nrm.size() ? nrm[i] : glm::vec3(0, 0, 1);
+        glm::vec3 T = tan[i] - N * glm::dot(N, tan[i]);  // Gram-Schmidt
+        const float len = glm::length(T);
+        if (!(len > 1e-20f) || !std::isfinite(len)) {
+            out[i] = glm::vec4(any_perpendicular(N), 1.0f);
+            continue;
+        }
+        T /= len;
+        const float w = glm::dot(glm::cross(N, T), bit[i]) < 0.0f ? -1.0f : 1.0f;
+        out[i] = glm::vec4(T, w);
+    }
+    return out;
+}
+
+std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uint32_t>& v) {
+    std::vector<std::uint32_t> out;
+    const std::size_t n = v.size();
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        out.assign(v.begin(), v.begin() + std::ptrdiff_t(n - n % 3));
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        if (n >= 3) out.reserve((n - 2) * 3);
+        for (std::size_t i = 0; i + 2 < n; ++i) {
+            // glTF 2.0 §3.7.2.1: odd triangles swap their first two vertices to keep the winding.
+            if (i % 2 == 0) out.insert(out.end(), {v[i], v[i + 1], v[i + 2]});
+            else out.insert(out.end(), {v[i + 1], v[i], v[i + 2]});
+        }
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        if (n >= 3) out.reserve((n - 2) * 3);
+        for (std::size_t i = 1; i + 1 < n; ++i) out.insert(out.end(), {v[0], v[i], v[i + 1]});
+    } else {
+        throw Error("to_triangle_list: mode " + std::to_string(mode) + " is not a triangle mode");
+    }
+    return out;
+}
+
+namespace {
+ImageF to_rgba(const float* src, int w, int h, int c) {
+    ImageF img(w, h, 4, 1.0f);
+    float* d = img.data();
+    const std::size_t np = std::size_t(w) * std::size_t(h);
+    for (std::size_t i = 0; i < np; ++i) {
+        const float* s = src + i * std::size_t(c);
+        if (c == 1 || c == 2) {
+            d[4 * i] = d[4 * i + 1] = d[4 * i + 2] = s[0];
+            if (c == 2) d[4 * i + 3] = s[1];
+        } else {
+            d[4 * i] = s[0];
+            d[4 * i + 1] = s[1];
+            d[4 * i + 2] = s[2];
+            if (c == 4) d[4 * i + 3] = s[3];
+        }
+    }
+    return img;
+}
+
+std::string guess_extension(const unsigned char* b, std::size_t n, const std::string& name) {
+    if (n >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return ".png";
+    if (n >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return ".jpg";
+    if (n >= 2 && b[0] == 'B' && b[1] == 'M') return ".bmp";
+    if (n >= 4 && std::memcmp(b, "GIF8", 4) == 0) return ".gif";
+    const std::string ext = fs::path(name).extension().string();
+    return ext.empty() ? ".png" : ext;
+}
+}  // namespace
+
+ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name) {
+    if (!bytes || size == 0) throw Error("image '" + name + "': no data");
+    const std::string fake = "memory" + guess_extension(bytes, size, name);
+    OIIO::Filesystem::IOMemReader mem(bytes, size);
+    OIIO::ImageSpec config;
+    auto in = OIIO::ImageInput::open(fake, &config, &mem);
+    if (!in) throw Error("image '" + name + "': " + OIIO::geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    check_image_size(spec.width, spec.height, "image '" + name + "'");
+    const int c = std::min(spec.nchannels, 4);
+    if (c < 1) throw Error("image '" + name + "': no channels");
+    std::vector<float> px(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(c));
+    if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, px.data()))
+        throw Error("image '" + name + "': " + in->geterror());
+    in->close();
+    return to_rgba(px.data(), spec.width, spec.height, c);
+}
+
+ImageF read_texture_file(const std::string& path) {
+    std::vector<unsigned char> bytes;
+    std::string err;
+    if (!read_file_bytes(path, &bytes, &err)) throw Error("image '" + path + "': " + err);
+    return decode_image_bytes(bytes.data(), bytes.size(), path);
+}
+
+Scene load_gltf(const std::string& path, std::vector<std::string>* warnings) {
+    std::vector<unsigned char> bytes;
+    std::string err;
+    if (!read_file_bytes(path, &bytes, &err)) throw Error("glTF '" + path + "': " + err);
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    const std::string ext = fs::path(path).extension().string();
+    if (!binary && (ext == ".glb" || ext == ".GLB"))
+        throw Error("glTF '" + path + "': invalid GLB: " +
+                    (bytes.size() < 4 ? "truncated (" + std::to_string(bytes.size()) + " bytes)" : std::string("bad magic")));
+    std::string glb_warning;
+    if (binary) check_glb(bytes, &glb_warning, "glTF '" + path + "'");
+
+    tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(keep_image_bytes, nullptr);
+    gltf.SetStoreOriginalJSONForExtrasAndExtensions(true);
+    tinygltf::FsCallbacks cb{fs_exists, fs_expand, fs_read, fs_write, nullptr};
+    gltf.SetFsCallbacks(cb);
+    tinygltf::Model model;
+    std::string terr, twarn;
+    std::string base_dir = fs::path(path).parent_path().string();
+    if (base_dir.empty()) base_dir = ".";
+    bool ok = false;
+    try {
+        if (binary)
+            ok = gltf.LoadBinaryFromMemory(&model, &terr, &twarn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
+        else
+            ok = gltf.LoadASCIIFromString(&model, &terr, &twarn, reinterpret_cast<const char*>(bytes.data()),
+                                          static_cast<unsigned>(bytes.size()), base_dir);
+    } catch (const std::exception& e) {
+        throw Error("glTF '" + path + "': parse error: " + e.what());
+    }
+    bytes.clear();
+    bytes.shrink_to_fit();
+    auto trim = [](std::string s) {
+        while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+        for (char& c : s)
+            if (c == '\n') c = ';';
+        return s;
+    };
+    if (!ok) throw Error("glTF '" + path + "': " + (terr.empty() ? std::string("cannot be parsed") : trim(terr)));
+
+    Loader loader(path, model);
+    if (!glb_warning.empty()) loader.warnings.push_back("glTF '" + path + "': " + glb_warning);
+    if (!twarn.empty()) loader.warnings.push_back("glTF '" + path + "': " + trim(twarn));
+    Scene s;
+    try {
+        s = loader.run();
+    } catch (const std::bad_alloc&) {
+        throw Error("glTF '" + path + "': out of memory");
+    }
+    if (warnings) warnings->insert(warnings->end(), s.warnings.begin(), s.warnings.end());
+    return s;
+}
+
+}  // namespace aq::scene

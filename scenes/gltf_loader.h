@@ -1,0 +1,57 @@
+// scenes/gltf_loader.h — glTF 2.0 (.gltf, .glb, embedded data URIs) into the aq::scene model.
+//
+// Parsing is done by tinygltf; everything tinygltf does not check (accessor and bufferView ranges,
+// strides, index values, counts, node cycles, non-finite transforms) is validated here before any
+// byte is read, so hostile files end in an aq::Error and never in a crash. Images are kept as
+// bytes by a tinygltf callback and decoded with OpenImageIO. Decisions (texture colour space,
+// BLEND, fallbacks, limits) are documented in docs/scenes.md.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "scenes/scene.h"
+
+namespace aq::scene {
+
+//! Limits checked before allocating (docs/scenes.md "Limits").
+inline constexpr std::size_t kMaxTriangles = 50'000'000;     //!< per file, after strip/fan expansion
+inline constexpr std::size_t kMaxVertices = 50'000'000;      //!< per accessor
+inline constexpr std::size_t kMaxFileBytes = 2'000'000'000;  //!< .gltf/.glb and each external buffer
+inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy depth
+
+//! Loads a .gltf or .glb file (format chosen by the magic bytes, not the extension).
+//! Every node of the default scene (else scene 0, else every root node) becomes an Instance with
+//! object_id 1, 2, ... in depth-first order; every mesh of the file is converted and validated,
+//! referenced or not. Cameras attached to nodes become Scene::cameras in the same order.
+//! Non-fatal problems (skipped points/lines, missing textures, non-finite positions, ...) are
+//! appended to Scene::warnings and, when given, to *warnings. Throws aq::Error naming the file.
+Scene load_gltf(const std::string& path, std::vector<std::string>* warnings = nullptr);
+
+//! Area-weighted vertex normals of an indexed triangle list (degenerate and non-finite triangles
+//! contribute nothing; a vertex with no contribution gets +Z).
+std::vector<glm::vec3> compute_normals(const std::vector<glm::vec3>& positions,
+                                       const std::vector<std::uint32_t>& indices);
+
+//! Per-vertex tangents (xyz, w = handedness) from per-triangle UV derivatives, accumulated and
+//! Gram-Schmidt orthogonalised against the normal. Vertices without usable UVs get an arbitrary
+//! tangent perpendicular to the normal (w = 1).
+std::vector<glm::vec4> compute_tangents(const std::vector<glm::vec3>& positions,
+                                        const std::vector<glm::vec3>& normals,
+                                        const std::vector<glm::vec2>& uv,
+                                        const std::vector<std::uint32_t>& indices);
+
+//! Expands a glTF primitive topology into a triangle list. mode: 4 triangles, 5 strip, 6 fan.
+//! Strips alternate winding so every triangle keeps the orientation of the first.
+std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uint32_t>& idx);
+
+//! Decodes an encoded image (PNG, JPEG, ... anything OpenImageIO reads from memory) into RGBA
+//! float with the stored values (no transfer curve). `name` is used for messages and to guess
+//! the format. Throws aq::Error.
+ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name);
+
+//! Reads an image file into RGBA float, stored values (grey -> RGB replicated, alpha 1 if absent).
+ImageF read_texture_file(const std::string& path);
+
+}  // namespace aq::scene
