@@ -905,8 +905,12 @@ ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const st
     if (!bytes || size == 0) throw Error("image '" + name + "': no data");
     const std::string fake = "memory" + guess_extension(bytes, size, name);
     OIIO::Filesystem::IOMemReader mem(bytes, size);
+    // OIIO 2.4 honours an in-memory proxy passed as the "oiio:ioproxy" configuration hint (the
+    // ioproxy argument of open() alone is not enough for its PNG reader).
     OIIO::ImageSpec config;
-    auto in = OIIO::ImageInput::open(fake, &config, &mem);
+    void* proxy = &mem;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto in = OIIO::ImageInput::open(fake, &config);
     if (!in) throw Error("image '" + name + "': " + OIIO::geterror());
     const OIIO::ImageSpec spec = in->spec();
     check_image_size(spec.width, spec.height, "image '" + name + "'");
