@@ -21,10 +21,11 @@ namespace aq::stylize {
 
 namespace {
 
-//! Strength of the height gradient when deriving normals from a displacement map: the normal is
-//! normalize(-k*dh/dx, -k*dh/dy, 1) with dh in height units per texel. Chosen so the ambientCG
-//! paper's normal spread is of the same order as MNPR's shipped paper (docs/stylize_b.md).
-constexpr float kHeightNormalStrength = 8.0f;
+//! Strength k of the height gradient when deriving normals from a displacement map (height in
+//! [0,1] units per texel). Measured on MNPR's own paper, whose B channel is its height: by least
+//! squares R - 0.5 = -1.04 dh/dx (corr. 0.76) and G - 0.5 = +1.36 dh/drow (corr. 0.91), i.e. n.xy
+//! is about 2..2.7 times the height gradient; we take k = 2 (docs/stylize_b.md).
+constexpr float kHeightNormalStrength = 2.0f;
 
 //! Wrapped index into [0, n).
 inline int wrap(int i, int n) {
@@ -33,8 +34,10 @@ inline int wrap(int i, int n) {
 }
 
 //! Normals from a height field by wrapped central differences (the paper tiles, so the
-//! neighbourhood wraps too): dh/dx = (h[x+1] - h[x-1]) / 2, likewise for y (rows go down).
-//! Encodes n.xy*0.5 + 0.5 in R,G and copies the height into B. A flat field gives (0.5, 0.5, h).
+//! neighbourhood wraps too): gx = (h[x+1] - h[x-1]) / 2, gr = (h[row+1] - h[row-1]) / 2 and
+//! n = normalize(-k*gx, +k*gr, 1): x to the right, y up (rows go down), the convention MNPR's own
+//! texture follows (see kHeightNormalStrength). Encodes n.xy*0.5 + 0.5 in R,G and copies the
+//! height into B. A flat field gives (0.5, 0.5, h); every value lies in [0,1].
 ImageF derive_normals(const ImageF& src, float strength) {
     const int w = src.width(), h = src.height(), c = src.channels();
     ImageF out(w, h, 3);
@@ -42,8 +45,8 @@ ImageF derive_normals(const ImageF& src, float strength) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const float dx = (height(x + 1, y) - height(x - 1, y)) * 0.5f;
-            const float dy = (height(x, y + 1) - height(x, y - 1)) * 0.5f;
-            const glm::vec3 n = glm::normalize(glm::vec3(-strength * dx, -strength * dy, 1.0f));
+            const float dr = (height(x, y + 1) - height(x, y - 1)) * 0.5f;
+            const glm::vec3 n = glm::normalize(glm::vec3(-strength * dx, strength * dr, 1.0f));
             out.at(x, y, 0) = n.x * 0.5f + 0.5f;
             out.at(x, y, 1) = n.y * 0.5f + 0.5f;
             out.at(x, y, 2) = height(x, y);

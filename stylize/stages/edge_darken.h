@@ -1,0 +1,85 @@
+// stylize/stages/edge_darken.h — stage "edge_darken" (spec §4.6): darkens colour at edges with the
+// colour transmittance model C^(1+d).
+//
+// Variants:
+//   dog   WC17 §3.3 eq. 8: I_ed = I_cb^(1 + Ctrl * max_rgb(I_b - I)), I_b the half-resolution 5x5
+//         (sigma 1) blur of the colour (stage edge_blur, variant wc17), upsampled bilinearly with
+//         pixel centres at +0.5 and clamp to edge (GL texture() + GL_LINEAR on a full-screen quad).
+//         The DoG edge is "modulated through a smoothstep" to remove artefacts at colour gradients;
+//         the paper gives no numbers, we use E_m = E * smoothstep(kDogSmoothLow, kDogSmoothHigh, E).
+//   rgbd  WC18 §3.1 (MNPR gradientEdgesWC): C_dark = C^(1 + E_d), E_d = E_b * intensity * (1 + ci)
+//         * sat(5 |C - Cs|) * sat(1 - 3 bleed), ci = ctrl.edge.r (x5 where positive), E_b the
+//         blurred Sobel edges (stage edge_blur, variant wc18).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+#include "stylize/stages/stage_b_util.h"
+
+namespace aq::stylize {
+
+//! MNPR gradientEdgesWC: a positive painted intensity is amplified x5 (negative ones are not).
+inline constexpr float kEdgeCtrlPositiveGain = 5.0f;
+//! MNPR: edges fade out where the colour is within 1/5 (RGB distance) of the substrate colour.
+inline constexpr float kEdgeSubstrateFade = 5.0f;
+//! MNPR: edges fade out where the bleeding mask exceeds 1/3.
+inline constexpr float kEdgeBleedFade = 3.0f;
+//! Our smoothstep thresholds for the WC17 DoG edge (the paper names the smoothstep, not its edges).
+inline constexpr float kDogSmoothLow = 0.0f;
+inline constexpr float kDogSmoothHigh = 0.1f;
+
+struct EdgeDarkenDogParams {
+    float intensity = 1.0f;   //!< global multiplier of Ctrl * E [0, 50]
+    float ctrl_bias = 1.0f;   //!< Ctrl = ctrl_bias + ctrl.edge.r: 1 darkens unpainted areas, 0 = eq. 8 literal [0, 1]
+    float smooth_low = kDogSmoothLow;    //!< smoothstep lower edge on E [0, 1]
+    float smooth_high = kDogSmoothHigh;  //!< smoothstep upper edge on E [0, 1], > smooth_low
+};
+
+struct EdgeDarkenRgbdParams {
+    float intensity = 1.0f;  //!< global edge intensity (MNPR gEdgeIntensity, default 1) [0, 50]
+};
+
+//! WC17 eq. 8 for one pixel: c = I_cb (RGBA), blurred = I_b (RGB), ctrl = ctrl.edge.r.
+inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, const EdgeDarkenDogParams& p) {
+    const glm::vec3 dog = blurred - glm::vec3(c);
+    const float e = std::max(0.0f, std::max(dog.x, std::max(dog.y, dog.z)));
+    float t = (e - p.smooth_low) / (p.smooth_high - p.smooth_low);
+    t = stage_b::satf(t);
+    const float em = e * (t * t * (3.0f - 2.0f * t));
+    const float k = std::max(0.0f, p.ctrl_bias + ctrl) * p.intensity * em;
+    if (!(k > 0.0f)) return c;  // no edge (or NaN control): unchanged
+    const float d = 1.0f + k;
+    return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
+}
+
+//! WC18 §3.1 / MNPR for one pixel: edge = blurred Sobel edge, ci = ctrl.edge.r, bleed = bleeding mask.
+inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
+                                     const EdgeDarkenRgbdParams& p) {
+    if (ci > 0.0f) ci *= kEdgeCtrlPositiveGain;
+    float e = edge * p.intensity * (1.0f + ci);
+    e *= stage_b::satf(stage_b::length3(glm::vec3(c) - substrate) * kEdgeSubstrateFade);
+    e *= stage_b::satf(1.0f - bleed * kEdgeBleedFade);
+    if (!(e > 0.0f)) return c;  // E_d = 0 (or NaN): C^1 = C exactly
+    const float d = 1.0f + e;
+    return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
+}
+
+//! WC17 DoG edge darkening. color: 4 ch (I_cb, also the I of the DoG); blurred: >= 3 ch, any size
+//! (upsampled to color's size by resample convention, clamp to edge); ctrl_edge: >= 1 ch (R used),
+//! same size as color. dst: (re)allocated to color's size, 4 ch; only roi is written.
+void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
+                     const EdgeDarkenDogParams& p, Roi roi = Roi::all(), const Exec& ex = {});
+
+//! WC18 RGBD edge darkening. color: 4 ch; edges: >= 1 ch (channel 0 = blurred edges), same size;
+//! ctrl_edge: >= 1 ch (R); bleed: optional, 4 ch (alpha = bleeding mask, as stage "bleed" writes
+//! it) at any size (resampled like the DoG blur), or 1 ch; absent = no bleeding.
+void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
+                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, Roi roi = Roi::all(),
+                      const Exec& ex = {});
+
+void register_edge_darken(Registry& r);
+
+}  // namespace aq::stylize

@@ -1,0 +1,99 @@
+// stylize/stages/pigment_apply.cpp — WC17 eq. 9 granulation and WC18 eq. 1-4 dry-brush +
+// granulation. Pointwise: reference and fast traversals are bit-exact.
+#include "stylize/stages/pigment_apply.h"
+
+namespace aq::stylize {
+
+using namespace stage_b;
+
+namespace {
+
+const float kFlatHeight = 0.5f;
+
+struct Inputs {
+    View<const glm::vec4> c;
+    Plane ctrl, height;
+};
+
+Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+             const std::string& st) {
+    check_input(&color, 4, st, "color");
+    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&ctrl_pigment, 2, st, "ctrl_pigment");
+    check_same_size(ctrl_pigment, color, st, "ctrl_pigment", "color");
+    if (paper) {
+        check_input(paper, 3, st, "paper");
+        check_same_size(*paper, color, st, "paper", "color");
+    }
+    check_not_alias(dst, &color, st, "color");
+    check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
+    check_not_alias(dst, paper, st, "paper");
+    ensure_output(dst, color.width(), color.height(), 4);
+    return {color.view<glm::vec4>(), plane(ctrl_pigment, 1),
+            paper ? plane(*paper, 2) : constant_plane(&kFlatHeight, color.width(), color.height())};
+}
+
+}  // namespace
+
+void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+                        const PigmentApplyWc17Params& p, Roi roi, const Exec& ex) {
+    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc17");
+    const View<glm::vec4> o = dst.view<glm::vec4>();
+    for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) o(x, y) = pigment_apply_wc17_px(in.c(x, y), in.height(x, y), in.ctrl(x, y), p);
+    });
+}
+
+void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+                        glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi, const Exec& ex) {
+    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
+    const View<glm::vec4> o = dst.view<glm::vec4>();
+    for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x)
+            o(x, y) = pigment_apply_wc18_px(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
+    });
+}
+
+void register_pigment_apply(Registry& r) {
+    using P17 = PigmentApplyWc17Params;
+    using P18 = PigmentApplyWc18Params;
+    static const ParamTable<P17> t17 = ParamTable<P17>()
+        .f("density", &P17::density, 0, 10, "d: pigment density at the paper's valleys (eq. 9)")
+        .f("roughness", &P17::roughness, 0, 5, "r: paper height (H - 0.5) r + 0.5")
+        .b("literal", &P17::literal, "subtract P_iv as printed in eq. 9 (darkens even at Ctrl = 0)");
+    static const ParamTable<P18> t18 = ParamTable<P18>()
+        .f("density", &P18::density, 0, 20, "D: global pigment density (eq. 4, MNPR 5)")
+        .f("dry_brush_threshold", &P18::dry_brush_threshold, 0, 100, "t_dry: dry-brush edge sharpness (eq. 2, MNPR 5)")
+        .f("roughness", &P18::roughness, 0, 5, "r: (H - 0.5) r + 0.5 (eq. 1)")
+        .f("granulation_min", &P18::granulation_min, 0, 1, "d_min: default granulation (WC18 0.2)");
+    {
+        StageVariant v;
+        v.stage = "pigment_apply";
+        v.variant = "wc18";
+        v.doc = "WC18 eq. 1-4: dry-brush where the paper is below -ctrl.pigment.g, else granulation C^(d_a)";
+        v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
+        v.outputs = {{"color", "color.pigment", 4, false}};
+        v.params = t18.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const Globals& g = globals_of(io);
+            pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv), Roi::all(),
+                               ex);
+        };
+        r.add(std::move(v));
+    }
+    {
+        StageVariant v;
+        v.stage = "pigment_apply";
+        v.variant = "wc17";
+        v.doc = "WC17 eq. 9: I(I - k) + (1 - I) I^(1 + k), k = Ctrl d P_iv (split granulation model)";
+        v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
+        v.outputs = {{"color", "color.pigment", 4, false}};
+        v.params = t17.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), Roi::all(), ex);
+        };
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize

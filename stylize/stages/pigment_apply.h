@@ -1,0 +1,105 @@
+// stylize/stages/pigment_apply.h — stage "pigment_apply" (spec §4.8): how pigment settles on the
+// paper — granulation (pigment accumulating in the paper's valleys) and dry-brush (pigment only on
+// the peaks). The paper height H is the B channel of the prepared paper (Globals::paper).
+//
+// Variants:
+//   wc17  WC17 §3.3 eq. 9: I_g = I (I - P_iv) + (1 - I) I^(1 + Ctrl d P_iv), P_iv = 1 - Hr the
+//         inverted paper. Read literally, the subtractive term removes P_iv even where Ctrl = 0,
+//         which contradicts "Ctrl ... art-direct[s] the pigment density at the valleys"; by default
+//         we subtract the same controlled amount k = Ctrl d P_iv used in the exponent, so that
+//         Ctrl = 0 is the identity (parameter `literal` restores I - P_iv).
+//   wc18  WC18 §4.1 eq. 1-4 in MNPR's form (quadPigmentApplication pigmentApplicationWCFrag):
+//         Hr = (H - 0.5) r + 0.5 (eq. 1); dry-brush where Hr < -a (a = ctrl.pigment.g, negative =
+//         dry-brush): C + sat(t_dry |Hr + a|) (Cs - C) (eq. 2 case 1); otherwise granulation:
+//         d_g = |a| + d_min (d_min = 0.2), d_g = mix(d_g, 5 d_g, L) (eq. 3), H_iv = 1 - (0.2 Hr + 0.8),
+//         d_a = 1 + d_g H_iv D (eq. 4), C^(d_a) (eq. 2 case 2), faded out near the substrate colour
+//         (MNPR: mix(C, C^d_a, sat(5 |C - Cs|))). Pixels with alpha < 0.01 are left unchanged (MNPR).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+#include "stylize/stages/stage_b_util.h"
+
+namespace aq::stylize {
+
+//! WC18 §4.1: "d_min = 0.2 the default amount of granulation".
+inline constexpr float kGranulationDefault = 0.2f;
+//! WC18 eq. 3: brighter colours get up to x5 the granulation density.
+inline constexpr float kGranulationLuminanceGain = 5.0f;
+//! WC18 §4.1: heightmap "reduced, shifted and inverted": H_iv = 1 - (Hr * 0.2 + 0.8).
+inline constexpr float kGranulationHeightScale = 0.2f;
+inline constexpr float kGranulationHeightShift = 0.8f;
+//! MNPR gPigmentDensity default (WC18's global density D).
+inline constexpr float kPigmentDensity = 5.0f;
+//! MNPR gDryBrushThreshold default (WC18's t_dry).
+inline constexpr float kDryBrushThreshold = 5.0f;
+//! MNPR: pigment application skips pixels whose alpha is below this (no painted surface).
+inline constexpr float kPigmentAlphaMask = 0.01f;
+//! MNPR: granulation fades out within 1/5 (RGB distance) of the substrate colour.
+inline constexpr float kPigmentSubstrateFade = 5.0f;
+
+struct PigmentApplyWc17Params {
+    float density = 1.0f;    //!< d of eq. 9 [0, 10]
+    float roughness = 1.0f;  //!< paper roughness r: Hr = (H - 0.5) r + 0.5 [0, 5]
+    bool literal = false;    //!< subtract P_iv as printed (true) or Ctrl d P_iv (false, identity at Ctrl = 0)
+};
+
+struct PigmentApplyWc18Params {
+    float density = kPigmentDensity;             //!< D of eq. 4 [0, 20]
+    float dry_brush_threshold = kDryBrushThreshold;  //!< t_dry of eq. 2 [0, 100]
+    float roughness = 1.0f;                      //!< r of eq. 1 (the prepared paper already has the global roughness) [0, 5]
+    float granulation_min = kGranulationDefault;  //!< d_min [0, 1]
+};
+
+//! WC17 eq. 9 for one pixel: c RGBA, height H in [0,1], ctrl = ctrl.pigment.g (negative values
+//! clamp to 0: WC17's granulation control is in [0, 1]). Output clamped to [0, 1] per channel.
+inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, const PigmentApplyWc17Params& p) {
+    if (c.w < kPigmentAlphaMask) return c;
+    const float hr = (height - 0.5f) * p.roughness + 0.5f;
+    const float piv = 1.0f - hr;
+    const float k = std::max(ctrl, 0.0f) * p.density * piv;
+    if (!p.literal && k == 0.0f) return c;  // Ctrl = 0: exactly unchanged
+    const float sub = p.literal ? piv : k;
+    auto one = [&](float i) {
+        const float v = i * (i - sub) + (1.0f - i) * stage_b::pow_c(i, 1.0f + k);
+        return stage_b::satf(v);
+    };
+    return {one(c.x), one(c.y), one(c.z), c.w};
+}
+
+//! WC18 eq. 1-4 for one pixel: c RGBA, height H, a = ctrl.pigment.g, substrate colour Cs.
+inline glm::vec4 pigment_apply_wc18_px(glm::vec4 c, float height, float a, glm::vec3 substrate,
+                                       const PigmentApplyWc18Params& p) {
+    if (!(c.w >= kPigmentAlphaMask)) return c;
+    const glm::vec3 rgb(c);
+    const float hr = (height - 0.5f) * p.roughness + 0.5f;  // eq. 1
+    const float dry = hr + a;                               // < 0: the paper is below the dry-brush level
+    if (dry < 0.0f) {
+        const float t = stage_b::satf(-dry * p.dry_brush_threshold);
+        const glm::vec3 o = stage_b::mixv(rgb, substrate, t);
+        return {o, c.w};
+    }
+    float dg = std::fabs(a) + p.granulation_min;
+    dg = stage_b::mixf(dg, dg * kGranulationLuminanceGain, stage_b::luma709(rgb));  // eq. 3
+    const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
+    const float da = 1.0f + dg * hiv * p.density;  // eq. 4
+    const glm::vec3 g(stage_b::pow_c(std::fabs(rgb.x), da), stage_b::pow_c(std::fabs(rgb.y), da),
+                      stage_b::pow_c(std::fabs(rgb.z), da));
+    const float fade = stage_b::satf(stage_b::length3(rgb - substrate) * kPigmentSubstrateFade);
+    return {stage_b::mixv(rgb, g, fade), c.w};
+}
+
+//! color: 4 ch; ctrl_pigment: >= 2 ch (G used), same size; paper: 3 ch (B = height) same size, or
+//! nullptr for the flat paper (height 0.5). dst (re)allocated to color's size; roi written.
+void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+                        const PigmentApplyWc17Params& p, Roi roi = Roi::all(), const Exec& ex = {});
+void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+                        glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi = Roi::all(),
+                        const Exec& ex = {});
+
+void register_pigment_apply(Registry& r);
+
+}  // namespace aq::stylize

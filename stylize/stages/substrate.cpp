@@ -1,0 +1,129 @@
+// stylize/stages/substrate.cpp — paper distortion (WC17 §3.3 / MNPR) and substrate lighting
+// (WC18 eq. 5). Each output pixel reads a bounded neighbourhood of its inputs only (offsets are at
+// most 5*distortion pixels), so reference and fast traversals are bit-exact.
+#include "stylize/stages/substrate.h"
+
+#include "stylize/kernels.h"
+
+namespace aq::stylize {
+
+using namespace stage_b;
+
+namespace {
+const float kFlatNormal = 0.5f;
+}
+
+void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
+                       const ImageF* paper, const SubstrateDistortParams& p, Roi roi, const Exec& ex) {
+    const std::string st = "substrate_distort/mnpr";
+    check_input(&color, 4, st, "color");
+    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&depth, 1, st, "depth");
+    check_same_size(depth, color, st, "depth", "color");
+    check_input(&ctrl_substrate, 1, st, "ctrl_substrate");
+    check_same_size(ctrl_substrate, color, st, "ctrl_substrate", "color");
+    if (paper) {
+        check_input(paper, 3, st, "paper");
+        check_same_size(*paper, color, st, "paper", "color");
+    }
+    check_not_alias(dst, &color, st, "color");
+    check_not_alias(dst, &depth, st, "depth");
+    check_not_alias(dst, &ctrl_substrate, st, "ctrl_substrate");
+    check_not_alias(dst, paper, st, "paper");
+    const int w = color.width(), h = color.height();
+    ensure_output(dst, w, h, 4);
+    const View<const glm::vec4> c = color.view<glm::vec4>();
+    const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, 0);
+    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
+    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
+    const Border b = border_from(p.border);
+    const View<glm::vec4> o = dst.view<glm::vec4>();
+    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) {
+            const glm::vec2 off = substrate_offset(nr(x, y), ng(x, y), ctrl(x, y), p);
+            if (off.x == 0.0f && off.y == 0.0f) {
+                o(x, y) = c(x, y);
+                continue;
+            }
+            const float px = float(x) + 0.5f + off.x, py = float(y) + 0.5f + off.y;
+            const float zd = stage_b::sample_bilinear(z, px, py, b);
+            const float dz = z(x, y) - zd;
+            const bool blocked = p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
+            o(x, y) = blocked ? c(x, y) : aq::stylize::sample_bilinear(c, px, py, b);
+        }
+    });
+}
+
+void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
+                     bool squared, Roi roi, const Exec& ex) {
+    const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
+    check_input(&color, 4, st, "color");
+    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    if (paper) {
+        check_input(paper, 3, st, "paper");
+        check_same_size(*paper, color, st, "paper", "color");
+    }
+    check_not_alias(dst, &color, st, "color");
+    check_not_alias(dst, paper, st, "paper");
+    const int w = color.width(), h = color.height();
+    ensure_output(dst, w, h, 4);
+    const View<const glm::vec4> c = color.view<glm::vec4>();
+    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
+    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
+    const glm::vec3 l = substrate_light_dir(p);
+    const View<glm::vec4> o = dst.view<glm::vec4>();
+    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) {
+            const float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
+            const glm::vec4 v = c(x, y);
+            o(x, y) = {v.x * id, v.y * id, v.z * id, v.w};
+        }
+    });
+}
+
+void register_substrate(Registry& r) {
+    using D = SubstrateDistortParams;
+    using L = SubstrateLightParams;
+    static const ParamTable<D> td = ParamTable<D>()
+        .f("distortion", &D::distortion, 0, 10, "global paper distortion: 5 px per unit at full control (MNPR 1)")
+        .f("depth_threshold", &D::depth_threshold, 0, 1, "no sampling across this normalised depth step (MNPR 0.01)")
+        .b("both_sides", &D::both_sides, "also refuse destinations behind the pixel (MNPR: only in front)")
+        .i("border", &D::border, 0, 1, "taps outside the image: 0 clamp, 1 mirror");
+    static const ParamTable<L> tl = ParamTable<L>()
+        .f("direction", &L::direction, 0, 360, "light direction in degrees (MNPR 180)")
+        .f("tilt", &L::tilt, 0, 89, "light tilt in degrees, L.z = tilt/89 (MNPR 45)")
+        .f("shading", &L::shading, 0, 1, "diffuse shading contribution ds (MNPR 0.5)")
+        .f("roughness", &L::roughness, 0, 5, "r: relief scale of the paper normal");
+    {
+        StageVariant v;
+        v.stage = "substrate_distort";
+        v.variant = "mnpr";
+        v.doc = "WC17 3.3 / MNPR: sample colour at +n*distortion*5*sat(ctrl.substrate.r+0.2) px, depth-guarded";
+        v.inputs = {{"color", target::kColor, 4, false},
+                    {"depth", "depth", 1, false},
+                    {"ctrl_substrate", target::kCtrlSubstrate, 4, false}};
+        v.outputs = {{"color", "color.distorted", 4, false}};
+        v.params = td.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv),
+                              Roi::all(), ex);
+        };
+        r.add(std::move(v));
+    }
+    for (bool squared : {false, true}) {
+        StageVariant v;
+        v.stage = "substrate_light";
+        v.variant = squared ? "mnpr" : "wc18";
+        v.doc = squared ? "MNPR substrate lighting: C * (1 - (1 - N.L)^2 ds)"
+                        : "WC18 eq. 5: C * (1 - (1 - L.(rN)) ds), MNPR light (180 deg, tilt 45, ds 0.5)";
+        v.inputs = {{"color", target::kColor, 4, false}};
+        v.outputs = {{"color", "color.lit", 4, false}};
+        v.params = tl.descs();
+        v.run = [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, Roi::all(), ex);
+        };
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize
