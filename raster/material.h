@@ -1,0 +1,117 @@
+// raster/material.h — the watercolor material (fragment stage, spec §3): base colour, textures,
+// normal maps, directional lights with MNPR's diffuse factor / shade wrap / shade colour,
+// Blinn-Phong specular, the WC17 reflectance model (eq. 3-5) and the object-space pigment
+// turbulence and fading (eq. 6).
+//
+// Every formula is a small pure function so tests and the GLSL twin (reference/) can mirror it;
+// the order of operations is the one written here and in docs/raster.md ("Material"). All maths
+// is float, no FMA (-ffp-contract=off), left-to-right as written.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/raster.h"
+
+namespace aq::raster {
+
+inline float sat(float x) { return std::min(std::max(x, 0.0f), 1.0f); }
+inline glm::vec3 sat(glm::vec3 v) { return {sat(v.x), sat(v.y), sat(v.z)}; }
+inline float dot3(glm::vec3 a, glm::vec3 b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+//! v * (1 / sqrt(dot(v, v))); the zero vector is returned unchanged.
+inline glm::vec3 normalize3(glm::vec3 v) {
+    const float l2 = dot3(v, v);
+    if (!(l2 > 0.0f)) return v;
+    return v * (1.0f / std::sqrt(l2));
+}
+
+// ---- WC17 / MNPR shading maths (pure) -------------------------------------------------------
+
+//! MNPR diffuse factor with shade wrap: DF = lerp(1, sat((N.L + wrap) / (1 + wrap)), k),
+//! lerp(a, b, t) = a + (b - a) * t.
+float diffuse_factor(float n_dot_l, float shade_wrap, float k);
+
+//! WC17 eq. 3, dilute area DA = (L.N + (dA - 1)) / dA, clamped below at 0 (docs/raster.md: with
+//! dA < 1 the unclamped value goes to -(1 - dA)/dA - 1 on the dark side, which would push colours
+//! away from the paper instead of leaving them undiluted). dA is clamped to [0.01, 1].
+float dilute_area(float l_dot_n, float dA);
+
+//! WC17 eq. 4, cangiante colour Cc = C + DA * c.
+glm::vec3 cangiante(glm::vec3 C, float DA, float c);
+
+//! WC17 eq. 5, dilution Cd = d * DA * (Cp - Cc) + Cc, evaluated as ((d * DA) * (Cp - Cc)) + Cc.
+glm::vec3 dilution(glm::vec3 Cc, float DA, float d, glm::vec3 Cp);
+
+//! WC17 eq. 3-5 composed: DA from (L.N, dA), then cangiante, then dilution. Not clamped.
+glm::vec3 reflectance(glm::vec3 C, float l_dot_n, float dA, float cangiante_c, float dilute_d,
+                      glm::vec3 Cp);
+
+//! WC17 eq. 6 pigment turbulence / fading with the WC17 control value ctrl in [0, 1]:
+//! ctrl < 0.5: C^(3 - ctrl*4) per channel (C clamped to >= 0); else ((ctrl - 0.5) * 2) * (Cp - C) + C.
+glm::vec3 turbulence(glm::vec3 C, float ctrl, glm::vec3 Cp);
+
+//! The WC17 turbulence control derived from ctrl.pigment.b (density, + accumulate / - dilute,
+//! spec §1): ctrl = 0.5 - 0.5 * b. b = 0 is neutral (0.5), b = 1 accumulates fully (C^3),
+//! b = -1 fades fully to the paper.
+inline float wc17_turbulence_ctrl(float pigment_density) { return 0.5f - 0.5f * pigment_density; }
+
+// ---- Textures ---------------------------------------------------------------------------------
+
+//! Integer texel coordinate with a glTF/GL wrap mode (MIRRORED_REPEAT mirrors with edge repeat,
+//! period 2n).
+int wrap_texel(int i, int n, scene::Wrap w);
+
+//! Samples a texture at uv (GL conventions: texel centres at (i + 0.5) / n, v = 0 at row 0).
+//! Linear: bilinear of the 4 nearest texels; Nearest: floor(u * n). No mipmaps: the
+//! magnification filter is used everywhere. Non-finite uv reads texel (0, 0).
+//! Channels are widened to RGBA: 1 -> (g, g, g, 1), 2 -> (r, g, 0, 1), 3 -> (r, g, b, 1).
+glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv);
+
+// ---- The fragment ------------------------------------------------------------------------------
+
+//! Interpolated vertex data of one fragment (view space).
+struct FragmentInput {
+    glm::vec3 view_pos{0};
+    glm::vec3 normal{0, 0, 1};     //!< interpolated, not yet normalised
+    glm::vec4 tangent{0};          //!< interpolated xyz + handedness; valid if has_tangent
+    glm::vec2 uv{0};
+    glm::vec4 color{1};            //!< COLOR_0 (1 if absent)
+    glm::vec3 ctrl[scene::kNumControlTargets]{};  //!< interpolated per-vertex control RGB
+    bool has_tangent = false, has_uv = false, back = false;
+};
+
+struct ViewLight {
+    glm::vec3 dir;     //!< unit, view space, towards the light
+    glm::vec3 radiance;//!< colour * intensity
+};
+
+//! Per-render constants of the fragment stage.
+struct ShadeContext {
+    const scene::Scene* scene = nullptr;
+    std::vector<ViewLight> lights;  //!< at least one
+    glm::vec3 ambient{0};
+    bool perspective = true;
+    glm::vec3 substrate{1};
+    bool object_space_turbulence = false;
+};
+
+struct FragmentOutput {
+    glm::vec4 color{0};
+    glm::vec3 ctrl[scene::kNumControlTargets]{};
+    glm::vec3 normal{0};
+    float diffuse = 0, specular = 0;
+};
+
+//! Material alpha: base_color.a * texture.a * COLOR_0.a (for alpha mode MASK).
+float material_alpha(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in);
+
+//! The full watercolor material (docs/raster.md "Material" lists the order of operations).
+FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
+                              const FragmentInput& in);
+
+//! Default light when the scene has none: white, intensity 1, view-space direction
+//! normalize(-0.5, 0.5, 1) (from the upper left, in front).
+ViewLight default_view_light();
+
+}  // namespace aq::raster

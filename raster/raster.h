@@ -1,0 +1,63 @@
+// raster/raster.h — deterministic tile rasterizer: scene -> watercolor G-buffer (spec §1-3).
+//
+// Pipeline (docs/raster.md): vertex stage (MVP, WC17 eq. 1-2 hand tremor, WC17 §3.2 bleeding
+// displacement) -> homogeneous clipping (near, far, guard band) -> fixed-point triangle setup
+// (8 subpixel bits, top-left rule) -> binning into 64x64 tiles in submission order -> per-tile
+// visibility + deferred watercolor material (spec §3, WC17 eq. 3-6) -> optional SSAA resolve.
+// Exec::traversal == Reference runs the plain single-threaded per-triangle bounding-box
+// rasterizer with the same fixed-point rules and the same per-fragment functions; the tiled
+// oneTBB path must match it bit for bit (tests/raster).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/exec.h"
+#include "core/targets.h"
+#include "scenes/scene.h"
+
+namespace aq::raster {
+
+//! Hand tremor, spec §2 / WC17 eq. 1-2 in MNPR's form; defaults are MNPR's.
+struct TremorParams {
+    float tremor_px = 4;    //!< amplitude in output pixels, [0, 50]
+    float front = 0.4f;     //!< a in eq. 2; the weight is min(sat(1.2 N.V), 1 - front)
+    float speed = 10;       //!< s in eq. 1 (MNPR scales it by 100)
+    float frequency = 10;   //!< f in eq. 1 (MNPR scales it by 10)
+    bool enabled = true;
+};
+
+struct RenderSettings {
+    int width = 1280, height = 720;
+    int ssaa = 1;                   //!< ordered-grid supersampling factor per axis, [1, 4]
+    int frame = 0;                  //!< frame number; T = frame / fps drives the tremor
+    float fps = 24;
+    Exec exec;                      //!< threads; Reference = plain per-pixel reference rasterizer
+    bool cull_backfaces = false;    //!< never culls double-sided materials
+    TremorParams tremor;
+    bool bleed_displacement = true; //!< WC17 §3.2: push bleeding vertices along their normal
+    enum class Turbulence { ImageSpace, ObjectSpace } turbulence = Turbulence::ImageSpace;  //!< eq. 6 variant
+    glm::vec3 substrate_color{1};   //!< Cp, paper colour for dilution / fading
+};
+
+//! Renders the G-buffer of `scene` seen by `camera` (docs/raster.md "Targets"):
+//! color (RGBA, straight alpha = coverage), ctrl.pigment, ctrl.substrate, ctrl.edge,
+//! ctrl.abstraction (RGB control in [-1,1], A coverage), depth.linear (eye-space distance along
+//! -Z, background = camera.zfar), normal (view space, background 0), object_id (exact integer,
+//! 0 = background), diffuse and specular (key-light terms). All at width x height.
+//! Throws aq::Error on invalid settings or sizes (checked before allocating). Non-fatal problems
+//! (dropped non-finite triangles, ...) are appended to *warnings.
+Targets render_gbuffer(const scene::Scene& scene, const scene::Camera& camera,
+                       const RenderSettings& settings,
+                       std::vector<std::string>* warnings = nullptr);
+
+//! Debug hook for watertightness tests: per pixel (of the supersampled grid), the number of
+//! triangles whose coverage test passes there, after clipping, culling and snapping, with no depth
+//! test. One channel, exact small integers. Uses the traversal chosen in settings.exec.
+ImageF debug_coverage_count(const scene::Scene& scene, const scene::Camera& camera,
+                            const RenderSettings& settings,
+                            std::vector<std::string>* warnings = nullptr);
+
+}  // namespace aq::raster

@@ -1,0 +1,189 @@
+// raster/setup.cpp — homogeneous clipping (near, far, guard band) and fixed-point triangle setup.
+#include "raster/setup.h"
+
+#include <cmath>
+
+namespace aq::raster {
+
+namespace {
+
+// Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
+// degenerate after snapping or is culled. beta: original weights of the three vertices (clip
+// path) or null (fast path, identity).
+bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
+           const SetupOptions& opt, bool double_sided, TriSetup& t, ClipVerts& cv) {
+    std::int64_t x[3] = {sv[0].x, sv[1].x, sv[2].x};
+    std::int64_t y[3] = {sv[0].y, sv[1].y, sv[2].y};
+    std::int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    if (area == 0) return false;  // degenerate after snapping
+    // y-down screen: counter-clockwise in NDC (glTF front face) has negative area here.
+    const bool back = area > 0;
+    if (back && opt.cull_backfaces && !double_sided) return false;
+    int order[3] = {0, 1, 2};
+    if (area < 0) {
+        order[1] = 2;
+        order[2] = 1;
+    }
+    std::int64_t X[3], Y[3];
+    for (int j = 0; j < 3; ++j) {
+        X[j] = x[order[j]];
+        Y[j] = y[order[j]];
+    }
+    // Pixel bounds: centres c = 256 p + 128 with xmin <= c <= xmax.
+    const std::int64_t xmin = std::min({X[0], X[1], X[2]}), xmax = std::max({X[0], X[1], X[2]});
+    const std::int64_t ymin = std::min({Y[0], Y[1], Y[2]}), ymax = std::max({Y[0], Y[1], Y[2]});
+    std::int64_t px0 = (xmin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
+    std::int64_t px1 = (xmax - kSubpixelOne / 2) >> kSubpixelBits;
+    std::int64_t py0 = (ymin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
+    std::int64_t py1 = (ymax - kSubpixelOne / 2) >> kSubpixelBits;
+    px0 = std::max<std::int64_t>(px0, 0);
+    py0 = std::max<std::int64_t>(py0, 0);
+    px1 = std::min<std::int64_t>(px1, vp.width - 1);
+    py1 = std::min<std::int64_t>(py1, vp.height - 1);
+    if (px0 > px1 || py0 > py1) return false;
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;  // edge i: vertex a -> vertex b, opposite i
+        const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+        t.A[i] = std::int32_t(-dy);
+        t.B[i] = std::int32_t(dx);
+        t.C[i] = dy * X[a] - dx * Y[a];
+        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+        t.bias[i] = top_left ? 0 : 1;
+    }
+    t.x0 = std::int32_t(px0);
+    t.x1 = std::int32_t(px1);
+    t.y0 = std::int32_t(py0);
+    t.y1 = std::int32_t(py1);
+    for (int j = 0; j < 3; ++j) {
+        t.inv_w[j] = sv[order[j]].inv_w;
+        t.depth[j] = sv[order[j]].depth;
+        if (beta) cv.beta[j] = beta[order[j]];
+    }
+    t.perm = order[1] == 2 ? 1 : 0;
+    t.back = back ? 1 : 0;
+    return true;
+}
+
+struct ClipVertex {
+    glm::dvec4 c;
+    glm::dvec3 beta;
+    double depth;
+};
+
+double plane_dist(const ClipVertex& v, int plane, const Viewport& vp) {
+    const glm::dvec4& c = v.c;
+    switch (plane) {
+        case 0: return c.z + c.w;             // near
+        case 1: return c.w - c.z;             // far
+        case 2: return c.x + vp.gb_x * c.w;   // left
+        case 3: return vp.gb_x * c.w - c.x;   // right
+        case 4: return c.y + vp.gb_y * c.w;   // bottom
+        default: return vp.gb_y * c.w - c.y;  // top
+    }
+}
+
+// Sutherland-Hodgman against one plane. Intersections are always computed from the inside vertex
+// towards the outside one, so the two triangles sharing an edge get the identical new vertex.
+int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Viewport& vp) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        const ClipVertex& p = in[i];
+        const ClipVertex& q = in[(i + 1) % n];
+        const double dp = plane_dist(p, plane, vp), dq = plane_dist(q, plane, vp);
+        const bool pin = dp >= 0, qin = dq >= 0;
+        if (pin) out[m++] = p;
+        if (pin != qin) {
+            const ClipVertex& a = pin ? p : q;  // inside
+            const ClipVertex& b = pin ? q : p;  // outside
+            const double da = pin ? dp : dq, db = pin ? dq : dp;
+            const double s = da / (da - db);
+            ClipVertex r;
+            r.c = a.c + (b.c - a.c) * s;
+            r.beta = a.beta + (b.beta - a.beta) * s;
+            r.depth = a.depth + (b.depth - a.depth) * s;
+            out[m++] = r;
+        }
+    }
+    return m;
+}
+
+}  // namespace
+
+void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                    std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+    const auto& idx = dv.prim->indices;
+    const std::uint32_t i0 = idx[3 * std::size_t(tri)], i1 = idx[3 * std::size_t(tri) + 1],
+                        i2 = idx[3 * std::size_t(tri) + 2];
+    const std::size_t nv = dv.clip.size();
+    if (i0 >= nv || i1 >= nv || i2 >= nv) {
+        ++counters.bad_index;
+        return;
+    }
+    const std::uint32_t c0 = dv.code[i0], c1 = dv.code[i1], c2 = dv.code[i2];
+    const bool double_sided = dv.mat->double_sided;
+    if ((c0 | c1 | c2) & kOutNonFinite) {
+        ++counters.non_finite;
+        return;
+    }
+    if (c0 & c1 & c2) return;  // entirely outside one plane
+    TriSetup t;
+    t.draw = draw_index;
+    t.tri = tri;
+    ClipVerts cv;
+    if ((c0 | c1 | c2) == 0) {
+        const SnapVertex sv[3] = {dv.snap[i0], dv.snap[i1], dv.snap[i2]};
+        if (build(sv, nullptr, vp, opt, double_sided, t, cv)) {
+            t.clip = -1;
+            out.push_back(t);
+        }
+        return;
+    }
+    // Clip path (rare): polygon of at most 3 + 6 vertices.
+    ++counters.clipped;
+    ClipVertex bufA[12], bufB[12];
+    const std::uint32_t ids[3] = {i0, i1, i2};
+    for (int j = 0; j < 3; ++j) {
+        bufA[j].c = glm::dvec4(dv.clip[ids[j]]);
+        bufA[j].beta = glm::dvec3(j == 0, j == 1, j == 2);
+        bufA[j].depth = -double(dv.view_pos[ids[j]].z);
+    }
+    int n = 3;
+    ClipVertex* cur = bufA;
+    ClipVertex* nxt = bufB;
+    const std::uint32_t planes = c0 | c1 | c2;
+    for (int pl = 0; pl < 6 && n >= 3; ++pl) {
+        if (!(planes & (1u << pl))) continue;
+        n = clip_plane(cur, n, nxt, pl, vp);
+        std::swap(cur, nxt);
+    }
+    if (n < 3) return;
+    SnapVertex sv[12];
+    glm::vec3 beta[12];
+    for (int j = 0; j < n; ++j) {
+        const glm::vec4 c(cur[j].c);
+        const float depth = float(cur[j].depth);
+        const bool ok = std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) &&
+                        std::isfinite(c.w) && c.w > 0.0f && std::isfinite(depth) &&
+                        std::abs(double(c.x) / c.w) <= 2.0 * vp.gb_x &&
+                        std::abs(double(c.y) / c.w) <= 2.0 * vp.gb_y;
+        if (!ok) {
+            ++counters.clip_unstable;
+            return;
+        }
+        sv[j] = snap_vertex(c, depth, vp);
+        beta[j] = glm::vec3(cur[j].beta);
+    }
+    for (int j = 1; j + 1 < n; ++j) {
+        const SnapVertex tv[3] = {sv[0], sv[j], sv[j + 1]};
+        const glm::vec3 tb[3] = {beta[0], beta[j], beta[j + 1]};
+        TriSetup s = t;
+        if (build(tv, tb, vp, opt, double_sided, s, cv)) {
+            s.clip = std::int32_t(clip_out.size());
+            clip_out.push_back(cv);
+            out.push_back(s);
+        }
+    }
+}
+
+}  // namespace aq::raster

@@ -1,0 +1,91 @@
+// raster/setup.h — clipping and fixed-point triangle setup, shared by the tiled and reference
+// rasterizers (docs/raster.md "Setup", "Fill rule", "Clipping").
+//
+// Screen space is y-down with pixel centres at integer + 0.5; positions are snapped to 1/256 px.
+// Edge function of edge a->b at sample p: E = (b.x-a.x)(p.y-a.y) - (b.y-a.y)(p.x-a.x), evaluated
+// exactly in int64 as A*p.x + B*p.y + C. Triangles are re-ordered so that the area is positive;
+// a sample is inside when every E_i >= bias_i, bias 0 for top/left edges and 1 otherwise
+// (top-left rule: a top edge is horizontal with the interior below, a left edge goes up).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "raster/vertex.h"
+
+namespace aq::raster {
+
+//! One rasterizable triangle after clipping, culling and snapping.
+struct TriSetup {
+    std::int32_t A[3], B[3];   //!< edge steps: E_i(x+1) = E_i + A_i*256 (fixed-point sample)
+    std::int64_t C[3];         //!< E_i at fixed-point sample (0, 0)
+    std::int32_t bias[3];      //!< 0 top-left edge, 1 otherwise
+    std::int32_t x0, y0, x1, y1;  //!< inclusive pixel bounds, clamped to the raster
+    float inv_w[3];            //!< 1/w of setup vertex j (edge i is opposite vertex i)
+    float depth[3];            //!< linear eye depth of setup vertex j
+    std::uint32_t draw;        //!< index into the frame's draws
+    std::uint32_t tri;         //!< triangle index in the primitive
+    std::int32_t clip = -1;    //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
+    std::uint8_t perm = 0;     //!< 0: identity, 1: vertices 1 and 2 swapped
+    std::uint8_t back = 0;     //!< 1 when the triangle faces away (CW in NDC)
+};
+
+//! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
+struct ClipVerts {
+    glm::vec3 beta[3];
+};
+
+//! Edge function values at pixel (px, py), exact.
+inline void edge_values(const TriSetup& t, int px, int py, std::int64_t e[3]) {
+    const std::int64_t sx = std::int64_t(px) * kSubpixelOne + kSubpixelOne / 2;
+    const std::int64_t sy = std::int64_t(py) * kSubpixelOne + kSubpixelOne / 2;
+    for (int i = 0; i < 3; ++i) e[i] = std::int64_t(t.A[i]) * sx + std::int64_t(t.B[i]) * sy + t.C[i];
+}
+
+inline bool inside(const TriSetup& t, const std::int64_t e[3]) {
+    return e[0] >= t.bias[0] && e[1] >= t.bias[1] && e[2] >= t.bias[2];
+}
+
+//! Perspective-correct weights of the setup vertices and the interpolated linear depth.
+//! The one floating-point path from exact edge values to a fragment; both traversals call it.
+struct Bary {
+    float b[3];
+    float depth;
+};
+inline Bary perspective_bary(const TriSetup& t, const std::int64_t e[3]) {
+    const float q0 = float(e[0]) * t.inv_w[0];
+    const float q1 = float(e[1]) * t.inv_w[1];
+    const float q2 = float(e[2]) * t.inv_w[2];
+    const float r = 1.0f / ((q0 + q1) + q2);
+    Bary b;
+    b.b[0] = q0 * r;
+    b.b[1] = q1 * r;
+    b.b[2] = q2 * r;
+    b.depth = t.depth[0] + b.b[1] * (t.depth[1] - t.depth[0]) + b.b[2] * (t.depth[2] - t.depth[0]);
+    return b;
+}
+
+struct SetupCounters {
+    std::uint64_t non_finite = 0;    //!< dropped: a vertex position was NaN/Inf after transform
+    std::uint64_t bad_index = 0;     //!< dropped: index out of range
+    std::uint64_t clip_unstable = 0; //!< dropped: clipping produced a non-finite vertex
+    std::uint64_t clipped = 0;       //!< triangles that went through the clipper
+    void add(const SetupCounters& o) {
+        non_finite += o.non_finite; bad_index += o.bad_index;
+        clip_unstable += o.clip_unstable; clipped += o.clipped;
+    }
+};
+
+struct SetupOptions {
+    bool cull_backfaces = false;
+};
+
+//! Sets up triangle `tri` of draw `draw_index`, appending 0..n TriSetups (a clipped polygon is a
+//! fan, in order) to `out` and their clip tables to `clip_out` (TriSetup::clip indexes it).
+void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                    std::vector<ClipVerts>& clip_out, SetupCounters& counters);
+
+}  // namespace aq::raster
