@@ -445,9 +445,11 @@ Material Loader::convert_material(int index) {
         nlohmann::json ex = nlohmann::json::parse(gm.extras_json_string, nullptr, false);
         if (ex.is_object()) {
             std::vector<std::string> w;
-            const std::string where = "glTF '" + path_ + "' " + what + " extras";
-            if (ex.contains("watercolor")) detail::apply_watercolor_json(mat.wc, ex["watercolor"], where + ".watercolor", false, &w);
-            else detail::apply_watercolor_json(mat.wc, ex, where, false, &w);
+            const std::string where = "glTF '" + path_ + "' " + what;
+            if (ex.contains("watercolor"))
+                detail::apply_watercolor_json(mat.wc, ex["watercolor"], where, "extras.watercolor.", false, &w);
+            else
+                detail::apply_watercolor_json(mat.wc, ex, where, "extras.", false, &w);
             for (auto& s : w) warnings.push_back(s);
         }
     }

@@ -49,11 +49,14 @@ const Range kRanges[] = {
 
 struct Reporter {
     std::string where;
+    std::string prefix;
     bool strict;
     std::vector<std::string>* warnings;
     // Returns normally only in lenient mode.
     void bad(const std::string& key, const std::string& what) const {
-        const std::string msg = where + ": key '" + key + "': " + what;
+        std::string path = prefix + key;
+        if (!path.empty() && path.back() == '.') path.pop_back();
+        const std::string msg = where + ": key '" + path + "': " + what;
         if (strict) throw Error(msg);
         if (warnings) warnings->push_back(msg + " (ignored)");
     }
@@ -92,9 +95,9 @@ bool read_vec(const json& v, const Reporter& r, const std::string& key, std::siz
 }  // namespace
 
 void apply_watercolor_json(WatercolorMaterial& wc, const json& j, const std::string& where,
-                           bool strict, std::vector<std::string>* warnings,
+                           const std::string& key_prefix, bool strict, std::vector<std::string>* warnings,
                            const std::vector<std::string>& extra_allowed_keys) {
-    const Reporter r{where, strict, warnings};
+    const Reporter r{where, key_prefix, strict, warnings};
     if (!j.is_object()) {
         r.bad("", std::string("expected an object, got ") + j.type_name());
         return;
@@ -138,12 +141,12 @@ void apply_watercolor_json(WatercolorMaterial& wc, const json& j, const std::str
 }
 
 void apply_material_json(Material& m, const json& j, const std::string& where,
-                         const std::vector<std::string>& extra_allowed_keys) {
-    const Reporter r{where, true, nullptr};
+                         const std::string& key_prefix, const std::vector<std::string>& extra_allowed_keys) {
+    const Reporter r{where, key_prefix, true, nullptr};
     if (!j.is_object()) r.bad("", std::string("expected an object, got ") + j.type_name());
     std::vector<std::string> skip = extra_allowed_keys;
     for (const char* k : {"base_color", "double_sided", "alpha_mode", "alpha_cutoff"}) skip.push_back(k);
-    apply_watercolor_json(m.wc, j, where, true, nullptr, skip);
+    apply_watercolor_json(m.wc, j, where, key_prefix, true, nullptr, skip);
     if (j.contains("base_color")) {
         float c[4] = {1, 1, 1, 1};
         if (read_vec(j["base_color"], r, "base_color", 3, 4, 0.0f, 1.0f, c))

@@ -21,17 +21,19 @@ const char* control_target_name(int target);
 //! Parses "pigment" ... "abstraction" (or "ctrl.pigment"...); -1 if unknown.
 int parse_control_target(const std::string& s);
 
-//! Applies the WatercolorMaterial keys of `j` onto `wc`.
-//! strict (scene files): an unknown key, a wrong type or an out-of-range value throws aq::Error
-//! naming `where` and the key path. Lenient (glTF extras, which other tools also use): unknown
-//! keys are ignored, bad values are skipped with a warning.
+//! Applies the WatercolorMaterial keys of `j` onto `wc`. Messages read
+//! "<where>: key '<key_prefix><key>': <problem>".
+//! strict (scene files): an unknown key, a wrong type or an out-of-range value throws aq::Error.
+//! Lenient (glTF extras, which other tools also use): unknown keys are ignored, bad values are
+//! skipped with a warning.
 void apply_watercolor_json(WatercolorMaterial& wc, const nlohmann::json& j, const std::string& where,
-                           bool strict, std::vector<std::string>* warnings,
+                           const std::string& key_prefix, bool strict, std::vector<std::string>* warnings,
                            const std::vector<std::string>& extra_allowed_keys = {});
 
 //! Applies base_color, double_sided, alpha_mode, alpha_cutoff and every watercolor key (strict).
 //! Keys listed in extra_allowed_keys are skipped (the caller handles them).
 void apply_material_json(Material& m, const nlohmann::json& j, const std::string& where,
+                         const std::string& key_prefix,
                          const std::vector<std::string>& extra_allowed_keys = {});
 
 //! JSON type name for messages.

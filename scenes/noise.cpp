@@ -1,0 +1,65 @@
+// scenes/noise.cpp — deterministic value noise (see the header).
+#include "scenes/noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace aq::scene {
+namespace {
+
+// Lowbias32 integer hash (Chris Wellons): well mixed, cheap, platform independent.
+std::uint32_t hash32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+float lattice(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t seed) {
+    std::uint32_t h = hash32(seed ^ 0x9e3779b9U);
+    h = hash32(h ^ std::uint32_t(x));
+    h = hash32(h ^ std::uint32_t(y));
+    h = hash32(h ^ std::uint32_t(z));
+    // 24 high bits -> [0, 1] -> [-1, 1]; exact in float.
+    return float(h >> 8) * (2.0f / 16777215.0f) - 1.0f;
+}
+
+float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+
+// Positions are folded into a range where floor() fits an int32 (period 2^20 cells).
+constexpr float kWrap = 1048576.0f;
+
+}  // namespace
+
+float value_noise(const glm::vec3& p0, std::uint32_t seed) {
+    if (!std::isfinite(p0.x) || !std::isfinite(p0.y) || !std::isfinite(p0.z)) return 0.0f;
+    const glm::vec3 p(std::fmod(p0.x, kWrap), std::fmod(p0.y, kWrap), std::fmod(p0.z, kWrap));
+    const glm::vec3 f = glm::floor(p);
+    const std::int32_t x = std::int32_t(f.x), y = std::int32_t(f.y), z = std::int32_t(f.z);
+    const float tx = fade(std::clamp(p.x - f.x, 0.0f, 1.0f));
+    const float ty = fade(std::clamp(p.y - f.y, 0.0f, 1.0f));
+    const float tz = fade(std::clamp(p.z - f.z, 0.0f, 1.0f));
+    auto lerp = [](float a, float b, float t) { return a + (b - a) * t; };
+    const float c00 = lerp(lattice(x, y, z, seed), lattice(x + 1, y, z, seed), tx);
+    const float c10 = lerp(lattice(x, y + 1, z, seed), lattice(x + 1, y + 1, z, seed), tx);
+    const float c01 = lerp(lattice(x, y, z + 1, seed), lattice(x + 1, y, z + 1, seed), tx);
+    const float c11 = lerp(lattice(x, y + 1, z + 1, seed), lattice(x + 1, y + 1, z + 1, seed), tx);
+    const float v = lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz);
+    return std::clamp(v, -1.0f, 1.0f);  // guards the last ulp of the lerps
+}
+
+float noise_field(const NoiseField& f, const glm::vec3& p) {
+    const int oct = std::clamp(f.octaves, 1, 8);
+    float sum = 0.0f, wsum = 0.0f, w = 1.0f, freq = f.frequency;
+    for (int o = 0; o < oct; ++o) {
+        sum += w * value_noise(p * freq, f.seed + std::uint32_t(o) * 1013U);
+        wsum += w;
+        w *= 0.5f;
+        freq *= 2.0f;
+    }
+    return f.offset + f.amplitude * std::clamp(sum / wsum, -1.0f, 1.0f);
+}
+
+}  // namespace aq::scene

@@ -1,0 +1,31 @@
+// scenes/noise.h — deterministic 3D value noise for procedural control fields (WC17 §3.2: "a
+// procedural noise field may fill a channel automatically").
+//
+// Keyed only by the (object-space) position and a seed: the same vertex always gets the same value,
+// whatever the thread, platform or load order. Lattice values come from an integer hash, the
+// interpolation is a quintic fade; results are convex combinations of lattice values, so they
+// stay inside [-1, 1] exactly.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace aq::scene {
+
+//! Value noise in [-1, 1] with unit lattice spacing. Non-finite input gives 0.
+float value_noise(const glm::vec3& p, std::uint32_t seed);
+
+//! Parameters of a noise control field: offset + amplitude * fbm(p * frequency).
+struct NoiseField {
+    float frequency = 1.0f;  //!< lattice cells per object-space unit, > 0
+    float amplitude = 1.0f;  //!< scale of the [-1, 1] noise
+    float offset = 0.0f;     //!< added after scaling
+    std::uint32_t seed = 0;
+    int octaves = 1;         //!< fBm octaves [1, 8], each at twice the frequency and half the weight
+};
+
+//! Normalised fBm (weights sum to 1) in [-1, 1], then offset + amplitude * value.
+float noise_field(const NoiseField& f, const glm::vec3& p);
+
+}  // namespace aq::scene

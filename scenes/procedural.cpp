@@ -1,0 +1,368 @@
+// scenes/procedural.cpp — procedural meshes and the "swatches" control test scene.
+#include "scenes/procedural.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "scenes/noise.h"
+
+namespace aq::scene {
+namespace {
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr int kMaxSegments = 4096;
+
+void check_range(const char* what, int v, int lo, int hi) {
+    if (v < lo || v > hi)
+        throw Error(std::string(what) + " = " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "]");
+}
+
+void add_quad(Primitive& p, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    // a-b-c-d counter-clockwise
+    p.indices.insert(p.indices.end(), {a, b, c, a, c, d});
+}
+
+}  // namespace
+
+Primitive make_grid(int n, float size) {
+    check_range("make_grid n", n, 1, kMaxSegments);
+    Primitive p;
+    const int m = n + 1;
+    p.positions.reserve(std::size_t(m) * m);
+    for (int j = 0; j < m; ++j)
+        for (int i = 0; i < m; ++i) {
+            const float u = float(i) / float(n), v = float(j) / float(n);
+            p.positions.push_back({(u - 0.5f) * size, (v - 0.5f) * size, 0.0f});
+            p.normals.push_back({0.0f, 0.0f, 1.0f});
+            p.uv0.push_back({u, v});
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::uint32_t a = std::uint32_t(j * m + i);
+            add_quad(p, a, a + 1, a + 1 + std::uint32_t(m), a + std::uint32_t(m));
+        }
+    return p;
+}
+
+Primitive make_uv_sphere(int slices, int stacks, float radius) {
+    check_range("make_uv_sphere slices", slices, 3, kMaxSegments);
+    check_range("make_uv_sphere stacks", stacks, 2, kMaxSegments);
+    Primitive p;
+    // Vertex 0: north pole; then rings 1..stacks-1 with slices+1 vertices; last: south pole.
+    p.positions.push_back({0.0f, radius, 0.0f});
+    p.normals.push_back({0.0f, 1.0f, 0.0f});
+    p.uv0.push_back({0.5f, 0.0f});
+    const int row = slices + 1;
+    for (int s = 1; s < stacks; ++s) {
+        const float th = kPi * float(s) / float(stacks);
+        for (int i = 0; i <= slices; ++i) {
+            const int ii = i == slices ? 0 : i;  // seam: exact copy of column 0
+            const float ph = 2.0f * kPi * float(ii) / float(slices);
+            const glm::vec3 n(std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph));
+            p.positions.push_back(n * radius);
+            p.normals.push_back(n);
+            p.uv0.push_back({float(i) / float(slices), float(s) / float(stacks)});
+        }
+    }
+    const std::uint32_t south = std::uint32_t(p.positions.size());
+    p.positions.push_back({0.0f, -radius, 0.0f});
+    p.normals.push_back({0.0f, -1.0f, 0.0f});
+    p.uv0.push_back({0.5f, 1.0f});
+    auto ring = [&](int s, int i) { return std::uint32_t(1 + (s - 1) * row + i); };
+    for (int i = 0; i < slices; ++i) p.indices.insert(p.indices.end(), {0u, ring(1, i), ring(1, i + 1)});
+    for (int s = 1; s + 1 < stacks; ++s)
+        for (int i = 0; i < slices; ++i) add_quad(p, ring(s, i), ring(s + 1, i), ring(s + 1, i + 1), ring(s, i + 1));
+    for (int i = 0; i < slices; ++i) p.indices.insert(p.indices.end(), {ring(stacks - 1, i), south, ring(stacks - 1, i + 1)});
+    return p;
+}
+
+Primitive make_fan(int segments, float radius) {
+    check_range("make_fan segments", segments, 3, 1 << 20);
+    Primitive p;
+    p.positions.push_back({0.0f, 0.0f, 0.0f});
+    p.normals.push_back({0.0f, 0.0f, 1.0f});
+    p.uv0.push_back({0.5f, 0.5f});
+    for (int i = 0; i < segments; ++i) {
+        const float a = 2.0f * kPi * float(i) / float(segments);
+        const glm::vec2 d(std::cos(a), std::sin(a));
+        p.positions.push_back({d.x * radius, d.y * radius, 0.0f});
+        p.normals.push_back({0.0f, 0.0f, 1.0f});
+        p.uv0.push_back(0.5f + 0.5f * d);
+    }
+    for (int i = 0; i < segments; ++i) {
+        const std::uint32_t a = std::uint32_t(1 + i), b = std::uint32_t(1 + (i + 1) % segments);
+        p.indices.insert(p.indices.end(), {0u, a, b});
+    }
+    return p;
+}
+
+Primitive make_box(const glm::vec3& h) {
+    Primitive p;
+    const glm::vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int a = 0; a < 3; ++a)
+        for (int sgn = -1; sgn <= 1; sgn += 2) {
+            const glm::vec3 n = axes[a] * float(sgn);
+            const glm::vec3 u = axes[(a + 1) % 3] * float(sgn), v = axes[(a + 2) % 3];
+            // u x v = n, so (c - u - v, c + u - v, c + u + v, c - u + v) is counter-clockwise.
+            const glm::vec3 c = n * h;
+            const glm::vec3 du = u * h, dv = v * h;
+            const std::uint32_t base = std::uint32_t(p.positions.size());
+            const glm::vec3 corners[4] = {c - du - dv, c + du - dv, c + du + dv, c - du + dv};
+            const glm::vec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (int k = 0; k < 4; ++k) {
+                p.positions.push_back(corners[k]);
+                p.normals.push_back(n);
+                p.uv0.push_back(uvs[k]);
+            }
+            add_quad(p, base, base + 1, base + 2, base + 3);
+        }
+    return p;
+}
+
+Primitive make_torus(float R, float r, int nu, int nv) {
+    check_range("make_torus major_segments", nu, 3, kMaxSegments);
+    check_range("make_torus minor_segments", nv, 3, kMaxSegments);
+    Primitive p;
+    for (int i = 0; i <= nu; ++i) {
+        const int ii = i == nu ? 0 : i;
+        const float u = 2.0f * kPi * float(ii) / float(nu);
+        for (int j = 0; j <= nv; ++j) {
+            const int jj = j == nv ? 0 : j;
+            const float v = 2.0f * kPi * float(jj) / float(nv);
+            const glm::vec3 radial(std::cos(u), 0.0f, -std::sin(u));
+            const glm::vec3 n = radial * std::cos(v) + glm::vec3(0, 1, 0) * std::sin(v);
+            p.positions.push_back(radial * R + n * r);
+            p.normals.push_back(n);
+            p.uv0.push_back({float(i) / float(nu), float(j) / float(nv)});
+        }
+    }
+    const std::uint32_t row = std::uint32_t(nv + 1);
+    for (int i = 0; i < nu; ++i)
+        for (int j = 0; j < nv; ++j) {
+            const std::uint32_t a = std::uint32_t(i) * row + std::uint32_t(j);
+            add_quad(p, a, a + row, a + row + 1, a + 1);
+        }
+    return p;
+}
+
+Primitive make_cylinder(float radius, float height, int segments) {
+    check_range("make_cylinder segments", segments, 3, kMaxSegments);
+    Primitive p;
+    const float hh = 0.5f * height;
+    for (int i = 0; i <= segments; ++i) {
+        const int ii = i == segments ? 0 : i;
+        const float a = 2.0f * kPi * float(ii) / float(segments);
+        const glm::vec3 n(std::cos(a), 0.0f, -std::sin(a));
+        for (int k = 0; k < 2; ++k) {
+            p.positions.push_back(n * radius + glm::vec3(0.0f, k ? hh : -hh, 0.0f));
+            p.normals.push_back(n);
+            p.uv0.push_back({float(i) / float(segments), float(k)});
+        }
+    }
+    for (int i = 0; i < segments; ++i) {
+        const std::uint32_t a = std::uint32_t(2 * i);
+        add_quad(p, a, a + 2, a + 3, a + 1);
+    }
+    for (int k = 0; k < 2; ++k) {
+        const float y = k ? hh : -hh;
+        const glm::vec3 n(0.0f, k ? 1.0f : -1.0f, 0.0f);
+        const std::uint32_t c = std::uint32_t(p.positions.size());
+        p.positions.push_back({0.0f, y, 0.0f});
+        p.normals.push_back(n);
+        p.uv0.push_back({0.5f, 0.5f});
+        for (int i = 0; i < segments; ++i) {
+            const float a = 2.0f * kPi * float(i) / float(segments);
+            p.positions.push_back({radius * std::cos(a), y, -radius * std::sin(a)});
+            p.normals.push_back(n);
+            p.uv0.push_back({0.5f + 0.5f * std::cos(a), 0.5f + 0.5f * std::sin(a)});
+        }
+        for (int i = 0; i < segments; ++i) {
+            const std::uint32_t a = c + 1 + std::uint32_t(i), b = c + 1 + std::uint32_t((i + 1) % segments);
+            if (k) p.indices.insert(p.indices.end(), {c, a, b});   // top, seen from +Y: counter-clockwise
+            else p.indices.insert(p.indices.end(), {c, b, a});
+        }
+    }
+    return p;
+}
+
+namespace {
+Light default_key_light() {
+    Light l;
+    l.direction = glm::normalize(glm::vec3(-0.4f, 0.75f, 0.55f));
+    return l;
+}
+}  // namespace
+
+Scene make_single_mesh_scene(Primitive prim, const Material& material) {
+    Scene s;
+    prim.material = 0;
+    s.materials.push_back(material);
+    Mesh m;
+    m.name = "mesh";
+    m.primitives.push_back(std::move(prim));
+    s.meshes.push_back(std::move(m));
+    Instance inst;
+    inst.name = "mesh";
+    s.instances.push_back(inst);
+    s.lights.push_back(default_key_light());
+    s.source = "procedural";
+    return s;
+}
+
+std::vector<std::string> procedural_names() { return {"swatches"}; }
+
+namespace {
+
+// Colours from the papers: WC17 Fig. 7 orange (194, 94, 0) and Fig. 10 blue (31, 171, 224).
+Material swatch_material(const std::string& name, glm::vec3 rgb255) {
+    Material m;
+    m.name = name;
+    m.base_color = glm::vec4(rgb255 / 255.0f, 1.0f);
+    return m;
+}
+
+void init_control(Primitive& p) {
+    for (auto& c : p.control) c.assign(p.positions.size(), glm::vec4(0.0f));
+}
+
+// Smooth patch mask: 1 inside the noise blobs above `threshold`, fading over `soft`.
+float patch(const glm::vec3& q, float freq, std::uint32_t seed, float threshold, float soft = 0.08f) {
+    NoiseField f;
+    f.frequency = freq;
+    f.seed = seed;
+    f.octaves = 2;
+    const float n = noise_field(f, q);
+    return std::clamp((n - threshold) / soft, 0.0f, 1.0f);
+}
+
+void add_instance(Scene& s, Primitive prim, int material, const glm::mat4& world, const std::string& name) {
+    prim.material = material;
+    Mesh m;
+    m.name = name;
+    m.primitives.push_back(std::move(prim));
+    s.meshes.push_back(std::move(m));
+    Instance inst;
+    inst.mesh = int(s.meshes.size()) - 1;
+    inst.world = world;
+    inst.object_id = std::uint32_t(s.instances.size() + 1);
+    inst.name = name;
+    s.instances.push_back(inst);
+}
+
+Scene make_swatches() {
+    Scene s;
+    s.source = "procedural:swatches";
+    s.materials = {swatch_material("ground", {236, 224, 200}), swatch_material("orange", {194, 94, 0}),
+                   swatch_material("blue", {31, 171, 224}),    swatch_material("red", {200, 40, 50}),
+                   swatch_material("green", {60, 150, 70}),    swatch_material("violet", {120, 70, 170})};
+    s.materials[1].wc.specular = 0.3f;  // shows the specular term on one sphere
+
+    // Ground plane (XZ, 8 x 6 units): granulation (+) to dry-brush (-) gradient along X, a
+    // paper-distortion band along Z and pigment-variation noise.
+    {
+        Primitive g = make_grid(64, 1.0f);
+        for (std::size_t i = 0; i < g.positions.size(); ++i) {  // XY unit grid -> XZ 8 x 6
+            const glm::vec3 q = g.positions[i];
+            g.positions[i] = {q.x * 8.0f, 0.0f, -q.y * 6.0f};
+            g.normals[i] = {0.0f, 1.0f, 0.0f};
+        }
+        init_control(g);
+        for (std::size_t i = 0; i < g.positions.size(); ++i) {
+            const glm::vec3 q = g.positions[i];
+            const float gx = std::clamp(q.x / 4.0f, -1.0f, 1.0f);
+            g.control[kCtrlPigment][i].g = gx;                                      // application
+            g.control[kCtrlPigment][i].r = noise_field({1.5f, 0.6f, 0.0f, 11u, 2}, q);  // variation
+            g.control[kCtrlSubstrate][i].r = std::abs(q.z - 1.5f) < 0.6f ? 1.0f : 0.0f;  // distortion band
+        }
+        add_instance(s, std::move(g), 0, glm::mat4(1.0f), "ground");
+    }
+    // Sphere A (orange): edge intensity gradient bottom (-1) to top (+1), edge width band.
+    {
+        Primitive p = make_uv_sphere(64, 32, 1.0f);
+        init_control(p);
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+            const glm::vec3 q = p.positions[i];
+            p.control[kCtrlEdge][i].r = q.y;
+            p.control[kCtrlEdge][i].g = q.x > 0.3f ? 1.0f : 0.0f;
+        }
+        add_instance(s, std::move(p), 1, glm::translate(glm::mat4(1.0f), {-2.4f, 1.0f, 0.2f}), "sphere_edges");
+    }
+    // Sphere B (blue): bleeding patches and a density (turbulence) noise field.
+    {
+        Primitive p = make_uv_sphere(64, 32, 1.0f);
+        init_control(p);
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+            const glm::vec3 q = p.positions[i];
+            p.control[kCtrlAbstraction][i].b = patch(q, 1.6f, 21u, 0.1f);
+            p.control[kCtrlPigment][i].b = noise_field({2.5f, 1.0f, 0.0f, 22u, 3}, q);
+        }
+        add_instance(s, std::move(p), 2, glm::translate(glm::mat4(1.0f), {0.0f, 1.0f, -0.6f}), "sphere_bleed");
+    }
+    // Box (red): gaps on the left half (-), overlaps on the right half (+), strong edges.
+    {
+        Primitive p = make_box(glm::vec3(0.7f));
+        init_control(p);
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+            const glm::vec3 q = p.positions[i];
+            p.control[kCtrlEdge][i].b = q.x < 0.0f ? -1.0f : 1.0f;
+            p.control[kCtrlEdge][i].r = 0.6f;
+        }
+        const glm::mat4 w = glm::rotate(glm::translate(glm::mat4(1.0f), {2.5f, 0.7f, 0.4f}), 0.6f, glm::vec3(0, 1, 0));
+        add_instance(s, std::move(p), 3, w, "box_gaps_overlaps");
+    }
+    // Torus (green): granulation patches and dry-brush patches.
+    {
+        Primitive p = make_torus(0.8f, 0.3f, 64, 24);
+        init_control(p);
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+            const glm::vec3 q = p.positions[i];
+            p.control[kCtrlPigment][i].g = patch(q, 2.0f, 31u, 0.15f) - patch(q, 2.0f, 32u, 0.25f);
+        }
+        const glm::mat4 w = glm::rotate(glm::translate(glm::mat4(1.0f), {-0.4f, 0.35f, 2.0f}), 0.35f, glm::vec3(1, 0, 0));
+        add_instance(s, std::move(p), 4, w, "torus_granulation");
+    }
+    // Cylinder (violet): distortion band around the middle, abstraction detail/shape gradient,
+    // dilution (negative density) towards the top.
+    {
+        Primitive p = make_cylinder(0.5f, 2.0f, 48);
+        init_control(p);
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+            const glm::vec3 q = p.positions[i];
+            p.control[kCtrlSubstrate][i].r = std::abs(q.y) < 0.3f ? 1.0f : 0.0f;
+            p.control[kCtrlAbstraction][i].r = q.y;
+            p.control[kCtrlAbstraction][i].g = -q.y;
+            p.control[kCtrlPigment][i].b = -std::clamp(q.y, 0.0f, 1.0f);
+        }
+        add_instance(s, std::move(p), 5, glm::translate(glm::mat4(1.0f), {1.6f, 1.0f, 2.2f}), "cylinder_distortion");
+    }
+
+    s.lights.push_back(default_key_light());
+    Light fill;
+    fill.direction = glm::normalize(glm::vec3(0.6f, 0.3f, -0.4f));
+    fill.intensity = 0.3f;
+    s.lights.push_back(fill);
+    s.ambient = glm::vec3(0.05f);
+
+    Camera cam;
+    cam.name = "swatches";
+    cam.view = glm::lookAt(glm::vec3(0.0f, 5.0f, 9.0f), glm::vec3(0.0f, 0.6f, 0.6f), glm::vec3(0, 1, 0));
+    cam.yfov = 0.75f;
+    cam.znear = 0.5f;
+    cam.zfar = 40.0f;
+    s.cameras.push_back(cam);
+    return s;
+}
+
+}  // namespace
+
+Scene make_procedural(const std::string& name) {
+    if (name == "swatches") return make_swatches();
+    std::string known;
+    for (const std::string& n : procedural_names()) known += (known.empty() ? "" : ", ") + n;
+    throw Error("unknown procedural scene '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace aq::scene

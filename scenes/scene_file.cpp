@@ -1,0 +1,640 @@
+// scenes/scene_file.cpp — JSON scene files, control mapping rules and automatic framing.
+#include "scenes/scene_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include "scenes/gltf_loader.h"
+#include "scenes/material_params.h"
+#include "scenes/procedural.h"
+
+namespace aq::scene {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr const char* kProceduralPrefix = "procedural:";
+
+// --- strict JSON access with key paths -----------------------------------------------------------
+
+struct Ctx {
+    std::string where;  //!< "scene file 'path'"
+    fs::path base;      //!< folder of the scene file
+
+    [[noreturn]] void bad(const std::string& key, const std::string& what) const {
+        throw Error(where + ": key '" + key + "': " + what);
+    }
+    void check_keys(const json& j, const std::string& key, std::initializer_list<const char*> allowed) const {
+        if (!j.is_object()) bad(key, std::string("expected an object, got ") + j.type_name());
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            bool ok = false;
+            for (const char* a : allowed) ok = ok || it.key() == a;
+            if (!ok) {
+                std::string list;
+                for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+                bad(key.empty() ? it.key() : key + "." + it.key(), "unknown key (allowed: " + list + ")");
+            }
+        }
+    }
+    double number(const json& j, const std::string& key, double lo, double hi) const {
+        if (!j.is_number()) bad(key, std::string("expected a number, got ") + j.type_name());
+        const double d = j.get<double>();
+        if (!std::isfinite(d) || d < lo || d > hi)
+            bad(key, "value " + std::to_string(d) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return d;
+    }
+    int integer(const json& j, const std::string& key, long long lo, long long hi) const {
+        if (!j.is_number_integer()) bad(key, std::string("expected an integer, got ") + j.type_name());
+        const long long v = j.get<long long>();
+        if (v < lo || v > hi) bad(key, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return int(v);
+    }
+    std::string string(const json& j, const std::string& key) const {
+        if (!j.is_string()) bad(key, std::string("expected a string, got ") + j.type_name());
+        return j.get<std::string>();
+    }
+    bool boolean(const json& j, const std::string& key) const {
+        if (!j.is_boolean()) bad(key, std::string("expected a boolean, got ") + j.type_name());
+        return j.get<bool>();
+    }
+    glm::vec3 vec3(const json& j, const std::string& key, double lo = -1e9, double hi = 1e9) const {
+        if (!j.is_array() || j.size() != 3) bad(key, "expected an array of 3 numbers");
+        return {float(number(j[0], key + "[0]", lo, hi)), float(number(j[1], key + "[1]", lo, hi)),
+                float(number(j[2], key + "[2]", lo, hi))};
+    }
+    //! Path relative to the scene file; must exist.
+    std::string file(const json& j, const std::string& key) const {
+        const std::string rel = string(j, key);
+        if (rel.empty()) bad(key, "empty path");
+        fs::path p(rel);
+        if (p.is_relative()) p = base / p;
+        p = p.lexically_normal();
+        std::error_code ec;
+        if (!fs::is_regular_file(p, ec)) bad(key, "file '" + p.string() + "' not found");
+        return p.string();
+    }
+};
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// --- control targets ---------------------------------------------------------------------------
+
+// Channel aliases of the spec §1 table.
+const char* const kChannelNames[kNumControlTargets][3] = {
+    {"variation", "application", "density"},
+    {"distortion", "u_incline", "v_incline"},
+    {"intensity", "width", "transition"},
+    {"detail", "shape", "bleeding"},
+};
+
+bool parse_wc18_target(const std::string& s, int* target, int* channel) {
+    const auto dot = s.find('.');
+    if (dot == std::string::npos) return false;
+    const int t = detail::parse_control_target(s.substr(0, dot));
+    if (t < 0) return false;
+    const std::string c = s.substr(dot + 1);
+    int ch = -1;
+    if (c == "r") ch = 0;
+    else if (c == "g") ch = 1;
+    else if (c == "b") ch = 2;
+    else
+        for (int k = 0; k < 3; ++k)
+            if (c == kChannelNames[t][k]) ch = k;
+    if (ch < 0) return false;
+    *target = t;
+    *channel = ch;
+    return true;
+}
+
+int parse_wc17_channel(const std::string& s) {
+    if (s == "R" || s == "distortion") return 0;
+    if (s == "G" || s == "granulation") return 1;
+    if (s == "B" || s == "edge_bleeding") return 2;
+    if (s == "A" || s == "turbulence") return 3;
+    return -1;
+}
+
+int component_index(const std::string& c) {
+    if (c == "r" || c == "x") return 0;
+    if (c == "g" || c == "y") return 1;
+    if (c == "b" || c == "z") return 2;
+    if (c == "a" || c == "w") return 3;
+    return -1;
+}
+
+bool rule_matches(const ControlRule& r, const Scene& s, int material) {
+    if (r.materials.empty()) return true;
+    for (const std::string& m : r.materials) {
+        if (m == std::to_string(material)) return true;
+        if (material >= 0 && material < int(s.materials.size()) && s.materials[std::size_t(material)].name == m) return true;
+    }
+    return false;
+}
+
+// Rule value at vertex i; returns false if the source attribute is absent.
+const std::vector<glm::vec4>* find_attribute(const Primitive& p, const std::string& name,
+                                             std::vector<glm::vec4>& scratch) {
+    if (name == "COLOR_0") return p.colors.empty() ? nullptr : &p.colors;
+    if (name == "TEXCOORD_0") {
+        if (p.uv0.empty()) return nullptr;
+        scratch.resize(p.uv0.size());
+        for (std::size_t i = 0; i < p.uv0.size(); ++i) scratch[i] = glm::vec4(p.uv0[i], 0.0f, 0.0f);
+        return &scratch;
+    }
+    if (name == "NORMAL") {
+        scratch.resize(p.normals.size());
+        for (std::size_t i = 0; i < p.normals.size(); ++i) scratch[i] = glm::vec4(p.normals[i], 0.0f);
+        return &scratch;
+    }
+    if (name == "POSITION") {
+        scratch.resize(p.positions.size());
+        for (std::size_t i = 0; i < p.positions.size(); ++i) scratch[i] = glm::vec4(p.positions[i], 1.0f);
+        return &scratch;
+    }
+    auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? nullptr : &it->second;
+}
+
+}  // namespace
+
+void map_wc17_control(const glm::vec4& c0, std::array<glm::vec4, kNumControlTargets>& out) {
+    const glm::vec4 c = glm::clamp(c0, glm::vec4(0.0f), glm::vec4(1.0f));
+    out[kCtrlSubstrate].r = c.r;             // paper distortion
+    out[kCtrlPigment].g = c.g;               // + granulation
+    out[kCtrlEdge].r = c.b;                  // edge darkening ...
+    out[kCtrlAbstraction].b = c.b;           // ... and bleeding share B (WC17 §3.1)
+    out[kCtrlPigment].b = 1.0f - 2.0f * c.a; // A < 0.5 turbulence (accumulate), > 0.5 fading (dilute)
+}
+
+void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, ControlLayout layout,
+                         const std::string& where) {
+    // Texture rules: one Texture per (file, scale, bias); bound to the matching materials.
+    std::map<std::tuple<std::string, float, float>, int> tex_cache;
+    for (const ControlRule& r : rules) {
+        if (r.source != ControlRule::Source::Texture) continue;
+        if (layout != ControlLayout::WC18) throw Error(where + ": control textures need the wc18 control layout");
+        if (r.target < 0 || r.target >= kNumControlTargets) throw Error(where + ": texture rule without a target");
+        const auto key = std::make_tuple(r.file, r.scale, r.bias);
+        int ti;
+        if (auto it = tex_cache.find(key); it != tex_cache.end()) {
+            ti = it->second;
+        } else {
+            Texture t;
+            t.name = r.file;
+            t.image = read_texture_file(r.file);
+            float* d = t.image.data();
+            // The rasterizer decodes a control texel t as 2t - 1 (raster/material.cpp); store the
+            // mapped value v = file*scale + bias as (v + 1) / 2 so it decodes to exactly v.
+            for (std::size_t i = 0; i < t.image.num_values(); ++i) d[i] = (d[i] * r.scale + r.bias + 1.0f) * 0.5f;
+            scene.textures.push_back(std::move(t));
+            ti = int(scene.textures.size()) - 1;
+            tex_cache[key] = ti;
+        }
+        for (std::size_t m = 0; m < scene.materials.size(); ++m)
+            if (rule_matches(r, scene, int(m))) scene.materials[m].wc.control_texture[std::size_t(r.target)].texture = ti;
+    }
+
+    std::set<std::pair<std::size_t, std::size_t>> warned;  // (rule, mesh)
+    std::vector<glm::vec4> scratch;
+    for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+        for (Primitive& p : scene.meshes[mi].primitives) {
+            const std::size_t n = p.positions.size();
+            // Per-vertex values of the active rules, per destination channel.
+            // Destination key: WC18 -> target*4 + channel; WC17 -> channel (0..3).
+            std::map<int, std::vector<float>> sums;
+            for (std::size_t ri = 0; ri < rules.size(); ++ri) {
+                const ControlRule& r = rules[ri];
+                if (r.source == ControlRule::Source::Texture || !rule_matches(r, scene, p.material)) continue;
+                const int dest = layout == ControlLayout::WC18 ? r.target * 4 + r.channel : r.channel;
+                if (layout == ControlLayout::WC18 && (r.target < 0 || r.target >= kNumControlTargets || r.channel < 0 || r.channel > 2))
+                    throw Error(where + ": rule " + std::to_string(ri) + " has no valid WC18 destination");
+                if (layout == ControlLayout::WC17 && (r.channel < 0 || r.channel > 3))
+                    throw Error(where + ": rule " + std::to_string(ri) + " has no valid WC17 channel");
+                const std::vector<glm::vec4>* attr = nullptr;
+                if (r.source == ControlRule::Source::Attribute) {
+                    attr = find_attribute(p, r.attribute, scratch);
+                    if (!attr || attr->size() != n) {
+                        if (warned.insert({ri, mi}).second)
+                            scene.warnings.push_back(where + ": rule " + std::to_string(ri) + ": mesh '" + scene.meshes[mi].name +
+                                                     "' has no " + r.attribute + "; the rule adds nothing there");
+                        continue;
+                    }
+                }
+                std::vector<float>& acc = sums[dest];
+                acc.resize(n, 0.0f);
+                for (std::size_t i = 0; i < n; ++i) {
+                    float v = 0.0f;
+                    switch (r.source) {
+                        case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
+                        case ControlRule::Source::Noise: v = noise_field(r.noise, p.positions[i]) * r.scale + r.bias; break;
+                        case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
+                        case ControlRule::Source::Texture: break;
+                    }
+                    acc[i] += std::isfinite(v) ? v : 0.0f;
+                }
+            }
+            if (sums.empty()) continue;
+            auto ensure = [&](int t) {
+                if (p.control[std::size_t(t)].size() != n) p.control[std::size_t(t)].assign(n, glm::vec4(0.0f));
+            };
+            if (layout == ControlLayout::WC18) {
+                for (auto& [dest, acc] : sums) {
+                    const int t = dest / 4, c = dest % 4;
+                    ensure(t);
+                    for (std::size_t i = 0; i < n; ++i) p.control[std::size_t(t)][i][c] = std::clamp(acc[i], -1.0f, 1.0f);
+                }
+            } else {
+                for (int t = 0; t < kNumControlTargets; ++t) ensure(t);
+                for (std::size_t i = 0; i < n; ++i) {
+                    glm::vec4 c(0.0f, 0.0f, 0.0f, 0.5f);  // WC17 neutral
+                    for (auto& [dest, acc] : sums) c[dest] = acc[i];
+                    std::array<glm::vec4, kNumControlTargets> w{};
+                    for (int t = 0; t < kNumControlTargets; ++t) w[std::size_t(t)] = p.control[std::size_t(t)][i];
+                    map_wc17_control(c, w);
+                    for (int t = 0; t < kNumControlTargets; ++t) p.control[std::size_t(t)][i] = w[std::size_t(t)];
+                }
+            }
+        }
+    }
+}
+
+Light default_light() {
+    Light l;
+    l.direction = glm::normalize(glm::vec3(-0.4f, 0.75f, 0.55f));
+    l.color = glm::vec3(1.0f);
+    l.intensity = 1.0f;
+    return l;
+}
+
+Camera frame_bounds(const Bounds& b, float aspect, glm::vec3 view_dir, float yfov) {
+    Camera c;
+    c.name = "auto";
+    if (!(yfov > 0.01f && yfov < 3.0f)) yfov = 0.6f;
+    if (!(aspect > 0.0f) || !std::isfinite(aspect)) aspect = 16.0f / 9.0f;
+    c.yfov = yfov;
+    if (!(glm::length(view_dir) > 0.0f) || !std::isfinite(glm::length(view_dir))) view_dir = {-0.35f, -0.3f, -1.0f};
+    view_dir = glm::normalize(view_dir);
+    if (!b.valid) {
+        c.view = glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+        c.znear = 0.1f;
+        c.zfar = 100.0f;
+        return c;
+    }
+    const glm::vec3 center = 0.5f * (b.min + b.max);
+    float radius = 0.5f * glm::length(b.max - b.min);
+    if (!(radius > 1e-6f) || !std::isfinite(radius)) radius = std::max(1e-3f, std::abs(center.x) * 1e-3f);
+    const float xfov = 2.0f * std::atan(std::tan(0.5f * yfov) * aspect);
+    const float fov = std::min(yfov, xfov);
+    const float dist = radius / std::sin(0.5f * fov) * 1.05f;  // 5 % margin
+    const glm::vec3 eye = center - view_dir * dist;
+    const glm::vec3 up = std::abs(view_dir.y) > 0.999f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+    c.view = glm::lookAt(eye, center, up);
+    c.znear = std::max(dist - radius * 1.1f, dist * 0.01f);
+    c.zfar = dist + radius * 1.1f;
+    return c;
+}
+
+namespace {
+
+ControlRule parse_rule(const Ctx& ctx, const json& j, const std::string& key, ControlLayout layout) {
+    ctx.check_keys(j, key, {"target", "source", "scale", "bias", "value", "noise", "file", "materials", "comment"});
+    ControlRule r;
+    if (!j.contains("source")) ctx.bad(key + ".source", "missing");
+    if (!j.contains("target")) ctx.bad(key + ".target", "missing");
+    const std::string src = ctx.string(j["source"], key + ".source");
+    if (src == "noise") r.source = ControlRule::Source::Noise;
+    else if (src == "texture") r.source = ControlRule::Source::Texture;
+    else if (src == "constant") r.source = ControlRule::Source::Constant;
+    else {
+        const auto dot = src.rfind('.');
+        const int comp = dot == std::string::npos ? -1 : component_index(src.substr(dot + 1));
+        const std::string attr = dot == std::string::npos ? "" : src.substr(0, dot);
+        const bool known_attr = attr.rfind("COLOR_", 0) == 0 || attr.rfind("TEXCOORD_", 0) == 0 ||
+                                attr.rfind("_", 0) == 0 || attr == "NORMAL" || attr == "POSITION";
+        if (comp < 0 || !known_attr)
+            ctx.bad(key + ".source", "'" + src + "' is not noise, texture, constant or ATTRIBUTE.channel (e.g. COLOR_0.r, TEXCOORD_1.x)");
+        r.source = ControlRule::Source::Attribute;
+        r.attribute = attr;
+        r.component = comp;
+    }
+    const std::string tgt = ctx.string(j["target"], key + ".target");
+    if (r.source == ControlRule::Source::Texture) {
+        if (layout != ControlLayout::WC18) ctx.bad(key + ".source", "control textures need the wc18 control_layout");
+        r.target = detail::parse_control_target(tgt);
+        r.channel = -1;
+        if (r.target < 0) ctx.bad(key + ".target", "'" + tgt + "': a texture rule targets a whole target (pigment, substrate, edge, abstraction)");
+        r.scale = 2.0f;
+        r.bias = -1.0f;
+        if (!j.contains("file")) ctx.bad(key + ".file", "missing (texture rules need a file)");
+        r.file = ctx.file(j["file"], key + ".file");
+    } else if (layout == ControlLayout::WC18) {
+        if (!parse_wc18_target(tgt, &r.target, &r.channel))
+            ctx.bad(key + ".target", "'" + tgt + "' is not TARGET.CHANNEL (pigment|substrate|edge|abstraction . r|g|b or the channel names of docs/scenes.md)");
+        if (j.contains("file")) ctx.bad(key + ".file", "only texture rules take a file");
+    } else {
+        r.channel = parse_wc17_channel(tgt);
+        if (r.channel < 0) ctx.bad(key + ".target", "'" + tgt + "' is not a WC17 channel (R, G, B, A or distortion, granulation, edge_bleeding, turbulence)");
+        if (j.contains("file")) ctx.bad(key + ".file", "only texture rules take a file");
+    }
+    if (j.contains("scale")) r.scale = float(ctx.number(j["scale"], key + ".scale", -1e6, 1e6));
+    if (j.contains("bias")) r.bias = float(ctx.number(j["bias"], key + ".bias", -1e6, 1e6));
+    if (j.contains("value")) {
+        if (r.source != ControlRule::Source::Constant) ctx.bad(key + ".value", "only constant rules take a value");
+        r.value = float(ctx.number(j["value"], key + ".value", -1e6, 1e6));
+    } else if (r.source == ControlRule::Source::Constant) {
+        ctx.bad(key + ".value", "missing (constant rules need a value)");
+    }
+    if (j.contains("noise")) {
+        if (r.source != ControlRule::Source::Noise) ctx.bad(key + ".noise", "only noise rules take noise parameters");
+        const json& n = j["noise"];
+        const std::string nk = key + ".noise";
+        ctx.check_keys(n, nk, {"frequency", "amplitude", "offset", "seed", "octaves"});
+        if (n.contains("frequency")) r.noise.frequency = float(ctx.number(n["frequency"], nk + ".frequency", 1e-6, 1e6));
+        if (n.contains("amplitude")) r.noise.amplitude = float(ctx.number(n["amplitude"], nk + ".amplitude", -1e6, 1e6));
+        if (n.contains("offset")) r.noise.offset = float(ctx.number(n["offset"], nk + ".offset", -1e6, 1e6));
+        if (n.contains("seed")) r.noise.seed = std::uint32_t(ctx.integer(n["seed"], nk + ".seed", 0, 2147483647));
+        if (n.contains("octaves")) r.noise.octaves = ctx.integer(n["octaves"], nk + ".octaves", 1, 8);
+    }
+    if (j.contains("materials")) {
+        const json& m = j["materials"];
+        if (!m.is_array()) ctx.bad(key + ".materials", "expected an array of material names or indices");
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            const std::string mk = key + ".materials[" + std::to_string(i) + "]";
+            if (m[i].is_string()) r.materials.push_back(m[i].get<std::string>());
+            else r.materials.push_back(std::to_string(ctx.integer(m[i], mk, 0, 1 << 30)));
+        }
+    }
+    return r;
+}
+
+Camera parse_camera(const Ctx& ctx, const json& j, const Scene& scene, float aspect, SceneDesc& desc) {
+    auto auto_cam = [&](glm::vec3 dir, float yfov) {
+        desc.camera_auto = true;
+        desc.auto_view_dir = dir;
+        desc.auto_yfov = yfov;
+        desc.auto_aspect = aspect;
+        return frame_bounds(scene.world_bounds(), aspect, dir, yfov);
+    };
+    if (j.is_string()) {
+        if (j.get<std::string>() != "auto") ctx.bad("camera", "expected \"auto\", a glTF camera index or an object");
+        return auto_cam(desc.auto_view_dir, desc.auto_yfov);
+    }
+    if (j.is_number_integer()) {
+        const int i = ctx.integer(j, "camera", 0, 1 << 30);
+        if (std::size_t(i) >= scene.cameras.size())
+            ctx.bad("camera", "camera " + std::to_string(i) + " does not exist (the model has " +
+                                  std::to_string(scene.cameras.size()) + " cameras on its nodes)");
+        return scene.cameras[std::size_t(i)];
+    }
+    ctx.check_keys(j, "camera", {"auto", "view_dir", "eye", "target", "up", "yfov", "yfov_deg", "near", "far", "orthographic", "ymag", "xmag"});
+    float yfov = 0.6f;
+    if (j.contains("yfov") && j.contains("yfov_deg")) ctx.bad("camera.yfov", "give yfov (radians) or yfov_deg, not both");
+    if (j.contains("yfov")) yfov = float(ctx.number(j["yfov"], "camera.yfov", 0.01, 3.0));
+    if (j.contains("yfov_deg")) yfov = float(glm::radians(ctx.number(j["yfov_deg"], "camera.yfov_deg", 0.5, 170.0)));
+    const bool is_auto = j.contains("auto") && ctx.boolean(j["auto"], "camera.auto");
+    if (is_auto) {
+        for (const char* k : {"eye", "target", "up", "near", "far", "orthographic", "ymag", "xmag"})
+            if (j.contains(k)) ctx.bad(std::string("camera.") + k, "not allowed with \"auto\": true");
+        glm::vec3 dir = desc.auto_view_dir;
+        if (j.contains("view_dir")) dir = ctx.vec3(j["view_dir"], "camera.view_dir");
+        if (!(glm::length(dir) > 0.0f)) ctx.bad("camera.view_dir", "must not be zero");
+        return auto_cam(dir, yfov);
+    }
+    if (j.contains("view_dir")) ctx.bad("camera.view_dir", "only with \"auto\": true");
+    if (!j.contains("eye")) ctx.bad("camera.eye", "missing (or use \"auto\": true)");
+    if (!j.contains("target")) ctx.bad("camera.target", "missing");
+    Camera c;
+    c.name = "scene file";
+    const glm::vec3 eye = ctx.vec3(j["eye"], "camera.eye"), target = ctx.vec3(j["target"], "camera.target");
+    const glm::vec3 up = j.contains("up") ? ctx.vec3(j["up"], "camera.up") : glm::vec3(0, 1, 0);
+    if (!(glm::length(target - eye) > 0.0f)) ctx.bad("camera.target", "equals the eye");
+    if (!(glm::length(glm::cross(target - eye, up)) > 1e-6f * glm::length(target - eye) * glm::length(up)))
+        ctx.bad("camera.up", "parallel to the view direction");
+    c.view = glm::lookAt(eye, target, up);
+    c.yfov = yfov;
+    c.znear = j.contains("near") ? float(ctx.number(j["near"], "camera.near", 1e-6, 1e9)) : 0.1f;
+    c.zfar = j.contains("far") ? float(ctx.number(j["far"], "camera.far", 1e-6, 1e12)) : 1000.0f;
+    if (!(c.zfar > c.znear)) ctx.bad("camera.far", "must be greater than near");
+    if (j.contains("orthographic")) c.orthographic = ctx.boolean(j["orthographic"], "camera.orthographic");
+    if (j.contains("ymag")) c.ymag = float(ctx.number(j["ymag"], "camera.ymag", 1e-9, 1e9));
+    c.xmag = j.contains("xmag") ? float(ctx.number(j["xmag"], "camera.xmag", 1e-9, 1e9)) : c.ymag * aspect;
+    if (!c.orthographic && (j.contains("ymag") || j.contains("xmag"))) ctx.bad("camera.ymag", "only for orthographic cameras");
+    return c;
+}
+
+std::vector<int> match_materials(const Ctx& ctx, const Scene& s, const std::string& name, const std::string& key) {
+    std::vector<int> out;
+    for (std::size_t i = 0; i < s.materials.size(); ++i)
+        if (name == "*" || s.materials[i].name == name) out.push_back(int(i));
+    if (out.empty() && !name.empty() && std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+        const long long i = name.size() < 10 ? std::stoll(name) : -1;
+        if (i >= 0 && i < (long long)s.materials.size()) out.push_back(int(i));
+    }
+    if (out.empty()) {
+        std::string known;
+        for (const Material& m : s.materials) known += (known.empty() ? "" : ", ") + ("'" + m.name + "'");
+        ctx.bad(key, "no material named or numbered '" + name + "' (materials: " + known + ")");
+    }
+    return out;
+}
+
+SceneDesc load_scene_file(const std::string& path) {
+    Ctx ctx{"scene file '" + path + "'", fs::path(path).parent_path()};
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw Error(ctx.where + ": cannot be opened");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    json j;
+    try {
+        j = json::parse(ss.str());
+    } catch (const json::exception& e) {
+        throw Error(ctx.where + ": invalid JSON: " + e.what());
+    }
+    ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
+                           "materials", "style", "width", "height", "fps", "paper", "substrate_color"});
+    if (j.contains("description")) ctx.string(j["description"], "description");
+
+    SceneDesc d;
+    // Output settings first: the automatic framing needs the aspect.
+    if (j.contains("width")) d.width = ctx.integer(j["width"], "width", 1, kMaxImageSide);
+    if (j.contains("height")) d.height = ctx.integer(j["height"], "height", 1, kMaxImageSide);
+    if (j.contains("fps")) d.fps = float(ctx.number(j["fps"], "fps", 1e-3, 1000.0));
+    if (j.contains("paper")) d.paper = ctx.file(j["paper"], "paper");
+    if (j.contains("substrate_color")) d.substrate_color = ctx.vec3(j["substrate_color"], "substrate_color", 0.0, 1.0);
+    const float aspect = (d.width > 0 && d.height > 0) ? float(d.width) / float(d.height) : 16.0f / 9.0f;
+
+    // Geometry.
+    if (j.contains("gltf") == j.contains("procedural")) ctx.bad("gltf", "give exactly one of \"gltf\" and \"procedural\"");
+    bool procedural = false;
+    if (j.contains("procedural")) {
+        const std::string name = ctx.string(j["procedural"], "procedural");
+        try {
+            d.scene = make_procedural(name);
+        } catch (const Error& e) {
+            ctx.bad("procedural", e.what());
+        }
+        procedural = true;
+    } else {
+        const std::string g = ctx.string(j["gltf"], "gltf");
+        if (g.rfind(kProceduralPrefix, 0) == 0) {
+            try {
+                d.scene = make_procedural(g.substr(std::string(kProceduralPrefix).size()));
+            } catch (const Error& e) {
+                ctx.bad("gltf", e.what());
+            }
+            procedural = true;
+        } else {
+            d.scene = load_gltf(ctx.file(j["gltf"], "gltf"));
+        }
+    }
+
+    // Uniform scale of the whole model (instances and its glTF cameras), e.g. to bring a 20 cm
+    // scan into the scene-unit range the depth-based stages expect (MNPR: 8..50 units).
+    if (j.contains("scale")) {
+        const float k = float(ctx.number(j["scale"], "scale", 1e-6, 1e6));
+        const glm::mat4 S = glm::scale(glm::mat4(1.0f), glm::vec3(k));
+        for (Instance& inst : d.scene.instances) inst.world = S * inst.world;
+        for (Camera& c : d.scene.cameras) {
+            c.view[3] = glm::vec4(glm::vec3(c.view[3]) * k, 1.0f);
+            c.znear *= k;
+            c.zfar *= k;
+            c.xmag *= k;
+            c.ymag *= k;
+        }
+    }
+
+    // Style.
+    if (j.contains("style")) {
+        const json& s = j["style"];
+        if (s.is_string()) {
+            d.style = s.get<std::string>();
+            if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s, "style");
+        } else {
+            ctx.check_keys(s, "style", {"preset", "set", "variant"});
+            if (s.contains("preset")) {
+                d.style = ctx.string(s["preset"], "style.preset");
+                if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s["preset"], "style.preset");
+            }
+            if (s.contains("set")) {
+                if (!s["set"].is_object()) ctx.bad("style.set", "expected an object of \"stage.param\": number");
+                for (auto it = s["set"].begin(); it != s["set"].end(); ++it) {
+                    if (it.key().find('.') == std::string::npos) ctx.bad("style.set." + it.key(), "expected \"stage.param\"");
+                    d.style_set[it.key()] = ctx.number(it.value(), "style.set." + it.key(), -1e9, 1e9);
+                }
+            }
+            if (s.contains("variant")) {
+                if (!s["variant"].is_object()) ctx.bad("style.variant", "expected an object of \"stage\": \"variant\"");
+                for (auto it = s["variant"].begin(); it != s["variant"].end(); ++it)
+                    d.style_variant[it.key()] = ctx.string(it.value(), "style.variant." + it.key());
+            }
+        }
+    }
+
+    // Lights (procedural scenes bring their own unless the file names some).
+    if (j.contains("lights")) {
+        const json& l = j["lights"];
+        if (!l.is_array()) ctx.bad("lights", "expected an array");
+        d.scene.lights.clear();
+        for (std::size_t i = 0; i < l.size(); ++i) {
+            const std::string k = "lights[" + std::to_string(i) + "]";
+            ctx.check_keys(l[i], k, {"direction", "color", "intensity"});
+            Light li = default_light();
+            if (l[i].contains("direction")) {
+                const glm::vec3 dir = ctx.vec3(l[i]["direction"], k + ".direction");
+                if (!(glm::length(dir) > 0.0f)) ctx.bad(k + ".direction", "must not be zero");
+                li.direction = glm::normalize(dir);
+            }
+            if (l[i].contains("color")) li.color = ctx.vec3(l[i]["color"], k + ".color", 0.0, 1e3);
+            if (l[i].contains("intensity")) li.intensity = float(ctx.number(l[i]["intensity"], k + ".intensity", 0.0, 1e3));
+            d.scene.lights.push_back(li);
+        }
+    } else if (d.scene.lights.empty()) {
+        d.scene.lights.push_back(default_light());
+    }
+    if (j.contains("ambient")) d.scene.ambient = ctx.vec3(j["ambient"], "ambient", 0.0, 1e3);
+
+    // Per-material overrides.
+    if (j.contains("materials")) {
+        const json& m = j["materials"];
+        if (!m.is_object()) ctx.bad("materials", "expected an object keyed by material name, index or \"*\"");
+        for (auto it = m.begin(); it != m.end(); ++it) {
+            const std::string k = "materials." + it.key();
+            for (int mi : match_materials(ctx, d.scene, it.key(), k))
+                detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".");
+        }
+    }
+
+    // Control mapping.
+    ControlLayout layout = ControlLayout::WC18;
+    if (j.contains("control_layout")) {
+        const std::string s = ctx.string(j["control_layout"], "control_layout");
+        if (s == "wc18") layout = ControlLayout::WC18;
+        else if (s == "wc17") layout = ControlLayout::WC17;
+        else ctx.bad("control_layout", "'" + s + "': expected \"wc18\" or \"wc17\"");
+    }
+    if (j.contains("control")) {
+        const json& c = j["control"];
+        if (!c.is_array()) ctx.bad("control", "expected an array of rules");
+        std::vector<ControlRule> rules;
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const std::string k = "control[" + std::to_string(i) + "]";
+            rules.push_back(parse_rule(ctx, c[i], k, layout));
+            for (const std::string& mname : rules.back().materials)
+                match_materials(ctx, d.scene, mname, k + ".materials");
+        }
+        apply_control_rules(d.scene, rules, layout, ctx.where + " control");
+    }
+
+    // Camera last: the framing sees the final geometry.
+    if (j.contains("camera")) d.camera = parse_camera(ctx, j["camera"], d.scene, aspect, d);
+    else if (procedural && !d.scene.cameras.empty()) d.camera = d.scene.cameras.front();
+    else d.camera = parse_camera(ctx, json("auto"), d.scene, aspect, d);
+    if (!procedural) d.scene.source = path;
+    return d;
+}
+
+}  // namespace
+
+SceneDesc load_scene(const std::string& spec) {
+    SceneDesc d;
+    if (spec.rfind(kProceduralPrefix, 0) == 0) {
+        d.scene = make_procedural(spec.substr(std::string(kProceduralPrefix).size()));
+        if (d.scene.lights.empty()) d.scene.lights.push_back(default_light());
+        if (!d.scene.cameras.empty()) {
+            d.camera = d.scene.cameras.front();
+        } else {
+            d.camera_auto = true;
+            d.camera = frame_bounds(d.scene.world_bounds(), d.auto_aspect, d.auto_view_dir, d.auto_yfov);
+        }
+        return d;
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(spec, ec)) throw Error("scene '" + spec + "': file not found");
+    const std::string ext = lower(fs::path(spec).extension().string());
+    if (ext == ".json") return load_scene_file(spec);
+    if (ext == ".gltf" || ext == ".glb") {
+        d.scene = load_gltf(spec);
+        d.scene.lights = {default_light()};
+        d.camera_auto = true;
+        d.camera = frame_bounds(d.scene.world_bounds(), d.auto_aspect, d.auto_view_dir, d.auto_yfov);
+        return d;
+    }
+    throw Error("scene '" + spec + "': expected a .json scene file, a .gltf/.glb model or procedural:NAME");
+}
+
+}  // namespace aq::scene
