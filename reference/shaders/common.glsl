@@ -35,3 +35,20 @@ float sat(float x) { return clamp(x, 0.0, 1.0); }
 vec3 sat(vec3 x) { return clamp(x, 0.0, 1.0); }
 // Rec. 709 luma (MNPR luminance()).
 float luminance(vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+// Border chosen by a stage's `border` parameter: 0 = clamp, 1 = mirror.
+vec4 fetch_b(sampler2D s, ivec2 p, int border) { return border == 1 ? fetch_mirror(s, p) : fetch_clamp(s, p); }
+
+// GL's own resampling between resolutions: a full-screen pass reading `s` (any size) with
+// texture() at uv = gl_FragCoord.xy / output size, on a GL_LINEAR + clamp-to-edge sampler.
+vec4 resample(sampler2D s) { return texture(s, gl_FragCoord.xy / vec2(u_out_size)); }
+// Same size: the exact texel; otherwise the bilinear resample above.
+vec4 same_or_resample(sampler2D s) {
+    return textureSize(s, 0) == u_out_size ? texelFetch(s, pixel(), 0) : resample(s);
+}
+
+// Unnormalised Gaussian weight exp(-o^2 / (2 sigma^2)).
+float gauss(float o, float sigma) { return exp(-(o * o) / (2.0 * sigma * sigma)); }
+
+// Colour transmittance C^d for colours (MNPR pow(abs(c), d)).
+vec3 cpow(vec3 c, float d) { return pow(abs(c), vec3(d)); }

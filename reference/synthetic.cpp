@@ -1,0 +1,161 @@
+// reference/synthetic.cpp — synthetic G-buffer and producer-driven input resolution.
+#include "reference/synthetic.h"
+
+#include <cmath>
+#include <limits>
+
+namespace aq::ref {
+
+namespace {
+
+// Integer hash (lowbias32): deterministic per (x, y, seed), independent of traversal.
+std::uint32_t hash32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+float hash01(std::uint32_t a, std::uint32_t b, std::uint32_t seed) {
+    return float(hash32(a * 0x9E3779B1U ^ hash32(b + 0x85EBCA77U * seed))) * (1.0f / 4294967296.0f);
+}
+
+float smooth01(float t) {
+    t = std::clamp(t, 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+struct Disk {
+    float cx, cy, r, z;
+};
+
+}  // namespace
+
+ImageF synthetic_pattern(int w, int h, int channels, std::uint32_t seed) {
+    ImageF img(w, h, channels);
+    const float s = float(seed % 7) + 1.0f;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
+            const bool inside = std::abs(u - 0.5f) < 0.3f && std::abs(v - 0.45f) < 0.25f;
+            for (int c = 0; c < channels; ++c) {
+                float val = 0.5f + 0.5f * std::sin(6.2831853f * (u * (c + 1) + v * s * 0.5f) + c);
+                if (inside) val = 0.25f * val + (c % 2 ? 0.7f : 0.1f);
+                img.at(x, y, c) = std::clamp(val, 0.0f, 1.0f);
+            }
+        }
+    return img;
+}
+
+Targets synthetic_gbuffer(int w, int h, std::uint32_t seed) {
+    Targets t;
+    ImageF& color = t.create(target::kColor, w, h, 4);
+    ImageF& depth = t.create(target::kDepthLinear, w, h, 1);
+    ImageF& normal = t.create(target::kNormal, w, h, 3);
+    ImageF& oid = t.create(target::kObjectId, w, h, 1);
+    ImageF& diffuse = t.create(target::kDiffuse, w, h, 1);
+    ImageF& specular = t.create(target::kSpecular, w, h, 1);
+    ImageF* ctrl[4] = {&t.create(target::kCtrlPigment, w, h, 4), &t.create(target::kCtrlSubstrate, w, h, 4),
+                       &t.create(target::kCtrlEdge, w, h, 4), &t.create(target::kCtrlAbstraction, w, h, 4)};
+    const float inf = std::numeric_limits<float>::infinity();
+    const float m = float(std::min(w, h));
+    // Three overlapping spheres (disks with sphere normals and curved depth) in front of a slanted
+    // ground plane that covers the lower part; the rest is background.
+    const Disk disks[3] = {{0.33f * w, 0.42f * h, 0.26f * m, 14.0f},
+                           {0.62f * w, 0.52f * h, 0.22f * m, 11.0f},
+                           {0.78f * w, 0.30f * h, 0.14f * m, 30.0f}};
+    const glm::vec3 base[3] = {{0.76f, 0.37f, 0.0f}, {0.15f, 0.45f, 0.85f}, {0.95f, 0.9f, 0.2f}};
+    const glm::vec3 light = glm::normalize(glm::vec3(-0.4f, 0.6f, 0.7f));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float px = x + 0.5f, py = y + 0.5f;
+            float z = inf, a = 0.0f;
+            glm::vec3 n(0.0f, 0.0f, 1.0f), c(0.0f);
+            float id = 0.0f;
+            // ground plane: lower 35 %, depth growing upwards (a slanted plane), checker edges
+            if (py > 0.65f * h) {
+                z = 9.0f + 40.0f * (1.0f - py / h);
+                n = glm::normalize(glm::vec3(0.0f, 0.8f, 0.6f));
+                const bool check = ((x / 12) + (y / 12)) % 2 == 0;
+                c = check ? glm::vec3(0.55f, 0.62f, 0.4f) : glm::vec3(0.35f, 0.42f, 0.25f);
+                c += 0.15f * glm::vec3(px / w);
+                a = 1.0f;
+                id = 4.0f;
+            }
+            for (int k = 0; k < 3; ++k) {
+                const float dx = (px - disks[k].cx) / disks[k].r, dy = (py - disks[k].cy) / disks[k].r;
+                const float r2 = dx * dx + dy * dy;
+                if (r2 >= 1.0f) continue;
+                const float nz = std::sqrt(1.0f - r2);
+                const float zk = disks[k].z - 3.0f * nz;
+                if (zk >= z) continue;
+                z = zk;
+                n = glm::vec3(dx, -dy, nz);
+                const float lam = std::max(0.0f, glm::dot(n, light));
+                c = base[k] * (0.35f + 0.65f * lam) + glm::vec3(0.08f * (1.0f - nz));
+                a = r2 > 0.92f ? 1.0f - (r2 - 0.92f) / 0.08f * 0.6f : 1.0f;  // soft coverage at rims
+                id = float(k + 1);
+            }
+            c = glm::clamp(c, 0.0f, 1.0f);
+            color.at(x, y, 0) = c.r, color.at(x, y, 1) = c.g, color.at(x, y, 2) = c.b, color.at(x, y, 3) = a;
+            depth.at(x, y, 0) = z;
+            normal.at(x, y, 0) = n.x, normal.at(x, y, 1) = n.y, normal.at(x, y, 2) = n.z;
+            oid.at(x, y, 0) = id;
+            diffuse.at(x, y, 0) = std::max(0.0f, glm::dot(n, light));
+            specular.at(x, y, 0) = std::pow(std::max(0.0f, n.z), 16.0f) * (a > 0 ? 1.0f : 0.0f);
+            // Control targets: soft painted blobs (sin patterns) over the whole signed range, a few
+            // hard-edged patches at full +-1, and small per-pixel noise. Zero on the background.
+            for (int k = 0; k < 4; ++k)
+                for (int ch = 0; ch < 4; ++ch) {
+                    const float u = px / w, v = py / h;
+                    float val = std::sin(6.2831853f * (u * (1.3f + 0.4f * ch) + v * (0.7f + 0.3f * k)) + float(k * 4 + ch));
+                    val *= 0.9f;
+                    const int cx = int(u * 5.0f), cy = int(v * 4.0f);
+                    const float patch = hash01(std::uint32_t(cx + 16 * k), std::uint32_t(cy + 16 * ch), seed);
+                    if (patch < 0.18f) val = 1.0f;
+                    else if (patch > 0.86f) val = -1.0f;
+                    else if (patch > 0.78f) val = 0.0f;
+                    val += 0.05f * (hash01(std::uint32_t(x), std::uint32_t(y * 16 + k * 4 + ch), seed) - 0.5f);
+                    val = std::clamp(val, -1.0f, 1.0f);
+                    ctrl[k]->at(x, y, ch) = a > 0.0f ? val : 0.0f;
+                }
+            (void)smooth01;
+        }
+    return t;
+}
+
+std::vector<ImageF> run_cpp_stage(const stylize::StageVariant& v, const Targets& t, const stylize::ParamValues& p,
+                                  const stylize::Globals& globals, const Exec& ex) {
+    stylize::StageIO io;
+    io.globals = &globals;
+    for (auto& port : v.inputs) io.in.push_back(t.has(port.default_target) ? &t.get(port.default_target) : nullptr);
+    std::vector<ImageF> outs(v.outputs.size());
+    for (auto& o : outs) io.out.push_back(&o);
+    v.run(io, p, ex);
+    return outs;
+}
+
+bool resolve_target(Targets& t, const std::string& name, const stylize::Globals& globals) {
+    if (t.has(name)) return true;
+    const auto& reg = stylize::builtin_registry();
+    const stylize::StageVariant* producer = nullptr;
+    for (auto& stage : reg.stages()) {
+        for (auto* v : reg.variants(stage)) {
+            for (auto& o : v->outputs)
+                if (o.default_target == name && !producer) producer = v;
+        }
+    }
+    if (!producer) return false;
+    for (auto& in : producer->inputs) {
+        if (in.default_target == name) continue;  // a stage never reads its own output
+        if (!resolve_target(t, in.default_target, globals) && !in.optional) return false;
+    }
+    auto params = stylize::Registry::resolve_params(*producer, {}, "resolve_target");
+    auto outs = run_cpp_stage(*producer, t, params, globals);
+    for (std::size_t k = 0; k < outs.size(); ++k)
+        if (!t.has(producer->outputs[k].default_target)) t.set(producer->outputs[k].default_target, std::move(outs[k]));
+    return true;
+}
+
+}  // namespace aq::ref

@@ -1,0 +1,181 @@
+// tests/reference/stage_reference_test.cpp — every registered stage variant against its GLSL twin
+// (reference/shaders/<stage>.<variant>.glsl) run through OpenGL, on a synthetic G-buffer and on
+// G-buffers rasterized from real models. Tolerances are per stage, each with its reason
+// (docs/reference.md); a variant without a twin is a failure.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "core/compare.h"
+#include "core/io.h"
+#include "reference/stage_twin.h"
+#include "reference/synthetic.h"
+#include "stylize/paper.h"
+#include "tests/reference/reference_support.h"
+#include "tests/test_support.h"
+
+namespace aq::ref {
+namespace {
+
+using stylize::StageVariant;
+
+// How far the C++ stage and its GLSL twin may differ, and why.
+//  max_abs    : bound on |C++ - GL| for every value, except
+//  flip_frac  : the fraction of values allowed above max_abs (0 = none). Used for stages with a
+//               hard threshold, where a value within an ulp of the threshold may fall on either
+//               side and flip a pixel by a large amount.
+struct Tolerance {
+    double max_abs = 1e-5;
+    double flip_frac = 0.0;
+    const char* why = "pointwise arithmetic in the same order: differences are float rounding only";
+};
+
+const std::map<std::string, Tolerance>& tolerances() {
+    static const std::map<std::string, Tolerance> t = {
+        {"adjust/mnpr", {2e-6, 0.0, "pointwise; only the depth division (GL: x * rcp(y)) may differ by an ulp"}},
+    };
+    return t;
+}
+
+Tolerance tolerance_for(const StageVariant& v) {
+    auto it = tolerances().find(v.key());
+    return it != tolerances().end() ? it->second : Tolerance{};
+}
+
+std::vector<std::string> registry_keys() {
+    std::vector<std::string> keys;
+    for (auto* v : stylize::builtin_registry().all()) keys.push_back(v->key());
+    return keys;
+}
+
+const StageVariant& variant_of(const std::string& key) {
+    const auto slash = key.find('/');
+    return stylize::builtin_registry().get(key.substr(0, slash), key.substr(slash + 1));
+}
+
+//! A named input set: a G-buffer (and everything derived from it) and its paper.
+struct Scene {
+    std::string name;
+    Targets targets;
+    ImageF paper;
+    stylize::Globals globals;
+};
+
+Scene make_synthetic(int w, int h, std::uint32_t seed) {
+    Scene s;
+    s.name = "synthetic_" + std::to_string(w) + "x" + std::to_string(h);
+    s.targets = synthetic_gbuffer(w, h, seed);
+    stylize::PaperSpec ps;
+    ps.file = test::asset("paper/mnpr/rough_default_2k.jpg");
+    s.paper = stylize::prepare_paper(ps, w, h);
+    s.globals.substrate_color = {0.98f, 0.96f, 0.9f};
+    return s;
+}
+
+//! Alternative parameter values exercising other code paths: booleans flipped, floats and ints
+//! moved inside their range.
+stylize::ParamValues alt_params(const StageVariant& v) {
+    std::map<std::string, double> o;
+    for (auto& d : v.params) {
+        double x = d.def;
+        if (d.kind == stylize::ParamKind::Bool) x = d.def != 0 ? 0 : 1;
+        else if (d.kind == stylize::ParamKind::Int) x = std::min(d.hi, d.def + 1);
+        else x = d.def != 0 ? std::clamp(d.def * 1.37, d.lo, d.hi) : std::clamp(d.lo + 0.3 * std::min(d.hi - d.lo, 2.0), d.lo, d.hi);
+        o[d.name] = x;
+    }
+    return stylize::Registry::resolve_params(v, o, "alt_params");
+}
+
+void append_error_row(const std::string& row) {
+    static bool header = false;
+    const std::string path = test::output_dir() + "/reference_stage_errors.tsv";
+    std::ofstream f(path, header ? std::ios::app : std::ios::trunc);
+    if (!header) f << "variant\tscene\tparams\toutput\tmean_abs\tmax_abs\tfrac_over_1e-5\tfrac_over_1/255\tpsnr\n";
+    header = true;
+    f << row << "\n";
+}
+
+//! Runs one variant on one scene and parameter set; compares every output.
+void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& params, const std::string& pname) {
+    for (auto& in : v.inputs) {
+        const bool ok = resolve_target(s.targets, in.default_target, s.globals);
+        if (!ok && !in.optional) FAIL() << v.key() << ": no producer for input '" << in.default_target << "'";
+    }
+    auto cpp = run_cpp_stage(v, s.targets, params, s.globals);
+    std::vector<const ImageF*> ins;
+    for (auto& in : v.inputs) ins.push_back(s.targets.has(in.default_target) ? &s.targets.get(in.default_target) : nullptr);
+    StageTwin twin(v);
+    auto gl = twin.run(ins, params, s.globals);
+    ASSERT_EQ(gl.size(), cpp.size());
+    const Tolerance tol = tolerance_for(v);
+    for (std::size_t k = 0; k < cpp.size(); ++k) {
+        const std::string what = v.key() + " output '" + v.outputs[k].name + "' on " + s.name + " (" + pname + ")";
+        ASSERT_TRUE(cpp[k].same_size(gl[k]) && cpp[k].channels() == gl[k].channels())
+            << what << ": C++ " << cpp[k].width() << "x" << cpp[k].height() << "x" << cpp[k].channels() << " vs GL "
+            << gl[k].width() << "x" << gl[k].height() << "x" << gl[k].channels();
+        const CompareStats st = compare_images(cpp[k], gl[k], 1.0 / 255.0);
+        const CompareStats fine = compare_images(cpp[k], gl[k], tol.max_abs);
+        char row[512];
+        std::snprintf(row, sizeof row, "%s\t%s\t%s\t%s\t%.3g\t%.3g\t%.3g\t%.3g\t%.1f", v.key().c_str(), s.name.c_str(),
+                      pname.c_str(), v.outputs[k].name.c_str(), st.mean_abs, st.max_abs, fine.frac_over, st.frac_over,
+                      st.psnr);
+        append_error_row(row);
+        std::printf("  %-32s %-10s %-6s mean %.3g max %.3g (at %d,%d c%d) over tol %.3g over 1/255 %.3g\n",
+                    v.key().c_str(), v.outputs[k].name.c_str(), pname.c_str(), st.mean_abs, st.max_abs, st.max_x,
+                    st.max_y, st.max_c, fine.frac_over, st.frac_over);
+        bool pass = st.nonfinite == 0 ? true : false;
+        if (tol.flip_frac == 0.0) pass = pass && st.max_abs <= tol.max_abs;
+        else pass = pass && fine.frac_over <= tol.flip_frac;
+        if (!pass) {
+            const std::string base = test::output_dir() + "/" + safe_file_name(v.key() + "." + v.outputs[k].name + "." + s.name + "." + pname);
+            write_image(base + ".cpp.exr", cpp[k]);
+            write_image(base + ".gl.exr", gl[k]);
+            write_image(base + ".diff.png", diff_heatmap(cpp[k], gl[k]));
+            ADD_FAILURE() << what << " differs beyond tolerance (max_abs " << tol.max_abs << ", flip fraction "
+                          << tol.flip_frac << ": " << tol.why << ")\n"
+                          << format_stats(st) << "\nfraction over " << tol.max_abs << ": " << fine.frac_over
+                          << "\nwrote " << base << ".cpp.exr, .gl.exr, .diff.png";
+        }
+    }
+}
+
+class StageReference : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(StageReference, MatchesGlslTwinOnSyntheticGBuffer) {
+    AQ_REQUIRE_GL();
+    const StageVariant& v = variant_of(GetParam());
+    ASSERT_TRUE(has_twin(v)) << "no GLSL twin " << shader_dir() << "/" << twin_file(v);
+    for (auto [w, h] : {std::pair{96, 64}, std::pair{61, 47}}) {
+        Scene s = make_synthetic(w, h, 7);
+        check_variant(v, s, stylize::Registry::resolve_params(v, {}, "defaults"), "default");
+        check_variant(v, s, alt_params(v), "alt");
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, StageReference, ::testing::ValuesIn(registry_keys()),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                             std::string n = i.param;
+                             for (char& c : n)
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return n;
+                         });
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StageReference);
+
+TEST(StageReferenceCoverage, EveryRegisteredVariantHasATwin) {
+    std::string missing;
+    for (auto* v : stylize::builtin_registry().all())
+        if (!has_twin(*v)) missing += "  " + v->key() + " -> " + shader_dir() + "/" + twin_file(*v) + "\n";
+    EXPECT_TRUE(missing.empty()) << "stage variants without a GLSL twin:\n" << missing;
+    EXPECT_FALSE(stylize::builtin_registry().all().empty()) << "the stage registry is empty";
+}
+
+TEST(StageReferenceCoverage, EveryTwinParses) {
+    for (auto* v : stylize::builtin_registry().all())
+        if (has_twin(*v)) EXPECT_NO_THROW(StageTwin t(*v)) << v->key();
+}
+
+}  // namespace
+}  // namespace aq::ref
