@@ -50,4 +50,30 @@ T sample_bilinear(const View<const T>& v, float px, float py, Border b) {
     return top + (bot - top) * ty;
 }
 
+
+// ---- added by stage group A (resolution conventions, exact-endpoint interpolation) ----------
+
+//! GLSL mix(): a*(1-t) + b*t. Exact at both ends (t = 0 gives a, t = 1 gives b for finite values),
+//! unlike lerp(), which is why stages use it where "zero control leaves the colour unchanged".
+inline float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
+
+//! Side of a half-resolution intermediate (WC17 §3.3): ceil(n / 2).
+inline int half_size(int n) { return (n + 1) / 2; }
+
+//! Resampling convention between two resolutions (docs/stylize.md): output pixel x of a size-n_out
+//! axis samples the source (n_src texels) at continuous coordinate ((x + 0.5) / n_out) * n_src,
+//! exactly GL's texture() of a full-screen quad with uv = gl_FragCoord / size, evaluated in this
+//! float operation order. Use with sample_bilinear (pixel centres at +0.5, GL_LINEAR).
+inline float texel_coord(int x, int n_out, int n_src) {
+    return ((float(x) + 0.5f) / float(n_out)) * float(n_src);
+}
+
+//! Bilinear resample of v (any size) at output pixel (x, y) of an out_w x out_h image, clamp to
+//! edge (GL_CLAMP_TO_EDGE): the up/down-sampling used for half-resolution intermediates.
+template <class T>
+T sample_resampled(const View<const T>& v, int x, int y, int out_w, int out_h) {
+    return sample_bilinear(v, texel_coord(x, out_w, v.width), texel_coord(y, out_h, v.height),
+                           Border::Clamp);
+}
+
 }  // namespace aq::stylize

@@ -1,0 +1,417 @@
+// stylize/pipeline.cpp — JSON pipeline files, command-line overrides, validation and the runner.
+#include "stylize/pipeline.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "stylize/kernels.h"
+
+#ifndef AQ_PRESET_DIR
+#define AQ_PRESET_DIR "stylize/presets"
+#endif
+
+namespace aq::stylize {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string idx(const std::string& key, std::size_t i) { return key + "[" + std::to_string(i) + "]"; }
+
+[[noreturn]] void fail(const std::string& src, const std::string& key, const std::string& msg) {
+    throw Error(src + ": " + (key.empty() ? "" : key + ": ") + msg);
+}
+
+void check_keys(const json& j, const std::set<std::string>& allowed, const std::string& src, const std::string& key) {
+    for (auto it = j.begin(); it != j.end(); ++it)
+        if (!allowed.count(it.key())) {
+            std::string have;
+            for (auto& a : allowed) have += (have.empty() ? "" : ", ") + a;
+            fail(src, key.empty() ? it.key() : key + "." + it.key(), "unknown key (expected one of: " + have + ")");
+        }
+}
+
+std::string get_string(const json& j, const std::string& src, const std::string& key) {
+    if (!j.is_string()) fail(src, key, "expected a string");
+    return j.get<std::string>();
+}
+
+double get_number(const json& j, const std::string& src, const std::string& key) {
+    if (j.is_boolean()) return j.get<bool>() ? 1.0 : 0.0;
+    if (!j.is_number()) fail(src, key, "expected a number or true/false");
+    return j.get<double>();
+}
+
+const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
+    for (auto& p : ports)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+std::string port_list(const std::vector<Port>& ports) {
+    std::string s;
+    for (auto& p : ports) s += (s.empty() ? "" : ", ") + p.name;
+    return s.empty() ? "none" : s;
+}
+
+//! Checks one step against the registry; `key` is "steps[i]".
+void check_step(const PipelineStep& s, const std::string& src, const std::string& key) {
+    const Registry& reg = builtin_registry();
+    const StageVariant* v = nullptr;
+    try {
+        v = s.variant.empty() ? &reg.default_variant(s.stage) : &reg.get(s.stage, s.variant);
+    } catch (const Error& e) {
+        fail(src, key + (s.variant.empty() || reg.variants(s.stage).empty() ? ".stage" : ".variant"), e.what());
+    }
+    for (auto& [name, value] : s.params) {
+        Registry::resolve_params(*v, {{name, value}}, src + ": " + key + ".params." + name);
+    }
+    for (auto& [port, target] : s.in) {
+        if (!find_port(v->inputs, port))
+            fail(src, key + ".in." + port, "unknown input port of " + v->key() + " (ports: " + port_list(v->inputs) + ")");
+        if (target.empty()) fail(src, key + ".in." + port, "empty target name");
+    }
+    for (auto& [port, target] : s.out) {
+        if (!find_port(v->outputs, port))
+            fail(src, key + ".out." + port, "unknown output port of " + v->key() + " (ports: " + port_list(v->outputs) + ")");
+        if (target.empty()) fail(src, key + ".out." + port, "empty target name");
+    }
+}
+
+std::string shared_assets_guess() {
+    if (const char* s = std::getenv("AQ_SHARED")) return std::string(s) + "/assets";
+    // <repo>/stylize/presets -> <repo>/../shared/assets
+    return (fs::path(AQ_PRESET_DIR) / ".." / ".." / ".." / "shared" / "assets").lexically_normal().string();
+}
+
+std::string resolve_paper_path(const std::string& file, const std::string& base_dir) {
+    fs::path p(file);
+    if (p.is_absolute()) return file;
+    if (!base_dir.empty() && fs::exists(fs::path(base_dir) / p)) return (fs::path(base_dir) / p).string();
+    const fs::path s = fs::path(shared_assets_guess()) / p;
+    if (fs::exists(s)) return s.string();
+    return file;  // prepare_paper reports the unreadable path
+}
+
+}  // namespace
+
+std::string preset_dir() {
+    if (const char* d = std::getenv("AQ_PRESET_DIR"); d && *d) return d;
+    return AQ_PRESET_DIR;
+}
+
+std::vector<std::string> preset_names() {
+    std::vector<std::string> out;
+    std::error_code ec;
+    for (auto& e : fs::directory_iterator(preset_dir(), ec))
+        if (e.path().extension() == ".json") out.push_back(e.path().stem().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+Pipeline parse_pipeline(const std::string& text, const std::string& src, const std::string& base_dir) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::parse_error& e) {
+        fail(src, "", std::string("malformed JSON (") + e.what() + ")");
+    }
+    if (!j.is_object()) fail(src, "", "expected a JSON object at the top level");
+    check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "$schema", "comment"}, src, "");
+    Pipeline p;
+    p.source = src;
+    p.name = j.contains("name") ? get_string(j["name"], src, "name") : fs::path(src).stem().string();
+    if (j.contains("doc")) p.doc = get_string(j["doc"], src, "doc");
+    if (j.contains("output")) p.output = get_string(j["output"], src, "output");
+    if (j.contains("substrate_color")) {
+        const json& c = j["substrate_color"];
+        if (!c.is_array() || c.size() != 3) fail(src, "substrate_color", "expected [r, g, b]");
+        for (int k = 0; k < 3; ++k) {
+            const double v = get_number(c[std::size_t(k)], src, idx("substrate_color", std::size_t(k)));
+            if (!(v >= 0.0 && v <= 1.0)) fail(src, idx("substrate_color", std::size_t(k)), "must be in [0, 1]");
+            p.substrate_color[k] = float(v);
+        }
+    }
+    if (j.contains("paper") && !j["paper"].is_null()) {
+        const json& pj = j["paper"];
+        if (!pj.is_object()) fail(src, "paper", "expected an object {file, layout, scale, roughness}");
+        check_keys(pj, {"file", "layout", "scale", "roughness"}, src, "paper");
+        if (!pj.contains("file")) fail(src, "paper.file", "missing");
+        p.paper.file = resolve_paper_path(get_string(pj["file"], src, "paper.file"), base_dir);
+        if (pj.contains("layout")) {
+            p.paper.layout = get_string(pj["layout"], src, "paper.layout");
+            if (p.paper.layout != "mnpr" && p.paper.layout != "height")
+                fail(src, "paper.layout", "expected \"mnpr\" or \"height\"");
+        }
+        if (pj.contains("scale")) {
+            const double v = get_number(pj["scale"], src, "paper.scale");
+            if (!(v >= 0.1 && v <= 10)) fail(src, "paper.scale", "must be in [0.1, 10]");
+            p.paper.scale = float(v);
+        }
+        if (pj.contains("roughness")) {
+            const double v = get_number(pj["roughness"], src, "paper.roughness");
+            if (!(v >= 0 && v <= 5)) fail(src, "paper.roughness", "must be in [0, 5]");
+            p.paper.roughness = float(v);
+        }
+        p.has_paper = true;
+    }
+    if (!j.contains("steps")) fail(src, "steps", "missing");
+    const json& steps = j["steps"];
+    if (!steps.is_array()) fail(src, "steps", "expected an array of steps");
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const std::string key = idx("steps", i);
+        const json& sj = steps[i];
+        if (!sj.is_object()) fail(src, key, "expected an object");
+        check_keys(sj, {"stage", "variant", "params", "in", "out", "id", "doc"}, src, key);
+        PipelineStep s;
+        if (!sj.contains("stage")) fail(src, key + ".stage", "missing");
+        s.stage = get_string(sj["stage"], src, key + ".stage");
+        if (sj.contains("variant")) s.variant = get_string(sj["variant"], src, key + ".variant");
+        s.id = sj.contains("id") ? get_string(sj["id"], src, key + ".id") : s.stage;
+        if (sj.contains("params")) {
+            if (!sj["params"].is_object()) fail(src, key + ".params", "expected an object");
+            for (auto it = sj["params"].begin(); it != sj["params"].end(); ++it)
+                s.params[it.key()] = get_number(it.value(), src, key + ".params." + it.key());
+        }
+        for (const char* dir : {"in", "out"}) {
+            if (!sj.contains(dir)) continue;
+            if (!sj[dir].is_object()) fail(src, key + "." + dir, "expected an object {port: target}");
+            for (auto it = sj[dir].begin(); it != sj[dir].end(); ++it)
+                (dir[0] == 'i' ? s.in : s.out)[it.key()] =
+                    get_string(it.value(), src, key + "." + dir + "." + it.key());
+        }
+        check_step(s, src, key);
+        p.steps.push_back(std::move(s));
+    }
+    if (p.steps.empty()) fail(src, "steps", "a pipeline needs at least one step");
+    return p;
+}
+
+Pipeline load_pipeline(const std::string& name_or_path) {
+    fs::path path(name_or_path);
+    const bool is_path = path.has_extension() || name_or_path.find('/') != std::string::npos;
+    if (!is_path) {
+        path = fs::path(preset_dir()) / (name_or_path + ".json");
+        if (!fs::exists(path)) {
+            std::string have;
+            for (auto& n : preset_names()) have += (have.empty() ? "" : ", ") + n;
+            throw Error("unknown style '" + name_or_path + "' (presets in " + preset_dir() + ": " +
+                        (have.empty() ? "none" : have) + ")");
+        }
+    }
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw Error(path.string() + ": cannot read pipeline file");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return parse_pipeline(ss.str(), path.string(), path.parent_path().string());
+}
+
+namespace {
+
+std::vector<std::size_t> find_steps(const Pipeline& p, const std::string& name) {
+    std::vector<std::size_t> by_id, by_stage;
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+        if (p.steps[i].id == name) by_id.push_back(i);
+        if (p.steps[i].stage == name) by_stage.push_back(i);
+    }
+    return by_id.empty() ? by_stage : by_id;
+}
+
+std::size_t find_one_step(const Pipeline& p, const std::string& name, const std::string& what) {
+    const auto hits = find_steps(p, name);
+    std::string ids;
+    for (auto& s : p.steps) ids += (ids.empty() ? "" : ", ") + s.id;
+    if (hits.empty()) throw Error(what + ": no step '" + name + "' in pipeline '" + p.name + "' (steps: " + ids + ")");
+    if (hits.size() > 1)
+        throw Error(what + ": '" + name + "' names " + std::to_string(hits.size()) + " steps; use a step id (" + ids + ")");
+    return hits.front();
+}
+
+const StageVariant& variant_of(const PipelineStep& s) {
+    const Registry& reg = builtin_registry();
+    return s.variant.empty() ? reg.default_variant(s.stage) : reg.get(s.stage, s.variant);
+}
+
+}  // namespace
+
+void set_param(Pipeline& p, const std::string& a) {
+    const auto eq = a.find('=');
+    const auto dot = a.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+        throw Error("--set '" + a + "': expected stage.param=value");
+    const std::string step = a.substr(0, dot), param = a.substr(dot + 1, eq - dot - 1), val = a.substr(eq + 1);
+    double v = 0;
+    if (val == "true") v = 1;
+    else if (val == "false") v = 0;
+    else {
+        char* end = nullptr;
+        v = std::strtod(val.c_str(), &end);
+        if (val.empty() || end != val.c_str() + val.size()) throw Error("--set '" + a + "': '" + val + "' is not a number");
+    }
+    const std::size_t i = find_one_step(p, step, "--set '" + a + "'");
+    Registry::resolve_params(variant_of(p.steps[i]), {{param, v}}, "--set '" + a + "'");
+    p.steps[i].params[param] = v;
+}
+
+void set_variant(Pipeline& p, const std::string& a) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos) throw Error("--variant '" + a + "': expected stage=variant");
+    const std::string step = a.substr(0, eq), variant = a.substr(eq + 1);
+    const std::size_t i = find_one_step(p, step, "--variant '" + a + "'");
+    PipelineStep& s = p.steps[i];
+    const StageVariant* v = nullptr;
+    try {
+        v = &builtin_registry().get(s.stage, variant);
+    } catch (const Error& e) {
+        throw Error("--variant '" + a + "': " + e.what());
+    }
+    // Parameters and port bindings the new variant does not declare are dropped (docs/stylize.md).
+    for (auto it = s.params.begin(); it != s.params.end();) {
+        bool known = false;
+        for (auto& d : v->params) known |= d.name == it->first;
+        it = known ? std::next(it) : s.params.erase(it);
+    }
+    for (auto* m : {&s.in, &s.out})
+        for (auto it = m->begin(); it != m->end();)
+            it = find_port(m == &s.in ? v->inputs : v->outputs, it->first) ? std::next(it) : m->erase(it);
+    s.variant = variant;
+    Registry::resolve_params(*v, s.params, "--variant '" + a + "'");
+}
+
+ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
+    const PipelineStep& s = p.steps.at(i);
+    const std::string key = p.source + ": " + idx("steps", i);
+    ResolvedStep r;
+    try {
+        r.variant = &variant_of(s);
+    } catch (const Error& e) {
+        throw Error(key + ": " + e.what());
+    }
+    r.params = Registry::resolve_params(*r.variant, s.params, key + ".params");
+    for (auto& [port, t] : s.in)
+        if (!find_port(r.variant->inputs, port)) throw Error(key + ".in." + port + ": unknown input port of " + r.variant->key());
+    for (auto& [port, t] : s.out)
+        if (!find_port(r.variant->outputs, port)) throw Error(key + ".out." + port + ": unknown output port of " + r.variant->key());
+    for (auto& port : r.variant->inputs) {
+        auto it = s.in.find(port.name);
+        r.inputs.push_back(it != s.in.end() ? it->second : port.default_target);
+    }
+    for (auto& port : r.variant->outputs) {
+        auto it = s.out.find(port.name);
+        r.outputs.push_back(it != s.out.end() ? it->second : port.default_target);
+    }
+    return r;
+}
+
+namespace {
+constexpr const char* kPaperTarget = "paper";
+}
+
+void validate_pipeline(const Pipeline& p, const Targets* gbuffer) {
+    std::map<std::string, int> produced;  // target -> channels
+    std::map<std::string, std::string> producer;
+    const ImageF* first_g = nullptr;
+    std::string first_g_name;
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+        const ResolvedStep r = resolve_step(p, i);
+        const std::string key = p.source + ": " + idx("steps", i) + " (" + r.variant->key() + ")";
+        for (std::size_t k = 0; k < r.inputs.size(); ++k) {
+            const Port& port = r.variant->inputs[k];
+            const std::string& t = r.inputs[k];
+            int ch = -1;
+            if (auto it = produced.find(t); it != produced.end()) {
+                ch = it->second;
+            } else if (t == kPaperTarget && !(gbuffer && gbuffer->has(t))) {
+                ch = 3;
+            } else if (gbuffer) {
+                if (!gbuffer->has(t)) {
+                    if (port.optional) continue;
+                    throw Error(key + ": input '" + port.name + "' reads target '" + t +
+                                "', which no earlier step writes and the G-buffer does not have");
+                }
+                const ImageF& img = gbuffer->get(t);
+                ch = img.channels();
+                if (!first_g) {
+                    first_g = &img;
+                    first_g_name = t;
+                } else if (!img.same_size(*first_g)) {
+                    throw Error(key + ": G-buffer target '" + t + "' is " + std::to_string(img.width()) + "x" +
+                                std::to_string(img.height()) + " but '" + first_g_name + "' is " +
+                                std::to_string(first_g->width()) + "x" + std::to_string(first_g->height()));
+                }
+            }
+            if (ch >= 0 && ch != port.channels)
+                throw Error(key + ": input '" + port.name + "' needs " + std::to_string(port.channels) +
+                            " channels but target '" + t + "' has " + std::to_string(ch));
+        }
+        for (std::size_t k = 0; k < r.outputs.size(); ++k) {
+            const std::string& t = r.outputs[k];
+            if (std::find(r.inputs.begin(), r.inputs.end(), t) != r.inputs.end())
+                throw Error(key + ": output '" + r.variant->outputs[k].name + "' writes its own input '" + t + "'");
+            if (produced.count(t))
+                throw Error(key + ": output '" + r.variant->outputs[k].name + "' writes target '" + t +
+                            "', already written by " + producer[t]);
+            if ((gbuffer && gbuffer->has(t)) || t == kPaperTarget)
+                throw Error(key + ": output '" + r.variant->outputs[k].name + "' would overwrite input target '" + t + "'");
+            for (std::size_t m = 0; m < k; ++m)
+                if (r.outputs[m] == t) throw Error(key + ": two outputs write target '" + t + "'");
+            produced[t] = r.variant->outputs[k].channels;
+            producer[t] = idx("steps", i);
+        }
+    }
+    if (!produced.count(p.output) && !(gbuffer && gbuffer->has(p.output)))
+        throw Error(p.source + ": output: target '" + p.output + "' is not written by any step");
+}
+
+void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
+    validate_pipeline(p, &targets);
+    // Image size: the first G-buffer target a step reads (validate checked they agree).
+    int w = 0, h = 0;
+    for (std::size_t i = 0; i < p.steps.size() && w == 0; ++i) {
+        const ResolvedStep r = resolve_step(p, i);
+        for (auto& t : r.inputs)
+            if (!t.empty() && targets.has(t) && t != kPaperTarget) {
+                w = targets.get(t).width();
+                h = targets.get(t).height();
+                break;
+            }
+    }
+    if (w == 0) throw Error(p.source + ": no step reads a G-buffer target");
+    if (!targets.has(kPaperTarget))
+        targets.set(kPaperTarget, p.has_paper ? prepare_paper(p.paper, w, h) : flat_paper(w, h));
+    Globals g;
+    g.substrate_color = p.substrate_color;
+    g.paper = &targets.get(kPaperTarget);
+    const int n = int(p.steps.size());
+    for (int i = 0; i < n; ++i) {
+        const ResolvedStep r = resolve_step(p, std::size_t(i));
+        const std::string key = p.source + ": " + idx("steps", std::size_t(i)) + " (" + r.variant->key() + ")";
+        if (opt.progress) opt.progress(i, n, p.steps[std::size_t(i)].id + " (" + r.variant->key() + ")");
+        StageIO io;
+        io.globals = &g;
+        for (std::size_t k = 0; k < r.inputs.size(); ++k)
+            io.in.push_back(targets.has(r.inputs[k]) ? &targets.get(r.inputs[k]) : nullptr);
+        std::vector<ImageF> outs(r.outputs.size());
+        for (auto& o : outs) io.out.push_back(&o);
+        try {
+            r.variant->run(io, r.params, opt.exec);
+        } catch (const Error& e) {
+            throw Error(key + ": " + e.what());
+        }
+        for (std::size_t k = 0; k < outs.size(); ++k) {
+            if (outs[k].empty() || outs[k].channels() != r.variant->outputs[k].channels)
+                throw Error(key + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
+                            std::to_string(r.variant->outputs[k].channels) + " channels");
+            targets.set(r.outputs[k], std::move(outs[k]));
+        }
+    }
+}
+
+}  // namespace aq::stylize

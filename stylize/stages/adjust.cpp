@@ -1,0 +1,97 @@
+// stylize/stages/adjust.cpp — spec §4.1 "Adjust / load" (MNPR quadAdjustLoad.ogsfx adjustLoadFrag).
+// Per-pixel and pointwise, so the reference and fast traversals run the same function on the same
+// pixels; only the order and the threads differ (bit-exact).
+#include "stylize/stages/adjust.h"
+
+#include <cmath>
+
+#include "stylize/kernels.h"
+#include "stylize/stages/stage_util.h"
+
+namespace aq::stylize {
+
+namespace {
+
+struct AdjustK {
+    AdjustParams p;
+    glm::vec3 substrate;
+    float inv_range;
+
+    float depth(float z) const { return std::isfinite(z) ? (z - p.depth_near) * inv_range : 1.0f; }
+
+    void colour(const float* c, float z, float* o) const {
+        const float luma = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        const float k = p.contrast * 0.5f + 0.5f;
+        const float b = p.brightness - 1.0f;
+        const float tint[3] = {p.tint_r, p.tint_g, p.tint_b};
+        float atm = 0.0f;
+        if (p.atmosphere) {
+            const float zz = std::isfinite(z) ? z : 1.0e9f;  // MNPR: no geometry = 1e9 units
+            atm = sat((zz - p.atmosphere_start) / (p.atmosphere_end - p.atmosphere_start));
+        }
+        const float a = c[3];
+        for (int i = 0; i < 3; ++i) {
+            const float s = lerp(luma, c[i], p.saturation);
+            const float ct = lerp(0.5f, s, k);
+            float v = sat(ct + b);
+            if (p.atmosphere) v = lerp(v, tint[i], atm);
+            o[i] = mix(substrate[i], v, a);
+        }
+        o[3] = a;
+    }
+};
+
+}  // namespace
+
+void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
+            glm::vec3 substrate, const AdjustParams& p, const Exec& ex) {
+    detail::check_input(color, 4, "adjust", "color");
+    detail::check_input(depth_linear, 1, "adjust", "depth");
+    detail::check_same_size(depth_linear, color, "adjust", "depth", "color");
+    if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
+    if (p.atmosphere && p.atmosphere_end == p.atmosphere_start)
+        throw Error("adjust: atmosphere_start == atmosphere_end");
+    const int w = color.width(), h = color.height();
+    color_out = ImageF(w, h, 4);
+    depth_out = ImageF(w, h, 1);
+    const AdjustK k{p, substrate, 1.0f / (p.depth_far - p.depth_near)};
+    const float* cin = color.data();
+    const float* zin = depth_linear.data();
+    float* cout = color_out.data();
+    float* zout = depth_out.data();
+    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
+            zout[i] = k.depth(zin[i]);
+            k.colour(cin + 4 * i, zin[i], cout + 4 * i);
+        }
+    });
+}
+
+void register_adjust(Registry& r) {
+    static const ParamTable<AdjustParams> t = ParamTable<AdjustParams>()
+        .f("depth_near", &AdjustParams::depth_near, 0, 1e6, "linear depth mapped to 0 (MNPR 8)")
+        .f("depth_far", &AdjustParams::depth_far, 0, 1e6, "linear depth mapped to 1 (MNPR 50)")
+        .f("saturation", &AdjustParams::saturation, 0, 5, "saturation, 1 = unchanged")
+        .f("contrast", &AdjustParams::contrast, 0, 5, "contrast, 1 = unchanged")
+        .f("brightness", &AdjustParams::brightness, 0, 5, "brightness, 1 = unchanged")
+        .b("atmosphere", &AdjustParams::atmosphere, "tint towards the atmosphere colour with depth")
+        .f("atmosphere_start", &AdjustParams::atmosphere_start, 0, 1e6, "depth where the tint starts")
+        .f("atmosphere_end", &AdjustParams::atmosphere_end, 0, 1e6, "depth where the tint is full")
+        .f("tint_r", &AdjustParams::tint_r, 0, 1, "atmosphere tint red")
+        .f("tint_g", &AdjustParams::tint_g, 0, 1, "atmosphere tint green")
+        .f("tint_b", &AdjustParams::tint_b, 0, 1, "atmosphere tint blue");
+    StageVariant v;
+    v.stage = "adjust";
+    v.variant = "mnpr";
+    v.doc = "MNPR adjust-load: normalised depth (near..far -> 0..1), saturation/contrast/brightness, "
+            "atmosphere, background = substrate colour (spec 4.1)";
+    v.inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false}};
+    v.outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}};
+    v.params = t.descs();
+    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], detail::globals_of(io).substrate_color, t.from(pv), ex);
+    };
+    r.add(std::move(v));
+}
+
+}  // namespace aq::stylize

@@ -1,0 +1,332 @@
+// stylize/stages/bleed.cpp — colour bleeding (WC16 naive, WC17 Algorithm 1, MNPR colorBleeding).
+//
+// Data flow: the inputs are de-interleaved (or, at half resolution, bilinearly resampled with the
+// convention of kernels.h texel_coord) into planes R, G, B, C (bleeding control) and Z, then a
+// horizontal and a vertical 1-D pass run, each computing per output pixel
+//   acc_p = s_p;  for a = -r..r (ascending): acc_p = acc_p + W[a] * (bleed(a) ? d_p - s_p : 0)
+// for p in {R, G, B, C}. The reference traversal does exactly that per pixel with border-resolved
+// taps. The fast traversal runs the same expression in the same order per pixel, but over rows:
+// padded row copies (H) or row pointers (V), the x loop innermost so it vectorises, oneTBB row
+// blocks, and rows whose tap window holds no positive control are written as s + 0 (what the full
+// sum yields bit for bit when every delta is zero: it only turns -0 into +0). Hence fast == reference
+// bit for bit (exact_fast).
+#include "stylize/stages/bleed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "stylize/kernels.h"
+#include "stylize/stages/stage_util.h"
+
+namespace aq::stylize {
+
+namespace {
+
+struct Planes {
+    int w = 0, h = 0;
+    std::vector<float> p[5];  // R, G, B, C, Z
+    void alloc(int w_, int h_, int n) {
+        w = w_;
+        h = h_;
+        for (int k = 0; k < n; ++k) p[k].assign(std::size_t(w) * h, 0.0f);
+    }
+};
+
+template <BleedRule R>
+inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope) {
+    if constexpr (R == BleedRule::Naive) {
+        (void)cs, (void)cd, (void)zs, (void)zd, (void)t, (void)scope;
+        return true;
+    } else {
+        const bool behind = (zs - t) > zd;
+        bool b = (cd > 0.0f && behind) | (cs > 0.0f && !behind);
+        if constexpr (R == BleedRule::Mnpr) b = b & (std::max(cd, cs) >= scope);
+        return b;
+    }
+}
+
+struct Kernel {
+    int r;
+    std::vector<float> w;      // W[a + r], normalised
+    std::vector<float> scope;  // |a| / r (MNPR filterScope)
+    float t;
+};
+
+// ---- reference: per pixel, taps through the border rule --------------------------------------
+template <BleedRule R>
+void pass_reference(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
+                    bool horizontal, const Kernel& k, Border border) {
+    const int w = in.w, h = in.h;
+    const int nacc = R == BleedRule::Naive ? 3 : 4;  // naive: the mask is not blurred
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t si = std::size_t(y) * w + x;
+            const float cs = ctrl[si], zs = z[si];
+            float acc[4], s[4];
+            for (int p = 0; p < 4; ++p) s[p] = acc[p] = (p < 3 ? in.p[p][si] : ctrl[si]);
+            for (int a = -k.r; a <= k.r; ++a) {
+                const std::size_t di = horizontal ? std::size_t(y) * w + resolve_border(x + a, w, border)
+                                                  : std::size_t(resolve_border(y + a, h, border)) * w + x;
+                const bool b = bleeds<R>(cs, ctrl[di], zs, z[di], k.t, k.scope[a + k.r]);
+                const float wa = k.w[a + k.r];
+                for (int p = 0; p < nacc; ++p) {
+                    const float d = p < 3 ? in.p[p][di] : ctrl[di];
+                    acc[p] = acc[p] + wa * (b ? d - s[p] : 0.0f);
+                }
+            }
+            for (int p = 0; p < 4; ++p) out.p[p][si] = acc[p];
+        }
+}
+
+// ---- fast: rows, x innermost --------------------------------------------------------------
+// One output row. src[p][j] / dst-tap rows are given as pointer tables indexed by tap.
+template <BleedRule R>
+inline void row_kernel(int w, const float* const* s, const float* zs_row, float* const* o, const Kernel& k,
+                       const float* const* d, const float* const* zd, int x_shift_per_tap) {
+    // s[p]: source rows (p = 0..3, 3 = control); d[a][p] rows for tap a (H: the padded row with a
+    // shift, V: the tap's row); zd[a]: depth rows of the taps.
+    const int nacc = R == BleedRule::Naive ? 3 : 4;
+    for (int p = 0; p < 4; ++p)
+        for (int x = 0; x < w; ++x) o[p][x] = s[p][x];
+    for (int ai = 0; ai <= 2 * k.r; ++ai) {
+        const float wa = k.w[ai];
+        const float sc = k.scope[ai];
+        const int off = ai * x_shift_per_tap;
+        const float* dr = d[ai * 4 + 0] + off;
+        const float* dg = d[ai * 4 + 1] + off;
+        const float* db = d[ai * 4 + 2] + off;
+        const float* dc = d[ai * 4 + 3] + off;
+        const float* dz = zd[ai] + off;
+        const float* sr = s[0];
+        const float* sg = s[1];
+        const float* sb = s[2];
+        const float* scs = s[3];
+        float* o0 = o[0];
+        float* o1 = o[1];
+        float* o2 = o[2];
+        float* o3 = o[3];
+        for (int x = 0; x < w; ++x) {
+            const bool b = bleeds<R>(scs[x], dc[x], zs_row[x], dz[x], k.t, sc);
+            o0[x] = o0[x] + wa * (b ? dr[x] - sr[x] : 0.0f);
+            o1[x] = o1[x] + wa * (b ? dg[x] - sg[x] : 0.0f);
+            o2[x] = o2[x] + wa * (b ? db[x] - sb[x] : 0.0f);
+            if (nacc == 4) o3[x] = o3[x] + wa * (b ? dc[x] - scs[x] : 0.0f);
+        }
+    }
+}
+
+inline bool any_positive(const float* v, int n) {
+    bool any = false;
+    for (int i = 0; i < n; ++i) any |= v[i] > 0.0f;
+    return any;
+}
+
+template <BleedRule R>
+void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
+                 const Kernel& k, Border border, const Exec& ex) {
+    const int w = in.w, h = in.h, r = k.r;
+    const std::vector<int> xt = detail::border_table(w, r, border);
+    const int pw = w + 2 * r;
+    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        std::vector<float> pad(std::size_t(pw) * 5);
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t row = std::size_t(y) * w;
+            const float* src[4] = {in.p[0].data() + row, in.p[1].data() + row, in.p[2].data() + row, ctrl.data() + row};
+            float* o[4] = {out.p[0].data() + row, out.p[1].data() + row, out.p[2].data() + row, out.p[3].data() + row};
+            const float* zr = z.data() + row;
+            const float* rows5[5] = {src[0], src[1], src[2], src[3], zr};
+            for (int q = 0; q < 5; ++q) {
+                float* pq = pad.data() + std::size_t(q) * pw;
+                for (int i = 0; i < pw; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
+            }
+            if (R != BleedRule::Naive && !any_positive(pad.data() + 3 * std::size_t(pw), pw)) {
+                for (int p = 0; p < 4; ++p)
+                    for (int x = 0; x < w; ++x) o[p][x] = src[p][x] + 0.0f;
+                continue;
+            }
+            // Tap a reads padded index x + a + r: pointer base pad_q + 0, shifted by ai per tap.
+            std::vector<const float*> d(std::size_t(2 * r + 1) * 4);
+            std::vector<const float*> zd(std::size_t(2 * r + 1));
+            for (int ai = 0; ai <= 2 * r; ++ai) {
+                for (int q = 0; q < 4; ++q) d[std::size_t(ai) * 4 + q] = pad.data() + std::size_t(q) * pw;
+                zd[std::size_t(ai)] = pad.data() + 4 * std::size_t(pw);
+            }
+            row_kernel<R>(w, src, zr, o, k, d.data(), zd.data(), 1);
+            if (R == BleedRule::Naive)
+                for (int x = 0; x < w; ++x) o[3][x] = src[3][x];
+        }
+    });
+}
+
+template <BleedRule R>
+void pass_fast_v(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
+                 const Kernel& k, Border border, const Exec& ex) {
+    const int w = in.w, h = in.h, r = k.r;
+    const std::vector<int> yt = detail::border_table(h, r, border);
+    std::vector<char> row_pos(std::size_t(h), 0);
+    if (R != BleedRule::Naive)
+        for (int y = 0; y < h; ++y) row_pos[std::size_t(y)] = any_positive(ctrl.data() + std::size_t(y) * w, w);
+    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        std::vector<const float*> d(std::size_t(2 * r + 1) * 4);
+        std::vector<const float*> zd(std::size_t(2 * r + 1));
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t row = std::size_t(y) * w;
+            const float* src[4] = {in.p[0].data() + row, in.p[1].data() + row, in.p[2].data() + row, ctrl.data() + row};
+            float* o[4] = {out.p[0].data() + row, out.p[1].data() + row, out.p[2].data() + row, out.p[3].data() + row};
+            bool any = R == BleedRule::Naive;
+            for (int ai = 0; ai <= 2 * r; ++ai) {
+                const std::size_t trow = std::size_t(yt[std::size_t(y + ai)]) * w;
+                any = any || row_pos[std::size_t(yt[std::size_t(y + ai)])];
+                d[std::size_t(ai) * 4 + 0] = in.p[0].data() + trow;
+                d[std::size_t(ai) * 4 + 1] = in.p[1].data() + trow;
+                d[std::size_t(ai) * 4 + 2] = in.p[2].data() + trow;
+                d[std::size_t(ai) * 4 + 3] = ctrl.data() + trow;
+                zd[std::size_t(ai)] = z.data() + trow;
+            }
+            if (!any) {
+                for (int p = 0; p < 4; ++p)
+                    for (int x = 0; x < w; ++x) o[p][x] = src[p][x] + 0.0f;
+                continue;
+            }
+            row_kernel<R>(w, src, z.data() + row, o, k, d.data(), zd.data(), 0);
+            if (R == BleedRule::Naive)
+                for (int x = 0; x < w; ++x) o[3][x] = src[3][x];
+        }
+    });
+}
+
+template <BleedRule R>
+void run_passes(const Planes& src, Planes& tmp, Planes& dst, const Kernel& k, Border border, const Exec& ex) {
+    if (ex.traversal == Traversal::Reference) {
+        pass_reference<R>(src, src.p[3], src.p[4], tmp, true, k, border);
+        pass_reference<R>(tmp, tmp.p[3], src.p[4], dst, false, k, border);
+    } else {
+        pass_fast_h<R>(src, src.p[3], src.p[4], tmp, k, border, ex);
+        pass_fast_v<R>(tmp, tmp.p[3], src.p[4], dst, k, border, ex);
+    }
+}
+
+}  // namespace
+
+void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl, BleedRule rule,
+           const BleedParams& p, const Exec& ex) {
+    const bool need_depth = rule != BleedRule::Naive;
+    detail::check_input(color, 4, "bleed", "color");
+    detail::check_input(ctrl, 4, "bleed", "control");
+    detail::check_same_size(ctrl, color, "bleed", "control", "color");
+    if (need_depth || !depth.empty()) {
+        detail::check_input(depth, 1, "bleed", "depth");
+        detail::check_same_size(depth, color, "bleed", "depth", "color");
+    }
+    if (p.radius < 1 || p.radius > 40) throw Error("bleed: radius must be in [1, 40]");
+    if (!(p.sigma > 0.0f)) throw Error("bleed: sigma must be > 0");
+    const int w = color.width(), h = color.height();
+    const int wr = p.half_res ? half_size(w) : w, hr = p.half_res ? half_size(h) : h;
+
+    Planes src;
+    src.alloc(wr, hr, 5);
+    {
+        const auto cv = color.view<glm::vec4>();
+        const auto kv = ctrl.view<glm::vec4>();
+        const bool has_z = !depth.empty();
+        detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
+            for (int y = y0; y < y1; ++y)
+                for (int x = 0; x < wr; ++x) {
+                    const std::size_t i = std::size_t(y) * wr + x;
+                    glm::vec4 c, kc;
+                    float zz = 0.0f;
+                    if (p.half_res) {
+                        c = sample_resampled(cv, x, y, wr, hr);
+                        kc = sample_resampled(kv, x, y, wr, hr);
+                        if (has_z) zz = sample_resampled(depth.view<float>(), x, y, wr, hr);
+                    } else {
+                        c = cv(x, y);
+                        kc = kv(x, y);
+                        if (has_z) zz = depth.data()[std::size_t(y) * w + x];
+                    }
+                    src.p[0][i] = c.r;
+                    src.p[1][i] = c.g;
+                    src.p[2][i] = c.b;
+                    src.p[3][i] = kc.b;  // ctrl.abstraction.b = bleeding (spec §1)
+                    src.p[4][i] = zz;
+                }
+        });
+    }
+    Kernel k;
+    k.r = p.radius;
+    k.w = gaussian_weights(p.radius, p.sigma);
+    k.t = p.depth_threshold;
+    k.scope.resize(k.w.size());
+    for (int a = -k.r; a <= k.r; ++a) k.scope[std::size_t(a + k.r)] = float(std::abs(a)) / float(k.r);
+
+    Planes tmp, out;
+    tmp.alloc(wr, hr, 4);
+    out.alloc(wr, hr, 4);
+    switch (rule) {
+        case BleedRule::Naive: run_passes<BleedRule::Naive>(src, tmp, out, k, p.border, ex); break;
+        case BleedRule::JointBilateral: run_passes<BleedRule::JointBilateral>(src, tmp, out, k, p.border, ex); break;
+        case BleedRule::Mnpr: run_passes<BleedRule::Mnpr>(src, tmp, out, k, p.border, ex); break;
+    }
+    dst = ImageF(wr, hr, 4);
+    float* o = dst.data();
+    detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i)
+            for (int c = 0; c < 4; ++c) o[4 * i + c] = out.p[c][i];
+    });
+}
+
+namespace {
+struct BleedTableParams {
+    int radius = kBleedRadius;
+    float sigma = kBleedSigma;
+    float depth_threshold = kBleedDepthThreshold;
+    bool half_res = false;
+    int border = 0;
+};
+
+void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_default, bool sigma_param, const char* doc) {
+    auto t = std::make_shared<ParamTable<BleedTableParams>>();
+    t->i("radius", &BleedTableParams::radius, 1, 40, "kernel radius r, taps = 2r + 1 (WC17: 21 taps)");
+    if (sigma_param) t->f("sigma", &BleedTableParams::sigma, 0.1, 100, "Gaussian sigma (WC17: 20)");
+    if (rule != BleedRule::Naive)
+        t->f("depth_threshold", &BleedTableParams::depth_threshold, 0, 1, "T on normalised depth (MNPR 0.0002)");
+    t->b("half_res", &BleedTableParams::half_res, "run at half resolution (WC17 as published)");
+    t->i("border", &BleedTableParams::border, 0, 1, "0 = clamp (GL clamp-to-edge), 1 = mirror");
+    StageVariant v;
+    v.stage = "bleed";
+    v.variant = variant;
+    v.doc = doc;
+    v.inputs = {{"color", "color.density", 4, false}};
+    if (rule != BleedRule::Naive) v.inputs.push_back({"depth", "depth", 1, false});
+    v.inputs.push_back({"control", target::kCtrlAbstraction, 4, false});
+    v.outputs = {{"bleed", "bleed", 4, false}};
+    v.params = t->descs();
+    for (auto& d : v.params)
+        if (d.name == "half_res") d.def = half_default ? 1.0 : 0.0;
+    v.run = [t, rule, sigma_param](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        const auto tp = t->from(pv);
+        BleedParams p;
+        p.radius = tp.radius;
+        p.sigma = sigma_param ? tp.sigma : 2.0f * float(tp.radius);  // MNPR: sigma = 2r
+        p.depth_threshold = tp.depth_threshold;
+        p.half_res = tp.half_res;
+        p.border = tp.border ? Border::Mirror : Border::Clamp;
+        static const ImageF kNoDepth;
+        const bool naive = rule == BleedRule::Naive;
+        bleed(*io.out[0], *io.in[0], naive ? kNoDepth : *io.in[1], *io.in[naive ? 1 : 2], rule, p, ex);
+    };
+    r.add(std::move(v));
+}
+}  // namespace
+
+void register_bleed(Registry& r) {
+    add_bleed(r, "naive", BleedRule::Naive, false, true,
+              "WC16: 21x21 separable Gaussian (sigma 20) of the whole colour image, mask = painted control");
+    add_bleed(r, "joint_bilateral", BleedRule::JointBilateral, true, true,
+              "WC17 Algorithm 1: 21 taps sigma 20, depth threshold, two rules, H pass expands the mask; half res");
+    add_bleed(r, "mnpr", BleedRule::Mnpr, false, false,
+              "MNPR colorBleeding: full res, r = 10, sigma = 2r, tap a when max(ctrl_d, ctrl_s) >= |a|/r");
+}
+
+}  // namespace aq::stylize

@@ -1,0 +1,28 @@
+// stylize/stages/bleed_blend.h — stage "bleed_blend", variant eq7: WC17 eq. (7)
+//   I_cb = Ctrl (B - I) + I
+// with Ctrl the (expanded) mask in bleed.a, here k = sat(gain * bleed.a): gain = 1 is WC17 as
+// published, gain = 5 is MNPR's blendFromAlpha (k = sat(5 bleed.a)) (spec §4.5).
+#pragma once
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+
+namespace aq::stylize {
+
+inline constexpr float kBleedBlendGainWc17 = 1.0f;
+inline constexpr float kBleedBlendGainMnpr = 5.0f;
+
+struct BleedBlendParams {
+    float gain = kBleedBlendGainWc17;  //!< k = sat(gain * mask) [0, 100]
+};
+
+//! color: 4 channels; bleed: 4 channels (rgb = B, a = mask), either the size of color or its half
+//! resolution (ceil(w/2) x ceil(h/2)), then upsampled bilinearly (kernels.h sample_resampled: pixel
+//! centres at +0.5, GL_LINEAR, clamp to edge). Where k = 0 the colour is returned unchanged.
+void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const BleedBlendParams& p,
+                 const Exec& ex = {});
+
+void register_bleed_blend(Registry& r);
+
+}  // namespace aq::stylize

@@ -1,0 +1,87 @@
+// stylize/stages/blur.cpp — see blur.h.
+#include "stylize/stages/blur.h"
+
+#include "stylize/stages/stage_util.h"
+
+namespace aq::stylize {
+
+namespace {
+
+void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal) {
+    const int W = src.width(), H = src.height(), C = src.channels();
+    const int r = int(w.size() / 2);
+    dst = ImageF(W, H, C);
+    const float* s = src.data();
+    float* o = dst.data();
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int c = 0; c < C; ++c) {
+                const float sv = s[(std::size_t(y) * W + x) * C + c];
+                float acc = sv;
+                for (int a = -r; a <= r; ++a) {
+                    const std::size_t di = horizontal ? std::size_t(y) * W + resolve_border(x + a, W, b)
+                                                      : std::size_t(resolve_border(y + a, H, b)) * W + x;
+                    acc = acc + w[std::size_t(a + r)] * (s[di * C + c] - sv);
+                }
+                o[(std::size_t(y) * W + x) * C + c] = acc;
+            }
+}
+
+void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal,
+               const Exec& ex) {
+    const int W = src.width(), H = src.height(), C = src.channels();
+    const int r = int(w.size() / 2);
+    dst = ImageF(W, H, C);
+    const float* s = src.data();
+    float* o = dst.data();
+    const std::size_t n = std::size_t(W) * C;
+    if (horizontal) {
+        const std::vector<int> xt = detail::border_table(W, r, b);
+        detail::for_each_row_block(ex, H, [&](int y0, int y1) {
+            std::vector<float> pad(std::size_t(W + 2 * r) * C);
+            for (int y = y0; y < y1; ++y) {
+                const float* sr = s + std::size_t(y) * n;
+                float* orow = o + std::size_t(y) * n;
+                for (int i = 0; i < W + 2 * r; ++i)
+                    for (int c = 0; c < C; ++c) pad[std::size_t(i) * C + c] = sr[std::size_t(xt[std::size_t(i)]) * C + c];
+                for (std::size_t i = 0; i < n; ++i) orow[i] = sr[i];
+                for (int ai = 0; ai <= 2 * r; ++ai) {
+                    const float wa = w[std::size_t(ai)];
+                    const float* d = pad.data() + std::size_t(ai) * C;
+                    for (std::size_t i = 0; i < n; ++i) orow[i] = orow[i] + wa * (d[i] - sr[i]);
+                }
+            }
+        });
+    } else {
+        const std::vector<int> yt = detail::border_table(H, r, b);
+        detail::for_each_row_block(ex, H, [&](int y0, int y1) {
+            for (int y = y0; y < y1; ++y) {
+                const float* sr = s + std::size_t(y) * n;
+                float* orow = o + std::size_t(y) * n;
+                for (std::size_t i = 0; i < n; ++i) orow[i] = sr[i];
+                for (int ai = 0; ai <= 2 * r; ++ai) {
+                    const float wa = w[std::size_t(ai)];
+                    const float* d = s + std::size_t(yt[std::size_t(y + ai)]) * n;
+                    for (std::size_t i = 0; i < n; ++i) orow[i] = orow[i] + wa * (d[i] - sr[i]);
+                }
+            }
+        });
+    }
+}
+
+}  // namespace
+
+void separable_blur(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, const Exec& ex) {
+    if (src.empty()) throw Error("separable_blur: empty input");
+    if (w.size() % 2 != 1) throw Error("separable_blur: weights must have odd length");
+    ImageF tmp;
+    if (ex.traversal == Traversal::Reference) {
+        pass_reference(tmp, src, w, b, true);
+        pass_reference(dst, tmp, w, b, false);
+    } else {
+        pass_fast(tmp, src, w, b, true, ex);
+        pass_fast(dst, tmp, w, b, false, ex);
+    }
+}
+
+}  // namespace aq::stylize

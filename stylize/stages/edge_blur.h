@@ -1,0 +1,46 @@
+// stylize/stages/edge_blur.h — stage "edge_blur": the blurred input of edge darkening (spec §4.4).
+//   wc17  WC17 §3.3: "convolving the equivalent of a 5x5 Gaussian kernel (sigma = 1)" of the colour
+//         image, at half resolution (bilinear downsample, kernels.h texel_coord convention);
+//         the DoG edge darkening (WC17 eq. 8) upsamples it the same way.
+//   wc18  WC18 §3.1: Gaussian blur of the Sobel edges with a per-pixel width painted in
+//         ctrl.edge.g (MNPR quadSeparable edgeBlur): K = max(1, int(W + lerp(0, 3W, ctrl))),
+//         sigma = K / 2, taps |o| < K, weights normalised; W = 3 (MNPR gEdgeDarkeningKernel).
+#pragma once
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+
+namespace aq::stylize {
+
+inline constexpr int kEdgeBlurWc17Radius = 2;       //!< 5x5 kernel (WC17 §3.3)
+inline constexpr float kEdgeBlurWc17Sigma = 1.0f;   //!< sigma = 1 (WC17 §3.3)
+inline constexpr int kEdgeBlurWidth = 3;            //!< MNPR gEdgeDarkeningKernel (WC18 W)
+
+struct EdgeBlurWc17Params {
+    int radius = kEdgeBlurWc17Radius;    //!< [1, 16]
+    float sigma = kEdgeBlurWc17Sigma;    //!< [0.1, 16]
+    bool half_res = true;                //!< WC17 intermediates are half resolution
+    Border border = Border::Clamp;
+};
+
+struct EdgeBlurWc18Params {
+    int width = kEdgeBlurWidth;  //!< W [1, 16]; painted width ctrl.edge.g in [-1, 1] scales K up to 4W
+    Border border = Border::Clamp;
+};
+
+//! dst: 4 channels, half (ceil) or full size. color: 4 channels.
+void edge_blur_wc17(ImageF& dst, const ImageF& color, const EdgeBlurWc17Params& p, const Exec& ex = {});
+
+//! Per-pixel kernel size K(x, y) from ctrl.edge.g at the output pixel in both passes (as MNPR).
+//! K is computed with NaN/overflow guards (NaN control -> K = 1, K <= 4W).
+//! dst = V(H(edges)): 1 channel, same size. edges: 1 channel; ctrl_edge: 4 channels.
+void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl_edge, const EdgeBlurWc18Params& p,
+                    const Exec& ex = {});
+
+//! K of WC18/MNPR for width W and painted control c (guarded).
+int edge_blur_kernel_size(int width, float ctrl);
+
+void register_edge_blur(Registry& r);
+
+}  // namespace aq::stylize

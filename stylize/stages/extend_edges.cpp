@@ -1,0 +1,68 @@
+// stylize/stages/extend_edges.cpp — see extend_edges.h. The separable part is blur.h (bit-exact
+// reference/fast); the pointwise gamma runs on the same values in both traversals.
+#include "stylize/stages/extend_edges.h"
+
+#include <cmath>
+#include <vector>
+
+#include "stylize/stages/blur.h"
+#include "stylize/stages/stage_util.h"
+
+namespace aq::stylize {
+
+std::vector<float> linear_weights(int width) {
+    std::vector<double> g(std::size_t(2 * width - 1));
+    double norm = 0.0;
+    for (int l = -(width - 1); l <= width - 1; ++l) {
+        g[std::size_t(l + width - 1)] = 1.0 - double(std::abs(l)) / double(width);
+        norm += g[std::size_t(l + width - 1)];
+    }
+    std::vector<float> w(g.size());
+    for (std::size_t i = 0; i < g.size(); ++i) w[i] = float(g[i] / norm);
+    return w;
+}
+
+void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, const Exec& ex) {
+    detail::check_input(edges, 1, "extend_edges", "edges");
+    if (p.width < 1 || p.width > 32) throw Error("extend_edges: width must be in [1, 32]");
+    separable_blur(dst, edges, linear_weights(p.width), p.border, ex);
+    const float g = 2.0f / float(p.width);
+    float* d = dst.data();
+    const int w = dst.width();
+    detail::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
+            const float b = d[i];
+            d[i] = b > 0.0f ? std::pow(std::pow(b, 1.0f / b), g) : 0.0f;
+        }
+    });
+}
+
+namespace {
+struct Table {
+    int width = kGapsOverlapsWidthMnpr;
+    int border = 0;
+};
+}  // namespace
+
+void register_extend_edges(Registry& r) {
+    static const ParamTable<Table> t = ParamTable<Table>()
+        .i("width", &Table::width, 1, 32, "W, linear kernel width (MNPR 3; WC18 paper m = 5)")
+        .i("border", &Table::border, 0, 1, "0 = clamp, 1 = mirror");
+    StageVariant v;
+    v.stage = "extend_edges";
+    v.variant = "mnpr";
+    v.doc = "WC18 3.2 / MNPR: linear kernel (1 - |l|/W, normalised) over the edges, b = b^(1/b), b = b^(2/W)";
+    v.inputs = {{"edges", "edges", 1, false}};
+    v.outputs = {{"extended", "edges.extended", 1, false}};
+    v.params = t.descs();
+    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        const auto tp = t.from(pv);
+        ExtendEdgesParams p;
+        p.width = tp.width;
+        p.border = tp.border ? Border::Mirror : Border::Clamp;
+        extend_edges(*io.out[0], *io.in[0], p, ex);
+    };
+    r.add(std::move(v));
+}
+
+}  // namespace aq::stylize

@@ -1,0 +1,31 @@
+// stylize/stages/extend_edges.h — stage "extend_edges", variant mnpr: the extended edges that
+// gaps & overlaps marches along (WC18 §3.2; MNPR quadSeparable edgeBlur, "GAPS AND OVERLAPS
+// GRADIENT"; spec §4.4).
+#pragma once
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+
+namespace aq::stylize {
+
+//! Kernel width: WC18 uses m = 5 ("a linear filtering kernel (m = 5)"), MNPR gGapsOverlapsKernel 3.
+inline constexpr int kGapsOverlapsWidthPaper = 5;
+inline constexpr int kGapsOverlapsWidthMnpr = 3;
+
+struct ExtendEdgesParams {
+    int width = kGapsOverlapsWidthMnpr;  //!< W [1, 32]: taps |l| < W, weights 1 - |l|/W, normalised
+    Border border = Border::Clamp;
+};
+
+//! b = V(H(edges)) with the linear kernel, then (MNPR) b = b^(1/b) ("get rid of weak gradients")
+//! and b = b^(2/W) ("adjust gamma depending on kernel size"); b <= 0 or NaN gives 0.
+//! edges: 1 channel; dst: 1 channel, same size.
+void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, const Exec& ex = {});
+
+//! Normalised linear weights for taps -(W-1)..(W-1).
+std::vector<float> linear_weights(int width);
+
+void register_extend_edges(Registry& r);
+
+}  // namespace aq::stylize
