@@ -1,0 +1,107 @@
+// tests/raster/material_test.cpp — the pure maths of the watercolor material and vertex stage
+// against values computed by hand from WC17 eq. 1-6 (Figure 7: C = (194, 94, 0)/255, dA = 1).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "raster/material.h"
+#include "raster/vertex.h"
+
+using namespace aq;
+using namespace aq::raster;
+
+namespace {
+const glm::vec3 kC(194.0f / 255.0f, 94.0f / 255.0f, 0.0f);  // WC17 Figure 7
+const glm::vec3 kPaper(1.0f);
+void expect_vec(glm::vec3 got, glm::vec3 want, float tol, const char* what) {
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], tol) << what << " channel " << i;
+}
+}  // namespace
+
+TEST(Reflectance, Wc17Figure7HandComputed) {
+    // Fully lit (L.N = 1, DA = 1).
+    expect_vec(reflectance(kC, 1.0f, 1.0f, 0.0f, 0.0f, kPaper), kC, 1e-7f, "c=0 d=0");
+    // Cangiante 0.2: C + 0.2 = (0.960784, 0.568627, 0.2).
+    expect_vec(reflectance(kC, 1.0f, 1.0f, 0.2f, 0.0f, kPaper), {0.960784f, 0.568627f, 0.2f}, 1e-6f, "c=0.2 d=0");
+    // Dilution 0.5: 0.5 (1 - C) + C = (0.880392, 0.684314, 0.5).
+    expect_vec(reflectance(kC, 1.0f, 1.0f, 0.0f, 0.5f, kPaper), {0.880392f, 0.684314f, 0.5f}, 1e-6f, "c=0 d=0.5");
+    // MNPR defaults c = 0.2, d = 0.8: Cc = (0.960784, 0.568627, 0.2), Cd = 0.8 (1 - Cc) + Cc.
+    expect_vec(reflectance(kC, 1.0f, 1.0f, 0.2f, 0.8f, kPaper), {0.992157f, 0.913725f, 0.84f}, 1e-6f, "c=0.2 d=0.8");
+    // Half lit (L.N = 0.5 -> DA = 0.5): Cc = C + 0.1, Cd = 0.4 (1 - Cc) + Cc.
+    expect_vec(reflectance(kC, 0.5f, 1.0f, 0.2f, 0.8f, kPaper), {0.916471f, 0.681176f, 0.46f}, 1e-6f, "L.N=0.5");
+    // Terminator and dark side: DA = 0, the colour is untouched.
+    expect_vec(reflectance(kC, 0.0f, 1.0f, 0.2f, 0.8f, kPaper), kC, 1e-7f, "L.N=0");
+    expect_vec(reflectance(kC, -0.7f, 1.0f, 0.2f, 0.8f, kPaper), kC, 1e-7f, "L.N<0");
+    // Dilute area dA = 0.5: DA = (0.75 - 0.5) / 0.5 = 0.5 at L.N = 0.75.
+    EXPECT_NEAR(dilute_area(0.75f, 0.5f), 0.5f, 1e-7f);
+    EXPECT_NEAR(dilute_area(0.4f, 0.5f), 0.0f, 1e-7f);
+    // Coloured paper: dilution goes towards Cp.
+    expect_vec(dilution({0.2f, 0.4f, 0.6f}, 1.0f, 1.0f, {0.9f, 0.8f, 0.7f}), {0.9f, 0.8f, 0.7f}, 1e-6f, "d=1");
+    expect_vec(cangiante({0.1f, 0.2f, 0.3f}, 0.5f, 0.4f), {0.3f, 0.4f, 0.5f}, 1e-6f, "cangiante");
+}
+
+TEST(Reflectance, DiffuseFactorAndWrap) {
+    EXPECT_FLOAT_EQ(diffuse_factor(0.3f, 0.0f, 0.0f), 1.0f);   // k = 0: no shading
+    EXPECT_FLOAT_EQ(diffuse_factor(0.3f, 0.0f, 1.0f), 0.3f);   // k = 1: Lambert
+    EXPECT_FLOAT_EQ(diffuse_factor(-0.5f, 0.0f, 1.0f), 0.0f);
+    EXPECT_FLOAT_EQ(diffuse_factor(0.5f, 0.0f, 0.2f), 0.9f);   // MNPR default k = 0.2
+    EXPECT_FLOAT_EQ(diffuse_factor(0.0f, 1.0f, 1.0f), 0.5f);   // wrap 1: (0 + 1) / 2
+}
+
+TEST(Turbulence, Wc17Eq6) {
+    const glm::vec3 C(0.5f, 0.25f, 0.8f);
+    expect_vec(turbulence(C, 0.0f, kPaper), {0.125f, 0.015625f, 0.512f}, 1e-6f, "ctrl 0: C^3");
+    expect_vec(turbulence(C, 0.25f, kPaper), {0.25f, 0.0625f, 0.64f}, 1e-6f, "ctrl 0.25: C^2");
+    expect_vec(turbulence(C, 0.5f, kPaper), C, 0.0f, "ctrl 0.5: C");
+    expect_vec(turbulence(C, 0.75f, kPaper), {0.75f, 0.625f, 0.9f}, 1e-6f, "ctrl 0.75: halfway to paper");
+    expect_vec(turbulence(C, 1.0f, {0.9f, 0.9f, 0.8f}), {0.9f, 0.9f, 0.8f}, 1e-6f, "ctrl 1: paper");
+    EXPECT_FLOAT_EQ(wc17_turbulence_ctrl(0.0f), 0.5f);
+    EXPECT_FLOAT_EQ(wc17_turbulence_ctrl(1.0f), 0.0f);
+    EXPECT_FLOAT_EQ(wc17_turbulence_ctrl(-1.0f), 1.0f);
+}
+
+TEST(Texture, WrapModesAndFilters) {
+    using scene::Wrap;
+    EXPECT_EQ(wrap_texel(-1, 4, Wrap::Repeat), 3);
+    EXPECT_EQ(wrap_texel(9, 4, Wrap::Repeat), 1);
+    EXPECT_EQ(wrap_texel(-3, 4, Wrap::ClampToEdge), 0);
+    EXPECT_EQ(wrap_texel(7, 4, Wrap::ClampToEdge), 3);
+    EXPECT_EQ(wrap_texel(4, 4, Wrap::MirroredRepeat), 3);   // GL: 0 1 2 3 3 2 1 0 0 1 ...
+    EXPECT_EQ(wrap_texel(7, 4, Wrap::MirroredRepeat), 0);
+    EXPECT_EQ(wrap_texel(-1, 4, Wrap::MirroredRepeat), 0);
+    EXPECT_EQ(wrap_texel(-5, 4, Wrap::MirroredRepeat), 3);
+    ImageF img(2, 1, 4);
+    img.at(0, 0, 0) = 0.0f;
+    img.at(1, 0, 0) = 1.0f;
+    scene::Sampler s;
+    s.wrap_s = Wrap::ClampToEdge;
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.5f, 0.5f}).x, 0.5f);   // between the two centres
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.25f, 0.5f}).x, 0.0f);  // on texel 0's centre
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.375f, 0.5f}).x, 0.25f);
+    s.wrap_s = Wrap::Repeat;
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.0f, 0.5f}).x, 0.5f);   // wraps between texel 1 and 0
+    s.mag = scene::Filter::Nearest;
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.49f, 0.5f}).x, 0.0f);
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {0.51f, 0.5f}).x, 1.0f);
+    EXPECT_FLOAT_EQ(sample_texture(img, s, {std::nanf(""), 1e30f}).w, 0.0f);  // no crash
+}
+
+TEST(VertexStage, TremorOffsetAndBleedDisplacement) {
+    TremorParams p;  // MNPR defaults: 4 px, front 0.4, speed 10, frequency 10
+    const glm::vec3 n(0, 0, 1), v(0, 0, 1);
+    // Facing the viewer: weight min(sat(1.2), 0.6) = 0.6; at T = 0 the offset is sin(f*10*x).
+    const glm::vec3 pos(0.01f, 0.02f, 0);
+    const glm::vec2 o = tremor_offset_px(p, 0.0f, pos, n, v);
+    EXPECT_NEAR(o.x, std::sin(1.0f) * 4.0f * 0.6f, 1e-6f);
+    EXPECT_NEAR(o.y, std::sin(2.0f) * 4.0f * 0.6f, 1e-6f);
+    // Grazing (N.V = 0.25): weight 0.3; T = 0.5 s adds a phase of 0.5 * 10 * 100.
+    const glm::vec3 ng(0, std::sqrt(1.0f - 0.0625f), 0.25f);
+    const glm::vec2 g = tremor_offset_px(p, 0.5f, pos, ng, v);
+    EXPECT_NEAR(g.x, std::sin(500.0f + 1.0f) * 4.0f * 0.3f, 1e-4f);
+    // Silhouette (N.V = 0): no tremor in MNPR's form.
+    EXPECT_EQ(tremor_offset_px(p, 0.3f, pos, glm::vec3(1, 0, 0), v), glm::vec2(0.0f));
+    // Bleeding: sat(ctrl - 0.7) * 0.5 along the normal.
+    EXPECT_EQ(bleed_displace({1, 2, 3}, {0, 1, 0}, 0.5f), glm::vec3(1, 2, 3));
+    const glm::vec3 b = bleed_displace({1, 2, 3}, {0, 1, 0}, 1.0f);
+    EXPECT_NEAR(b.y, 2.15f, 1e-6f);
+}
