@@ -1,0 +1,393 @@
+// app/main.cpp — the `aquarelle` command line: render, stages, styles, compare.
+//
+// Every failure prints one clear message to stderr and exits non-zero; nothing is written unless
+// the whole image was computed (core/io.h writes through a temporary file and a rename).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "app/cli_args.h"
+#include "core/compare.h"
+#include "core/io.h"
+#include "raster/raster.h"
+#include "scenes/scene_file.h"
+#include "stylize/pipeline.h"
+#include "stylize/stage.h"
+
+namespace fs = std::filesystem;
+using aq::cli::Args;
+using aq::cli::UsageError;
+
+namespace {
+
+constexpr const char* kMainHelp = R"(aquarelle — deterministic art-directed watercolor rendering of glTF scenes
+
+usage: aquarelle <command> [options]
+
+commands:
+  render SCENE     render a scene file (.json), a bare .gltf/.glb or procedural:NAME
+  stages           list every stylization stage, its variants and parameters (defaults, ranges)
+  styles           list the pipeline presets
+  compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
+  help [COMMAND]   this text, or a command's options
+
+Run `aquarelle COMMAND --help` for a command's options. Exit status: 0 on success, 1 on an
+error in the input or while rendering, 2 on a usage error.
+)";
+
+constexpr const char* kRenderHelp = R"(usage: aquarelle render SCENE --out FILE.png [options]
+
+SCENE is a scene file (.json, see docs/scenes.md), a bare .gltf/.glb (automatic camera, default
+light, neutral control) or procedural:NAME (e.g. procedural:swatches).
+
+options:
+  --out FILE            output image (.png 8-bit display, .exr float); required.
+                        With --frames, FILE must contain #### (replaced by the frame number).
+  --targets DIR         also write every G-buffer target and every pipeline intermediate as EXR
+  --style S             wc18 | wc17 | wc16 | mnpr | FILE.json | none (G-buffer colour only);
+                        default: the scene file's style, else wc18
+  --set STAGE.PARAM=V   override a stage parameter (repeatable)
+  --variant STAGE=VAR   choose a stage variant (repeatable)
+  --width W, --height H output size in pixels (default: scene file, else 1280x720)
+  --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
+  --frames A-B          render frames A..B inclusive (animation), with progress
+  --fps F               frames per second for the tremor clock (default: scene file, else 24)
+  --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
+  --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
+  --reference           use the plain reference traversals (slow; the oracle)
+  --quiet               no progress on stderr
+  --help                this text
+)";
+
+constexpr const char* kCompareHelp = R"(usage: aquarelle compare A B [--diff OUT.png] [--threshold T]
+
+Prints mean and max absolute error, the fraction of values differing by more than T (default
+1/255) and PSNR (peak 1.0) of two images of the same size and channel count (any format
+OpenImageIO reads). --diff writes a heatmap of the per-pixel max error. Exit status 0 when the
+images could be compared (whatever the difference), 1 on error.
+)";
+
+struct RenderOptions {
+    std::string scene, out, targets_dir, style;
+    bool style_given = false;
+    std::vector<std::string> sets, variants;
+    int width = 0, height = 0, ssaa = 1, threads = 0;
+    int frame_first = 0, frame_last = 0;
+    bool animation = false;
+    double fps = 0;
+    bool reference = false, quiet = false;
+};
+
+std::string frame_path(const std::string& pattern, int frame) {
+    auto pos = pattern.find("####");
+    if (pos == std::string::npos) return pattern;
+    char num[32];
+    std::snprintf(num, sizeof num, "%04d", frame);
+    return pattern.substr(0, pos) + num + pattern.substr(pos + 4);
+}
+
+void check_output_path(const std::string& path, const std::string& opt) {
+    const fs::path p(path);
+    std::string ext = p.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff" && ext != ".jpg")
+        throw UsageError(opt + ": '" + path + "' must end in .png, .exr, .tif or .jpg");
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir)) throw aq::Error(opt + ": folder '" + dir.string() + "' does not exist");
+}
+
+RenderOptions parse_render(Args& a) {
+    RenderOptions o;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kRenderHelp;
+            std::exit(0);
+        } else if (arg == "--out" || arg == "-o") {
+            o.out = a.value(arg);
+        } else if (arg == "--targets") {
+            o.targets_dir = a.value(arg);
+        } else if (arg == "--style") {
+            o.style = a.value(arg);
+            o.style_given = true;
+        } else if (arg == "--set") {
+            o.sets.push_back(a.value(arg));
+        } else if (arg == "--variant") {
+            o.variants.push_back(a.value(arg));
+        } else if (arg == "--width") {
+            o.width = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+        } else if (arg == "--height") {
+            o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+        } else if (arg == "--frame") {
+            o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
+        } else if (arg == "--frames") {
+            const std::string v = a.value(arg);
+            const auto dash = v.find('-');
+            if (dash == std::string::npos || dash == 0) throw UsageError("--frames expects A-B, e.g. 0-23");
+            o.frame_first = int(aq::cli::parse_int(arg, v.substr(0, dash), 0, 10'000'000));
+            o.frame_last = int(aq::cli::parse_int(arg, v.substr(dash + 1), 0, 10'000'000));
+            if (o.frame_last < o.frame_first) throw UsageError("--frames: last frame before first");
+            if (o.frame_last - o.frame_first >= 100'000) throw UsageError("--frames: more than 100000 frames");
+            o.animation = true;
+        } else if (arg == "--fps") {
+            o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
+        } else if (arg == "--ssaa") {
+            o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, 4));
+        } else if (arg == "--threads") {
+            o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+        } else if (arg == "--reference") {
+            o.reference = true;
+        } else if (arg == "--quiet" || arg == "-q") {
+            o.quiet = true;
+        } else if (!arg.empty() && arg[0] == '-' && arg != "-") {
+            throw UsageError("render: unknown option '" + arg + "' (see aquarelle render --help)");
+        } else if (o.scene.empty()) {
+            o.scene = arg;
+        } else {
+            throw UsageError("render: unexpected argument '" + arg + "'");
+        }
+    }
+    if (o.scene.empty()) throw UsageError("render: no SCENE given (see aquarelle render --help)");
+    if (o.out.empty()) throw UsageError("render: --out FILE is required");
+    if (o.animation && o.out.find("####") == std::string::npos && o.frame_first != o.frame_last)
+        throw UsageError("render: with --frames, --out must contain #### for the frame number");
+    check_output_path(o.out, "--out");
+    return o;
+}
+
+int cmd_render(Args& a) {
+    RenderOptions o = parse_render(a);
+    auto log = [&](const std::string& s) {
+        if (!o.quiet) std::cerr << s << std::endl;
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    auto ms_since = [](auto t) {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+    };
+
+    // 1. Scene, then the style: every name and value is validated before anything is rendered.
+    aq::scene::SceneDesc desc = aq::scene::load_scene(o.scene);
+    for (auto& w : desc.scene.warnings) std::cerr << "warning: " << w << "\n";
+    log("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
+        std::to_string(int(ms_since(t0))) + " ms");
+
+    std::string style = o.style_given ? o.style : (desc.style.empty() ? "wc18" : desc.style);
+    const bool stylize = style != "none";
+    aq::stylize::Pipeline pipeline;
+    if (stylize) {
+        pipeline = aq::stylize::load_pipeline(style);
+        if (!o.style_given || o.style == desc.style) {
+            for (auto& [k, v] : desc.style_variant) aq::stylize::set_variant(pipeline, k + "=" + v);
+            for (auto& [k, v] : desc.style_set) {
+                char num[64];
+                std::snprintf(num, sizeof num, "%.17g", v);
+                aq::stylize::set_param(pipeline, k + "=" + num);
+            }
+        }
+        for (auto& v : o.variants) aq::stylize::set_variant(pipeline, v);
+        for (auto& s : o.sets) aq::stylize::set_param(pipeline, s);
+        if (!desc.paper.empty()) {
+            pipeline.paper.file = desc.paper;
+            pipeline.has_paper = true;
+        }
+        aq::stylize::validate_pipeline(pipeline);
+    } else if (!o.sets.empty() || !o.variants.empty()) {
+        throw UsageError("render: --set/--variant need a style (not --style none)");
+    }
+
+    aq::raster::RenderSettings rs;
+    rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
+    rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
+    rs.ssaa = o.ssaa;
+    rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
+    rs.exec = o.reference ? aq::Exec::reference() : aq::Exec::fast(o.threads);
+    rs.substrate_color = stylize ? pipeline.substrate_color : desc.substrate_color;
+    aq::check_image_size(rs.width, rs.height, "output");
+    aq::check_image_size(rs.width * rs.ssaa, rs.height * rs.ssaa, "supersampled render (--ssaa)");
+    const float aspect = float(rs.width) / float(rs.height);
+    if (desc.camera_auto && aspect != desc.auto_aspect)  // reframe for the size actually rendered
+        desc.camera = aq::scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
+
+    if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
+
+    const int nframes = o.frame_last - o.frame_first + 1;
+    for (int f = o.frame_first; f <= o.frame_last; ++f) {
+        const auto tf = std::chrono::steady_clock::now();
+        const std::string prefix =
+            o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
+        rs.frame = f;
+        std::vector<std::string> warnings;
+        aq::Targets targets = aq::raster::render_gbuffer(desc.scene, desc.camera, rs, &warnings);
+        for (auto& w : warnings) std::cerr << "warning: " << w << "\n";
+        log(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
+            std::to_string(int(ms_since(tf))) + " ms");
+
+        std::string final_name = aq::target::kColor;
+        if (stylize) {
+            const auto ts = std::chrono::steady_clock::now();
+            aq::stylize::RunOptions ro;
+            ro.exec = rs.exec;
+            if (!o.quiet && !o.animation)
+                ro.progress = [&](int i, int n, const std::string& step) {
+                    std::cerr << "  stage " << (i + 1) << "/" << n << ": " << step << std::endl;
+                };
+            aq::stylize::run_pipeline(pipeline, targets, ro);
+            final_name = pipeline.output;
+            log(prefix + "style " + pipeline.name + " (" + std::to_string(pipeline.steps.size()) + " stages) in " +
+                std::to_string(int(ms_since(ts))) + " ms");
+        }
+
+        // Intermediates first, the display image last: a listener waiting for --out sees a
+        // complete set.
+        if (!o.targets_dir.empty()) {
+            const std::string dir = o.animation ? o.targets_dir + "/" + frame_path("frame####", f) : o.targets_dir;
+            aq::ensure_directory(dir);
+            for (auto& [name, img] : targets.all()) aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", img);
+        }
+        const std::string out = frame_path(o.out, f);
+        aq::write_image(out, targets.get(final_name));
+        log(prefix + "wrote " + out);
+    }
+    log("done in " + std::to_string(int(ms_since(t0))) + " ms");
+    return 0;
+}
+
+const char* kind_name(aq::stylize::ParamKind k) {
+    switch (k) {
+        case aq::stylize::ParamKind::Int: return "int";
+        case aq::stylize::ParamKind::Bool: return "bool";
+        default: return "float";
+    }
+}
+
+int cmd_stages(Args& a) {
+    if (!a.done()) {
+        std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << "usage: aquarelle stages\n\nLists every registered stage variant: ports "
+                         "(port -> default target, channels), parameters (default, range).\n";
+            return 0;
+        }
+        throw UsageError("stages: unexpected argument '" + arg + "'");
+    }
+    const auto& reg = aq::stylize::builtin_registry();
+    for (const std::string& stage : reg.stages()) {
+        std::cout << stage << "\n";
+        for (const auto* v : reg.variants(stage)) {
+            std::cout << "  " << v->variant << " — " << v->doc << "\n";
+            for (auto& p : v->inputs)
+                std::cout << "      in  " << p.name << " <- " << p.default_target << " (" << p.channels << " ch"
+                          << (p.optional ? ", optional" : "") << ")\n";
+            for (auto& p : v->outputs)
+                std::cout << "      out " << p.name << " -> " << p.default_target << " (" << p.channels << " ch)\n";
+            for (auto& p : v->params) {
+                std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), kind_name(p.kind),
+                            p.def, p.lo, p.hi, p.doc.c_str());
+                std::fflush(stdout);
+            }
+        }
+    }
+    return 0;
+}
+
+int cmd_styles(Args& a) {
+    if (!a.done()) {
+        std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << "usage: aquarelle styles\n\nLists the pipeline presets and their stages.\n";
+            return 0;
+        }
+        throw UsageError("styles: unexpected argument '" + arg + "'");
+    }
+    for (const std::string& name : aq::stylize::preset_names()) {
+        const aq::stylize::Pipeline p = aq::stylize::load_pipeline(name);
+        std::cout << name << " — " << p.doc << "\n    ";
+        for (std::size_t i = 0; i < p.steps.size(); ++i)
+            std::cout << (i ? " -> " : "") << p.steps[i].stage << ":" << p.steps[i].variant;
+        std::cout << "\n";
+    }
+    return 0;
+}
+
+int cmd_compare(Args& a) {
+    std::vector<std::string> files;
+    std::string diff;
+    double threshold = 1.0 / 255.0;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kCompareHelp;
+            return 0;
+        } else if (arg == "--diff") {
+            diff = a.value(arg);
+            check_output_path(diff, "--diff");
+        } else if (arg == "--threshold") {
+            threshold = aq::cli::parse_double(arg, a.value(arg), 0.0, 1e30);
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw UsageError("compare: unknown option '" + arg + "'");
+        } else {
+            files.push_back(arg);
+        }
+    }
+    if (files.size() != 2) throw UsageError("compare: expects exactly two images (see aquarelle compare --help)");
+    const aq::ImageF A = aq::read_image(files[0]);
+    const aq::ImageF B = aq::read_image(files[1]);
+    const aq::CompareStats s = aq::compare_images(A, B, threshold);
+    std::cout << "size        " << A.width() << "x" << A.height() << "x" << A.channels() << "\n"
+              << "mean_abs    " << s.mean_abs << "\n"
+              << "max_abs     " << s.max_abs << " at (" << s.max_x << ", " << s.max_y << ") channel " << s.max_c << "\n"
+              << "over " << threshold << "  " << 100.0 * s.frac_over << " %\n"
+              << "psnr        " << s.psnr << " dB\n"
+              << "nonfinite   " << s.nonfinite << "\n";
+    if (!diff.empty()) {
+        aq::write_image(diff, aq::diff_heatmap(A, B));
+        std::cout << "diff        " << diff << "\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::cerr << kMainHelp;
+        return 2;
+    }
+    const std::string cmd = argv[1];
+    Args args(argc, argv, 2);
+    try {
+        if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+            const std::string sub = args.done() ? "" : args.next();
+            if (sub == "render") std::cout << kRenderHelp;
+            else if (sub == "compare") std::cout << kCompareHelp;
+            else std::cout << kMainHelp;
+            return 0;
+        }
+        if (cmd == "--version") {
+            std::cout << "aquarelle 0.1.0\n";
+            return 0;
+        }
+        if (cmd == "render") return cmd_render(args);
+        if (cmd == "stages") return cmd_stages(args);
+        if (cmd == "styles") return cmd_styles(args);
+        if (cmd == "compare") return cmd_compare(args);
+        std::cerr << "aquarelle: unknown command '" << cmd << "'\n\n" << kMainHelp;
+        return 2;
+    } catch (const UsageError& e) {
+        std::cerr << "aquarelle: " << e.what() << "\n";
+        return 2;
+    } catch (const aq::Error& e) {
+        std::cerr << "aquarelle: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "aquarelle: error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "aquarelle: error: " << e.what() << "\n";
+        return 1;
+    }
+}
