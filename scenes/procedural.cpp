@@ -274,7 +274,7 @@ Scene make_swatches() {
             const glm::vec3 q = g.positions[i];
             const float gx = std::clamp(q.x / 4.0f, -1.0f, 1.0f);
             g.control[kCtrlPigment][i].g = gx;                                      // application
-            g.control[kCtrlPigment][i].r = noise_field({1.5f, 0.6f, 0.0f, 11u, 2}, q);  // variation
+            g.control[kCtrlPigment][i].r = std::clamp(noise_field({1.5f, 1.8f, 0.0f, 11u, 2}, q), -1.0f, 1.0f);  // variation
             g.control[kCtrlSubstrate][i].r = std::abs(q.z - 1.5f) < 0.6f ? 1.0f : 0.0f;  // distortion band
         }
         add_instance(s, std::move(g), 0, glm::mat4(1.0f), "ground");
@@ -297,7 +297,7 @@ Scene make_swatches() {
         for (std::size_t i = 0; i < p.positions.size(); ++i) {
             const glm::vec3 q = p.positions[i];
             p.control[kCtrlAbstraction][i].b = patch(q, 1.6f, 21u, 0.1f);
-            p.control[kCtrlPigment][i].b = noise_field({2.5f, 1.0f, 0.0f, 22u, 3}, q);
+            p.control[kCtrlPigment][i].b = std::clamp(noise_field({2.5f, 1.8f, 0.0f, 22u, 3}, q), -1.0f, 1.0f);
         }
         add_instance(s, std::move(p), 2, glm::translate(glm::mat4(1.0f), {0.0f, 1.0f, -0.6f}), "sphere_bleed");
     }

@@ -1,0 +1,211 @@
+// tests/scenes/procedural_test.cpp — mesh builders (closed, consistently oriented, watertight by
+// construction), the swatches scene and the noise field.
+#include "scenes/procedural.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "scenes/noise.h"
+
+namespace aq::scene {
+namespace {
+
+// Every directed edge (a, b) of a consistently oriented closed surface appears exactly once and
+// its reverse (b, a) exactly once. Shared edges must use shared vertex indices or bit-identical
+// positions; this checks by position so duplicated seam vertices count.
+void expect_closed_and_oriented(const Primitive& p) {
+    std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> directed;
+    auto key = [&](std::uint32_t i) { return std::array<float, 3>{p.positions[i].x, p.positions[i].y, p.positions[i].z}; };
+    for (std::size_t t = 0; t < p.indices.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            const auto a = key(p.indices[t + std::size_t(e)]), b = key(p.indices[t + std::size_t((e + 1) % 3)]);
+            if (a == b) continue;  // degenerate edge at a pole
+            ++directed[{a, b}];
+        }
+    for (const auto& [edge, n] : directed) {
+        EXPECT_EQ(n, 1) << "directed edge used " << n << " times";
+        auto rev = directed.find({edge.second, edge.first});
+        ASSERT_NE(rev, directed.end()) << "boundary edge: the surface is not closed";
+    }
+}
+
+// Outward orientation: the sum over triangles of (centroid . area-normal) is positive for a
+// closed surface around the origin (it is 3x the enclosed volume).
+float signed_volume(const Primitive& p) {
+    double v = 0.0;
+    for (std::size_t t = 0; t < p.indices.size(); t += 3) {
+        const glm::dvec3 a(p.positions[p.indices[t]]), b(p.positions[p.indices[t + 1]]), c(p.positions[p.indices[t + 2]]);
+        v += glm::dot(a, glm::cross(b, c)) / 6.0;
+    }
+    return float(v);
+}
+
+void expect_valid(const Primitive& p) {
+    ASSERT_EQ(p.indices.size() % 3, 0u);
+    ASSERT_EQ(p.normals.size(), p.positions.size());
+    ASSERT_EQ(p.uv0.size(), p.positions.size());
+    for (std::uint32_t i : p.indices) ASSERT_LT(i, p.positions.size());
+    for (const glm::vec3& n : p.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+}
+
+TEST(Builders, GridCoversTheSquareOnce) {
+    const Primitive g = make_grid(8, 2.0f);
+    expect_valid(g);
+    EXPECT_EQ(g.indices.size(), 8u * 8u * 6u);
+    EXPECT_EQ(g.positions.size(), 81u);
+    double area = 0.0;
+    for (std::size_t t = 0; t < g.indices.size(); t += 3) {
+        const glm::vec3 a = g.positions[g.indices[t]], b = g.positions[g.indices[t + 1]], c = g.positions[g.indices[t + 2]];
+        const float z = glm::cross(b - a, c - a).z;
+        EXPECT_GT(z, 0.0f);  // CCW seen from +Z
+        area += 0.5 * z;
+    }
+    EXPECT_NEAR(area, 4.0, 1e-5);
+    // Interior edges are shared by exactly two triangles, boundary edges by one.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t t = 0; t < g.indices.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            std::uint32_t a = g.indices[t + std::size_t(e)], b = g.indices[t + std::size_t((e + 1) % 3)];
+            ++edges[{std::min(a, b), std::max(a, b)}];
+        }
+    int boundary = 0;
+    for (const auto& [e, n] : edges) {
+        EXPECT_LE(n, 2);
+        boundary += n == 1;
+    }
+    EXPECT_EQ(boundary, 4 * 8);
+    EXPECT_THROW(make_grid(0), aq::Error);
+}
+
+TEST(Builders, FanSharesTheCentreAndCloses) {
+    const Primitive f = make_fan(16, 1.0f);
+    expect_valid(f);
+    EXPECT_EQ(f.indices.size(), 16u * 3u);
+    for (std::size_t t = 0; t < f.indices.size(); t += 3) {
+        EXPECT_EQ(f.indices[t], 0u);
+        const glm::vec3 a = f.positions[f.indices[t]], b = f.positions[f.indices[t + 1]], c = f.positions[f.indices[t + 2]];
+        EXPECT_GT(glm::cross(b - a, c - a).z, 0.0f);
+    }
+    EXPECT_EQ(f.indices.back(), 1u);  // last triangle closes onto the first rim vertex
+}
+
+TEST(Builders, ClosedSolidsAreWatertightAndOutward) {
+    const Primitive sphere = make_uv_sphere(24, 12, 1.0f);
+    expect_valid(sphere);
+    expect_closed_and_oriented(sphere);
+    EXPECT_GT(signed_volume(sphere), 3.5f);  // 4/3 pi = 4.19, inscribed polyhedron a bit less
+    EXPECT_LT(signed_volume(sphere), 4.19f);
+
+    const Primitive box = make_box({1, 2, 3});
+    expect_valid(box);
+    expect_closed_and_oriented(box);
+    EXPECT_NEAR(signed_volume(box), 48.0f, 1e-4f);
+
+    const Primitive torus = make_torus(1.0f, 0.25f, 32, 16);
+    expect_valid(torus);
+    expect_closed_and_oriented(torus);
+    EXPECT_GT(signed_volume(torus), 0.0f);
+
+    const Primitive cyl = make_cylinder(0.5f, 2.0f, 20);
+    expect_valid(cyl);
+    EXPECT_GT(signed_volume(cyl), 0.0f);
+    // The cylinder's caps use their own (flat-normal) vertices: closed by position.
+    expect_closed_and_oriented(cyl);
+}
+
+TEST(Builders, VertexNormalsPointOutward) {
+    for (const Primitive& p : {make_uv_sphere(16, 8), make_torus(1.0f, 0.3f, 16, 8)}) {
+        for (std::size_t t = 0; t < p.indices.size(); t += 3) {
+            const glm::vec3 a = p.positions[p.indices[t]], b = p.positions[p.indices[t + 1]], c = p.positions[p.indices[t + 2]];
+            const glm::vec3 fn = glm::cross(b - a, c - a);
+            if (glm::length(fn) < 1e-9f) continue;
+            const glm::vec3 vn = p.normals[p.indices[t]] + p.normals[p.indices[t + 1]] + p.normals[p.indices[t + 2]];
+            EXPECT_GT(glm::dot(fn, vn), 0.0f);
+        }
+    }
+}
+
+TEST(Swatches, DeterministicAndPaintedForEveryEffect) {
+    const Scene a = make_procedural("swatches");
+    const Scene b = make_procedural("swatches");
+    ASSERT_EQ(a.meshes.size(), b.meshes.size());
+    for (std::size_t m = 0; m < a.meshes.size(); ++m)
+        for (std::size_t p = 0; p < a.meshes[m].primitives.size(); ++p)
+            for (int t = 0; t < kNumControlTargets; ++t)
+                EXPECT_EQ(a.meshes[m].primitives[p].control[std::size_t(t)], b.meshes[m].primitives[p].control[std::size_t(t)]);
+    ASSERT_GE(a.instances.size(), 5u);
+    ASSERT_EQ(a.cameras.size(), 1u);
+    // Every control channel of the spec's table reaches a strong value (|v| >= 0.9) somewhere,
+    // except the incline channels (substrate.g/b), which are painted by no MNPR effect.
+    for (int t = 0; t < kNumControlTargets; ++t)
+        for (int c = 0; c < 3; ++c) {
+            if (t == kCtrlSubstrate && c > 0) continue;
+            float hi = 0.0f, lo = 0.0f;
+            for (const Mesh& m : a.meshes)
+                for (const Primitive& p : m.primitives) {
+                    ASSERT_EQ(p.control[std::size_t(t)].size(), p.positions.size());
+                    for (const glm::vec4& v : p.control[std::size_t(t)]) {
+                        hi = std::max(hi, v[c]);
+                        lo = std::min(lo, v[c]);
+                        ASSERT_LE(std::abs(v[c]), 1.0f);
+                    }
+                }
+            EXPECT_GE(hi, 0.9f) << "target " << t << " channel " << c;
+            // Signed channels are painted both ways (granulation/dry-brush, accumulate/dilute,
+            // overlaps/gaps, edge intensity).
+            if ((t == kCtrlPigment && c >= 1) || (t == kCtrlEdge && (c == 0 || c == 2))) EXPECT_LE(lo, -0.9f) << t << "," << c;
+        }
+    // Unique object IDs from 1.
+    std::set<std::uint32_t> ids;
+    for (const Instance& i : a.instances) ids.insert(i.object_id);
+    EXPECT_EQ(ids.size(), a.instances.size());
+    EXPECT_EQ(*ids.begin(), 1u);
+    EXPECT_THROW(make_procedural("nope"), aq::Error);
+}
+
+TEST(Noise, DeterministicInRangeAndSeeded) {
+    float lo = 1.0f, hi = -1.0f;
+    int differs = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const glm::vec3 p(float(i % 37) * 0.173f - 3.0f, float(i / 37 % 29) * 0.219f, float(i / 1073) * 0.31f - 1.0f);
+        const float v = value_noise(p, 7u);
+        ASSERT_EQ(v, value_noise(p, 7u));
+        ASSERT_GE(v, -1.0f);
+        ASSERT_LE(v, 1.0f);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        differs += value_noise(p, 8u) != v;
+    }
+    EXPECT_LT(lo, -0.6f);  // uses most of the range
+    EXPECT_GT(hi, 0.6f);
+    EXPECT_GT(differs, 19000);  // the seed changes the field
+    // Continuous: a tiny step changes the value a little.
+    EXPECT_NEAR(value_noise({0.5f, 0.5f, 0.5f}, 1u), value_noise({0.5001f, 0.5f, 0.5f}, 1u), 1e-3f);
+    // Non-finite and huge inputs are safe.
+    EXPECT_EQ(value_noise({NAN, 0, 0}, 1u), 0.0f);
+    EXPECT_EQ(value_noise({INFINITY, 0, 0}, 1u), 0.0f);
+    const float big = value_noise({3e9f, -3e9f, 1e30f}, 1u);
+    EXPECT_GE(big, -1.0f);
+    EXPECT_LE(big, 1.0f);
+}
+
+TEST(Noise, FieldAmplitudeOffsetOctaves) {
+    NoiseField f;
+    f.frequency = 2.0f;
+    f.amplitude = 0.25f;
+    f.offset = 0.5f;
+    f.octaves = 4;
+    f.seed = 3;
+    for (int i = 0; i < 5000; ++i) {
+        const glm::vec3 p(float(i) * 0.0137f, float(i % 11) * 0.1f, 0.3f);
+        const float v = noise_field(f, p);
+        ASSERT_GE(v, 0.25f);
+        ASSERT_LE(v, 0.75f);
+        ASSERT_EQ(v, noise_field(f, p));
+    }
+}
+
+}  // namespace
+}  // namespace aq::scene
