@@ -15,6 +15,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     check_input(&color, 4, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
     check_input(&blurred, 3, st, "blurred");
+    check_full_or_half(blurred, color, st, "blurred", "color");
     check_input(&ctrl_edge, 1, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
     check_not_alias(dst, &color, st, "color");
@@ -54,6 +55,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
         check_input(bleed, 1, st, "bleed");
         if (bleed->channels() != 1 && bleed->channels() != 4)
             throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
+        check_full_or_half(*bleed, color, st, "bleed", "color");
     }
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &edges, st, "edges");
@@ -93,13 +95,13 @@ void register_edge_darken(Registry& r) {
         v.variant = "dog";
         v.doc = "WC17 eq. 8: I_cb^(1 + Ctrl*max(I_b - I)) with smoothstep-modulated DoG edges";
         v.inputs = {{"color", target::kColor, 4, false},
-                    {"blurred", "edges.blurred", 4, false},
+                    {"blurred", "color.blurred", 4, false},
                     {"ctrl_edge", target::kCtrlEdge, 4, false}};
         v.outputs = {{"color", "color.darkened", 4, false}};
         v.params = td.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), Roi::all(), ex);
-        };
+        });
         r.add(std::move(v));
     }
     {
@@ -113,10 +115,10 @@ void register_edge_darken(Registry& r) {
                     {"bleed", "bleed", 4, true}};
         v.outputs = {{"color", "color.darkened", 4, false}};
         v.params = tr.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
                              globals_of(io).substrate_color, tr.from(pv), Roi::all(), ex);
-        };
+        });
         r.add(std::move(v));
     }
 }

@@ -67,7 +67,7 @@ inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bl
     return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
 }
 
-//! WC17 DoG edge darkening. color: 4 ch (I_cb, also the I of the DoG); blurred: >= 3 ch, any size
+//! WC17 DoG edge darkening. color: 4 ch (I_cb, also the I of the DoG); blurred: >= 3 ch, full or half size
 //! (upsampled to color's size by resample convention, clamp to edge); ctrl_edge: >= 1 ch (R used),
 //! same size as color. dst: (re)allocated to color's size, 4 ch; only roi is written.
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
@@ -75,7 +75,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
 
 //! WC18 RGBD edge darkening. color: 4 ch; edges: >= 1 ch (channel 0 = blurred edges), same size;
 //! ctrl_edge: >= 1 ch (R); bleed: optional, 4 ch (alpha = bleeding mask, as stage "bleed" writes
-//! it) at any size (resampled like the DoG blur), or 1 ch; absent = no bleeding.
+//! it) full or half size (resampled like the DoG blur), or 1 ch; absent = no bleeding.
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
                       const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, Roi roi = Roi::all(),
                       const Exec& ex = {});

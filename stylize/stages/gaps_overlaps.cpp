@@ -104,6 +104,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         check_input(bleed, 1, st, "bleed");
         if (bleed->channels() != 1 && bleed->channels() != 4)
             throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
+        check_full_or_half(*bleed, color, st, "bleed", "color");
     }
     if (p.steps < 1 || p.steps > 16) throw Error(st + ": steps must be in [1, 16]");
     check_not_alias(dst, &color, st, "color");
@@ -151,10 +152,10 @@ void register_gaps_overlaps(Registry& r) {
                 {"bleed", "bleed", 4, true}};
     v.outputs = {{"color", "color.gaps_overlaps", 4, false}};
     v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+    v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
                       globals_of(io).substrate_color, t.from(pv), Roi::all(), ex);
-    };
+    });
     r.add(std::move(v));
 }
 

@@ -74,11 +74,11 @@ void register_pigment_apply(Registry& r) {
         v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
         v.outputs = {{"color", "color.pigment", 4, false}};
         v.params = t18.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             const Globals& g = globals_of(io);
             pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv), Roi::all(),
                                ex);
-        };
+        });
         r.add(std::move(v));
     }
     {
@@ -89,9 +89,9 @@ void register_pigment_apply(Registry& r) {
         v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
         v.outputs = {{"color", "color.pigment", 4, false}};
         v.params = t17.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), Roi::all(), ex);
-        };
+        });
         r.add(std::move(v));
     }
 }

@@ -71,8 +71,10 @@ inline float length3(glm::vec3 v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z
 // pow for the colour transmittance model C^d (WC17 eq. 8/9, WC18 §3.1 and eq. 2): x in [0,1]
 // (values are clamped to >= 0, as MNPR's pow(abs(c), d) for colours), d > 0 in practice.
 // exp2(d * log2(x)) with fixed polynomials: branch-light, no libm call, deterministic on every
-// machine (plain float multiply/add, no FMA with our flags). Relative error below 4e-7 over
-// x in [1e-6, 1], d in [0, 30] (tests/stylize/stage_b_math_test.cpp checks it against std::pow).
+// machine (plain float multiply/add, no FMA with our flags). The relative error grows with
+// |d log2 x| (float rounding of the exponent): below 1e-5 wherever the result exceeds 1e-30
+// (tests/stylize/stage_b_registry_test.cpp StageBMath checks it against std::pow), i.e. far below
+// one 8-bit output step.
 
 //! log2(x) for finite x > 0 (normal range).
 inline float fast_log2(float x) {
@@ -112,7 +114,9 @@ inline float pow_c(float x, float d) {
     if (x <= 0.0f) return d == 0.0f ? 1.0f : 0.0f;
     if (x == 1.0f || d == 1.0f) return x == 1.0f ? 1.0f : x;
     if (x > 3.0e38f) return x;  // +inf stays inf for d > 0
-    return fast_exp2(d * fast_log2(std::max(x, 1.17549435e-38f)));
+    const float r = fast_exp2(d * fast_log2(std::max(x, 1.17549435e-38f)));
+    // Keep the exact ordering x^d <= x for x < 1 <= d (darkening never brightens by an ulp).
+    return (d >= 1.0f && x < 1.0f && r > x) ? x : r;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -131,6 +135,40 @@ inline void check_same_size(const ImageF& img, const ImageF& like, const std::st
         throw Error(stage + ": input '" + port + "' is " + std::to_string(img.width()) + "x" +
                     std::to_string(img.height()) + ", expected " + std::to_string(like.width()) + "x" +
                     std::to_string(like.height()) + " like '" + like_port + "'");
+}
+
+//! Accepts a lower-resolution intermediate of the same image: full size, or half size
+//! (ceil(w/2) x ceil(h/2), the WC17 intermediates); anything else is an error naming the port.
+inline void check_full_or_half(const ImageF& img, const ImageF& like, const std::string& stage, const std::string& port,
+                               const std::string& like_port) {
+    const int w = like.width(), h = like.height();
+    const bool full = img.width() == w && img.height() == h;
+    const bool half = img.width() == (w + 1) / 2 && img.height() == (h + 1) / 2;
+    if (!full && !half)
+        throw Error(stage + ": input '" + port + "' is " + std::to_string(img.width()) + "x" +
+                    std::to_string(img.height()) + ", expected the size of '" + like_port + "' (" + std::to_string(w) +
+                    "x" + std::to_string(h) + ") or half of it (" + std::to_string((w + 1) / 2) + "x" +
+                    std::to_string((h + 1) / 2) + ")");
+}
+
+//! Wraps a registry run function with the exact channel check of every declared input port (the
+//! typed functions accept >= the channels they read; through the registry the declared count is
+//! the contract).
+inline RunFn with_port_check(const StageVariant& v, RunFn fn) {
+    return [ins = v.inputs, key = v.key(), fn = std::move(fn)](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        for (std::size_t k = 0; k < ins.size(); ++k) {
+            const ImageF* img = k < io.in.size() ? io.in[k] : nullptr;
+            if (!img) {
+                if (!ins[k].optional) throw Error(key + ": input '" + ins[k].name + "' is missing");
+                continue;
+            }
+            if (img->channels() != ins[k].channels)
+                throw Error(key + ": input '" + ins[k].name + "' has " + std::to_string(img->channels()) +
+                            " channels, expected " + std::to_string(ins[k].channels));
+        }
+        if (io.out.empty() || !io.out[0]) throw Error(key + ": no output bound");
+        fn(io, pv, ex);
+    };
 }
 
 //! The output must not be one of the inputs (no stage writes its own input).

@@ -104,10 +104,10 @@ void register_substrate(Registry& r) {
                     {"ctrl_substrate", target::kCtrlSubstrate, 4, false}};
         v.outputs = {{"color", "color.distorted", 4, false}};
         v.params = td.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv),
                               Roi::all(), ex);
-        };
+        });
         r.add(std::move(v));
     }
     for (bool squared : {false, true}) {
@@ -119,9 +119,9 @@ void register_substrate(Registry& r) {
         v.inputs = {{"color", target::kColor, 4, false}};
         v.outputs = {{"color", "color.lit", 4, false}};
         v.params = tl.descs();
-        v.run = [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
+        v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, Roi::all(), ex);
-        };
+        });
         r.add(std::move(v));
     }
 }

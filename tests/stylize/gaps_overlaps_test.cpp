@@ -1,0 +1,180 @@
+// tests/stylize/gaps_overlaps_test.cpp — WC18 Algorithm 1 on a small synthetic two-colour image.
+#include "stylize/stages/gaps_overlaps.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "stylize/ryb.h"
+#include "tests/stylize/stage_b_test_util.h"
+
+namespace aq::stylize {
+namespace {
+
+using testb::noise;
+
+constexpr int kW = 16, kH = 5;
+const glm::vec3 kPaper(0.97f, 0.95f, 0.9f);
+
+//! Left half colour a, right half colour b (alpha 1).
+ImageF two_colours(glm::vec3 a, glm::vec3 b) {
+    ImageF img(kW, kH, 4);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const glm::vec3 c = x < kW / 2 ? a : b;
+            img.at(x, y, 0) = c.r, img.at(x, y, 1) = c.g, img.at(x, y, 2) = c.b, img.at(x, y, 3) = 1.0f;
+        }
+    return img;
+}
+
+//! Extended edges: a linear ramp peaking at the boundary between x = 7 and x = 8,
+//! E(x) = max(0, 1 - |x + 0.5 - 8| / 4): 0.125, 0.375, 0.625, 0.875 | 0.875, 0.625, 0.375, 0.125.
+ImageF ramp_edges() {
+    ImageF e(kW, kH, 1);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) e.at(x, y, 0) = std::max(0.0f, 1.0f - std::fabs(float(x) + 0.5f - 8.0f) / 4.0f);
+    return e;
+}
+
+ImageF ctrl_b(float v) {
+    ImageF c(kW, kH, 4, 0.0f);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) c.at(x, y, 2) = v;
+    return c;
+}
+
+glm::vec4 px(const ImageF& img, int x, int y) {
+    return {img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2), img.at(x, y, 3)};
+}
+
+const glm::vec3 kYellow = ryb_to_rgb({0, 1, 0});
+const glm::vec3 kBlue = ryb_to_rgb({0, 0, 1});
+
+TEST(GapsOverlaps, ZeroControlLeavesColourUnchanged) {
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(0.0f), nullptr, kPaper, {});
+    EXPECT_TRUE(out == color);
+}
+
+TEST(GapsOverlaps, OverlapsMixNeighbouringColoursInRyb) {
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(1.0f), nullptr, kPaper, {});  // p = 5
+    const glm::vec3 mixed = mix_ryb(kYellow, kBlue);
+    EXPECT_GT(mixed.g, mixed.r);  // yellow + blue = green in RYB
+    EXPECT_GT(mixed.g, mixed.b);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const glm::vec4 o = px(out, x, y);
+            if (x >= 4 && x <= 11) {  // inside the extended edge (E > 0.1)
+                EXPECT_NEAR(o.r, mixed.r, 1e-6f) << x;
+                EXPECT_NEAR(o.g, mixed.g, 1e-6f) << x;
+                EXPECT_NEAR(o.b, mixed.b, 1e-6f) << x;
+            } else {
+                EXPECT_EQ(o, px(color, x, y)) << x;
+            }
+            EXPECT_EQ(o.a, 1.0f);
+        }
+}
+
+TEST(GapsOverlaps, OverlapWidthFollowsTheControl) {
+    // p = 0.4 * 5 = 2: only pixels within 2 steps of the other colour overlap.
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(0.4f), nullptr, kPaper, {});
+    for (int x = 0; x < kW; ++x) {
+        const bool changed = px(out, x, 2) != px(color, x, 2);
+        EXPECT_EQ(changed, x >= 6 && x <= 9) << x;
+    }
+}
+
+TEST(GapsOverlaps, NoOverlapWithTheSubstrateColour) {
+    const ImageF color = two_colours(kYellow, kPaper);
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(1.0f), nullptr, kPaper, {});
+    for (int x = 0; x < kW / 2; ++x) EXPECT_EQ(px(out, x, 2), px(color, x, 2)) << x;
+}
+
+TEST(GapsOverlaps, GapsProduceTheSubstrateColour) {
+    const ImageF color = two_colours({0.8f, 0.1f, 0.1f}, {0.1f, 0.2f, 0.7f});
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(-1.0f), nullptr, kPaper, {});
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const glm::vec4 o = px(out, x, y);
+            if (x >= 4 && x <= 11) {
+                EXPECT_EQ(o, glm::vec4(kPaper, 1.0f)) << x;
+            } else {
+                EXPECT_EQ(o, px(color, x, y)) << x;
+            }
+        }
+}
+
+TEST(GapsOverlaps, SmallGapControlOpensOnlyTheDirectEdge) {
+    // p = -0.1 * 5 = -0.5 (|p| > 0.1 but < 1 step): only E > 2/m = 0.4 becomes a gap.
+    const ImageF color = two_colours({0.8f, 0.1f, 0.1f}, {0.1f, 0.2f, 0.7f});
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(-0.1f), nullptr, kPaper, {});
+    for (int x = 0; x < kW; ++x) {
+        const bool gap = px(out, x, 1) == glm::vec4(kPaper, 1.0f);
+        EXPECT_EQ(gap, x >= 6 && x <= 9) << x;
+    }
+}
+
+TEST(GapsOverlaps, TransparentGapsZeroAlphaAndKeepColour) {
+    const ImageF color = two_colours({0.8f, 0.1f, 0.1f}, {0.1f, 0.2f, 0.7f});
+    GapsOverlapsParams p;
+    p.transparent_gaps = true;
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(-1.0f), nullptr, kPaper, p);
+    for (int x = 0; x < kW; ++x) {
+        const glm::vec4 o = px(out, x, 0), c = px(color, x, 0);
+        EXPECT_EQ(glm::vec3(o), glm::vec3(c));
+        EXPECT_EQ(o.a, (x >= 4 && x <= 11) ? 0.0f : 1.0f) << x;
+    }
+}
+
+TEST(GapsOverlaps, BledAndUnpaintedPixelsAreLeftAlone) {
+    ImageF color = two_colours(kYellow, kBlue);
+    ImageF bleed(kW, kH, 1, 0.5f);
+    ImageF out;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(1.0f), &bleed, kPaper, {});
+    EXPECT_TRUE(out == color);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) color.at(x, y, 3) = 0.05f;
+    gaps_overlaps(out, color, ramp_edges(), ctrl_b(-1.0f), nullptr, kPaper, {});
+    EXPECT_TRUE(out == color);
+}
+
+TEST(GapsOverlaps, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
+    const int w = 80, h = 70;
+    const ImageF color = testb::poison(noise(w, h, 4, 0.0f, 1.0f, 71), 9);
+    const ImageF edges = testb::poison(noise(w, h, 1, 0.0f, 1.0f, 72), 7);
+    const ImageF ctrl = testb::poison(noise(w, h, 4, -1.0f, 1.0f, 73), 11);
+    GapsOverlapsParams p;
+    p.steps = 16;
+    p.border = 1;
+    ImageF a, b;
+    gaps_overlaps(a, color, edges, ctrl, nullptr, kPaper, p, Roi::all(), Exec::reference());
+    gaps_overlaps(b, color, edges, ctrl, nullptr, kPaper, p, Roi::all(), Exec::fast(2));
+    EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
+}
+
+TEST(GapsOverlaps, ChecksInputs) {
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF out;
+    try {
+        gaps_overlaps(out, color, ramp_edges(), ImageF(kW, kH, 2), nullptr, kPaper, {});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("'ctrl_edge'"), std::string::npos) << e.what();
+    }
+    GapsOverlapsParams bad;
+    bad.steps = 0;
+    EXPECT_THROW(gaps_overlaps(out, color, ramp_edges(), ctrl_b(1.0f), nullptr, kPaper, bad), Error);
+}
+
+}  // namespace
+}  // namespace aq::stylize

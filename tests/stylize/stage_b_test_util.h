@@ -1,0 +1,46 @@
+// tests/stylize/stage_b_test_util.h — small synthetic images for the stage group B tests.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "core/image.h"
+
+namespace aq::stylize::testb {
+
+inline ImageF constant(int w, int h, glm::vec4 v) {
+    ImageF img(w, h, 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 4; ++c) img.at(x, y, c) = v[c];
+    return img;
+}
+
+//! Deterministic pseudo-random values in [lo, hi) (hash of the index, no global state).
+inline float hash01(std::uint32_t i) {
+    i ^= i >> 16;
+    i *= 0x7feb352du;
+    i ^= i >> 15;
+    i *= 0x846ca68bu;
+    i ^= i >> 16;
+    return float(i >> 8) / float(1u << 24);
+}
+
+inline ImageF noise(int w, int h, int c, float lo, float hi, std::uint32_t seed) {
+    ImageF img(w, h, c);
+    for (std::size_t i = 0; i < img.num_values(); ++i)
+        img.data()[i] = lo + (hi - lo) * hash01(std::uint32_t(i) * 2654435761u + seed);
+    return img;
+}
+
+//! Copies img, setting every k-th value to NaN, +Inf or -Inf in turn.
+inline ImageF poison(const ImageF& img, int k = 7) {
+    ImageF out = img;
+    const float bad[3] = {std::nanf(""), INFINITY, -INFINITY};
+    for (std::size_t i = 0; i < out.num_values(); i += std::size_t(k)) out.data()[i] = bad[(i / k) % 3];
+    return out;
+}
+
+}  // namespace aq::stylize::testb
