@@ -80,7 +80,7 @@ SceneDesc load_scene(const std::string& path_or_spec);
 
 //! Perspective camera looking along view_dir (need not be normalised) at the bounds' centre, far
 //! enough that the bounding sphere fits the smaller of the vertical and horizontal fields of view;
-//! near/far hug the sphere. Up is +Y (+Z when view_dir is vertical). Invalid bounds: a camera at
+//! near/far hug the sphere. Up is +Y (-Z when view_dir is vertical). Invalid bounds: a camera at
 //! (0, 0, 5) looking at the origin.
 Camera frame_bounds(const Bounds& b, float aspect, glm::vec3 view_dir = {-0.35f, -0.3f, -1.0f}, float yfov = 0.6f);
 
