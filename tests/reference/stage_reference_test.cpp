@@ -36,6 +36,15 @@ struct Tolerance {
 const std::map<std::string, Tolerance>& tolerances() {
     static const std::map<std::string, Tolerance> t = {
         {"adjust/mnpr", {2e-6, 0.0, "pointwise; only the depth division (GL: x * rcp(y)) may differ by an ulp"}},
+        {"gaps_overlaps/wc18",
+         {1e-5, 0.005,
+          "hard thresholds (colour difference 0.33, substrate proximity, edge 2/m and 1/m on bilinear taps) "
+          "and an iterative RGB->RYB inversion whose stopping point depends on the last ulp: a bounded "
+          "fraction of values may differ"}},
+        {"substrate_distort/mnpr",
+         {1e-5, 0.002,
+          "the depth test on a bilinear depth tap is a hard threshold (0.01): a destination within an ulp "
+          "of it may be refused on one side only, flipping the pixel between its own and the shifted colour"}},
     };
     return t;
 }
@@ -75,11 +84,21 @@ Scene make_synthetic(int w, int h, std::uint32_t seed) {
     return s;
 }
 
+//! Alternative values where the generic rule below would break a cross-parameter constraint.
+const std::map<std::string, double> kAltOverrides = {
+    {"edge_darken/dog.smooth_low", 0.02}, {"edge_darken/dog.smooth_high", 0.25},
+    {"adjust/mnpr.atmosphere_start", 10.0}, {"adjust/mnpr.atmosphere_end", 40.0},
+};
+
 //! Alternative parameter values exercising other code paths: booleans flipped, floats and ints
 //! moved inside their range.
 stylize::ParamValues alt_params(const StageVariant& v) {
     std::map<std::string, double> o;
     for (auto& d : v.params) {
+        if (auto it = kAltOverrides.find(v.key() + "." + d.name); it != kAltOverrides.end()) {
+            o[d.name] = it->second;
+            continue;
+        }
         double x = d.def;
         if (d.kind == stylize::ParamKind::Bool) x = d.def != 0 ? 0 : 1;
         else if (d.kind == stylize::ParamKind::Int) x = std::min(d.hi, d.def + 1);
@@ -100,6 +119,7 @@ void append_error_row(const std::string& row) {
 
 //! Runs one variant on one scene and parameter set; compares every output.
 void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& params, const std::string& pname) {
+    s.globals.paper = &s.paper;
     for (auto& in : v.inputs) {
         const bool ok = resolve_target(s.targets, in.default_target, s.globals);
         if (!ok && !in.optional) FAIL() << v.key() << ": no producer for input '" << in.default_target << "'";
@@ -123,8 +143,8 @@ void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& 
                       pname.c_str(), v.outputs[k].name.c_str(), st.mean_abs, st.max_abs, fine.frac_over, st.frac_over,
                       st.psnr);
         append_error_row(row);
-        std::printf("  %-32s %-10s %-6s mean %.3g max %.3g (at %d,%d c%d) over tol %.3g over 1/255 %.3g\n",
-                    v.key().c_str(), v.outputs[k].name.c_str(), pname.c_str(), st.mean_abs, st.max_abs, st.max_x,
+        std::printf("  %-26s %-9s %-22s %-7s mean %.3g max %.3g (at %d,%d c%d) over tol %.3g over 1/255 %.3g\n",
+                    v.key().c_str(), v.outputs[k].name.c_str(), s.name.c_str(), pname.c_str(), st.mean_abs, st.max_abs, st.max_x,
                     st.max_y, st.max_c, fine.frac_over, st.frac_over);
         bool pass = st.nonfinite == 0 ? true : false;
         if (tol.flip_frac == 0.0) pass = pass && st.max_abs <= tol.max_abs;
