@@ -8,6 +8,30 @@ namespace aq::stylize {
 
 void Registry::add(StageVariant v) {
     if (has(v.stage, v.variant)) throw Error("stage variant '" + v.key() + "' registered twice");
+    if (!v.run) throw Error("stage variant '" + v.key() + "' has no run function");
+    // Framework entry check, shared by every stage: the number of inputs/outputs, required inputs
+    // present and non-empty, and every input's channel count as declared by its port. Stages still
+    // check what only they know (sizes, resolutions), once, at their own entry.
+    v.run = [inner = std::move(v.run), key = v.key(), inputs = v.inputs, outputs = v.outputs](
+                StageIO& io, const ParamValues& params, const Exec& ex) {
+        if (io.in.size() != inputs.size() || io.out.size() != outputs.size())
+            throw Error(key + ": called with " + std::to_string(io.in.size()) + " inputs and " +
+                        std::to_string(io.out.size()) + " outputs, expected " + std::to_string(inputs.size()) +
+                        " and " + std::to_string(outputs.size()));
+        for (std::size_t k = 0; k < inputs.size(); ++k) {
+            const ImageF* img = io.in[k];
+            if (!img || img->empty()) {
+                if (inputs[k].optional) continue;
+                throw Error(key + ": required input '" + inputs[k].name + "' is missing or empty");
+            }
+            if (img->channels() != inputs[k].channels)
+                throw Error(key + ": input '" + inputs[k].name + "' has " + std::to_string(img->channels()) +
+                            " channels, expected " + std::to_string(inputs[k].channels));
+        }
+        for (std::size_t k = 0; k < outputs.size(); ++k)
+            if (!io.out[k]) throw Error(key + ": output '" + outputs[k].name + "' has no destination");
+        inner(io, params, ex);
+    };
     variants_.push_back(std::move(v));
 }
 

@@ -17,8 +17,10 @@ namespace {
 inline float sobel_pixel(const float (*n)[4], float wd) {
     float hs = 0.0f, vs = 0.0f;
     for (int c = 0; c < 4; ++c) {
-        float hk = n[0][c] + 2.0f * n[1][c] + n[2][c] + (-1.0f * n[6][c]) + (-2.0f * n[7][c]) + (-1.0f * n[8][c]);
-        float vk = n[0][c] + (-1.0f * n[2][c]) + 2.0f * n[3][c] + (-2.0f * n[5][c]) + n[6][c] + (-1.0f * n[8][c]);
+        // Sobel as differences of opposite taps, so a flat neighbourhood gives exactly 0 (MNPR sums the
+        // six weighted taps left to right, which leaves rounding residue ~1e-8 on flat colour).
+        float hk = (n[0][c] - n[6][c]) + 2.0f * (n[1][c] - n[7][c]) + (n[2][c] - n[8][c]);
+        float vk = (n[0][c] - n[2][c]) + 2.0f * (n[3][c] - n[5][c]) + (n[6][c] - n[8][c]);
         if (c == 3) {
             hk *= wd;
             vk *= wd;

@@ -1,0 +1,102 @@
+// tests/stylize/adjust_test.cpp — spec §4.1: depth normalisation, background = substrate colour,
+// colour operations; §4.3 pigment density.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "stylize/stages/adjust.h"
+#include "stylize/stages/pigment_density.h"
+
+namespace aq::stylize {
+namespace {
+
+TEST(Adjust, NormalisesDepthWithMnprRangeUnclamped) {
+    ImageF c(5, 1, 4, 1.0f), z(5, 1, 1);
+    const float zs[5] = {8.0f, 50.0f, 29.0f, 92.0f, std::numeric_limits<float>::infinity()};
+    for (int x = 0; x < 5; ++x) z.at(x, 0, 0) = zs[x];
+    ImageF co, zo;
+    adjust(co, zo, c, z, {1, 1, 1}, AdjustParams{}, Exec::reference());
+    EXPECT_FLOAT_EQ(zo.at(0, 0, 0), 0.0f);
+    EXPECT_FLOAT_EQ(zo.at(1, 0, 0), 1.0f);
+    EXPECT_FLOAT_EQ(zo.at(2, 0, 0), 0.5f);
+    EXPECT_FLOAT_EQ(zo.at(3, 0, 0), 2.0f);  // unclamped: (92 - 8) / 42
+    EXPECT_FLOAT_EQ(zo.at(4, 0, 0), 1.0f);  // no geometry -> far
+}
+
+TEST(Adjust, BackgroundIsTheSubstrateColourAndCoveredColourIsKept) {
+    ImageF c(2, 1, 4), z(2, 1, 1, 20.0f);
+    const float col[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+    for (int k = 0; k < 4; ++k) c.at(0, 0, k) = col[k];
+    for (int k = 0; k < 3; ++k) c.at(1, 0, k) = 0.3f;  // alpha 0: background
+    ImageF co, zo;
+    const glm::vec3 paper{0.9f, 0.85f, 0.8f};
+    adjust(co, zo, c, z, paper, AdjustParams{}, Exec::reference());
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(co.at(1, 0, k), paper[k]) << "alpha 0 must give exactly the substrate colour";
+        EXPECT_NEAR(co.at(0, 0, k), col[k], 1e-6f) << "neutral colour operations keep the colour";
+    }
+    EXPECT_EQ(co.at(0, 0, 3), 1.0f);
+    EXPECT_EQ(co.at(1, 0, 3), 0.0f);
+}
+
+TEST(Adjust, ZeroSaturationGivesLuma) {
+    ImageF c(1, 1, 4, 1.0f), z(1, 1, 1, 20.0f);
+    c.at(0, 0, 0) = 0.8f;
+    c.at(0, 0, 1) = 0.2f;
+    c.at(0, 0, 2) = 0.4f;
+    AdjustParams p;
+    p.saturation = 0.0f;
+    ImageF co, zo;
+    adjust(co, zo, c, z, {1, 1, 1}, p, Exec::reference());
+    const float luma = 0.2126f * 0.8f + 0.7152f * 0.2f + 0.0722f * 0.4f;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(co.at(0, 0, k), luma, 1e-6f);
+}
+
+TEST(Adjust, AtmosphereTintsFarPixels) {
+    ImageF c(2, 1, 4, 1.0f), z(2, 1, 1);
+    for (int k = 0; k < 3; ++k) c.at(0, 0, k) = c.at(1, 0, k) = 0.2f;
+    z.at(0, 0, 0) = 10.0f;   // before the atmosphere
+    z.at(1, 0, 0) = 400.0f;  // beyond its end
+    AdjustParams p;
+    p.atmosphere = true;
+    p.tint_r = 0.5f, p.tint_g = 0.6f, p.tint_b = 0.7f;
+    ImageF co, zo;
+    adjust(co, zo, c, z, {1, 1, 1}, p, Exec::reference());
+    EXPECT_NEAR(co.at(0, 0, 0), 0.2f, 1e-6f);
+    EXPECT_NEAR(co.at(1, 0, 0), 0.5f, 1e-6f);
+    EXPECT_NEAR(co.at(1, 0, 2), 0.7f, 1e-6f);
+}
+
+TEST(Adjust, SizeMismatchNamesTheTarget) {
+    ImageF c(4, 4, 4), z(4, 3, 1), co, zo;
+    try {
+        adjust(co, zo, c, z, {1, 1, 1}, AdjustParams{});
+        FAIL() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("depth"), std::string::npos) << e.what();
+    }
+}
+
+TEST(PigmentDensity, ZeroControlLeavesColourUnchanged) {
+    ImageF c(3, 2, 4), k(3, 2, 4, 0.0f), o;
+    for (std::size_t i = 0; i < c.num_values(); ++i) c.data()[i] = 0.1f + 0.07f * float(i % 11);
+    pigment_density(o, c, k, {0.9f, 0.9f, 0.9f}, PigmentDensityParams{}, Exec::reference());
+    EXPECT_EQ(o, c);
+}
+
+TEST(PigmentDensity, FullDilutionGivesSubstrateAndAccumulationSquares) {
+    ImageF c(2, 1, 4, 0.5f), k(2, 1, 4, 0.0f), o;
+    k.at(0, 0, 2) = -1.0f;  // d = 0: fade to the substrate
+    k.at(1, 0, 2) = 1.0f;   // d = 2: c^2
+    const glm::vec3 s{0.9f, 0.8f, 0.7f};
+    pigment_density(o, c, k, s, PigmentDensityParams{}, Exec::reference());
+    for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_EQ(o.at(0, 0, ch), s[ch]);
+        EXPECT_FLOAT_EQ(o.at(1, 0, ch), 0.25f);
+    }
+    EXPECT_EQ(o.at(0, 0, 3), 0.5f);  // alpha kept
+}
+
+}  // namespace
+}  // namespace aq::stylize

@@ -1,0 +1,178 @@
+// tests/stylize/bleed_test.cpp — colour bleeding (WC16 naive, WC17 Algorithm 1, MNPR) and the
+// bleeding blend (WC17 eq. 7): constants stay constant, the naive impulse response is the
+// normalised Gaussian, zero control changes nothing, and the two bleeding rules of WC17 Figure 9
+// on small synthetic G-buffers.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "stylize/kernels.h"
+#include "stylize/stages/bleed.h"
+#include "stylize/stages/bleed_blend.h"
+
+namespace aq::stylize {
+namespace {
+
+constexpr BleedRule kRules[] = {BleedRule::Naive, BleedRule::JointBilateral, BleedRule::Mnpr};
+
+struct Scene {
+    ImageF color, depth, ctrl;
+    Scene(int w, int h) : color(w, h, 4), depth(w, h, 1), ctrl(w, h, 4, 0.0f) {}
+    void set(int x, int y, glm::vec3 c, float z, float bleed) {
+        for (int k = 0; k < 3; ++k) color.at(x, y, k) = c[k];
+        color.at(x, y, 3) = 1.0f;
+        depth.at(x, y, 0) = z;
+        ctrl.at(x, y, 2) = bleed;  // ctrl.abstraction.b
+    }
+};
+
+BleedParams full_res() {
+    BleedParams p;
+    p.half_res = false;
+    return p;
+}
+
+TEST(Bleed, ConstantColourStaysConstantForEveryVariantAndControl) {
+    Scene s(31, 23);
+    for (int y = 0; y < 23; ++y)
+        for (int x = 0; x < 31; ++x)
+            s.set(x, y, {0.3f, 0.6f, 0.9f}, 0.2f + 0.01f * float((x * 7 + y * 3) % 5), float((x + y) % 3) * 0.5f);
+    for (BleedRule rule : kRules)
+        for (bool half : {false, true}) {
+            BleedParams p = full_res();
+            p.half_res = half;
+            ImageF b;
+            bleed(b, s.color, s.depth, s.ctrl, rule, p, Exec::reference());
+            for (int y = 0; y < b.height(); ++y)
+                for (int x = 0; x < b.width(); ++x) {
+                    EXPECT_EQ(b.at(x, y, 0), 0.3f);
+                    EXPECT_EQ(b.at(x, y, 1), 0.6f);
+                    EXPECT_EQ(b.at(x, y, 2), 0.9f);
+                }
+        }
+}
+
+TEST(Bleed, HalfResolutionRoundsUp) {
+    Scene s(31, 22);
+    ImageF b;
+    BleedParams p;
+    p.half_res = true;
+    bleed(b, s.color, s.depth, s.ctrl, BleedRule::JointBilateral, p);
+    EXPECT_EQ(b.width(), 16);
+    EXPECT_EQ(b.height(), 11);
+}
+
+TEST(Bleed, NaiveImpulseReproducesTheNormalisedGaussian) {
+    const int n = 31, c = 15;
+    Scene s(n, n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) s.set(x, y, {0, 0, 0}, 0.5f, 1.0f);
+    s.color.at(c, c, 0) = 1.0f;
+    ImageF b;
+    bleed(b, s.color, ImageF(), s.ctrl, BleedRule::Naive, full_res(), Exec::reference());
+    // Independent kernel: exp(-i^2 / (2 sigma^2)), normalised over 21 taps, outer product.
+    double g[kBleedTaps], sum = 0;
+    for (int i = -kBleedRadius; i <= kBleedRadius; ++i) sum += g[i + kBleedRadius] = std::exp(-double(i * i) / (2.0 * 400.0));
+    for (int dy = -kBleedRadius; dy <= kBleedRadius; ++dy)
+        for (int dx = -kBleedRadius; dx <= kBleedRadius; ++dx)
+            EXPECT_NEAR(b.at(c + dx, c + dy, 0), g[dx + kBleedRadius] / sum * g[dy + kBleedRadius] / sum, 2e-6);
+    EXPECT_EQ(b.at(c + kBleedRadius + 1, c, 0), 0.0f);
+    EXPECT_EQ(b.at(c, c, 3), 1.0f);  // naive: the mask is the painted control, not blurred
+}
+
+TEST(Bleed, ZeroControlLeavesColourUnchangedAndBlendIsIdentity) {
+    Scene s(29, 19);
+    for (int y = 0; y < 19; ++y)
+        for (int x = 0; x < 29; ++x)
+            s.set(x, y, {0.05f * float(x % 13), 0.9f - 0.03f * float(y), 0.5f}, x < 14 ? 0.2f : 0.7f, 0.0f);
+    for (BleedRule rule : {BleedRule::JointBilateral, BleedRule::Mnpr}) {
+        ImageF b, o;
+        bleed(b, s.color, s.depth, s.ctrl, rule, full_res(), Exec::reference());
+        for (int y = 0; y < 19; ++y)
+            for (int x = 0; x < 29; ++x) {
+                for (int k = 0; k < 3; ++k) EXPECT_EQ(b.at(x, y, k), s.color.at(x, y, k));
+                EXPECT_EQ(b.at(x, y, 3), 0.0f);
+            }
+        bleed_blend(o, s.color, b, BleedBlendParams{}, Exec::reference());
+        EXPECT_EQ(o, s.color);
+    }
+}
+
+// WC17 Figure 9 (a-c): a bled background behind an un-bled foreground line. Naive bleeding leaks
+// the line into the background; Algorithm 1 keeps the background free of it and the line crisp.
+TEST(Bleed, Figure9UnbledForegroundLineDoesNotLeakIntoBledBackground) {
+    const int w = 48, h = 20, lx = 24;
+    Scene s(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool line = x == lx || x == lx + 1;
+            s.set(x, y, line ? glm::vec3(0.0f) : glm::vec3(0.9f, 0.8f, 0.3f), line ? 0.2f : 0.8f, line ? 0.0f : 1.0f);
+        }
+    for (BleedRule rule : {BleedRule::JointBilateral, BleedRule::Mnpr}) {
+        ImageF b;
+        bleed(b, s.color, s.depth, s.ctrl, rule, full_res(), Exec::reference());
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int k = 0; k < 3; ++k) EXPECT_EQ(b.at(x, y, k), s.color.at(x, y, k)) << x << "," << y;
+    }
+    ImageF naive, out;
+    bleed(naive, s.color, s.depth, s.ctrl, BleedRule::Naive, full_res(), Exec::reference());
+    EXPECT_LT(naive.at(lx - 3, h / 2, 0), 0.85f) << "the naive variant should show the leak (problem case 1)";
+    bleed_blend(out, s.color, naive, BleedBlendParams{}, Exec::reference());
+    EXPECT_LT(out.at(lx - 3, h / 2, 0), 0.85f);
+}
+
+// WC17 Figure 9 (d-f): a bled foreground square over an un-bled background. Algorithm 1 bleeds the
+// square into the background (and expands the mask there); the naive variant clips at the mask.
+TEST(Bleed, Figure9BledForegroundBleedsIntoUnbledBackground) {
+    const int w = 40, h = 40;
+    Scene s(w, h);
+    auto inside = [](int x, int y) { return x >= 14 && x < 26 && y >= 14 && y < 26; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            s.set(x, y, inside(x, y) ? glm::vec3(0.9f, 0.1f, 0.1f) : glm::vec3(1.0f), inside(x, y) ? 0.2f : 0.8f,
+                  inside(x, y) ? 1.0f : 0.0f);
+    const int bx = 12, by = 20;  // background, two pixels left of the square
+    for (BleedRule rule : {BleedRule::JointBilateral, BleedRule::Mnpr}) {
+        ImageF b, out;
+        bleed(b, s.color, s.depth, s.ctrl, rule, full_res(), Exec::reference());
+        EXPECT_GT(b.at(bx, by, 3), 0.0f) << "mask expanded into the background";
+        bleed_blend(out, s.color, b, BleedBlendParams{kBleedBlendGainMnpr}, Exec::reference());
+        EXPECT_LT(out.at(bx, by, 1), 0.99f) << "red bled into the white background";
+        EXPECT_EQ(out.at(2, 2, 1), 1.0f) << "far background untouched";
+    }
+    ImageF naive, out;
+    bleed(naive, s.color, s.depth, s.ctrl, BleedRule::Naive, full_res(), Exec::reference());
+    bleed_blend(out, s.color, naive, BleedBlendParams{}, Exec::reference());
+    EXPECT_EQ(out.at(bx, by, 1), 1.0f) << "naive bleeding is clipped at the painted mask (problem case 2)";
+}
+
+TEST(BleedBlend, UpsamplesAHalfResolutionBleedAndRejectsOtherSizes) {
+    ImageF c(9, 7, 4, 0.25f), b(5, 4, 4, 0.75f), o;
+    for (std::size_t i = 3; i < b.num_values(); i += 4) b.data()[i] = 1.0f;  // mask 1
+    bleed_blend(o, c, b, BleedBlendParams{}, Exec::reference());
+    for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 9; ++x) EXPECT_EQ(o.at(x, y, 0), 0.75f);
+    ImageF wrong(6, 4, 4);
+    try {
+        bleed_blend(o, c, wrong, BleedBlendParams{});
+        FAIL() << "accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("bleed"), std::string::npos);
+    }
+}
+
+TEST(BleedBlend, GainScalesTheMaskAndSaturates) {
+    ImageF c(1, 1, 4, 0.0f), b(1, 1, 4, 1.0f), o;
+    b.at(0, 0, 3) = 0.1f;
+    bleed_blend(o, c, b, BleedBlendParams{1.0f}, Exec::reference());
+    EXPECT_NEAR(o.at(0, 0, 0), 0.1f, 1e-7f);
+    bleed_blend(o, c, b, BleedBlendParams{5.0f}, Exec::reference());
+    EXPECT_NEAR(o.at(0, 0, 0), 0.5f, 1e-7f);
+    bleed_blend(o, c, b, BleedBlendParams{50.0f}, Exec::reference());
+    EXPECT_EQ(o.at(0, 0, 0), 1.0f);
+}
+
+}  // namespace
+}  // namespace aq::stylize

@@ -1,0 +1,118 @@
+// tests/stylize/edge_blur_test.cpp — WC17 5x5 blur, WC18 variable-width edge blur and the extended
+// edges of gaps & overlaps: constants stay constant, impulses reproduce the normalised kernels
+// (computed here independently), painted width widens the kernel, zero edges stay zero.
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "stylize/stages/edge_blur.h"
+#include "stylize/stages/extend_edges.h"
+
+namespace aq::stylize {
+namespace {
+
+//! exp(-o^2 / (2 sigma^2)) for |o| <= r, normalised.
+std::vector<double> gauss(int r, double sigma) {
+    std::vector<double> g(std::size_t(2 * r + 1));
+    double s = 0;
+    for (int o = -r; o <= r; ++o) s += g[std::size_t(o + r)] = std::exp(-double(o * o) / (2 * sigma * sigma));
+    for (double& v : g) v /= s;
+    return g;
+}
+
+TEST(EdgeBlurWc17, ConstantStaysConstantAtHalfResolution) {
+    ImageF c(21, 13, 4, 0.4f), o;
+    for (int y = 0; y < 13; ++y)
+        for (int x = 0; x < 21; ++x) c.at(x, y, 2) = 0.7f;
+    edge_blur_wc17(o, c, EdgeBlurWc17Params{}, Exec::reference());
+    EXPECT_EQ(o.width(), 11);
+    EXPECT_EQ(o.height(), 7);
+    for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 11; ++x) {
+            EXPECT_EQ(o.at(x, y, 0), 0.4f);
+            EXPECT_EQ(o.at(x, y, 2), 0.7f);
+        }
+}
+
+TEST(EdgeBlurWc17, ImpulseReproducesThe5x5Gaussian) {
+    ImageF c(11, 11, 4, 0.0f), o;
+    c.at(5, 5, 1) = 1.0f;
+    EdgeBlurWc17Params p;
+    p.half_res = false;
+    edge_blur_wc17(o, c, p, Exec::reference());
+    const auto g = gauss(2, 1.0);
+    for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+            const double expect = (std::abs(dx) <= 2 && std::abs(dy) <= 2) ? g[std::size_t(dx + 2)] * g[std::size_t(dy + 2)] : 0.0;
+            EXPECT_NEAR(o.at(5 + dx, 5 + dy, 1), expect, 1e-6) << dx << "," << dy;
+        }
+}
+
+TEST(EdgeBlurWc18, KernelSizeFollowsMnprAndIsGuarded) {
+    EXPECT_EQ(edge_blur_kernel_size(3, 0.0f), 3);
+    EXPECT_EQ(edge_blur_kernel_size(3, 1.0f), 12);
+    EXPECT_EQ(edge_blur_kernel_size(3, 0.5f), 7);   // int(3 + 4.5)
+    EXPECT_EQ(edge_blur_kernel_size(3, -1.0f), 1);  // max(1, 3 - 9)
+    EXPECT_EQ(edge_blur_kernel_size(3, std::numeric_limits<float>::quiet_NaN()), 1);
+    EXPECT_EQ(edge_blur_kernel_size(3, 1e30f), 12);
+}
+
+TEST(EdgeBlurWc18, ConstantStaysConstantWhateverTheWidth) {
+    ImageF e(23, 17, 1, 0.6f), k(23, 17, 4), o;
+    for (std::size_t i = 0; i < k.num_values(); ++i) k.data()[i] = float(int(i % 9) - 4) / 4.0f;
+    edge_blur_wc18(o, e, k, EdgeBlurWc18Params{}, Exec::reference());
+    for (std::size_t i = 0; i < o.num_values(); ++i) EXPECT_EQ(o.data()[i], 0.6f);
+}
+
+TEST(EdgeBlurWc18, ImpulseReproducesTheKernelOfThePaintedWidth) {
+    const int n = 31, c = 15;
+    for (float ctrl : {0.0f, 1.0f}) {
+        ImageF e(n, n, 1, 0.0f), k(n, n, 4, 0.0f), o;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) k.at(x, y, 1) = ctrl;
+        e.at(c, c, 0) = 1.0f;
+        edge_blur_wc18(o, e, k, EdgeBlurWc18Params{}, Exec::reference());
+        const int K = ctrl == 0.0f ? 3 : 12;  // W = 3: K = W, or 4W at full painted width
+        const auto g = gauss(K - 1, K / 2.0);
+        for (int dy = -K; dy <= K; ++dy)
+            for (int dx = -K; dx <= K; ++dx) {
+                const bool in = std::abs(dx) < K && std::abs(dy) < K;
+                const double expect = in ? g[std::size_t(dx + K - 1)] * g[std::size_t(dy + K - 1)] : 0.0;
+                EXPECT_NEAR(o.at(c + dx, c + dy, 0), expect, 2e-6) << "K " << K << " at " << dx << "," << dy;
+            }
+    }
+}
+
+TEST(ExtendEdges, ZeroStaysZeroAndOneStaysOne) {
+    ImageF z(13, 9, 1, 0.0f), one(13, 9, 1, 1.0f), o;
+    extend_edges(o, z, ExtendEdgesParams{}, Exec::reference());
+    for (std::size_t i = 0; i < o.num_values(); ++i) EXPECT_EQ(o.data()[i], 0.0f);
+    extend_edges(o, one, ExtendEdgesParams{}, Exec::reference());
+    for (std::size_t i = 0; i < o.num_values(); ++i) EXPECT_EQ(o.data()[i], 1.0f);
+}
+
+TEST(ExtendEdges, ImpulseGivesTheLinearKernelThenMnprGamma) {
+    const int n = 15, c = 7;
+    for (int W : {3, 5}) {
+        ImageF e(n, n, 1, 0.0f), o;
+        e.at(c, c, 0) = 1.0f;
+        ExtendEdgesParams p;
+        p.width = W;
+        extend_edges(o, e, p, Exec::reference());
+        std::vector<double> lin(std::size_t(2 * W - 1));
+        double s = 0;
+        for (int l = -(W - 1); l <= W - 1; ++l) s += lin[std::size_t(l + W - 1)] = 1.0 - double(std::abs(l)) / W;
+        for (int dy = -W; dy <= W; ++dy)
+            for (int dx = -W; dx <= W; ++dx) {
+                double b = 0;
+                if (std::abs(dx) < W && std::abs(dy) < W) b = lin[std::size_t(dx + W - 1)] / s * lin[std::size_t(dy + W - 1)] / s;
+                const double expect = b > 0 ? std::pow(std::pow(b, 1.0 / b), 2.0 / W) : 0.0;
+                EXPECT_NEAR(o.at(c + dx, c + dy, 0), expect, 2e-5) << "W " << W << " at " << dx << "," << dy;
+            }
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize

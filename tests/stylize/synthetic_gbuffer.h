@@ -1,0 +1,82 @@
+// tests/stylize/synthetic_gbuffer.h — deterministic synthetic G-buffers for the stylization tests:
+// shapes at different depths, painted control with zero and non-zero regions, and inputs for any
+// registered port (so registry-wide tests also cover stages added later).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "core/image.h"
+#include "core/targets.h"
+#include "stylize/stage.h"
+
+namespace aq::test {
+
+//! Hash-based value noise in [0, 1), keyed by pixel, channel and seed (never by thread).
+inline float hash01(int x, int y, int c, std::uint32_t seed) {
+    std::uint32_t h = std::uint32_t(x) * 0x8da6b343u ^ std::uint32_t(y) * 0xd8163841u ^ std::uint32_t(c) * 0xcb1ab31fu ^
+                      seed * 0x9e3779b9u;
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return float(h >> 8) / float(1u << 24);
+}
+
+//! Which object covers (x, y): 0 background, 1 disc (front), 2 bar (middle).
+inline int object_at(int x, int y, int w, int h) {
+    const float dx = x - 0.35f * w, dy = y - 0.5f * h;
+    if (dx * dx + dy * dy < 0.09f * w * w) return 1;
+    if (x > 0.55f * w && x < 0.8f * w && y > 0.15f * h) return 2;
+    return 0;
+}
+
+//! A synthetic image for a target name and channel count: colours in [0,1] (alpha = coverage),
+//! linear depth in scene units (depth.linear), normalised depth ("depth"), signed control in
+//! [-1,1] with zero regions (ctrl.*), edge-like [0,1] values otherwise.
+inline ImageF synthetic_target(const std::string& name, int channels, int w, int h, std::uint32_t seed = 1) {
+    ImageF img(w, h, channels);
+    const bool is_ctrl = name.rfind("ctrl.", 0) == 0;
+    const bool is_lin_depth = name == target::kDepthLinear;
+    const bool is_depth = name == "depth" || name.find("depth") != std::string::npos;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const int obj = object_at(x, y, w, h);
+            for (int c = 0; c < channels; ++c) {
+                const float n = hash01(x, y, c, seed);
+                float v;
+                if (is_lin_depth) {
+                    v = obj == 1 ? 12.0f + 0.02f * x : obj == 2 ? 25.0f + 0.01f * y : std::numeric_limits<float>::infinity();
+                } else if (is_depth) {
+                    v = obj == 1 ? 0.1f + 0.001f * x : obj == 2 ? 0.4f + 0.001f * y : 1.0f;
+                } else if (is_ctrl) {
+                    // zero on the background, smooth painted values on objects, some negative
+                    v = obj == 0 ? 0.0f : (obj == 1 ? 0.8f * n : 2.0f * n - 1.0f);
+                } else if (channels == 4 && c == 3) {
+                    v = obj == 0 ? 0.0f : 1.0f;  // alpha = coverage
+                } else {
+                    const float base = obj == 1 ? 0.8f - 0.5f * c * 0.3f : obj == 2 ? 0.2f + 0.3f * c : 0.95f;
+                    v = base + 0.1f * (n - 0.5f);
+                }
+                img.at(x, y, c) = v;
+            }
+        }
+    return img;
+}
+
+//! A G-buffer holding every spec §1 target plus, for the given variant, every input port's
+//! default target (intermediates), all at w x h.
+inline Targets synthetic_gbuffer(int w, int h, std::uint32_t seed = 1) {
+    Targets t;
+    t.set(target::kColor, synthetic_target(target::kColor, 4, w, h, seed));
+    t.set(target::kDepthLinear, synthetic_target(target::kDepthLinear, 1, w, h, seed));
+    for (const char* c : {target::kCtrlPigment, target::kCtrlSubstrate, target::kCtrlEdge, target::kCtrlAbstraction})
+        t.set(c, synthetic_target(c, 4, w, h, seed + 7));
+    t.set(target::kNormal, synthetic_target(target::kNormal, 3, w, h, seed));
+    return t;
+}
+
+}  // namespace aq::test
