@@ -14,6 +14,8 @@
 #include "reference/stage_twin.h"
 #include "reference/synthetic.h"
 #include "stylize/paper.h"
+#include "stylize/pipeline.h"
+#include "tests/reference/reference_scenes.h"
 #include "tests/reference/reference_support.h"
 #include "tests/test_support.h"
 
@@ -117,7 +119,47 @@ void append_error_row(const std::string& row) {
     f << row << "\n";
 }
 
-//! Runs one variant on one scene and parameter set; compares every output.
+//! Compares the C++ and GL outputs of one stage run against the variant's tolerance; on failure
+//! writes both images and a diff heatmap and names them.
+void compare_outputs(const StageVariant& v, const std::vector<const ImageF*>& cpp, const std::vector<ImageF>& gl,
+                     const std::string& scene, const std::string& pname) {
+    ASSERT_EQ(gl.size(), cpp.size());
+    const Tolerance tol = tolerance_for(v);
+    for (std::size_t k = 0; k < cpp.size(); ++k) {
+        const ImageF& c = *cpp[k];
+        const std::string what = v.key() + " output '" + v.outputs[k].name + "' on " + scene + " (" + pname + ")";
+        ASSERT_TRUE(c.same_size(gl[k]) && c.channels() == gl[k].channels())
+            << what << ": C++ " << c.width() << "x" << c.height() << "x" << c.channels() << " vs GL "
+            << gl[k].width() << "x" << gl[k].height() << "x" << gl[k].channels();
+        const CompareStats st = compare_images(c, gl[k], 1.0 / 255.0);
+        const CompareStats fine = compare_images(c, gl[k], tol.max_abs);
+        char row[512];
+        std::snprintf(row, sizeof row, "%s\t%s\t%s\t%s\t%.3g\t%.3g\t%.3g\t%.3g\t%.1f", v.key().c_str(), scene.c_str(),
+                      pname.c_str(), v.outputs[k].name.c_str(), st.mean_abs, st.max_abs, fine.frac_over, st.frac_over,
+                      st.psnr);
+        append_error_row(row);
+        std::printf("  %-26s %-9s %-22s %-7s mean %.3g max %.3g (at %d,%d c%d) over tol %.3g over 1/255 %.3g\n",
+                    v.key().c_str(), v.outputs[k].name.c_str(), scene.c_str(), pname.c_str(), st.mean_abs, st.max_abs,
+                    st.max_x, st.max_y, st.max_c, fine.frac_over, st.frac_over);
+        bool pass = st.nonfinite == 0;
+        if (tol.flip_frac == 0.0) pass = pass && st.max_abs <= tol.max_abs;
+        else pass = pass && fine.frac_over <= tol.flip_frac;
+        if (!pass) {
+            const std::string base =
+                test::output_dir() + "/" + safe_file_name(v.key() + "." + v.outputs[k].name + "." + scene + "." + pname);
+            write_image(base + ".cpp.exr", c);
+            write_image(base + ".gl.exr", gl[k]);
+            write_image(base + ".diff.png", diff_heatmap(c, gl[k]));
+            ADD_FAILURE() << what << " differs beyond tolerance (max_abs " << tol.max_abs << ", flip fraction "
+                          << tol.flip_frac << ": " << tol.why << ")\n"
+                          << format_stats(st) << "\nfraction over " << tol.max_abs << ": " << fine.frac_over
+                          << "\nwrote " << base << ".cpp.exr, .gl.exr, .diff.png";
+        }
+    }
+}
+
+//! Runs one variant on one scene and parameter set (inputs by default target names, produced by
+//! the registered C++ producers); compares every output.
 void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& params, const std::string& pname) {
     s.globals.paper = &s.paper;
     for (auto& in : v.inputs) {
@@ -127,39 +169,10 @@ void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& 
     auto cpp = run_cpp_stage(v, s.targets, params, s.globals);
     std::vector<const ImageF*> ins;
     for (auto& in : v.inputs) ins.push_back(s.targets.has(in.default_target) ? &s.targets.get(in.default_target) : nullptr);
-    StageTwin twin(v);
-    auto gl = twin.run(ins, params, s.globals);
-    ASSERT_EQ(gl.size(), cpp.size());
-    const Tolerance tol = tolerance_for(v);
-    for (std::size_t k = 0; k < cpp.size(); ++k) {
-        const std::string what = v.key() + " output '" + v.outputs[k].name + "' on " + s.name + " (" + pname + ")";
-        ASSERT_TRUE(cpp[k].same_size(gl[k]) && cpp[k].channels() == gl[k].channels())
-            << what << ": C++ " << cpp[k].width() << "x" << cpp[k].height() << "x" << cpp[k].channels() << " vs GL "
-            << gl[k].width() << "x" << gl[k].height() << "x" << gl[k].channels();
-        const CompareStats st = compare_images(cpp[k], gl[k], 1.0 / 255.0);
-        const CompareStats fine = compare_images(cpp[k], gl[k], tol.max_abs);
-        char row[512];
-        std::snprintf(row, sizeof row, "%s\t%s\t%s\t%s\t%.3g\t%.3g\t%.3g\t%.3g\t%.1f", v.key().c_str(), s.name.c_str(),
-                      pname.c_str(), v.outputs[k].name.c_str(), st.mean_abs, st.max_abs, fine.frac_over, st.frac_over,
-                      st.psnr);
-        append_error_row(row);
-        std::printf("  %-26s %-9s %-22s %-7s mean %.3g max %.3g (at %d,%d c%d) over tol %.3g over 1/255 %.3g\n",
-                    v.key().c_str(), v.outputs[k].name.c_str(), s.name.c_str(), pname.c_str(), st.mean_abs, st.max_abs, st.max_x,
-                    st.max_y, st.max_c, fine.frac_over, st.frac_over);
-        bool pass = st.nonfinite == 0 ? true : false;
-        if (tol.flip_frac == 0.0) pass = pass && st.max_abs <= tol.max_abs;
-        else pass = pass && fine.frac_over <= tol.flip_frac;
-        if (!pass) {
-            const std::string base = test::output_dir() + "/" + safe_file_name(v.key() + "." + v.outputs[k].name + "." + s.name + "." + pname);
-            write_image(base + ".cpp.exr", cpp[k]);
-            write_image(base + ".gl.exr", gl[k]);
-            write_image(base + ".diff.png", diff_heatmap(cpp[k], gl[k]));
-            ADD_FAILURE() << what << " differs beyond tolerance (max_abs " << tol.max_abs << ", flip fraction "
-                          << tol.flip_frac << ": " << tol.why << ")\n"
-                          << format_stats(st) << "\nfraction over " << tol.max_abs << ": " << fine.frac_over
-                          << "\nwrote " << base << ".cpp.exr, .gl.exr, .diff.png";
-        }
-    }
+    auto gl = StageTwin(v).run(ins, params, s.globals);
+    std::vector<const ImageF*> cp;
+    for (auto& c : cpp) cp.push_back(&c);
+    compare_outputs(v, cp, gl, s.name, pname);
 }
 
 class StageReference : public ::testing::TestWithParam<std::string> {};
@@ -183,6 +196,56 @@ INSTANTIATE_TEST_SUITE_P(Registry, StageReference, ::testing::ValuesIn(registry_
                              return n;
                          });
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StageReference);
+
+// Every step of every preset pipeline, on G-buffers rasterized from real models and the procedural
+// scene (and the synthetic one): the inputs are exactly what the pipeline feeds the step (half-
+// resolution bleeding included), the parameters are the preset's.
+struct PipelineCase {
+    std::string preset, scene;
+};
+
+std::vector<PipelineCase> pipeline_cases() {
+    std::vector<PipelineCase> out;
+    for (const char* preset : {"wc16", "wc17", "wc18", "mnpr"})
+        for (auto& scene : reference_scene_names()) out.push_back({preset, scene});
+    return out;
+}
+
+class PipelineReference : public ::testing::TestWithParam<PipelineCase> {};
+
+TEST_P(PipelineReference, EveryStepMatchesItsTwin) {
+    AQ_REQUIRE_GL();
+    const PipelineCase& pc = GetParam();
+    stylize::Pipeline p = stylize::load_pipeline(pc.preset);
+    ReferenceScene rs = make_reference_scene(pc.scene, 160, 96);
+    if (rs.has_paper) p.paper = rs.paper, p.has_paper = true;
+    p.substrate_color = rs.substrate_color;
+    Targets t = rs.gbuffer;
+    stylize::RunOptions opt;
+    opt.exec = Exec::reference();
+    stylize::run_pipeline(p, t, opt);
+    stylize::Globals g;
+    g.substrate_color = p.substrate_color;
+    g.paper = &t.get("paper");
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+        const stylize::ResolvedStep st = stylize::resolve_step(p, i);
+        const StageVariant& v = *st.variant;
+        ASSERT_TRUE(has_twin(v)) << "no GLSL twin for " << v.key();
+        std::vector<const ImageF*> ins, cpp;
+        for (auto& name : st.inputs) ins.push_back(name.empty() ? nullptr : &t.get(name));
+        for (auto& name : st.outputs) cpp.push_back(&t.get(name));
+        auto gl = StageTwin(v).run(ins, st.params, g);
+        compare_outputs(v, cpp, gl, pc.scene, pc.preset + "#" + std::to_string(i));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, PipelineReference, ::testing::ValuesIn(pipeline_cases()),
+                         [](const ::testing::TestParamInfo<PipelineCase>& i) {
+                             std::string n = i.param.preset + "_" + i.param.scene;
+                             for (char& c : n)
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return n;
+                         });
 
 TEST(StageReferenceCoverage, EveryRegisteredVariantHasATwin) {
     std::string missing;
