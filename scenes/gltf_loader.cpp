@@ -119,6 +119,7 @@ void check_glb(const std::vector<unsigned char>& b, std::string* warn_out, const
                     std::to_string(b.size()) + " bytes); trailing bytes ignored";
     if (length < 20) fail("header length " + std::to_string(length) + " is smaller than the header");
     if (c0type != 0x4E4F534Au) fail("first chunk is not JSON");
+    if (c0len % 4 != 0) fail("JSON chunk length " + std::to_string(c0len) + " is not a multiple of 4");
     if (c0len == 0 || std::uint64_t(c0len) + 20 > length) fail("JSON chunk exceeds the file");
     std::uint64_t off = 20ull + c0len;
     off = (off + 3) & ~std::uint64_t(3);  // chunks are 4-byte aligned
@@ -266,7 +267,7 @@ private:
     std::map<std::pair<int, bool>, int> texture_cache_;  //!< (image, srgb) -> scene texture or -1
     std::vector<bool> material_needs_tangents_;
     bool need_default_material_ = false;
-    std::size_t total_triangles_ = 0, nonfinite_positions_ = 0;
+    std::size_t total_triangles_ = 0, instanced_triangles_ = 0, nonfinite_positions_ = 0;
     std::vector<char> node_state_;  //!< 0 unvisited, 1 on the current path, 2 done
     std::uint32_t next_object_id_ = 1;
     std::vector<std::size_t> infinite_cameras_;
@@ -694,6 +695,12 @@ void Loader::traverse(int index, const glm::mat4& parent, int depth) {
         if (std::size_t(n.mesh) >= m_.meshes.size())
             fail(what + ": mesh " + std::to_string(n.mesh) + " does not exist (the file has " +
                  std::to_string(m_.meshes.size()) + ")");
+        // Instancing multiplies triangles: bound what the rasterizer will be asked to draw.
+        std::size_t mesh_tris = 0;
+        for (const Primitive& p : scene_.meshes[std::size_t(n.mesh)].primitives) mesh_tris += p.indices.size() / 3;
+        if (mesh_tris > kMaxTriangles - instanced_triangles_)
+            fail("more than " + std::to_string(kMaxTriangles) + " triangles after instancing (limit)");
+        instanced_triangles_ += mesh_tris;
         Instance inst;
         inst.mesh = n.mesh;
         inst.world = world;

@@ -163,6 +163,21 @@ TEST(Malformed, AbsurdCountIsRefusedBeforeAllocating) {
     expect_error(c.write_gltf(out_path("count_overflow.gltf")), "limit");
 }
 
+TEST(Malformed, InstancingCannotMultiplyTrianglesPastTheLimit) {
+    // A 1M-triangle strip (accessor without bufferView: zeros) placed by 60 nodes = 60M triangles.
+    GltfBuilder b = quad(false);
+    b.j["accessors"][0].erase("bufferView");
+    b.j["accessors"][0]["count"] = 1000002;
+    b.j["meshes"][0]["primitives"][0]["mode"] = 5;
+    b.j["nodes"] = nlohmann::json::array();
+    b.j["scenes"][0]["nodes"] = nlohmann::json::array();
+    for (int i = 0; i < 60; ++i) {
+        b.j["nodes"].push_back({{"mesh", 0}});
+        b.j["scenes"][0]["nodes"].push_back(i);
+    }
+    expect_error(b.write_gltf(out_path("instancing.gltf")), "after instancing");
+}
+
 TEST(Malformed, IndexOutOfRange) {
     GltfBuilder b;
     const int pa = b.add(aq::test::quad_positions(), kFloat, "VEC3", 4);
