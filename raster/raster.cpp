@@ -11,7 +11,13 @@
 
 #include <cmath>
 #include <limits>
+#include <iterator>
 #include <numeric>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
 
 #include <tbb/parallel_for.h>
 
@@ -27,6 +33,27 @@ constexpr std::uint32_t kChunkTris = 8192;  // triangles per setup chunk (schedu
 constexpr std::size_t kVertexGrain = 4096;
 constexpr int kTile = 64;                   // tile side in pixels (binning and raster)
 constexpr std::uint32_t kNoChunk = 0xffffffffu;
+
+// AQ_RASTER_PROFILE=1 prints per-phase wall times to stderr (profiling aid, docs/performance.md).
+struct PhaseTimer {
+    bool on = std::getenv("AQ_RASTER_PROFILE") != nullptr;
+    std::chrono::steady_clock::time_point t = std::chrono::steady_clock::now();
+    double cpu = cpu_ms();
+    static double cpu_ms() {
+        timespec ts;
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+        return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+    }
+    void lap(const char* what) {
+        if (!on) return;
+        const auto n = std::chrono::steady_clock::now();
+        const double c = cpu_ms();
+        std::fprintf(stderr, "  raster %-10s wall %8.2f ms  cpu %8.2f ms\n", what,
+                     std::chrono::duration<double, std::milli>(n - t).count(), c - cpu);
+        t = n;
+        cpu = c;
+    }
+};
 
 struct Chunk {
     std::uint32_t draw = 0, tri_begin = 0, tri_end = 0;
@@ -101,7 +128,7 @@ void run_for(bool parallel, std::size_t n, F&& f) {
 
 // Vertex stage and chunked setup (+ binning on the fast path).
 void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
-             std::vector<std::string>* warnings) {
+             std::vector<std::string>* warnings, PhaseTimer& timer) {
     const glm::mat4 view = cam.view;
     std::size_t bad_material = 0, bad_mesh = 0, missing_tangents = 0;
     for (const scene::Instance& inst : sc.instances) {
@@ -160,6 +187,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         const Job& jb = jobs[j];
         transform_vertices(fr.fp, mv[jb.draw], nm[jb.draw], fr.draws[jb.draw], jb.begin, jb.end);
     });
+    timer.lap("vertex");
 
     for (std::uint32_t d = 0; d < fr.draws.size(); ++d) {
         const std::uint32_t ntri = std::uint32_t(fr.draws[d].prim->indices.size() / 3);
@@ -299,7 +327,20 @@ struct TileRef {
     std::uint32_t chunk, tri;
 };
 
-void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count) {
+void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
+    for (int c = 0; c < 4; ++c) tp.color[4 * i + c] = 0.0f;
+    for (int k = 0; k < scene::kNumControlTargets; ++k)
+        for (int c = 0; c < 4; ++c) tp.ctrl[k][4 * i + c] = 0.0f;
+    tp.depth[i] = bg_depth;
+    for (int c = 0; c < 3; ++c) tp.normal[3 * i + c] = 0.0f;
+    tp.id[i] = 0.0f;
+    tp.diffuse[i] = 0.0f;
+    tp.specular[i] = 0.0f;
+}
+
+// clear: the targets hold a previous frame (render_gbuffer_into), so background pixels are
+// written too; otherwise they already hold the background from the allocation.
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear) {
     const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
     const int X0 = tx * kTile, Y0 = ty * kTile;
     const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
@@ -315,6 +356,12 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         const Chunk& ch = fr.chunks[ci];
         for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
             const std::uint32_t ti = ch.bin_items[k];
+            // The setups of one tile are scattered over the chunk: fetch ahead (latency-bound).
+            if (k + 6 < ch.bin_offsets[tile + 1]) {
+                const char* ahead = reinterpret_cast<const char*>(&ch.tris[ch.bin_items[k + 6]]);
+                __builtin_prefetch(ahead);
+                __builtin_prefetch(ahead + 64);
+            }
             const TriSetup& t = ch.tris[ti];
             const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
             const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
@@ -349,7 +396,10 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
     for (int y = Y0; y <= Y1; ++y)
         for (int x = X0; x <= X1; ++x) {
             const TileRef r = ids[(y - Y0) * kTile + (x - X0)];
-            if (r.chunk == kNoChunk) continue;
+            if (r.chunk == kNoChunk) {
+                if (clear) write_background(tp, std::size_t(y) * tp.width + x, fr.background_depth);
+                continue;
+            }
             const Chunk& ch = fr.chunks[r.chunk];
             const TriSetup& t = ch.tris[r.tri];
             std::int64_t e[3];
@@ -391,18 +441,20 @@ Frame make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderS
     return fr;
 }
 
-Targets allocate_targets(int W, int H, float bg_depth) {
+// The ten targets are allocated (and zero-filled by ImageF) in parallel when `parallel`: at
+// 1080p they are 224 MB whose first touch (page faults) costs as much as the rasterization.
+Targets allocate_targets(int W, int H, float bg_depth, bool parallel = false) {
+    struct Spec { const char* name; int channels; float fill; };
+    const Spec specs[] = {{target::kColor, 4, 0.0f},         {target::kCtrlPigment, 4, 0.0f},
+                          {target::kCtrlSubstrate, 4, 0.0f}, {target::kCtrlEdge, 4, 0.0f},
+                          {target::kCtrlAbstraction, 4, 0.0f}, {target::kDepthLinear, 1, bg_depth},
+                          {target::kNormal, 3, 0.0f},        {target::kObjectId, 1, 0.0f},
+                          {target::kDiffuse, 1, 0.0f},       {target::kSpecular, 1, 0.0f}};
+    constexpr std::size_t n = sizeof(specs) / sizeof(specs[0]);
+    std::vector<ImageF> imgs(n);
+    run_for(parallel, n, [&](std::size_t i) { imgs[i] = ImageF(W, H, specs[i].channels, specs[i].fill); });
     Targets tg;
-    tg.create(target::kColor, W, H, 4);
-    tg.create(target::kCtrlPigment, W, H, 4);
-    tg.create(target::kCtrlSubstrate, W, H, 4);
-    tg.create(target::kCtrlEdge, W, H, 4);
-    tg.create(target::kCtrlAbstraction, W, H, 4);
-    tg.create(target::kDepthLinear, W, H, 1, bg_depth);
-    tg.create(target::kNormal, W, H, 3);
-    tg.create(target::kObjectId, W, H, 1);
-    tg.create(target::kDiffuse, W, H, 1);
-    tg.create(target::kSpecular, W, H, 1);
+    for (std::size_t i = 0; i < n; ++i) tg.set(specs[i].name, std::move(imgs[i]));
     return tg;
 }
 
@@ -502,8 +554,24 @@ Targets resolve(const Targets& hi, int K, int W, int H, float bg_depth, const Ex
 
 enum class Mode { GBuffer, Count };
 
+
+
+bool reusable(const Targets& t, int W, int H) {
+    const std::pair<const char*, int> want[] = {
+        {target::kColor, 4}, {target::kCtrlPigment, 4}, {target::kCtrlSubstrate, 4}, {target::kCtrlEdge, 4},
+        {target::kCtrlAbstraction, 4}, {target::kDepthLinear, 1}, {target::kNormal, 3},
+        {target::kObjectId, 1}, {target::kDiffuse, 1}, {target::kSpecular, 1}};
+    if (t.all().size() != std::size(want)) return false;
+    for (const auto& [name, ch] : want) {
+        if (!t.has(name)) return false;
+        const ImageF& img = t.get(name);
+        if (img.width() != W || img.height() != H || img.channels() != ch) return false;
+    }
+    return true;
+}
+
 Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s,
-               std::vector<std::string>* warnings, Mode mode, ImageF* count_out) {
+               std::vector<std::string>* warnings, Mode mode, ImageF* count_out, Targets* reuse = nullptr) {
     validate(cam, s);
     std::vector<std::string> local;
     if (!warnings) warnings = &local;
@@ -511,23 +579,37 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
     Frame fr = make_frame(sc, cam, s, W, H);
     const bool fast = s.exec.traversal == Traversal::Fast;
     Targets tg;
+    bool clear = false;
+    PhaseTimer timer;
     auto body = [&] {
-        prepare(fr, sc, cam, fast, fast, warnings);
+        prepare(fr, sc, cam, fast, fast, warnings, timer);
+        timer.lap("setup+bin");
         float* count = nullptr;
         TargetPtrs tp{};
         if (mode == Mode::Count) {
             *count_out = ImageF(W, H, 1, 0.0f);
             count = count_out->data();
         } else {
-            tg = allocate_targets(W, H, fr.background_depth);
+            if (reuse && K == 1 && reusable(*reuse, W, H)) {
+                tg = std::move(*reuse);
+                clear = true;
+                if (!fast) {
+                    TargetPtrs bp = pointers(tg);
+                    for (std::size_t i = 0; i < std::size_t(W) * H; ++i) write_background(bp, i, fr.background_depth);
+                }
+            } else {
+                tg = allocate_targets(W, H, fr.background_depth, fast);
+            }
             tp = pointers(tg);
         }
+        timer.lap("allocate");
         if (!fast) {
             raster_reference(fr, tp, W, H, count);
         } else {
             const int ntiles = fr.tiles_x * fr.tiles_y;
-            tbb::parallel_for(0, ntiles, [&](int tile) { raster_tile(fr, tp, W, H, tile, count); });
+            tbb::parallel_for(0, ntiles, [&](int tile) { raster_tile(fr, tp, W, H, tile, count, clear); });
         }
+        timer.lap("raster");
     };
     if (fast) with_arena(s.exec, body);
     else body();
@@ -540,6 +622,11 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
 Targets render_gbuffer(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s,
                        std::vector<std::string>* warnings) {
     return render(sc, cam, s, warnings, Mode::GBuffer, nullptr);
+}
+
+void render_gbuffer_into(Targets& out, const scene::Scene& sc, const scene::Camera& cam,
+                         const RenderSettings& s, std::vector<std::string>* warnings) {
+    out = render(sc, cam, s, warnings, Mode::GBuffer, nullptr, &out);
 }
 
 ImageF debug_coverage_count(const scene::Scene& sc, const scene::Camera& cam,

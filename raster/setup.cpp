@@ -7,6 +7,8 @@ namespace aq::raster {
 
 namespace {
 
+constexpr std::int64_t kSmallTrianglePixels = 4;
+
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
@@ -14,7 +16,20 @@ bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
            const SetupOptions& opt, bool double_sided, TriSetup& t, ClipVerts& cv) {
     std::int64_t x[3] = {sv[0].x, sv[1].x, sv[2].x};
     std::int64_t y[3] = {sv[0].y, sv[1].y, sv[2].y};
-    std::int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    // Pixel bounds first (cheap, rejects most sub-pixel triangles): centres c = 256 p + 128 with
+    // xmin <= c <= xmax.
+    const std::int64_t xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
+    const std::int64_t ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
+    std::int64_t px0 = (xmin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
+    std::int64_t px1 = (xmax - kSubpixelOne / 2) >> kSubpixelBits;
+    std::int64_t py0 = (ymin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
+    std::int64_t py1 = (ymax - kSubpixelOne / 2) >> kSubpixelBits;
+    px0 = std::max<std::int64_t>(px0, 0);
+    py0 = std::max<std::int64_t>(py0, 0);
+    px1 = std::min<std::int64_t>(px1, vp.width - 1);
+    py1 = std::min<std::int64_t>(py1, vp.height - 1);
+    if (px0 > px1 || py0 > py1) return false;
+    const std::int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
     if (area == 0) return false;  // degenerate after snapping
     // y-down screen: counter-clockwise in NDC (glTF front face) has negative area here.
     const bool back = area > 0;
@@ -29,18 +44,6 @@ bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
         X[j] = x[order[j]];
         Y[j] = y[order[j]];
     }
-    // Pixel bounds: centres c = 256 p + 128 with xmin <= c <= xmax.
-    const std::int64_t xmin = std::min({X[0], X[1], X[2]}), xmax = std::max({X[0], X[1], X[2]});
-    const std::int64_t ymin = std::min({Y[0], Y[1], Y[2]}), ymax = std::max({Y[0], Y[1], Y[2]});
-    std::int64_t px0 = (xmin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
-    std::int64_t px1 = (xmax - kSubpixelOne / 2) >> kSubpixelBits;
-    std::int64_t py0 = (ymin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
-    std::int64_t py1 = (ymax - kSubpixelOne / 2) >> kSubpixelBits;
-    px0 = std::max<std::int64_t>(px0, 0);
-    py0 = std::max<std::int64_t>(py0, 0);
-    px1 = std::min<std::int64_t>(px1, vp.width - 1);
-    py1 = std::min<std::int64_t>(py1, vp.height - 1);
-    if (px0 > px1 || py0 > py1) return false;
     for (int i = 0; i < 3; ++i) {
         const int a = (i + 1) % 3, b = (i + 2) % 3;  // edge i: vertex a -> vertex b, opposite i
         const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
@@ -54,6 +57,18 @@ bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
     t.x1 = std::int32_t(px1);
     t.y0 = std::int32_t(py0);
     t.y1 = std::int32_t(py1);
+    // Small-triangle fast path: most triangles of dense meshes cover at most a few pixel centres
+    // of their bounds; a triangle that covers none is dropped here instead of being binned.
+    if ((px1 - px0 + 1) * (py1 - py0 + 1) <= kSmallTrianglePixels) {
+        bool any = false;
+        for (int py = t.y0; py <= t.y1 && !any; ++py)
+            for (int px = t.x0; px <= t.x1 && !any; ++px) {
+                std::int64_t e[3];
+                edge_values(t, px, py, e);
+                any = inside(t, e);
+            }
+        if (!any) return false;
+    }
     for (int j = 0; j < 3; ++j) {
         t.inv_w[j] = sv[order[j]].inv_w;
         t.depth[j] = sv[order[j]].depth;

@@ -351,3 +351,26 @@ TEST(BleedDisplacement, GrowsTheSilhouette) {
     EXPECT_GT(double(on) / off, 1.2);
     EXPECT_LT(double(on) / off, 1.45);
 }
+
+// Rendering into the targets of a previous (different) frame gives the bytes of a fresh render.
+TEST(GBuffer, RenderIntoReusesTargetsWithIdenticalBytes) {
+    raster::RenderSettings st;
+    st.width = 160;
+    st.height = 120;
+    const scene::Camera cam = test::frame_scene(suzanne());
+    for (Traversal tr : {Traversal::Fast, Traversal::Reference}) {
+        st.exec.traversal = tr;
+        st.exec.threads = 2;
+        Targets out;
+        st.frame = 1;
+        raster::render_gbuffer_into(out, suzanne(), cam, st);  // allocates
+        const float* before = out.get(target::kColor).data();
+        st.frame = 2;
+        raster::render_gbuffer_into(out, suzanne(), cam, st);  // reuses, overwrites frame 1
+        EXPECT_EQ(out.get(target::kColor).data(), before) << "memory not reused";
+        expect_same_targets(out, raster::render_gbuffer(suzanne(), cam, st), "render_into");
+        // An empty scene into the same targets clears everything to the background.
+        raster::render_gbuffer_into(out, scene::Scene{}, cam, st);
+        expect_same_targets(out, raster::render_gbuffer(scene::Scene{}, cam, st), "render_into_empty");
+    }
+}
