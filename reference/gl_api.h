@@ -72,6 +72,7 @@ namespace aq::ref::gl {
     X(PFNGLUNIFORM2IPROC, Uniform2i)                                               \
     X(PFNGLUNIFORM3FPROC, Uniform3f)                                               \
     X(PFNGLUNIFORM4FPROC, Uniform4f)                                               \
+    X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                                 \
     X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                 \
     X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                   \
     X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                             \
