@@ -10,6 +10,7 @@
 
 #include "core/io.h"
 #include "scenes/procedural.h"
+#include "tests/scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
 namespace aq::scene {
@@ -333,6 +334,31 @@ TEST(SceneFile, CameraLightsStyleAndOverrides) {
     EXPECT_FLOAT_EQ(m.wc.control[kCtrlEdge].z, 0.3f);
     EXPECT_TRUE(m.double_sided);
     EXPECT_NEAR(d.scene.world_bounds().max.x, 1.0f, 1e-6f);  // Box is [-0.5, 0.5], scaled by 2
+}
+
+TEST(SceneFile, GltfCameraByIndexFollowsTheModelScale) {
+    aq::test::GltfBuilder b;
+    const int pa = b.add(aq::test::quad_positions(), aq::test::kFloat, "VEC3", 4);
+    b.single_primitive({{"attributes", {{"POSITION", pa}}}, {"mode", 6}, {"material", 0}});
+    b.j["materials"] = nlohmann::json::array({{{"name", "flat"}, {"extras", {{"dilute", 0.4}, {"specular", 0.7}, {"author", "x"}}}}});
+    b.j["cameras"] = nlohmann::json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}, {"zfar", 20}}}}});
+    b.j["nodes"].push_back({{"camera", 0}, {"translation", {0.5, 0.5, 4}}});
+    b.j["scenes"][0]["nodes"] = {0, 1};
+    const std::string model = b.write_gltf(out_path("cam_model.gltf"));
+    const SceneDesc d = load_scene(write_scene("cam_index.json", R"({"gltf": "cam_model.gltf", "camera": 0, "scale": 3})"));
+    EXPECT_FALSE(d.camera_auto);
+    EXPECT_FLOAT_EQ(d.camera.yfov, 0.5f);
+    EXPECT_NEAR(d.camera.znear, 0.3f, 1e-6f);  // scaled with the model
+    EXPECT_NEAR(d.camera.zfar, 60.0f, 1e-4f);
+    // The quad's corner (1,1,0) scaled to (3,3,0) is seen from the scaled eye (1.5,1.5,12).
+    const glm::vec4 e = d.camera.view * glm::vec4(3, 3, 0, 1);
+    EXPECT_NEAR(e.x, 1.5f, 1e-5f);
+    EXPECT_NEAR(e.y, 1.5f, 1e-5f);
+    EXPECT_NEAR(e.z, -12.0f, 1e-5f);
+    // Flat watercolor keys in glTF extras are read; unrelated keys ignored.
+    EXPECT_FLOAT_EQ(d.scene.materials.at(0).wc.dilute, 0.4f);
+    EXPECT_FLOAT_EQ(d.scene.materials.at(0).wc.specular, 0.7f);
+    expect_error(write_scene("cam_index_bad.json", R"({"gltf": "cam_model.gltf", "camera": 1})"), "camera", "does not exist");
 }
 
 TEST(FrameBounds, FitsTheBoundingSphereAtAnyAspect) {
