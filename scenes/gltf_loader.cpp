@@ -949,7 +949,12 @@ Scene load_gltf(const std::string& path, std::vector<std::string>* warnings) {
         throw Error("glTF '" + path + "': invalid GLB: " +
                     (bytes.size() < 4 ? "truncated (" + std::to_string(bytes.size()) + " bytes)" : std::string("bad magic")));
     std::string glb_warning;
-    if (binary) check_glb(bytes, &glb_warning, "glTF '" + path + "'");
+    if (binary) {
+        check_glb(bytes, &glb_warning, "glTF '" + path + "'");
+        detail::check_json_depth(bytes.data() + 20, le32(&bytes[12]), "glTF '" + path + "'");
+    } else {
+        detail::check_json_depth(bytes.data(), bytes.size(), "glTF '" + path + "'");
+    }
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(keep_image_bytes, nullptr);

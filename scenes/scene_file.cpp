@@ -460,8 +460,10 @@ SceneDesc load_scene_file(const std::string& path) {
     std::stringstream ss;
     ss << f.rdbuf();
     json j;
+    const std::string text = ss.str();
+    detail::check_json_depth(reinterpret_cast<const unsigned char*>(text.data()), text.size(), ctx.where);
     try {
-        j = json::parse(ss.str());
+        j = json::parse(text);
     } catch (const json::exception& e) {
         throw Error(ctx.where + ": invalid JSON: " + e.what());
     }

@@ -323,6 +323,25 @@ TEST(Malformed, DeepHierarchyIsBounded) {
     expect_error(b.write_gltf(out_path("deep.gltf")), "deeper");
 }
 
+TEST(Malformed, PathologicalJsonNestingIsRefusedBeforeParsing) {
+    const int d = 200000;  // crashes a recursive JSON parser by stack overflow
+    const std::string deep = "{\"asset\":{\"version\":\"2.0\"},\"extras\":" + std::string(d, '[') + std::string(d, ']') + "}";
+    aq::test::write_bytes(out_path("deep.gltf"), std::vector<unsigned char>(deep.begin(), deep.end()));
+    expect_error(out_path("deep.gltf"), "nested deeper");
+    GltfBuilder b = quad();
+    b.j["extras"] = nlohmann::json::array();
+    nlohmann::json* cur = &b.j["extras"];
+    for (int i = 0; i < 300; ++i) {
+        cur->push_back(nlohmann::json::array());
+        cur = &(*cur)[0];
+    }
+    expect_error(b.write_glb(out_path("deep.glb")), "nested deeper");
+    // Brackets inside strings do not count.
+    GltfBuilder c = quad();
+    c.j["extras"] = {{"text", std::string(5000, '[')}};
+    EXPECT_EQ(load_gltf(c.write_gltf(out_path("brackets_in_string.gltf"))).triangle_count(), 2u);
+}
+
 TEST(Malformed, UnsupportedRequiredExtension) {
     GltfBuilder b = quad();
     b.j["extensionsUsed"] = {"KHR_draco_mesh_compression"};

@@ -180,6 +180,12 @@ TEST(SceneFileErrors, MissingFilesNameThePath) {
     expect_error(write_scene("no_model.json", R"({"width": 10})"), "gltf");
 }
 
+TEST(SceneFileErrors, DeepNestingIsRefused) {
+    const int d = 200000;
+    const std::string p = write_scene("deep.json", "{\"description\": " + std::string(d, '[') + std::string(d, ']') + "}");
+    EXPECT_THROW(load_scene(p), aq::Error);
+}
+
 TEST(SceneFileErrors, InvalidJsonNamesTheFile) {
     const std::string p = write_scene("broken.json", R"({"gltf": )");
     try {
