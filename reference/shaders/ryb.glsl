@@ -5,6 +5,10 @@
 // b(c) = sqrt(c^T diag(0.241, 0.691, 0.068) c). The inverse runs in double precision (GLSL 4.00
 // fp64): in single precision the least-squares solve stalls ~1e-3 away from the optimum near the
 // cube's faces, and the overlap colours would then differ from the C++ stage by up to ~0.008.
+// For colours outside the cube's image the least-squares problem has several local minima on the
+// cube's faces; which one a solver reaches depends on its start (stylize/ryb.cpp seeds from a
+// 17^3 RGB table, this twin from the best point of a 5^3 RYB lattice), so out-of-gamut mixes may
+// differ by ~1e-2 (docs/reference.md).
 
 const vec3 kRyb[8] = vec3[8](vec3(1.0, 1.0, 1.0),      // white
                              vec3(1.0, 0.0, 0.0),      // red

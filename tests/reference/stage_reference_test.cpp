@@ -39,10 +39,13 @@ const std::map<std::string, Tolerance>& tolerances() {
     static const std::map<std::string, Tolerance> t = {
         {"adjust/mnpr", {2e-6, 0.0, "pointwise; only the depth division (GL: x * rcp(y)) may differ by an ulp"}},
         {"gaps_overlaps/wc18",
-         {1e-5, 0.005,
-          "hard thresholds (colour difference 0.33, substrate proximity, edge 2/m and 1/m on bilinear taps) "
-          "and an iterative RGB->RYB inversion whose stopping point depends on the last ulp: a bounded "
-          "fraction of values may differ"}},
+         {0.05, 0.005,
+          "overlap colours go through an iterative RGB->RYB least-squares inverse: for colours outside the "
+          "RYB cube's image it has several local minima and the C++ solver (seeded from a 17^3 table) and the "
+          "twin (seeded from a 5^3 RYB lattice) may settle on different ones, up to ~0.04 apart (in gamut they "
+          "agree to 2e-7, GlHarness.RybMixMatchesCppInGamut); the hard thresholds (colour difference 0.33, "
+          "substrate proximity, edge 2/m and 1/m on bilinear taps) may flip a pixel between branches at exact "
+          "ties: at most 0.5% of the values may exceed 0.05"}},
         {"substrate_distort/mnpr",
          {1e-5, 0.002,
           "the depth test on a bilinear depth tap is a hard threshold (0.01): a destination within an ulp "
