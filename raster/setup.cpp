@@ -9,6 +9,11 @@ namespace {
 
 constexpr std::int64_t kSmallTrianglePixels = 4;
 
+template <class T>
+inline T min3(T a, T b, T c) { return std::min(a, std::min(b, c)); }
+template <class T>
+inline T max3(T a, T b, T c) { return std::max(a, std::max(b, c)); }
+
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
@@ -18,8 +23,8 @@ bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
     std::int64_t y[3] = {sv[0].y, sv[1].y, sv[2].y};
     // Pixel bounds first (cheap, rejects most sub-pixel triangles): centres c = 256 p + 128 with
     // xmin <= c <= xmax.
-    const std::int64_t xmin = std::min({x[0], x[1], x[2]}), xmax = std::max({x[0], x[1], x[2]});
-    const std::int64_t ymin = std::min({y[0], y[1], y[2]}), ymax = std::max({y[0], y[1], y[2]});
+    const std::int64_t xmin = min3(x[0], x[1], x[2]), xmax = max3(x[0], x[1], x[2]);
+    const std::int64_t ymin = min3(y[0], y[1], y[2]), ymax = max3(y[0], y[1], y[2]);
     std::int64_t px0 = (xmin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
     std::int64_t px1 = (xmax - kSubpixelOne / 2) >> kSubpixelBits;
     std::int64_t py0 = (ymin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
@@ -122,38 +127,16 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     return m;
 }
 
-}  // namespace
-
-void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
-                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
-                    std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
-    const auto& idx = dv.prim->indices;
-    const std::uint32_t i0 = idx[3 * std::size_t(tri)], i1 = idx[3 * std::size_t(tri) + 1],
-                        i2 = idx[3 * std::size_t(tri) + 2];
-    const std::size_t nv = dv.clip.size();
-    if (i0 >= nv || i1 >= nv || i2 >= nv) {
-        ++counters.bad_index;
-        return;
-    }
-    const std::uint32_t c0 = dv.code[i0], c1 = dv.code[i1], c2 = dv.code[i2];
+// The clip path (rare), out of line so that the fast path does not pay for its buffers.
+[[gnu::noinline]] void setup_clipped(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                                     std::uint32_t i0, std::uint32_t i1, std::uint32_t i2, std::uint32_t planes,
+                                     const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                                     std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
     const bool double_sided = dv.mat->double_sided;
-    if ((c0 | c1 | c2) & kOutNonFinite) {
-        ++counters.non_finite;
-        return;
-    }
-    if (c0 & c1 & c2) return;  // entirely outside one plane
     TriSetup t;
     t.draw = draw_index;
     t.tri = tri;
     ClipVerts cv;
-    if ((c0 | c1 | c2) == 0) {
-        const SnapVertex sv[3] = {dv.snap[i0], dv.snap[i1], dv.snap[i2]};
-        if (build(sv, nullptr, vp, opt, double_sided, t, cv)) {
-            t.clip = -1;
-            out.push_back(t);
-        }
-        return;
-    }
     // Clip path (rare): polygon of at most 3 + 6 vertices.
     ++counters.clipped;
     ClipVertex bufA[12], bufB[12];
@@ -166,7 +149,6 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
     int n = 3;
     ClipVertex* cur = bufA;
     ClipVertex* nxt = bufB;
-    const std::uint32_t planes = c0 | c1 | c2;
     for (int pl = 0; pl < 6 && n >= 3; ++pl) {
         if (!(planes & (1u << pl))) continue;
         n = clip_plane(cur, n, nxt, pl, vp);
@@ -199,6 +181,49 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
             out.push_back(s);
         }
     }
+}
+
+}  // namespace
+
+void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                    std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+    const auto& idx = dv.prim->indices;
+    const std::uint32_t i0 = idx[3 * std::size_t(tri)], i1 = idx[3 * std::size_t(tri) + 1],
+                        i2 = idx[3 * std::size_t(tri) + 2];
+    const std::size_t nv = dv.clip.size();
+    if (i0 >= nv || i1 >= nv || i2 >= nv) {
+        ++counters.bad_index;
+        return;
+    }
+    const SnapVertex& s0 = dv.snap[i0];
+    const SnapVertex& s1 = dv.snap[i1];
+    const SnapVertex& s2 = dv.snap[i2];
+    const std::uint32_t c0 = s0.code, c1 = s1.code, c2 = s2.code;
+    const bool double_sided = dv.mat->double_sided;
+    if ((c0 | c1 | c2) & kOutNonFinite) {
+        ++counters.non_finite;
+        return;
+    }
+    if (c0 & c1 & c2) return;  // entirely outside one plane
+    if ((c0 | c1 | c2) == 0) {
+        ClipVerts unused;
+        const SnapVertex sv[3] = {s0, s1, s2};
+        // Quick reject of triangles whose bounds hold no pixel centre (most of a dense mesh),
+        // before anything is written; build() repeats the exact computation.
+        const std::int32_t xmin = min3(sv[0].x, sv[1].x, sv[2].x), xmax = max3(sv[0].x, sv[1].x, sv[2].x);
+        const std::int32_t ymin = min3(sv[0].y, sv[1].y, sv[2].y), ymax = max3(sv[0].y, sv[1].y, sv[2].y);
+        if (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((xmax - kSubpixelOne / 2) >> kSubpixelBits) ||
+            ((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((ymax - kSubpixelOne / 2) >> kSubpixelBits))
+            return;
+        TriSetup t;  // uninitialised; build() writes every field it keeps
+        t.draw = draw_index;
+        t.tri = tri;
+        t.clip = -1;
+        if (build(sv, nullptr, vp, opt, double_sided, t, unused)) out.push_back(t);
+        return;
+    }
+    setup_clipped(dv, draw_index, tri, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);
 }
 
 }  // namespace aq::raster

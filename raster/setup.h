@@ -27,9 +27,10 @@ struct TriSetup {
     float depth[3];            //!< linear eye depth of setup vertex j
     std::uint32_t draw;        //!< index into the frame's draws
     std::uint32_t tri;         //!< triangle index in the primitive
-    std::int32_t clip = -1;    //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
-    std::uint8_t perm = 0;     //!< 0: identity, 1: vertices 1 and 2 swapped
-    std::uint8_t back = 0;     //!< 1 when the triangle faces away (CW in NDC)
+    std::int32_t clip;         //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
+    std::uint8_t perm;         //!< 0: identity, 1: vertices 1 and 2 swapped
+    std::uint8_t back;         //!< 1 when the triangle faces away (CW in NDC)
+    // No default member initializers: trivially constructible, setup writes every field.
 };
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.

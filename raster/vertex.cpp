@@ -126,8 +126,12 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
             dv.view_tangent[i] = glm::vec4(normalize3(glm::mat3(mv) * glm::vec3(t)), t.w);
         }
         const std::uint32_t code = outcode(c, fp.vp);
-        dv.code[i] = code;
-        if (code == 0) dv.snap[i] = snap_vertex(c, -v.z, fp.vp);
+        if (code == 0) {
+            dv.snap[i] = snap_vertex(c, -v.z, fp.vp);
+        } else {
+            dv.snap[i] = SnapVertex{};
+            dv.snap[i].code = code;
+        }
     }
 }
 

@@ -52,6 +52,7 @@ struct Viewport {
 struct SnapVertex {
     std::int32_t x = 0, y = 0;
     float inv_w = 0, depth = 0;
+    std::uint32_t code = 0;  //!< outcode; x, y, inv_w are only meaningful when 0
 };
 
 //! Outcode of a clip-space position against near/far and the guard band; kOutNonFinite if any
@@ -71,8 +72,7 @@ struct DrawVertices {
     std::vector<glm::vec3> view_pos;     //!< after bleeding displacement
     std::vector<glm::vec3> view_normal;  //!< unit
     std::vector<glm::vec4> view_tangent; //!< xyz view space, w handedness; empty if none
-    std::vector<SnapVertex> snap;        //!< valid where code == 0
-    std::vector<std::uint32_t> code;     //!< outcode per vertex
+    std::vector<SnapVertex> snap;        //!< outcode + snapped position (one cache access in setup)
 };
 
 struct FrameParams {
