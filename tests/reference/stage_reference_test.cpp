@@ -117,7 +117,7 @@ void append_error_row(const std::string& row) {
     static bool header = false;
     const std::string path = test::output_dir() + "/reference_stage_errors.tsv";
     std::ofstream f(path, header ? std::ios::app : std::ios::trunc);
-    if (!header) f << "variant\tscene\tparams\toutput\tmean_abs\tmax_abs\tfrac_over_1e-5\tfrac_over_1/255\tpsnr\n";
+    if (!header) f << "variant\tscene\tparams\toutput\tmean_abs\tmax_abs\tfrac_over_tol\tfrac_over_1/255\tpsnr\n";
     header = true;
     f << row << "\n";
 }
