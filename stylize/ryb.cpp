@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace aq::stylize {
 
@@ -52,46 +53,37 @@ glm::vec3 ryb_to_rgb(glm::vec3 ryb) {
     return {float(o.x), float(o.y), float(o.z)};
 }
 
-glm::vec3 rgb_to_ryb(glm::vec3 rgb) {
-    const V3 t{std::isfinite(rgb.x) ? rgb.x : 0.0, std::isfinite(rgb.y) ? rgb.y : 0.0,
-               std::isfinite(rgb.z) ? rgb.z : 0.0};
-    // Start from the closest point of a 5^3 lattice of the cube (deterministic, robust start).
-    V3 best{0, 0, 0};
-    double best_d = 1e300;
-    for (int i = 0; i <= 4; ++i)
-        for (int j = 0; j <= 4; ++j)
-            for (int k = 0; k <= 4; ++k) {
-                const V3 p{i * 0.25, j * 0.25, k * 0.25};
-                const double d = dist2(eval(p), t);
-                if (d < best_d) best_d = d, best = p;
-            }
-    // Damped Gauss-Newton, projected onto the cube; accepts only improving steps.
-    V3 p = best;
+namespace {
+
+//! Damped Gauss-Newton on |f(p) - t|^2, projected onto the cube, from p; accepts only improving
+//! steps, stops when the residual is below 1e-14 (squared), the step vanishes, or after 24 steps.
+V3 refine(V3 p, const V3& t) {
+    double best_d = dist2(eval(p), t);
     double lambda = 1e-6;
     for (int it = 0; it < 24 && best_d > 1e-14; ++it) {
         V3 a, b, c;
         const V3 f = eval(p, &a, &b, &c);
         const V3 e{t.x - f.x, t.y - f.y, t.z - f.z};
-        // Normal equations (J^T J + lambda I) d = J^T e, J = [a b c] as columns.
-        double m[3][3] = {{dot(a, a) + lambda, dot(a, b), dot(a, c)},
-                          {dot(b, a), dot(b, b) + lambda, dot(b, c)},
-                          {dot(c, a), dot(c, b), dot(c, c) + lambda}};
-        double g[3] = {dot(a, e), dot(b, e), dot(c, e)};
-        // Cramer's rule (3x3, well conditioned thanks to lambda).
-        const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        // Normal equations (J^T J + lambda I) d = J^T e, J = [a b c] as columns; Cramer's rule.
+        const double m[3][3] = {{dot(a, a) + lambda, dot(a, b), dot(a, c)},
+                                {dot(b, a), dot(b, b) + lambda, dot(b, c)},
+                                {dot(c, a), dot(c, b), dot(c, c) + lambda}};
+        const double g[3] = {dot(a, e), dot(b, e), dot(c, e)};
+        auto det3 = [](const double q[3][3]) {
+            return q[0][0] * (q[1][1] * q[2][2] - q[1][2] * q[2][1]) - q[0][1] * (q[1][0] * q[2][2] - q[1][2] * q[2][0]) +
+                   q[0][2] * (q[1][0] * q[2][1] - q[1][1] * q[2][0]);
+        };
+        const double det = det3(m);
         if (!(std::fabs(det) > 1e-300)) break;
-        auto solve_col = [&](int col) {
+        double step[3];
+        for (int col = 0; col < 3; ++col) {
             double mm[3][3];
             for (int r = 0; r < 3; ++r)
                 for (int q = 0; q < 3; ++q) mm[r][q] = (q == col) ? g[r] : m[r][q];
-            return (mm[0][0] * (mm[1][1] * mm[2][2] - mm[1][2] * mm[2][1]) -
-                    mm[0][1] * (mm[1][0] * mm[2][2] - mm[1][2] * mm[2][0]) +
-                    mm[0][2] * (mm[1][0] * mm[2][1] - mm[1][1] * mm[2][0])) /
-                   det;
-        };
-        const V3 q{clamp01(p.x + solve_col(0)), clamp01(p.y + solve_col(1)), clamp01(p.z + solve_col(2))};
+            step[col] = det3(mm) / det;
+        }
+        const V3 q{clamp01(p.x + step[0]), clamp01(p.y + step[1]), clamp01(p.z + step[2])};
+        if (dist2(q, p) < 1e-16) break;  // converged (a minimum on the cube or outside the image)
         const double dq = dist2(eval(q), t);
         if (dq < best_d) {
             best_d = dq;
@@ -102,6 +94,51 @@ glm::vec3 rgb_to_ryb(glm::vec3 rgb) {
             if (lambda > 1e6) break;
         }
     }
+    return p;
+}
+
+//! Full solve: best point of a 5^3 lattice of the cube, then refine.
+V3 solve_from_lattice(const V3& t) {
+    V3 best{0, 0, 0};
+    double best_d = 1e300;
+    for (int i = 0; i <= 4; ++i)
+        for (int j = 0; j <= 4; ++j)
+            for (int k = 0; k <= 4; ++k) {
+                const V3 p{i * 0.25, j * 0.25, k * 0.25};
+                const double d = dist2(eval(p), t);
+                if (d < best_d) best_d = d, best = p;
+            }
+    return refine(best, t);
+}
+
+//! Seeds: the full solve at every node of a 17^3 RGB lattice, computed once (thread-safe static
+//! initialisation, ~5k solves); a query refines the seed of its nearest node.
+constexpr int kSeedN = 17;
+const std::vector<V3>& seed_table() {
+    static const std::vector<V3> table = [] {
+        std::vector<V3> t(std::size_t(kSeedN) * kSeedN * kSeedN);
+        for (int b = 0; b < kSeedN; ++b)
+            for (int g = 0; g < kSeedN; ++g)
+                for (int r = 0; r < kSeedN; ++r)
+                    t[(std::size_t(b) * kSeedN + g) * kSeedN + r] =
+                        solve_from_lattice({r / double(kSeedN - 1), g / double(kSeedN - 1), b / double(kSeedN - 1)});
+        return t;
+    }();
+    return table;
+}
+
+int seed_index(double v) {
+    const double s = clamp01(v) * (kSeedN - 1) + 0.5;
+    return int(s);  // s in [0.5, kSeedN - 0.5]: a valid node index
+}
+
+}  // namespace
+
+glm::vec3 rgb_to_ryb(glm::vec3 rgb) {
+    const V3 t{std::isfinite(rgb.x) ? rgb.x : 0.0, std::isfinite(rgb.y) ? rgb.y : 0.0,
+               std::isfinite(rgb.z) ? rgb.z : 0.0};
+    const V3 seed = seed_table()[(std::size_t(seed_index(t.z)) * kSeedN + seed_index(t.y)) * kSeedN + seed_index(t.x)];
+    const V3 p = refine(seed, t);
     return {float(p.x), float(p.y), float(p.z)};
 }
 

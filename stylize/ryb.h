@@ -4,7 +4,8 @@
 // visualization", InfoVis): trilinear interpolation inside a cube whose eight RYB corners carry
 // hand-picked RGB colours (kRybCorners). RGB -> RYB inverts that map numerically (the trilinear map
 // has no closed-form inverse): a fixed number of damped Gauss-Newton steps, projected onto the unit
-// cube, started from the best cube corner/centre — deterministic, no tables. Colours outside the
+// cube, started from the solution at the nearest node of a 17^3 RGB seed lattice (solved once,
+// on first use, from the best point of a 5^3 RYB lattice) — deterministic. Colours outside the
 // cube's image (e.g. RGB black, which no RYB mix reaches) map to the closest reachable colour.
 //
 // mix_ryb is the brightness-preserving mix of Chen et al. 2015 ("Wetbrush", SIGGRAPH Asia) as used

@@ -1,7 +1,13 @@
 // stylize/stages/edge_darken.cpp — WC17 eq. 8 (DoG) and WC18 §3.1 (RGBD) edge darkening.
 // Pointwise per pixel (plus one bilinear tap of a lower-resolution input), so the reference and
 // fast traversals evaluate the same function on the same pixels: bit-exact.
+// The power loops vectorise only when GCC may evaluate both sides of a select; that needs
+// -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
+// reassociation, no FMA, no reciprocal approximations). See docs/stylize_b.md "Speed".
+#pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/edge_darken.h"
+
+#include <algorithm>
 
 #include "stylize/kernels.h"
 
@@ -24,20 +30,36 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     if (!(p.smooth_high > p.smooth_low)) throw Error(st + ": smooth_high must exceed smooth_low");
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
-    // The blurred colour: 4-channel sources are read as vec4, 3-channel ones per plane.
+    // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
     const bool same = blurred.same_size(color);
     const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
+    const Upsampler up = same ? Upsampler() : Upsampler(w, h, blurred.width(), blurred.height());
     auto blur_at = [&](int x, int y) -> glm::vec3 {
         if (same) return {br(x, y), bg(x, y), bb(x, y)};
-        const float px = stage_b::resample_coord(x, w, blurred.width()), py = stage_b::resample_coord(y, h, blurred.height());
-        return {stage_b::sample_bilinear(br, px, py, Border::Clamp), stage_b::sample_bilinear(bg, px, py, Border::Clamp),
-                stage_b::sample_bilinear(bb, px, py, Border::Clamp)};
+        return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
     };
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane ctrl = plane(ctrl_edge, 0);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
+    // operations as edge_darken_dog_px, pixel by pixel).
     for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) o(x, y) = edge_darken_dog_px(c(x, y), blur_at(x, y), ctrl(x, y), p);
+        constexpr int kChunk = 64;
+        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int n = std::min(kChunk, x1 - xs);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                const glm::vec4 cv = c(x, y);
+                const float d = edge_darken_dog_exponent(cv, blur_at(x, y), ctrl(x, y), p);
+                for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = d;
+            }
+            for (int j = 0; j < 3 * n; ++j) r[j] = pow_c(base[j], dexp[j]);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                o(x, y) = dexp[3 * i] == 1.0f ? c(x, y) : glm::vec4(r[3 * i], r[3 * i + 1], r[3 * i + 2], c(x, y).w);
+            }
+        }
     });
 }
 
@@ -68,13 +90,37 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
     const bool bleed_same = !bleed || bleed->same_size(color);
+    const Upsampler up = bleed_same ? Upsampler() : Upsampler(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
+    // operations as edge_darken_rgbd_px, pixel by pixel).
     for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            const float b = bleed_same ? bm(x, y)
-                                       : stage_b::sample_bilinear(bm, stage_b::resample_coord(x, w, bm.width),
-                                                                  stage_b::resample_coord(y, h, bm.height), Border::Clamp);
-            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, substrate, p);
+        constexpr int kChunk = 64;
+        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int n = std::min(kChunk, x1 - xs);
+            bool any = false;
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                const glm::vec4 cv = c(x, y);
+                const float ev = e(x, y);
+                // No edge (or NaN): the exponent is 1 whatever the bleed; skip the bleed tap.
+                float d = 1.0f;
+                if (!(ev == 0.0f || ev != ev))
+                    d = edge_darken_rgbd_exponent(cv, ev, ctrl(x, y), bleed_same ? bm(x, y) : up.sample(bm, x, y),
+                                                  substrate, p);
+                any |= d != 1.0f;
+                for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = d;
+            }
+            if (!any) {  // no edge in this chunk: a copy
+                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
+                continue;
+            }
+            for (int j = 0; j < 3 * n; ++j) r[j] = pow_c(base[j], dexp[j]);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                o(x, y) = dexp[3 * i] == 1.0f ? c(x, y) : glm::vec4(r[3 * i], r[3 * i + 1], r[3 * i + 2], c(x, y).w);
+            }
         }
     });
 }

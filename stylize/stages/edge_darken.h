@@ -42,28 +42,39 @@ struct EdgeDarkenRgbdParams {
     float intensity = 1.0f;  //!< global edge intensity (MNPR gEdgeIntensity, default 1) [0, 50]
 };
 
-//! WC17 eq. 8 for one pixel: c = I_cb (RGBA), blurred = I_b (RGB), ctrl = ctrl.edge.r.
-inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, const EdgeDarkenDogParams& p) {
+//! WC17 eq. 8 exponent 1 + Ctrl * E_m for one pixel (exactly 1 where nothing darkens).
+inline float edge_darken_dog_exponent(glm::vec4 c, glm::vec3 blurred, float ctrl, const EdgeDarkenDogParams& p) {
     const glm::vec3 dog = blurred - glm::vec3(c);
     const float e = std::max(0.0f, std::max(dog.x, std::max(dog.y, dog.z)));
     float t = (e - p.smooth_low) / (p.smooth_high - p.smooth_low);
     t = stage_b::satf(t);
     const float em = e * (t * t * (3.0f - 2.0f * t));
     const float k = std::max(0.0f, p.ctrl_bias + ctrl) * p.intensity * em;
-    if (!(k > 0.0f)) return c;  // no edge (or NaN control): unchanged
-    const float d = 1.0f + k;
+    return k > 0.0f ? 1.0f + k : 1.0f;  // no edge (or NaN control): unchanged
+}
+
+//! WC17 eq. 8 for one pixel: c = I_cb (RGBA), blurred = I_b (RGB), ctrl = ctrl.edge.r.
+inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, const EdgeDarkenDogParams& p) {
+    const float d = edge_darken_dog_exponent(c, blurred, ctrl, p);
+    if (d == 1.0f) return c;
     return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
+}
+
+//! WC18 §3.1 / MNPR exponent 1 + E_d for one pixel (exactly 1 where nothing darkens).
+inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
+                                       const EdgeDarkenRgbdParams& p) {
+    if (ci > 0.0f) ci *= kEdgeCtrlPositiveGain;
+    float e = edge * p.intensity * (1.0f + ci);
+    e *= stage_b::satf(stage_b::length3(glm::vec3(c) - substrate) * kEdgeSubstrateFade);
+    e *= stage_b::satf(1.0f - bleed * kEdgeBleedFade);
+    return e > 0.0f ? 1.0f + e : 1.0f;  // E_d <= 0 or NaN: C^1 = C
 }
 
 //! WC18 §3.1 / MNPR for one pixel: edge = blurred Sobel edge, ci = ctrl.edge.r, bleed = bleeding mask.
 inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
                                      const EdgeDarkenRgbdParams& p) {
-    if (ci > 0.0f) ci *= kEdgeCtrlPositiveGain;
-    float e = edge * p.intensity * (1.0f + ci);
-    e *= stage_b::satf(stage_b::length3(glm::vec3(c) - substrate) * kEdgeSubstrateFade);
-    e *= stage_b::satf(1.0f - bleed * kEdgeBleedFade);
-    if (!(e > 0.0f)) return c;  // E_d = 0 (or NaN): C^1 = C exactly
-    const float d = 1.0f + e;
+    const float d = edge_darken_rgbd_exponent(c, edge, ci, bleed, substrate, p);
+    if (d == 1.0f) return c;
     return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
 }
 

@@ -17,15 +17,14 @@ struct GoKernel {
     View<const glm::vec4> c;
     Plane e, ctrl, bleed;
     bool bleed_same;
+    const Upsampler* up;
     int w, h;
     glm::vec3 substrate;
     GapsOverlapsParams p;
     Border b;
 
     float bleed_at(int x, int y) const {
-        if (bleed_same) return bleed(x, y);
-        return stage_b::sample_bilinear(bleed, stage_b::resample_coord(x, w, bleed.width), stage_b::resample_coord(y, h, bleed.height),
-                                        Border::Clamp);
+        return bleed_same ? bleed(x, y) : up->sample(bleed, x, y);
     }
 
     //! Normalised gradient of the extended edges; false if it is zero or not finite.
@@ -45,12 +44,14 @@ struct GoKernel {
 
     glm::vec4 operator()(int x, int y) const {
         const glm::vec4 col = c(x, y);
+        // The activity tests are a conjunction; the cheap ones first.
         if (!(col.w > p.alpha_threshold)) return col;
-        if (!(bleed_at(x, y) < p.bleed_threshold)) return col;
         const float ee = e(x, y);
         if (!(ee > p.edge_threshold)) return col;
         const float m = float(p.steps);
         const float go = ctrl(x, y) * m;
+        if (!(go > kGoCtrlThreshold) && !(go < -kGoCtrlThreshold)) return col;
+        if (!(bleed_at(x, y) < p.bleed_threshold)) return col;
         const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
         if (go > kGoCtrlThreshold) {  // overlaps
             glm::vec2 g;
@@ -114,11 +115,14 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     static const float kZero = 0.0f;
+    const bool bleed_same = !bleed || bleed->same_size(color);
+    const Upsampler up = bleed_same ? Upsampler() : Upsampler(w, h, bleed->width(), bleed->height());
     const GoKernel k{color.view<glm::vec4>(),
                      plane(edges_ext, 0),
                      plane(ctrl_edge, 2),
                      bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h),
-                     !bleed || bleed->same_size(color),
+                     bleed_same,
+                     &up,
                      w,
                      h,
                      substrate,

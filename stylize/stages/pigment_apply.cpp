@@ -1,6 +1,12 @@
 // stylize/stages/pigment_apply.cpp — WC17 eq. 9 granulation and WC18 eq. 1-4 dry-brush +
 // granulation. Pointwise: reference and fast traversals are bit-exact.
+// The power loops vectorise only when GCC may evaluate both sides of a select; that needs
+// -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
+// reassociation, no FMA, no reciprocal approximations). See docs/stylize_b.md "Speed".
+#pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/pigment_apply.h"
+
+#include <algorithm>
 
 namespace aq::stylize {
 
@@ -48,9 +54,26 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                         glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi, const Exec& ex) {
     const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    // Rows in chunks: prepare every pixel, take the powers in one vectorisable loop, finish.
+    // Same operations as pigment_apply_wc18_px, pixel by pixel.
     for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x)
-            o(x, y) = pigment_apply_wc18_px(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
+        constexpr int kChunk = 64;
+        PigmentWc18Prep q[kChunk];
+        float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int n = std::min(kChunk, x1 - xs);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                q[i] = pigment_apply_wc18_prepare(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
+                for (int k = 0; k < 3; ++k) {
+                    base[3 * i + k] = q[i].granulate ? std::fabs(q[i].out[k]) : 1.0f;
+                    dexp[3 * i + k] = q[i].da;
+                }
+            }
+            for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
+            for (int i = 0; i < n; ++i)
+                o(xs + i, y) = pigment_apply_wc18_finish(q[i], {g[3 * i], g[3 * i + 1], g[3 * i + 2]});
+        }
     });
 }
 

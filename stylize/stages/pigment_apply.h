@@ -70,26 +70,46 @@ inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, co
     return {one(c.x), one(c.y), one(c.z), c.w};
 }
 
-//! WC18 eq. 1-4 for one pixel: c RGBA, height H, a = ctrl.pigment.g, substrate colour Cs.
-inline glm::vec4 pigment_apply_wc18_px(glm::vec4 c, float height, float a, glm::vec3 substrate,
-                                       const PigmentApplyWc18Params& p) {
-    if (!(c.w >= kPigmentAlphaMask)) return c;
+//! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c vectorises):
+//! prepare decides dry-brush / granulation and the exponent d_a, finish blends.
+struct PigmentWc18Prep {
+    glm::vec4 out;     //!< final colour when !granulate; else the input colour
+    float da = 1.0f;   //!< eq. 4 exponent
+    float fade = 0.0f; //!< MNPR substrate fade
+    bool granulate = false;
+};
+
+inline PigmentWc18Prep pigment_apply_wc18_prepare(glm::vec4 c, float height, float a, glm::vec3 substrate,
+                                                  const PigmentApplyWc18Params& p) {
+    if (!(c.w >= kPigmentAlphaMask)) return {c};
     const glm::vec3 rgb(c);
     const float hr = (height - 0.5f) * p.roughness + 0.5f;  // eq. 1
     const float dry = hr + a;                               // < 0: the paper is below the dry-brush level
     if (dry < 0.0f) {
         const float t = stage_b::satf(-dry * p.dry_brush_threshold);
-        const glm::vec3 o = stage_b::mixv(rgb, substrate, t);
-        return {o, c.w};
+        return {glm::vec4(stage_b::mixv(rgb, substrate, t), c.w)};  // eq. 2, case 1
     }
     float dg = std::fabs(a) + p.granulation_min;
     dg = stage_b::mixf(dg, dg * kGranulationLuminanceGain, stage_b::luma709(rgb));  // eq. 3
     const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
     const float da = 1.0f + dg * hiv * p.density;  // eq. 4
-    const glm::vec3 g(stage_b::pow_c(std::fabs(rgb.x), da), stage_b::pow_c(std::fabs(rgb.y), da),
-                      stage_b::pow_c(std::fabs(rgb.z), da));
     const float fade = stage_b::satf(stage_b::length3(rgb - substrate) * kPigmentSubstrateFade);
-    return {stage_b::mixv(rgb, g, fade), c.w};
+    return {c, da, fade, true};
+}
+
+//! g = |C|^(d_a) per channel (eq. 2, case 2), blended by the substrate fade.
+inline glm::vec4 pigment_apply_wc18_finish(const PigmentWc18Prep& q, glm::vec3 g) {
+    if (!q.granulate) return q.out;
+    return {stage_b::mixv(glm::vec3(q.out), g, q.fade), q.out.w};
+}
+
+//! WC18 eq. 1-4 for one pixel: c RGBA, height H, a = ctrl.pigment.g, substrate colour Cs.
+inline glm::vec4 pigment_apply_wc18_px(glm::vec4 c, float height, float a, glm::vec3 substrate,
+                                       const PigmentApplyWc18Params& p) {
+    const PigmentWc18Prep q = pigment_apply_wc18_prepare(c, height, a, substrate, p);
+    if (!q.granulate) return q.out;
+    return pigment_apply_wc18_finish(q, {stage_b::pow_c(std::fabs(c.x), q.da), stage_b::pow_c(std::fabs(c.y), q.da),
+                                         stage_b::pow_c(std::fabs(c.z), q.da)});
 }
 
 //! color: 4 ch; ctrl_pigment: >= 2 ch (G used), same size; paper: 3 ch (B = height) same size, or

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -59,6 +60,40 @@ inline float resample_coord(int x, int n_out, int n_src) {
     return ((float(x) + 0.5f) / float(n_out)) * float(n_src);
 }
 
+//! Precomputed bilinear resampling from a src_w x src_h image to out_w x out_h output pixels
+//! (resample_coord convention, clamp to edge): per column and per row the two taps and the
+//! weight, so the inner loop does no floor/divide/border work. Same float operations as
+//! sample_bilinear on resample_coord(), hence the same values bit for bit.
+struct Upsampler {
+    struct Tap {
+        int i0, i1;
+        float t;
+    };
+    std::vector<Tap> cols, rows;
+
+    Upsampler() = default;
+    Upsampler(int out_w, int out_h, int src_w, int src_h) : cols(std::size_t(out_w)), rows(std::size_t(out_h)) {
+        auto fill = [](std::vector<Tap>& v, int n_out, int n_src) {
+            for (int i = 0; i < n_out; ++i) {
+                const float f = resample_coord(i, n_out, n_src) - 0.5f;
+                const float f0 = std::floor(f);
+                const int i0 = int(f0);
+                v[std::size_t(i)] = {resolve_border(i0, n_src, Border::Clamp), resolve_border(i0 + 1, n_src, Border::Clamp),
+                                     f - f0};
+            }
+        };
+        fill(cols, out_w, src_w);
+        fill(rows, out_h, src_h);
+    }
+    float sample(const Plane& p, int x, int y) const {
+        const Tap cx = cols[std::size_t(x)], ry = rows[std::size_t(y)];
+        const float a = p(cx.i0, ry.i0), c = p(cx.i1, ry.i0), d = p(cx.i0, ry.i1), e = p(cx.i1, ry.i1);
+        const float top = a + (c - a) * cx.t;
+        const float bot = d + (e - d) * cx.t;
+        return top + (bot - top) * ry.t;
+    }
+};
+
 //! GLSL mix(a, b, t) = a*(1-t) + b*t: exact at t = 0 and t = 1 (for finite a, b), which is what
 //! "zero control leaves the colour unchanged" needs.
 inline float mixf(float a, float b, float t) { return a * (1.0f - t) + b * t; }
@@ -76,47 +111,47 @@ inline float length3(glm::vec3 v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z
 // (tests/stylize/stage_b_registry_test.cpp StageBMath checks it against std::pow), i.e. far below
 // one 8-bit output step.
 
-//! log2(x) for finite x > 0 (normal range).
-inline float fast_log2(float x) {
-    std::uint32_t bits = std::bit_cast<std::uint32_t>(x);
-    int e = int((bits >> 23) & 0xffu) - 127;
-    bits = (bits & 0x007fffffu) | 0x3f800000u;  // mantissa in [1, 2)
+//! max(x,0)^d for d >= 0: 0^d = 0 (d > 0), x^0 = 1, x^1 = x, 1^d = 1, +inf stays inf, NaN in ->
+//! NaN out, and x^d <= x for x < 1 <= d (darkening never brightens by an ulp). Written without
+//! branches (selects only) so loops over arrays of values vectorise; the scalar and vector forms
+//! are the same IEEE operations, hence the same bits.
+inline float pow_c(float x, float d) {
+    constexpr float kMin = 1.17549435e-38f, kMax = 3.0e38f;
+    const float xs = x > kMin ? (x < kMax ? x : kMax) : kMin;
+    // log2(xs): exponent + mantissa in [sqrt(1/2), sqrt(2)), ln(m) = 2 atanh((m-1)/(m+1)).
+    std::uint32_t bits = std::bit_cast<std::uint32_t>(xs);
+    int e = int(bits >> 23) - 127;
+    bits = (bits & 0x007fffffu) | 0x3f800000u;
     float m = std::bit_cast<float>(bits);
-    if (m > 1.41421356f) {  // centre on 1: m in [sqrt(1/2), sqrt(2))
-        m *= 0.5f;
-        e += 1;
-    }
-    // ln(m) = 2 atanh(t), t = (m-1)/(m+1), |t| <= 0.1716
+    const bool big = m > 1.41421356f;
+    const float mh = m * 0.5f;
+    const int e1 = e + 1;
+    m = big ? mh : m;
+    e = big ? e1 : e;
     const float t = (m - 1.0f) / (m + 1.0f);
     const float t2 = t * t;
     const float s = 1.0f + t2 * (1.0f / 3.0f + t2 * (1.0f / 5.0f + t2 * (1.0f / 7.0f + t2 * (1.0f / 9.0f))));
-    return float(e) + (2.0f * 1.44269504f) * t * s;
-}
-
-//! 2^y for y in [-126, 127]; 0 below.
-inline float fast_exp2(float y) {
-    if (!(y > -126.0f)) return y != y ? y : 0.0f;  // NaN passes through, underflow -> 0
-    if (y > 127.0f) y = 127.0f;
+    const float l = float(e) + (2.0f * 1.44269504f) * t * s;
+    // exp2(y), y = d * l, |f| <= 0.5, e^(f ln 2) by Taylor to degree 7 (truncation < 3e-9).
+    const float y0 = d * l;
+    const bool under = !(y0 > -126.0f);
+    const float yc = y0 < 127.0f ? y0 : 127.0f;
+    const float y = under ? -126.0f : yc;
     const float n = std::floor(y + 0.5f);
-    const float f = y - n;  // [-0.5, 0.5]
-    const float z = f * 0.69314718f;
-    // e^z, Taylor to z^7 (|z| <= 0.347: truncation < 3e-9)
+    const float z = (y - n) * 0.69314718f;
     const float p =
         1.0f + z * (1.0f + z * (0.5f + z * (1.0f / 6.0f + z * (1.0f / 24.0f + z * (1.0f / 120.0f +
                                                                                   z * (1.0f / 720.0f + z * (1.0f / 5040.0f)))))));
-    const std::uint32_t scale = std::uint32_t(int(n) + 127) << 23;
-    return p * std::bit_cast<float>(scale);
-}
-
-//! max(x,0)^d for d >= 0: 0^d = 0 (d > 0), x^0 = 1, NaN in -> NaN out (never UB).
-inline float pow_c(float x, float d) {
-    if (x != x || d != d) return x + d;  // NaN
-    if (x <= 0.0f) return d == 0.0f ? 1.0f : 0.0f;
-    if (x == 1.0f || d == 1.0f) return x == 1.0f ? 1.0f : x;
-    if (x > 3.0e38f) return x;  // +inf stays inf for d > 0
-    const float r = fast_exp2(d * fast_log2(std::max(x, 1.17549435e-38f)));
-    // Keep the exact ordering x^d <= x for x < 1 <= d (darkening never brightens by an ulp).
-    return (d >= 1.0f && x < 1.0f && r > x) ? x : r;
+    float r = p * std::bit_cast<float>(std::uint32_t(int(n) + 127) << 23);
+    r = under ? 0.0f : r;
+    r = (d >= 1.0f && x < 1.0f && r > x) ? x : r;
+    r = (x == 1.0f || d == 0.0f) ? 1.0f : r;
+    r = d == 1.0f ? x : r;
+    r = x > kMax ? x : r;
+    r = !(x > 0.0f) ? (d == 0.0f ? 1.0f : 0.0f) : r;
+    const float nan = x + d;
+    r = (x != x || d != d) ? nan : r;
+    return r;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -46,10 +46,27 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
                 continue;
             }
             const float px = float(x) + 0.5f + off.x, py = float(y) + 0.5f + off.y;
-            const float zd = stage_b::sample_bilinear(z, px, py, b);
-            const float dz = z(x, y) - zd;
+            // Bilinear taps as kernels.h sample_bilinear (same operations); the border rule is
+            // resolved only when a tap falls outside the image.
+            const float fx = px - 0.5f, fy = py - 0.5f;
+            const float x0f = std::floor(fx), y0f = std::floor(fy);
+            const float tx = fx - x0f, ty = fy - y0f;
+            int xa = int(x0f), ya = int(y0f), xb = xa + 1, yb = ya + 1;
+            if (xa < 0 || yb >= h || ya < 0 || xb >= w) {
+                xa = resolve_border(xa, w, b), xb = resolve_border(xb, w, b);
+                ya = resolve_border(ya, h, b), yb = resolve_border(yb, h, b);
+            }
+            const float za = z(xa, ya), zc = z(xb, ya), zd0 = z(xa, yb), ze = z(xb, yb);
+            const float ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
+            const float dz = z(x, y) - (ztop + (zbot - ztop) * ty);
             const bool blocked = p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
-            o(x, y) = blocked ? c(x, y) : aq::stylize::sample_bilinear(c, px, py, b);
+            if (blocked) {
+                o(x, y) = c(x, y);
+                continue;
+            }
+            const glm::vec4 ca = c(xa, ya), cc = c(xb, ya), cd = c(xa, yb), ce = c(xb, yb);
+            const glm::vec4 top = ca + (cc - ca) * tx, bot = cd + (ce - cd) * tx;
+            o(x, y) = top + (bot - top) * ty;
         }
     });
 }
