@@ -75,7 +75,8 @@ void bm_gl_pipeline(benchmark::State& st, std::string preset, Size s) {
     if (!gl_ready(st)) return;
     stylize::Pipeline p = stylize::load_pipeline(preset);
     std::map<std::string, Texture> gbuffer;
-    for (auto& [name, img] : test::synthetic_gbuffer(s.w, s.h).all()) gbuffer.emplace(name, Texture::upload(img));
+    const Targets g = test::synthetic_gbuffer(s.w, s.h);  // as bench/stylize_bench.cpp bm_pipeline
+    for (auto& [name, img] : g.all()) gbuffer.emplace(name, Texture::upload(img));
     const Texture paper =
         Texture::upload(p.has_paper ? stylize::prepare_paper(p.paper, s.w, s.h) : stylize::flat_paper(s.w, s.h));
     std::vector<stylize::ResolvedStep> steps;

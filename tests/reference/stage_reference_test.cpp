@@ -4,6 +4,7 @@
 // (docs/reference.md); a variant without a twin is a failure.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 
@@ -113,12 +114,14 @@ stylize::ParamValues alt_params(const StageVariant& v) {
     return stylize::Registry::resolve_params(v, o, "alt_params");
 }
 
+//! One row per comparison, appended to test-output/reference_stage_errors.tsv (ctest runs every
+//! test in its own process, possibly in parallel: rows accumulate across processes and runs;
+//! delete the file to start a fresh table).
 void append_error_row(const std::string& row) {
-    static bool header = false;
     const std::string path = test::output_dir() + "/reference_stage_errors.tsv";
-    std::ofstream f(path, header ? std::ios::app : std::ios::trunc);
-    if (!header) f << "variant\tscene\tparams\toutput\tmean_abs\tmax_abs\tfrac_over_tol\tfrac_over_1/255\tpsnr\n";
-    header = true;
+    const bool fresh = !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0;
+    std::ofstream f(path, std::ios::app);
+    if (fresh) f << "variant\tscene\tparams\toutput\tmean_abs\tmax_abs\tfrac_over_tol\tfrac_over_1/255\tpsnr\n";
     f << row << "\n";
 }
 
