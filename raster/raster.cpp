@@ -149,8 +149,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             dv.object_id = inst.object_id;
             const std::size_t n = p.positions.size();
             dv.clip.resize(n);
-            dv.view_pos.resize(n);
-            dv.view_normal.resize(n);
+            dv.view.resize(n);
             dv.snap.resize(n);
             if (p.tangents.size() == n) dv.view_tangent.resize(n);
             else if (dv.mat->normal_texture.texture >= 0) ++missing_tangents;
@@ -267,8 +266,11 @@ FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, c
         return a0 + (a1 - a0) * o[1] + (a2 - a0) * o[2];
     };
     FragmentInput in;
-    in.view_pos = lerp3(dv.view_pos[i0], dv.view_pos[i1], dv.view_pos[i2]);
-    in.normal = lerp3(dv.view_normal[i0], dv.view_normal[i1], dv.view_normal[i2]);
+    const DrawVertices::Shading& v0 = dv.view[i0];
+    const DrawVertices::Shading& v1 = dv.view[i1];
+    const DrawVertices::Shading& v2 = dv.view[i2];
+    in.view_pos = lerp3(v0.pos, v1.pos, v2.pos);
+    in.normal = lerp3(v0.normal, v1.normal, v2.normal);
     if (!dv.view_tangent.empty()) {
         in.tangent = lerp3(dv.view_tangent[i0], dv.view_tangent[i1], dv.view_tangent[i2]);
         in.has_tangent = true;
@@ -410,14 +412,25 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         }
     }
     if (count) return;
-    (void)tw;
+    if (clear) {
+        // Previous frame in the targets: background over the whole tile, row segments at a time
+        // (vector stores), then the covered pixels are overwritten below.
+        for (int y = Y0; y <= Y1; ++y) {
+            const std::size_t i0 = std::size_t(y) * tp.width + X0;
+            const std::size_t n = std::size_t(tw);
+            std::fill_n(tp.color + 4 * i0, 4 * n, 0.0f);
+            for (int k = 0; k < scene::kNumControlTargets; ++k) std::fill_n(tp.ctrl[k] + 4 * i0, 4 * n, 0.0f);
+            std::fill_n(tp.depth + i0, n, fr.background_depth);
+            std::fill_n(tp.normal + 3 * i0, 3 * n, 0.0f);
+            std::fill_n(tp.id + i0, n, 0.0f);
+            std::fill_n(tp.diffuse + i0, n, 0.0f);
+            std::fill_n(tp.specular + i0, n, 0.0f);
+        }
+    }
     for (int y = Y0; y <= Y1; ++y)
         for (int x = X0; x <= X1; ++x) {
             const TileRef r = ids[(y - Y0) * kTile + (x - X0)];
-            if (r.chunk == kNoChunk) {
-                if (clear) write_background(tp, std::size_t(y) * tp.width + x, fr.background_depth);
-                continue;
-            }
+            if (r.chunk == kNoChunk) continue;
             const Chunk& ch = fr.chunks[r.chunk];
             const TriSetup& t = ch.tris[r.tri];
             std::int64_t e[3];

@@ -144,7 +144,7 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     for (int j = 0; j < 3; ++j) {
         bufA[j].c = glm::dvec4(dv.clip[ids[j]]);
         bufA[j].beta = glm::dvec3(j == 0, j == 1, j == 2);
-        bufA[j].depth = -double(dv.view_pos[ids[j]].z);
+        bufA[j].depth = -double(dv.view[ids[j]].pos.z);
     }
     int n = 3;
     ClipVertex* cur = bufA;

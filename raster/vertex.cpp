@@ -81,6 +81,7 @@ SnapVertex snap_vertex(const glm::vec4& c, float depth, const Viewport& vp) {
     const double sx = (double(c.x) * iw + 1.0) * (0.5 * vp.width);
     const double sy = (1.0 - double(c.y) * iw) * (0.5 * vp.height);
     SnapVertex s;
+    s.code = 0;
     s.x = std::int32_t(std::llrint(sx * kSubpixelOne));
     s.y = std::int32_t(std::llrint(sy * kSubpixelOne));
     s.inv_w = float(iw);
@@ -119,8 +120,8 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
             c.y = c.y + (off.y * px_y) * c.w;
         }
         dv.clip[i] = c;
-        dv.view_pos[i] = glm::vec3(v);
-        dv.view_normal[i] = nv;
+        dv.view[i].pos = glm::vec3(v);
+        dv.view[i].normal = nv;
         if (has_tan) {
             const glm::vec4 t = prim.tangents[i];
             dv.view_tangent[i] = glm::vec4(normalize3(glm::mat3(mv) * glm::vec3(t)), t.w);
@@ -129,8 +130,7 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
         if (code == 0) {
             dv.snap[i] = snap_vertex(c, -v.z, fp.vp);
         } else {
-            dv.snap[i] = SnapVertex{};
-            dv.snap[i].code = code;
+            dv.snap[i] = SnapVertex{0, 0, 0.0f, 0.0f, code};
         }
     }
 }

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -50,9 +52,28 @@ struct Viewport {
 //! One snapped vertex: fixed-point screen position (y down, pixel centres at +0.5),
 //! 1/w and linear eye depth.
 struct SnapVertex {
-    std::int32_t x = 0, y = 0;
-    float inv_w = 0, depth = 0;
-    std::uint32_t code = 0;  //!< outcode; x, y, inv_w are only meaningful when 0
+    std::int32_t x, y;
+    float inv_w, depth;
+    std::uint32_t code;  //!< outcode; x, y, inv_w are only meaningful when 0
+};
+
+//! Per-render array without value-initialisation (every element is written by the vertex stage
+//! before it is read): saves a zero-fill pass over tens of MB per frame.
+template <class T>
+class UninitArray {
+    static_assert(std::is_trivially_default_constructible_v<T>);
+public:
+    void resize(std::size_t n) {
+        p_.reset(new T[n]);
+        n_ = n;
+    }
+    T& operator[](std::size_t i) { return p_[i]; }
+    const T& operator[](std::size_t i) const { return p_[i]; }
+    std::size_t size() const { return n_; }
+    bool empty() const { return n_ == 0; }
+private:
+    std::unique_ptr<T[]> p_;
+    std::size_t n_ = 0;
 };
 
 //! Outcode of a clip-space position against near/far and the guard band; kOutNonFinite if any
@@ -68,11 +89,15 @@ struct DrawVertices {
     const scene::Primitive* prim = nullptr;
     const scene::Material* mat = nullptr;
     std::uint32_t object_id = 0;
-    std::vector<glm::vec4> clip;         //!< after tremor
-    std::vector<glm::vec3> view_pos;     //!< after bleeding displacement
-    std::vector<glm::vec3> view_normal;  //!< unit
-    std::vector<glm::vec4> view_tangent; //!< xyz view space, w handedness; empty if none
-    std::vector<SnapVertex> snap;        //!< outcode + snapped position (one cache access in setup)
+    UninitArray<glm::vec4> clip;         //!< after tremor
+    //! View-space position (after bleeding displacement) and unit normal, interleaved: the
+    //! shading pass gathers both for the three vertices of each pixel's triangle.
+    struct Shading {
+        glm::vec3 pos, normal;
+    };
+    UninitArray<Shading> view;
+    UninitArray<glm::vec4> view_tangent; //!< xyz view space, w handedness; empty if none
+    UninitArray<SnapVertex> snap;        //!< outcode + snapped position (one cache access in setup)
 };
 
 struct FrameParams {
