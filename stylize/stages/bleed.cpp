@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "stylize/kernels.h"
@@ -26,12 +27,23 @@ namespace {
 struct Planes {
     int w = 0, h = 0;
     std::vector<float> p[5];  // R, G, B, C, Z
+    //! Sizes the planes; contents are unspecified (every pass writes all of its output). Reusing
+    //! the same Planes across calls avoids re-faulting ~100 MB of fresh pages per 1080p frame.
     void alloc(int w_, int h_, int n) {
         w = w_;
         h = h_;
-        for (int k = 0; k < n; ++k) p[k].assign(std::size_t(w) * h, 0.0f);
+        for (int k = 0; k < n; ++k) p[k].resize(std::size_t(w) * h);
     }
 };
+
+typedef float v8f __attribute__((vector_size(32)));
+typedef int v8i __attribute__((vector_size(32)));
+inline v8f load8(const float* p) {
+    v8f v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
 
 template <BleedRule R>
 inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope) {
@@ -39,9 +51,10 @@ inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope)
         (void)cs, (void)cd, (void)zs, (void)zd, (void)t, (void)scope;
         return true;
     } else {
-        const bool behind = (zs - t) > zd;
-        bool b = (cd > 0.0f && behind) | (cs > 0.0f && !behind);
-        if constexpr (R == BleedRule::Mnpr) b = b & (std::max(cd, cs) >= scope);
+        const float zst = zs - t;
+        const bool behind = zst > zd;
+        bool b = ((cd > 0.0f) & behind) | ((cs > 0.0f) & !behind);
+        if constexpr (R == BleedRule::Mnpr) b = b & ((cd >= scope) | (cs >= scope));  // max(cd, cs) >= scope
         return b;
     }
 }
@@ -86,32 +99,61 @@ inline void row_kernel(int w, const float* const* s, const float* zs_row, float*
                        const float* const* d, const float* const* zd, int x_shift_per_tap) {
     // s[p]: source rows (p = 0..3, 3 = control); d[a][p] rows for tap a (H: the padded row with a
     // shift, V: the tap's row); zd[a]: depth rows of the taps.
-    const int nacc = R == BleedRule::Naive ? 3 : 4;
     for (int p = 0; p < 4; ++p)
         for (int x = 0; x < w; ++x) o[p][x] = s[p][x];
+    // Column chunks of kChunk pixels keep the ~14 streams of a chunk in L1 while all taps run
+    // over it; per pixel the taps still run in ascending order (same sums as the reference).
+    constexpr int kChunk = 256;
+    for (int xc = 0; xc < w; xc += kChunk)
     for (int ai = 0; ai <= 2 * k.r; ++ai) {
+        const int xe = std::min(w, xc + kChunk);
         const float wa = k.w[ai];
         const float sc = k.scope[ai];
         const int off = ai * x_shift_per_tap;
-        const float* dr = d[ai * 4 + 0] + off;
-        const float* dg = d[ai * 4 + 1] + off;
-        const float* db = d[ai * 4 + 2] + off;
-        const float* dc = d[ai * 4 + 3] + off;
-        const float* dz = zd[ai] + off;
-        const float* sr = s[0];
-        const float* sg = s[1];
-        const float* sb = s[2];
-        const float* scs = s[3];
-        float* o0 = o[0];
-        float* o1 = o[1];
-        float* o2 = o[2];
-        float* o3 = o[3];
-        for (int x = 0; x < w; ++x) {
-            const bool b = bleeds<R>(scs[x], dc[x], zs_row[x], dz[x], k.t, sc);
-            o0[x] = o0[x] + wa * (b ? dr[x] - sr[x] : 0.0f);
-            o1[x] = o1[x] + wa * (b ? dg[x] - sg[x] : 0.0f);
-            o2[x] = o2[x] + wa * (b ? db[x] - sb[x] : 0.0f);
-            if (nacc == 4) o3[x] = o3[x] + wa * (b ? dc[x] - scs[x] : 0.0f);
+        const float* __restrict dr = d[ai * 4 + 0] + off;
+        const float* __restrict dg = d[ai * 4 + 1] + off;
+        const float* __restrict db = d[ai * 4 + 2] + off;
+        const float* __restrict dc = d[ai * 4 + 3] + off;
+        const float* __restrict dz = zd[ai] + off;
+        const float* __restrict sr = s[0];
+        const float* __restrict sg = s[1];
+        const float* __restrict sb = s[2];
+        const float* __restrict scs = s[3];
+        const float* __restrict zsr = zs_row;
+        float* __restrict o0 = o[0];
+        float* __restrict o1 = o[1];
+        float* __restrict o2 = o[2];
+        float* __restrict o3 = o[3];
+        const float t = k.t;
+        // 8 pixels at a time with GCC vector extensions (lane-wise IEEE ops: the values of the
+        // scalar expression below), then a scalar tail. The difference is computed unconditionally
+        // and selected by the rule mask (bits of +0 where no bleeding), like (b ? d - s : 0).
+        int x = xc;
+        const v8f vt = v8f{} + t, vsc = v8f{} + sc, vwa = v8f{} + wa, vzero = v8f{};
+        for (; x + 8 <= xe; x += 8) {
+            const v8f cs = load8(scs + x), cd = load8(dc + x);
+            v8i b;
+            if constexpr (R == BleedRule::Naive) {
+                b = v8i{} - 1;
+            } else {
+                const v8i behind = (load8(zsr + x) - vt) > load8(dz + x);
+                b = ((cd > vzero) & behind) | ((cs > vzero) & ~behind);
+                if constexpr (R == BleedRule::Mnpr) b &= (cd >= vsc) | (cs >= vsc);
+            }
+            const v8f d0 = load8(dr + x) - load8(sr + x), d1 = load8(dg + x) - load8(sg + x);
+            const v8f d2 = load8(db + x) - load8(sb + x), d3 = cd - cs;
+            store8(o0 + x, load8(o0 + x) + vwa * (v8f)((v8i)d0 & b));
+            store8(o1 + x, load8(o1 + x) + vwa * (v8f)((v8i)d1 & b));
+            store8(o2 + x, load8(o2 + x) + vwa * (v8f)((v8i)d2 & b));
+            if constexpr (R != BleedRule::Naive) store8(o3 + x, load8(o3 + x) + vwa * (v8f)((v8i)d3 & b));
+        }
+        for (; x < xe; ++x) {
+            const bool b = bleeds<R>(scs[x], dc[x], zsr[x], dz[x], t, sc);
+            const float d0 = dr[x] - sr[x], d1 = dg[x] - sg[x], d2 = db[x] - sb[x], d3 = dc[x] - scs[x];
+            o0[x] = o0[x] + wa * (b ? d0 : 0.0f);
+            o1[x] = o1[x] + wa * (b ? d1 : 0.0f);
+            o2[x] = o2[x] + wa * (b ? d2 : 0.0f);
+            if constexpr (R != BleedRule::Naive) o3[x] = o3[x] + wa * (b ? d3 : 0.0f);
         }
     }
 }
@@ -224,7 +266,12 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     const int w = color.width(), h = color.height();
     const int wr = p.half_res ? half_size(w) : w, hr = p.half_res ? half_size(h) : h;
 
-    Planes src;
+    // Scratch planes reused by the calling thread across calls (never shared between threads).
+    // (Bound to references: a lambda body naming a thread_local would use the worker's instance.)
+    thread_local Planes tl_src, tl_tmp, tl_out;
+    Planes& src = tl_src;
+    Planes& tmp = tl_tmp;
+    Planes& out = tl_out;
     src.alloc(wr, hr, 5);
     {
         const auto cv = color.view<glm::vec4>();
@@ -260,7 +307,6 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     k.scope.resize(k.w.size());
     for (int a = -k.r; a <= k.r; ++a) k.scope[std::size_t(a + k.r)] = float(std::abs(a)) / float(k.r);
 
-    Planes tmp, out;
     tmp.alloc(wr, hr, 4);
     out.alloc(wr, hr, 4);
     switch (rule) {

@@ -99,11 +99,10 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
         }
         return;
     }
-    // Fast: weights by (|a|, K) so the x loop reads wt[|a|][K[x]].
+    // Fast: each row is split into runs of equal K (painted control is smooth, so runs are long);
+    // a run is a fixed-kernel 1-D convolution whose x loop vectorises. Per pixel the taps and
+    // their order are those of the reference loop.
     const int R = kmax - 1;
-    std::vector<float> wt(std::size_t(R + 1) * (kmax + 1), 0.0f);
-    for (int k = 1; k <= kmax; ++k)
-        for (int o = 0; o < k; ++o) wt[std::size_t(o) * (kmax + 1) + k] = tab[std::size_t(k)][std::size_t(o)];
     const std::vector<int> xt = detail::border_table(w, R, b);
     const std::vector<int> yt = detail::border_table(h, R, b);
     for (int pass = 0; pass < 2; ++pass) {
@@ -113,22 +112,24 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
             std::vector<float> pad(std::size_t(w + 2 * R));
             for (int y = y0; y < y1; ++y) {
                 const std::size_t row = std::size_t(y) * w;
-                const float* sr = s + row;
+                const float* __restrict sr = s + row;
                 const int* kr = K.data() + row;
-                float* orow = o + row;
-                int krow = 1;
-                for (int x = 0; x < w; ++x) krow = std::max(krow, kr[x]);
+                float* __restrict orow = o + row;
                 if (pass == 0)
                     for (int i = 0; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
                 for (int x = 0; x < w; ++x) orow[x] = sr[x];
-                for (int a = -(krow - 1); a <= krow - 1; ++a) {
-                    const int aa = std::abs(a);
-                    const float* wa = wt.data() + std::size_t(aa) * (kmax + 1);
-                    const float* d = pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w;
-                    for (int x = 0; x < w; ++x) {
-                        const float nv = orow[x] + wa[kr[x]] * (d[x] - sr[x]);
-                        orow[x] = aa < kr[x] ? nv : orow[x];
+                for (int x0 = 0; x0 < w;) {
+                    const int k = kr[x0];
+                    int x1 = x0 + 1;
+                    while (x1 < w && kr[x1] == k) ++x1;
+                    const float* wk = tab[std::size_t(k)].data();
+                    for (int a = -(k - 1); a <= k - 1; ++a) {
+                        const float wa = wk[std::abs(a)];
+                        const float* __restrict d =
+                            pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w;
+                        for (int x = x0; x < x1; ++x) orow[x] = orow[x] + wa * (d[x] - sr[x]);
                     }
+                    x0 = x1;
                 }
             }
         });

@@ -1,10 +1,11 @@
 // stylize/stages/edge_detect.cpp — RGBD Sobel edge detection (WC18 §3 "Edge detection"; MNPR
 // quadEdgeDetection.ogsfx sobelRGBDFrag, same kernel orientation and accumulation order).
-// Reference: every tap through the border rule. Fast: interior pixels index directly, border
-// pixels use the border rule; both call sobel_pixel with the same nine values -> bit-exact.
+// Reference: every tap through the border rule, per pixel. Fast: planar border-resolved row copies
+// and the same expressions, x innermost (vectorised); same operations per pixel -> bit-exact.
 #include "stylize/stages/edge_detect.h"
 
 #include <cmath>
+#include <vector>
 
 #include "stylize/kernels.h"
 #include "stylize/stages/stage_util.h"
@@ -66,27 +67,51 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             }
         return;
     }
+    // Fast: per output row, planar border-resolved copies of the three source rows (R, G, B, depth,
+    // each w + 2 wide), then the same expressions as sobel_pixel with the x loop innermost.
+    const std::vector<int> xt = detail::border_table(w, 1, b);
+    const float wd = p.depth_weight;
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        float n[9][4];
+        const std::size_t pw = std::size_t(w) + 2;
+        std::vector<float> buf(pw * 12);
+        auto plane = [&](int r, int c) { return buf.data() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
         for (int y = y0; y < y1; ++y) {
-            const bool inner_row = y > 0 && y < h - 1;
-            for (int x = 0; x < w; ++x) {
-                if (inner_row && x > 0 && x < w - 1) {
-                    int k = 0;
-                    for (int dy = -1; dy <= 1; ++dy) {
-                        const std::size_t row = std::size_t(y + dy) * w;
-                        for (int dx = -1; dx <= 1; ++dx, ++k) {
-                            const std::size_t i = row + std::size_t(x + dx);
-                            n[k][0] = cd[4 * i];
-                            n[k][1] = cd[4 * i + 1];
-                            n[k][2] = cd[4 * i + 2];
-                            n[k][3] = zd[i];
-                        }
-                    }
-                } else {
-                    gather_border(x, y, n);
+            for (int r = 0; r < 3; ++r) {
+                const std::size_t srow = std::size_t(resolve_border(y + r - 1, h, b)) * w;
+                float* pr = plane(r, 0);
+                float* pg = plane(r, 1);
+                float* pb = plane(r, 2);
+                float* pz = plane(r, 3);
+                for (std::size_t i = 0; i < pw; ++i) {
+                    const std::size_t si = srow + std::size_t(xt[i]);
+                    pr[i] = cd[4 * si];
+                    pg[i] = cd[4 * si + 1];
+                    pb[i] = cd[4 * si + 2];
+                    pz[i] = zd[si];
                 }
-                out[std::size_t(y) * w + x] = sobel_pixel(n, p.depth_weight);
+            }
+            float* __restrict orow = out + std::size_t(y) * w;
+            const float* T[4] = {plane(0, 0), plane(0, 1), plane(0, 2), plane(0, 3)};
+            const float* M[4] = {plane(1, 0), plane(1, 1), plane(1, 2), plane(1, 3)};
+            const float* B[4] = {plane(2, 0), plane(2, 1), plane(2, 2), plane(2, 3)};
+            for (int x = 0; x < w; ++x) {
+                float hs = 0.0f, vs = 0.0f;
+                for (int c = 0; c < 4; ++c) {
+                    const float* t = T[c];
+                    const float* m = M[c];
+                    const float* bt = B[c];
+                    float hk = (t[x] - bt[x]) + 2.0f * (t[x + 1] - bt[x + 1]) + (t[x + 2] - bt[x + 2]);
+                    float vk = (t[x] - t[x + 2]) + 2.0f * (m[x] - m[x + 2]) + (bt[x] - bt[x + 2]);
+                    if (c == 3) {
+                        hk *= wd;
+                        vk *= wd;
+                    }
+                    hs += hk * hk;
+                    vs += vk * vk;
+                }
+                const float lh = std::sqrt(hs), lv = std::sqrt(vs);
+                const float mag = std::sqrt(lh * lh + lv * lv);
+                orow[x] = mag > 1.0f ? 1.0f : mag;
             }
         }
     });

@@ -24,7 +24,9 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             const float d = 1.0f + p.strength * k[4 * i + 2];
             const float t = sat(d);
             for (int ch = 0; ch < 3; ++ch) {
-                const float cp = std::pow(std::fabs(c[4 * i + ch]), d);
+                // x^1 == x exactly, so unpainted pixels skip the pow (same value either way).
+                const float ac = std::fabs(c[4 * i + ch]);
+                const float cp = d == 1.0f ? ac : std::pow(ac, d);
                 o[4 * i + ch] = mix(substrate[ch], cp, t);
             }
             o[4 * i + 3] = c[4 * i + 3];

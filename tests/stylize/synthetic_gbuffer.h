@@ -34,32 +34,42 @@ inline int object_at(int x, int y, int w, int h) {
     return 0;
 }
 
-//! A synthetic image for a target name and channel count: colours in [0,1] (alpha = coverage),
-//! linear depth in scene units (depth.linear), normalised depth ("depth"), signed control in
-//! [-1,1] with zero regions (ctrl.*), edge-like [0,1] values otherwise.
+//! A synthetic image for a target name and channel count, render-like: objects with smooth shading
+//! and slight texture over a flat background (alpha = coverage); linear depth in scene units
+//! (depth.linear, +inf where there is no geometry) or normalised ("depth"); painted control
+//! (ctrl.*) smooth on the objects, signed on the bar, zero on the background; edge targets 1 on
+//! object boundaries and 0 elsewhere.
 inline ImageF synthetic_target(const std::string& name, int channels, int w, int h, std::uint32_t seed = 1) {
     ImageF img(w, h, channels);
     const bool is_ctrl = name.rfind("ctrl.", 0) == 0;
     const bool is_lin_depth = name == target::kDepthLinear;
     const bool is_depth = name == "depth" || name.find("depth") != std::string::npos;
+    const bool is_edges = name.find("edges") != std::string::npos;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const int obj = object_at(x, y, w, h);
+            const float fx = float(x) / float(w), fy = float(y) / float(h);
             for (int c = 0; c < channels; ++c) {
                 const float n = hash01(x, y, c, seed);
                 float v;
                 if (is_lin_depth) {
-                    v = obj == 1 ? 12.0f + 0.02f * x : obj == 2 ? 25.0f + 0.01f * y : std::numeric_limits<float>::infinity();
+                    v = obj == 1 ? 12.0f + 2.0f * fx : obj == 2 ? 25.0f + 1.0f * fy : std::numeric_limits<float>::infinity();
                 } else if (is_depth) {
-                    v = obj == 1 ? 0.1f + 0.001f * x : obj == 2 ? 0.4f + 0.001f * y : 1.0f;
+                    v = obj == 1 ? 0.1f + 0.05f * fx : obj == 2 ? 0.4f + 0.02f * fy : 1.0f;
                 } else if (is_ctrl) {
-                    // zero on the background, smooth painted values on objects, some negative
-                    v = obj == 0 ? 0.0f : (obj == 1 ? 0.8f * n : 2.0f * n - 1.0f);
+                    const float ph = float(c + 1 + int(seed % 5));
+                    v = obj == 0 ? 0.0f
+                        : obj == 1 ? 0.4f + 0.4f * std::sin(6.0f * fx * ph)
+                                   : std::cos(5.0f * fy * ph + 3.0f * fx);
+                } else if (is_edges) {
+                    v = (obj != object_at(x + 1, y, w, h) || obj != object_at(x, y + 1, w, h)) ? 1.0f : 0.0f;
                 } else if (channels == 4 && c == 3) {
                     v = obj == 0 ? 0.0f : 1.0f;  // alpha = coverage
+                } else if (obj == 0) {
+                    v = 0.95f;
                 } else {
-                    const float base = obj == 1 ? 0.8f - 0.5f * c * 0.3f : obj == 2 ? 0.2f + 0.3f * c : 0.95f;
-                    v = base + 0.1f * (n - 0.5f);
+                    const float base = obj == 1 ? 0.8f - 0.15f * float(c) : 0.2f + 0.3f * float(c);
+                    v = base * (0.7f + 0.3f * fx) + 0.02f * (n - 0.5f);
                 }
                 img.at(x, y, c) = v;
             }

@@ -1,0 +1,116 @@
+// bench/stylize_bench.cpp — Google Benchmark for the stylization library: one benchmark per
+// registered stage variant (found by iterating builtin_registry(), so every group's stages are
+// covered) at 1920x1080 and 640x360, reference and fast traversal, 1 and 2 threads, items =
+// output pixels; and every preset pipeline end to end (fast, 1 and 2 threads).
+// Inputs are the synthetic G-buffer of the tests (tests/stylize/synthetic_gbuffer.h): a disc and
+// a bar at different depths with painted control on the objects and none on the background.
+// Results: docs/performance.md "## Stylization".
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "stylize/paper.h"
+#include "stylize/pipeline.h"
+#include "stylize/stage.h"
+#include "tests/stylize/synthetic_gbuffer.h"
+
+namespace aq::stylize {
+namespace {
+
+struct Size {
+    int w, h;
+    const char* name;
+};
+constexpr Size kSizes[] = {{1920, 1080, "1920x1080"}, {640, 360, "640x360"}};
+
+//! Inputs for one variant at one size, built once and kept for every run of that benchmark.
+struct StageInputs {
+    std::vector<ImageF> in;
+    ImageF paper;
+    Globals g;
+};
+
+const StageInputs& inputs_for(const StageVariant& v, const Size& s) {
+    static std::map<std::string, std::unique_ptr<StageInputs>> cache;
+    const std::string key = v.key() + "@" + s.name;
+    auto& slot = cache[key];
+    if (!slot) {
+        slot = std::make_unique<StageInputs>();
+        std::uint32_t seed = 3;
+        for (const Port& p : v.inputs) slot->in.push_back(test::synthetic_target(p.default_target, p.channels, s.w, s.h, seed++));
+        slot->paper = flat_paper(s.w, s.h);
+        slot->g.paper = &slot->paper;
+    }
+    return *slot;
+}
+
+void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
+    const StageInputs& data = inputs_for(*v, s);
+    const ParamValues pv = Registry::resolve_params(*v, {}, "bench");
+    std::vector<ImageF> outs(v->outputs.size());
+    StageIO io;
+    io.globals = &data.g;
+    for (auto& i : data.in) io.in.push_back(&i);
+    for (auto& o : outs) io.out.push_back(&o);
+    for (auto _ : st) {
+        v->run(io, pv, ex);
+        benchmark::DoNotOptimize(outs.front().data());
+    }
+    st.SetItemsProcessed(st.iterations() * std::int64_t(s.w) * s.h);
+    st.counters["threads"] = ex.traversal == Traversal::Reference ? 1 : ex.threads;
+}
+
+void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads) {
+    Pipeline p = load_pipeline(preset);
+    Targets t = test::synthetic_gbuffer(s.w, s.h);
+    const auto gbuffer_names = t.names();
+    RunOptions o;
+    o.exec = Exec::fast(threads);
+    run_pipeline(p, t, o);  // warm-up; prepares and keeps the "paper" target
+    auto reset = [&] {
+        for (const auto& n : t.names()) {
+            bool keep = n == "paper";
+            for (auto& g : gbuffer_names) keep |= n == g;
+            if (!keep) t.erase(n);
+        }
+    };
+    for (auto _ : st) {
+        st.PauseTiming();
+        reset();
+        st.ResumeTiming();
+        run_pipeline(p, t, o);
+        benchmark::DoNotOptimize(t.get(p.output).data());
+    }
+    st.SetItemsProcessed(st.iterations() * std::int64_t(s.w) * s.h);
+    st.counters["threads"] = threads;
+}
+
+const bool kRegistered = [] {
+    for (const StageVariant* v : builtin_registry().all())
+        for (const Size& s : kSizes) {
+            const std::string base = "stage/" + v->key() + "/" + s.name;
+            benchmark::RegisterBenchmark((base + "/reference").c_str(), bm_stage, v, s, Exec::reference())
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime();
+            for (int threads : {1, 2})
+                benchmark::RegisterBenchmark((base + "/fast/threads:" + std::to_string(threads)).c_str(), bm_stage, v,
+                                             s, Exec::fast(threads))
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseRealTime();
+        }
+    for (const std::string& preset : preset_names())
+        for (const Size& s : kSizes)
+            for (int threads : {1, 2})
+                benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
+                                              std::to_string(threads)).c_str(),
+                                             bm_pipeline, preset, s, threads)
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseRealTime();
+    return true;
+}();
+
+}  // namespace
+}  // namespace aq::stylize
