@@ -257,6 +257,10 @@ const scene::Scene& water_bottle() {
     static const scene::Scene s = scene::load_gltf(test::asset("gltf/WaterBottle/glTF/WaterBottle.gltf"));
     return s;
 }
+const scene::Scene& dragon202k() {
+    static const scene::Scene s = scene::load_gltf(test::asset("meshes/stanford_dragon/dragon_202k.glb"));
+    return s;
+}
 const scene::Scene& orientation_test() {
     static const scene::Scene s = scene::load_gltf(test::asset("gltf/OrientationTest/glTF/OrientationTest.gltf"));
     return s;
@@ -270,6 +274,7 @@ TEST(TiledVsReference, BitExactOnRealModels) {
         {"suzanne_ssaa2_cull", &suzanne(), 160, 120, 2, true, raster::RenderSettings::Turbulence::ObjectSpace},
         {"waterbottle", &water_bottle(), 200, 300, 1, false, raster::RenderSettings::Turbulence::ObjectSpace},
         {"orientation", &orientation_test(), 256, 192, 1, false, raster::RenderSettings::Turbulence::ImageSpace},
+        {"dragon202k", &dragon202k(), 320, 240, 1, false, raster::RenderSettings::Turbulence::ImageSpace},
     };
     for (const Case& c : cases) {
         raster::RenderSettings st;
