@@ -57,10 +57,10 @@ namespace {
 
 //! Damped Gauss-Newton on |f(p) - t|^2, projected onto the cube, from p; accepts only improving
 //! steps, stops when the residual is below 1e-14 (squared), the step vanishes, or after 24 steps.
-V3 refine(V3 p, const V3& t) {
+V3 refine(V3 p, const V3& t, int max_steps = 24) {
     double best_d = dist2(eval(p), t);
     double lambda = 1e-6;
-    for (int it = 0; it < 24 && best_d > 1e-14; ++it) {
+    for (int it = 0; it < max_steps && best_d > 1e-14; ++it) {
         V3 a, b, c;
         const V3 f = eval(p, &a, &b, &c);
         const V3 e{t.x - f.x, t.y - f.y, t.z - f.z};
@@ -138,7 +138,7 @@ glm::vec3 rgb_to_ryb(glm::vec3 rgb) {
     const V3 t{std::isfinite(rgb.x) ? rgb.x : 0.0, std::isfinite(rgb.y) ? rgb.y : 0.0,
                std::isfinite(rgb.z) ? rgb.z : 0.0};
     const V3 seed = seed_table()[(std::size_t(seed_index(t.z)) * kSeedN + seed_index(t.y)) * kSeedN + seed_index(t.x)];
-    const V3 p = refine(seed, t);
+    const V3 p = refine(seed, t, 12);
     return {float(p.x), float(p.y), float(p.z)};
 }
 
