@@ -346,7 +346,8 @@ TEST(BleedDisplacement, GrowsTheSilhouette) {
     raster::RenderSettings st = test::plain_settings(W, H);
     auto covered = [&](bool on) {
         st.bleed_displacement = on;
-        const ImageF& id = raster::render_gbuffer(s, cam, st).get(target::kObjectId);
+        const Targets t = raster::render_gbuffer(s, cam, st);
+        const ImageF& id = t.get(target::kObjectId);
         int n = 0;
         for (std::size_t i = 0; i < id.num_values(); ++i) n += id.data()[i] != 0.0f;
         return n;
