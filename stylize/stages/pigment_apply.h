@@ -54,20 +54,37 @@ struct PigmentApplyWc18Params {
     float granulation_min = kGranulationDefault;  //!< d_min [0, 1]
 };
 
-//! WC17 eq. 9 for one pixel: c RGBA, height H in [0,1], ctrl = ctrl.pigment.g (negative values
-//! clamp to 0: WC17's granulation control is in [0, 1]). Output clamped to [0, 1] per channel.
-inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, const PigmentApplyWc17Params& p) {
-    if (c.w < kPigmentAlphaMask) return c;
+//! WC17 eq. 9 amounts for one pixel: the exponent 1 + k and the subtracted amount (k, or P_iv
+//! when literal); `apply` false where the pixel is left unchanged (alpha mask, or k = 0 and not
+//! literal).
+struct PigmentWc17Prep {
+    float d = 1.0f, sub = 0.0f;
+    bool apply = false;
+};
+
+inline PigmentWc17Prep pigment_apply_wc17_prepare(glm::vec4 c, float height, float ctrl,
+                                                  const PigmentApplyWc17Params& p) {
+    if (c.w < kPigmentAlphaMask) return {};
     const float hr = (height - 0.5f) * p.roughness + 0.5f;
     const float piv = 1.0f - hr;
     const float k = std::max(ctrl, 0.0f) * p.density * piv;
-    if (!p.literal && k == 0.0f) return c;  // Ctrl = 0: exactly unchanged
-    const float sub = p.literal ? piv : k;
-    auto one = [&](float i) {
-        const float v = i * (i - sub) + (1.0f - i) * stage_b::pow_c(i, 1.0f + k);
-        return stage_b::satf(v);
-    };
-    return {one(c.x), one(c.y), one(c.z), c.w};
+    if (!p.literal && k == 0.0f) return {};  // Ctrl = 0: exactly unchanged
+    return {1.0f + k, p.literal ? piv : k, true};
+}
+
+//! I_g = sat(I (I - sub) + (1 - I) I^(1 + k)) for one channel, pw = I^(1 + k).
+inline float pigment_apply_wc17_channel(float i, float sub, float pw) {
+    return stage_b::satf(i * (i - sub) + (1.0f - i) * pw);
+}
+
+//! WC17 eq. 9 for one pixel: c RGBA, height H in [0,1], ctrl = ctrl.pigment.g (negative values
+//! clamp to 0: WC17's granulation control is in [0, 1]). Output clamped to [0, 1] per channel.
+inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, const PigmentApplyWc17Params& p) {
+    const PigmentWc17Prep q = pigment_apply_wc17_prepare(c, height, ctrl, p);
+    if (!q.apply) return c;
+    return {pigment_apply_wc17_channel(c.x, q.sub, stage_b::pow_c(c.x, q.d)),
+            pigment_apply_wc17_channel(c.y, q.sub, stage_b::pow_c(c.y, q.d)),
+            pigment_apply_wc17_channel(c.z, q.sub, stage_b::pow_c(c.z, q.d)), c.w};
 }
 
 //! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c vectorises):
