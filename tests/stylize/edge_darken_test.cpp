@@ -139,6 +139,20 @@ TEST(EdgeDarkenDog, DarkensTheDarkSideOfAStepOnly) {
         }
 }
 
+TEST(EdgeDarkenDog, HalfResolutionBlurIsUpsampledWithGlTextureConvention) {
+    // 4x2 output, 2x1 blur. Output x samples the blur at ((x + 0.5) / 4) * 2 with texel centres at
+    // +0.5 and clamp to edge: x = 0 -> b0, x = 1 -> b0 + (b1 - b0) / 4, x = 2 -> b0 + 3 (b1 - b0) / 4,
+    // x = 3 -> b1. With I = 0.3, b = (0.6, 1.0): E = 0.3, 0.4, 0.6, 0.7 (all >= smooth_high).
+    const ImageF color = constant(4, 2, {0.3f, 0.3f, 0.3f, 1.0f});
+    ImageF blurred(2, 1, 4, 0.0f);
+    for (int c = 0; c < 3; ++c) blurred.at(0, 0, c) = 0.6f, blurred.at(1, 0, c) = 1.0f;
+    ImageF out;
+    edge_darken_dog(out, color, blurred, ImageF(4, 2, 4, 0.0f), {});
+    const double e[4] = {0.3, 0.4, 0.6, 0.7};
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) EXPECT_NEAR(out.at(x, y, 0), std::pow(0.3, 1.0 + e[x]), 3e-6) << x;
+}
+
 TEST(EdgeDarken, DarkeningNeverBrightensUnitColours) {
     const ImageF color = noise(23, 13, 4, 0.0f, 1.0f, 7);
     const ImageF edges = noise(23, 13, 1, 0.0f, 1.0f, 8);

@@ -90,6 +90,24 @@ TEST(GapsOverlaps, OverlapWidthFollowsTheControl) {
     }
 }
 
+TEST(GapsOverlaps, NonConvergingMarchMixesWithThePixelBehind) {
+    // Algorithm 1 lines 22-26: the extended edges fall off to the right everywhere, so the gradient
+    // points left. Yellow pixel x = 7 marches left over yellow for all m steps, then mixes with the
+    // pixel behind it (x = 8, blue).
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF edges(kW, kH, 1);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) edges.at(x, y, 0) = 1.0f - float(x) / 16.0f;
+    ImageF out;
+    gaps_overlaps(out, color, edges, ctrl_b(1.0f), nullptr, kPaper, {});
+    const glm::vec3 mixed = mix_ryb(kYellow, kBlue);
+    EXPECT_NEAR(out.at(7, 2, 0), mixed.r, 1e-6f);
+    EXPECT_NEAR(out.at(7, 2, 1), mixed.g, 1e-6f);
+    EXPECT_NEAR(out.at(7, 2, 2), mixed.b, 1e-6f);
+    // Blue x = 8 finds yellow one step to the left: the same mix, by the forward march.
+    EXPECT_NEAR(out.at(8, 2, 1), mixed.g, 1e-6f);
+}
+
 TEST(GapsOverlaps, NoOverlapWithTheSubstrateColour) {
     const ImageF color = two_colours(kYellow, kPaper);
     ImageF out;
