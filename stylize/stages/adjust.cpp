@@ -12,34 +12,49 @@ namespace aq::stylize {
 
 namespace {
 
-struct AdjustK {
-    AdjustParams p;
-    glm::vec3 substrate;
-    float inv_range;
-
-    float depth(float z) const { return std::isfinite(z) ? (z - p.depth_near) * inv_range : 1.0f; }
-
-    void colour(const float* c, float z, float* o) const {
-        const float luma = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
-        const float k = p.contrast * 0.5f + 0.5f;
-        const float b = p.brightness - 1.0f;
-        const float tint[3] = {p.tint_r, p.tint_g, p.tint_b};
-        float atm = 0.0f;
-        if (p.atmosphere) {
-            const float zz = std::isfinite(z) ? z : 1.0e9f;  // MNPR: no geometry = 1e9 units
-            atm = sat((zz - p.atmosphere_start) / (p.atmosphere_end - p.atmosphere_start));
-        }
-        const float a = c[3];
-        for (int i = 0; i < 3; ++i) {
-            const float s = lerp(luma, c[i], p.saturation);
-            const float ct = lerp(0.5f, s, k);
-            float v = sat(ct + b);
-            if (p.atmosphere) v = lerp(v, tint[i], atm);
-            o[i] = mix(substrate[i], v, a);
-        }
-        o[3] = a;
+// One pixel. Branch-free apart from the compile-time atmosphere switch, so the row loop
+// vectorises; the reference and the fast traversal both call exactly this.
+template <bool kAtmosphere>
+inline void adjust_pixel(const float* c, float z, float* o, float& zo, const AdjustParams& p, glm::vec3 substrate,
+                         float inv_range, float inv_atm) {
+    const bool finite = std::fabs(z) <= 3.402823466e38f;  // false for +-inf and NaN
+    const float zn = (z - p.depth_near) * inv_range;
+    zo = finite ? zn : 1.0f;  // no geometry -> far (MNPR: zBuffer == 1 -> depth 1)
+    const float luma = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+    const float k = p.contrast * 0.5f + 0.5f;
+    const float b = p.brightness - 1.0f;
+    float atm = 0.0f;
+    if constexpr (kAtmosphere) {
+        const float zz = finite ? z : 1.0e9f;  // MNPR: no geometry = 1e9 units
+        atm = sat((zz - p.atmosphere_start) * inv_atm);
     }
-};
+    const float tint[3] = {p.tint_r, p.tint_g, p.tint_b};
+    const float a = c[3];
+    for (int i = 0; i < 3; ++i) {
+        const float s = lerp(luma, c[i], p.saturation);
+        const float ct = lerp(0.5f, s, k);
+        float v = sat(ct + b);
+        if constexpr (kAtmosphere) v = lerp(v, tint[i], atm);
+        o[i] = mix(substrate[i], v, a);
+    }
+    o[3] = a;
+}
+
+template <bool kAtmosphere>
+void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
+                 glm::vec3 substrate, const AdjustParams& p, const Exec& ex) {
+    const int w = color.width(), h = color.height();
+    const float inv_range = 1.0f / (p.depth_far - p.depth_near);
+    const float inv_atm = kAtmosphere ? 1.0f / (p.atmosphere_end - p.atmosphere_start) : 0.0f;
+    const float* cin = color.data();
+    const float* zin = depth_linear.data();
+    float* cout = color_out.data();
+    float* zout = depth_out.data();
+    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i)
+            adjust_pixel<kAtmosphere>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
+    });
+}
 
 }  // namespace
 
@@ -51,20 +66,12 @@ void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const Ima
     if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
     if (p.atmosphere && p.atmosphere_end == p.atmosphere_start)
         throw Error("adjust: atmosphere_start == atmosphere_end");
-    const int w = color.width(), h = color.height();
-    color_out = ImageF(w, h, 4);
-    depth_out = ImageF(w, h, 1);
-    const AdjustK k{p, substrate, 1.0f / (p.depth_far - p.depth_near)};
-    const float* cin = color.data();
-    const float* zin = depth_linear.data();
-    float* cout = color_out.data();
-    float* zout = depth_out.data();
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
-            zout[i] = k.depth(zin[i]);
-            k.colour(cin + 4 * i, zin[i], cout + 4 * i);
-        }
-    });
+    color_out = ImageF(color.width(), color.height(), 4);
+    depth_out = ImageF(color.width(), color.height(), 1);
+    if (p.atmosphere)
+        adjust_rows<true>(color_out, depth_out, color, depth_linear, substrate, p, ex);
+    else
+        adjust_rows<false>(color_out, depth_out, color, depth_linear, substrate, p, ex);
 }
 
 void register_adjust(Registry& r) {

@@ -274,30 +274,24 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     Planes& out = tl_out;
     src.alloc(wr, hr, 5);
     {
-        const auto cv = color.view<glm::vec4>();
-        const auto kv = ctrl.view<glm::vec4>();
-        const bool has_z = !depth.empty();
+        // Half resolution: resample once (detail::resample, the sample_resampled convention).
+        ImageF hc, hk, hz;
+        if (p.half_res) {
+            hc = detail::resample(color, wr, hr, ex);
+            hk = detail::resample(ctrl, wr, hr, ex);
+            if (!depth.empty()) hz = detail::resample(depth, wr, hr, ex);
+        }
+        const float* cd = p.half_res ? hc.data() : color.data();
+        const float* kd = p.half_res ? hk.data() : ctrl.data();
+        const float* zd = depth.empty() ? nullptr : (p.half_res ? hz.data() : depth.data());
         detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
-            for (int y = y0; y < y1; ++y)
-                for (int x = 0; x < wr; ++x) {
-                    const std::size_t i = std::size_t(y) * wr + x;
-                    glm::vec4 c, kc;
-                    float zz = 0.0f;
-                    if (p.half_res) {
-                        c = sample_resampled(cv, x, y, wr, hr);
-                        kc = sample_resampled(kv, x, y, wr, hr);
-                        if (has_z) zz = sample_resampled(depth.view<float>(), x, y, wr, hr);
-                    } else {
-                        c = cv(x, y);
-                        kc = kv(x, y);
-                        if (has_z) zz = depth.data()[std::size_t(y) * w + x];
-                    }
-                    src.p[0][i] = c.r;
-                    src.p[1][i] = c.g;
-                    src.p[2][i] = c.b;
-                    src.p[3][i] = kc.b;  // ctrl.abstraction.b = bleeding (spec §1)
-                    src.p[4][i] = zz;
-                }
+            for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i) {
+                src.p[0][i] = cd[4 * i];
+                src.p[1][i] = cd[4 * i + 1];
+                src.p[2][i] = cd[4 * i + 2];
+                src.p[3][i] = kd[4 * i + 2];  // ctrl.abstraction.b = bleeding (spec §1)
+                src.p[4][i] = zd ? zd[i] : 0.0f;
+            }
         });
     }
     Kernel k;

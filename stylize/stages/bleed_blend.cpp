@@ -18,22 +18,22 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
                     std::to_string(h) + ") or half of it (" + std::to_string(half_size(w)) + "x" +
                     std::to_string(half_size(h)) + ")");
     dst = ImageF(w, h, 4);
-    const auto cv = color.view<glm::vec4>();
-    const auto bv = bleed.view<glm::vec4>();
-    auto ov = dst.view<glm::vec4>();
+    // A half-resolution bleed is upsampled first (detail::resample: the sample_resampled
+    // convention, value for value); then eq. 7 per pixel.
+    ImageF up;
+    if (!full) up = detail::resample(bleed, w, h, ex);
+    const float* I = color.data();
+    const float* B = full ? bleed.data() : up.data();
+    float* o = dst.data();
+    const float gain = p.gain;
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y)
-            for (int x = 0; x < w; ++x) {
-                const glm::vec4 I = cv(x, y);
-                const glm::vec4 B = full ? bv(x, y) : sample_resampled(bv, x, y, w, h);
-                const float k = sat(p.gain * B.a);
-                glm::vec4 o;
-                o.r = k * (B.r - I.r) + I.r;
-                o.g = k * (B.g - I.g) + I.g;
-                o.b = k * (B.b - I.b) + I.b;
-                o.a = I.a;
-                ov(x, y) = o;
-            }
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
+            const float k = sat(gain * B[4 * i + 3]);
+            o[4 * i + 0] = k * (B[4 * i + 0] - I[4 * i + 0]) + I[4 * i + 0];
+            o[4 * i + 1] = k * (B[4 * i + 1] - I[4 * i + 1]) + I[4 * i + 1];
+            o[4 * i + 2] = k * (B[4 * i + 2] - I[4 * i + 2]) + I[4 * i + 2];
+            o[4 * i + 3] = I[4 * i + 3];
+        }
     });
 }
 

@@ -28,16 +28,7 @@ void edge_blur_wc17(ImageF& dst, const ImageF& color, const EdgeBlurWc17Params& 
     detail::check_input(color, 4, "edge_blur", "color");
     const int w = color.width(), h = color.height();
     ImageF src;
-    if (p.half_res) {
-        const int wh = half_size(w), hh = half_size(h);
-        src = ImageF(wh, hh, 4);
-        const auto cv = color.view<glm::vec4>();
-        auto sv = src.view<glm::vec4>();
-        detail::for_each_row_block(ex, hh, [&](int y0, int y1) {
-            for (int y = y0; y < y1; ++y)
-                for (int x = 0; x < wh; ++x) sv(x, y) = sample_resampled(cv, x, y, wh, hh);
-        });
-    }
+    if (p.half_res) src = detail::resample(color, half_size(w), half_size(h), ex);
     separable_blur(dst, p.half_res ? src : color, gaussian_weights(p.radius, p.sigma), p.border, ex);
 }
 

@@ -5,6 +5,9 @@
 #include "stylize/stages/edge_detect.h"
 
 #include <cmath>
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
 #include <vector>
 
 #include "stylize/kernels.h"
@@ -74,6 +77,7 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t pw = std::size_t(w) + 2;
         std::vector<float> buf(pw * 12);
+        std::vector<float> hsv(std::size_t(w) * 2);
         auto plane = [&](int r, int c) { return buf.data() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
         for (int y = y0; y < y1; ++y) {
             for (int r = 0; r < 3; ++r) {
@@ -94,6 +98,8 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             const float* T[4] = {plane(0, 0), plane(0, 1), plane(0, 2), plane(0, 3)};
             const float* M[4] = {plane(1, 0), plane(1, 1), plane(1, 2), plane(1, 3)};
             const float* B[4] = {plane(2, 0), plane(2, 1), plane(2, 2), plane(2, 3)};
+            float* __restrict hsr = hsv.data();
+            float* __restrict vsr = hsv.data() + w;
             for (int x = 0; x < w; ++x) {
                 float hs = 0.0f, vs = 0.0f;
                 for (int c = 0; c < 4; ++c) {
@@ -109,7 +115,24 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
                     hs += hk * hk;
                     vs += vk * vk;
                 }
-                const float lh = std::sqrt(hs), lv = std::sqrt(vs);
+                hsr[x] = hs;
+                vsr[x] = vs;
+            }
+            // sqrt through the vector unit: IEEE-exact like sqrtss (std::sqrt's errno path keeps
+            // GCC from vectorising it without -fno-math-errno).
+            int x = 0;
+#ifdef __AVX__
+            const __m256 one = _mm256_set1_ps(1.0f);
+            for (; x + 8 <= w; x += 8) {
+                const __m256 lh = _mm256_sqrt_ps(_mm256_loadu_ps(hsr + x));
+                const __m256 lv = _mm256_sqrt_ps(_mm256_loadu_ps(vsr + x));
+                const __m256 mag = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(lh, lh), _mm256_mul_ps(lv, lv)));
+                // mag > 1 ? 1 : mag (NaN stays NaN)
+                _mm256_storeu_ps(orow + x, _mm256_blendv_ps(mag, one, _mm256_cmp_ps(mag, one, _CMP_GT_OQ)));
+            }
+#endif
+            for (; x < w; ++x) {
+                const float lh = std::sqrt(hsr[x]), lv = std::sqrt(vsr[x]);
                 const float mag = std::sqrt(lh * lh + lv * lv);
                 orow[x] = mag > 1.0f ? 1.0f : mag;
             }

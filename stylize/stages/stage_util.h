@@ -3,6 +3,7 @@
 // the half-resolution size/sampling convention (see docs/stylize.md "Resolution conventions").
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,55 @@ void for_each_row_block(const Exec& ex, int h, F&& f) {
             tbb::blocked_range<int>(0, h, grain), [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); },
             tbb::simple_partitioner());
     });
+}
+
+
+//! Per-axis tables of the resampling convention (kernels.h texel_coord + sample_bilinear, clamp to
+//! edge): for output index x, source taps i0[x], i1[x] (already clamped) and weight t[x], computed
+//! with exactly sample_bilinear's float operations, so resampled values equal sample_resampled's
+//! bit for bit.
+struct ResampleAxis {
+    std::vector<int> i0, i1;
+    std::vector<float> t;
+    ResampleAxis(int n_out, int n_src) : i0(std::size_t(n_out)), i1(std::size_t(n_out)), t(std::size_t(n_out)) {
+        for (int x = 0; x < n_out; ++x) {
+            const float f = texel_coord(x, n_out, n_src) - 0.5f;
+            const float f0 = std::floor(f);
+            t[std::size_t(x)] = f - f0;
+            const int i = int(f0);
+            i0[std::size_t(x)] = resolve_border(i, n_src, Border::Clamp);
+            i1[std::size_t(x)] = resolve_border(i + 1, n_src, Border::Clamp);
+        }
+    }
+};
+
+//! Bilinear resample of src (any channel count) to w x h with the convention above. Row blocks on
+//! the traversal of ex; each value is the same expression as sample_resampled.
+inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
+    const int C = src.channels(), sw = src.width();
+    const ResampleAxis ax(w, sw), ay(h, src.height());
+    ImageF dst(w, h, C);
+    const float* s = src.data();
+    float* d = dst.data();
+    for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            const float ty = ay.t[std::size_t(y)];
+            const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
+            const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
+            float* o = d + std::size_t(y) * w * C;
+            for (int x = 0; x < w; ++x) {
+                const float tx = ax.t[std::size_t(x)];
+                const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
+                for (int c = 0; c < C; ++c) {
+                    const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
+                    const float top = a + (cc - a) * tx;
+                    const float bot = dd + (e - dd) * tx;
+                    o[std::size_t(x) * C + c] = top + (bot - top) * ty;
+                }
+            }
+        }
+    });
+    return dst;
 }
 
 }  // namespace aq::stylize::detail
