@@ -47,6 +47,9 @@ glm::vec2 tremor_offset_px(const TremorParams& p, float time_s, glm::vec3 p_obj,
                            glm::vec3 v_view) {
     const float ndv = n_view.x * v_view.x + n_view.y * v_view.y + n_view.z * v_view.z;
     const float w = std::min(sat(kTremorNdotVGain * ndv), 1.0f - p.front);
+    // No tremor where the weight is 0 (silhouettes, back faces) or NaN (a NaN normal must not
+    // turn a valid position into a dropped one).
+    if (!(w > 0.0f)) return {0.0f, 0.0f};
     const float phase = (time_s * p.speed) * kTremorSpeedScale;
     const float sx = std::sin(phase + (p_obj.x * p.frequency) * kTremorFreqScale);
     const float sy = std::sin(phase + (p_obj.y * p.frequency) * kTremorFreqScale);
