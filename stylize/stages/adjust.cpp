@@ -66,8 +66,8 @@ void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const Ima
     if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
     if (p.atmosphere && p.atmosphere_end == p.atmosphere_start)
         throw Error("adjust: atmosphere_start == atmosphere_end");
-    color_out = ImageF(color.width(), color.height(), 4);
-    depth_out = ImageF(color.width(), color.height(), 1);
+    detail::ensure_image(color_out, color.width(), color.height(), 4);
+    detail::ensure_image(depth_out, color.width(), color.height(), 1);
     if (p.atmosphere)
         adjust_rows<true>(color_out, depth_out, color, depth_linear, substrate, p, ex);
     else

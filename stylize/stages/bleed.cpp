@@ -308,7 +308,7 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
         case BleedRule::JointBilateral: run_passes<BleedRule::JointBilateral>(src, tmp, out, k, p.border, ex); break;
         case BleedRule::Mnpr: run_passes<BleedRule::Mnpr>(src, tmp, out, k, p.border, ex); break;
     }
-    dst = ImageF(wr, hr, 4);
+    detail::ensure_image(dst, wr, hr, 4);
     float* o = dst.data();
     detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
         for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i)

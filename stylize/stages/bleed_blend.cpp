@@ -17,7 +17,7 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
                     std::to_string(bleed.height()) + ", expected the size of 'color' (" + std::to_string(w) + "x" +
                     std::to_string(h) + ") or half of it (" + std::to_string(half_size(w)) + "x" +
                     std::to_string(half_size(h)) + ")");
-    dst = ImageF(w, h, 4);
+    detail::ensure_image(dst, w, h, 4);
     // A half-resolution bleed is upsampled first (detail::resample: the sample_resampled
     // convention, value for value); then eq. 7 per pixel.
     ImageF up;

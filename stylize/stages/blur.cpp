@@ -10,7 +10,7 @@ namespace {
 void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal) {
     const int W = src.width(), H = src.height(), C = src.channels();
     const int r = int(w.size() / 2);
-    dst = ImageF(W, H, C);
+    detail::ensure_image(dst, W, H, C);
     const float* s = src.data();
     float* o = dst.data();
     for (int y = 0; y < H; ++y)
@@ -31,7 +31,7 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
                const Exec& ex) {
     const int W = src.width(), H = src.height(), C = src.channels();
     const int r = int(w.size() / 2);
-    dst = ImageF(W, H, C);
+    detail::ensure_image(dst, W, H, C);
     const float* s = src.data();
     float* o = dst.data();
     const std::size_t n = std::size_t(W) * C;

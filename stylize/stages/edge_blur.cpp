@@ -68,7 +68,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
             K[i] = edge_blur_kernel_size(p.width, ctrl.data()[4 * i + 1]);
     });
     ImageF tmp(w, h, 1);
-    dst = ImageF(w, h, 1);
+    detail::ensure_image(dst, w, h, 1);
     const Border b = p.border;
     if (ex.traversal == Traversal::Reference) {
         for (int pass = 0; pass < 2; ++pass) {

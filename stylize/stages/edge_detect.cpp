@@ -45,7 +45,7 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     detail::check_input(depth, 1, "edge_detect", "depth");
     detail::check_same_size(depth, color, "edge_detect", "depth", "color");
     const int w = color.width(), h = color.height();
-    edges = ImageF(w, h, 1);
+    detail::ensure_image(edges, w, h, 1);
     const float* cd = color.data();
     const float* zd = depth.data();
     float* out = edges.data();

@@ -15,7 +15,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     detail::check_input(ctrl, 4, "pigment_density", "control");
     detail::check_same_size(ctrl, color, "pigment_density", "control", "color");
     const int w = color.width(), h = color.height();
-    dst = ImageF(w, h, 4);
+    detail::ensure_image(dst, w, h, 4);
     const float* c = color.data();
     const float* k = ctrl.data();
     float* o = dst.data();

@@ -32,6 +32,12 @@ inline void check_same_size(const ImageF& img, const ImageF& like, const std::st
                     std::to_string(like.width()) + "x" + std::to_string(like.height()));
 }
 
+//! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller
+//! running a stage every frame then writes into the same pages). Contents are unspecified.
+inline void ensure_image(ImageF& img, int w, int h, int c) {
+    if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c);
+}
+
 //! The source index of every padded position -pad..n-1+pad under border rule b.
 inline std::vector<int> border_table(int n, int pad, Border b) {
     std::vector<int> t(std::size_t(n + 2 * pad));
