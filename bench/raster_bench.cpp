@@ -9,7 +9,8 @@
 //   BM_RasterFrame — render_gbuffer_into() with the previous frame's targets: the steady state of
 //                    an animation (no allocation of the 108 B/px G-buffer per frame);
 //   BM_RasterCold  — render_gbuffer(): allocates and zero-fills fresh targets every call (the
-//                    page faults of ~224 MB at 1080p are part of the time).
+//                    page faults of ~224 MB at 1080p are part of the time);
+//   BM_RasterFrameCull — BM_RasterFrame with cull_backfaces (dragons only, 1080p).
 // Run only these: aquarelle_bench --benchmark_filter=BM_Raster
 #include <benchmark/benchmark.h>
 
@@ -60,7 +61,7 @@ aq::scene::Camera framing_camera(const aq::scene::Scene& s, float aspect) {
     return cam;
 }
 
-void run(benchmark::State& state, bool reuse) {
+void run(benchmark::State& state, bool reuse, bool cull = false) {
     const int mi = int(state.range(0));
     const int w = int(state.range(1)), h = int(state.range(2)), threads = int(state.range(3));
     const aq::scene::Scene& s = model(mi);
@@ -70,6 +71,7 @@ void run(benchmark::State& state, bool reuse) {
     st.height = h;
     st.exec = aq::Exec::fast(threads);
     st.frame = 1;
+    st.cull_backfaces = cull;
     aq::Targets out;
     if (reuse) aq::raster::render_gbuffer_into(out, s, cam, st);  // first frame: allocation
     for (auto _ : state) {
@@ -90,6 +92,7 @@ void run(benchmark::State& state, bool reuse) {
 
 void BM_RasterFrame(benchmark::State& state) { run(state, true); }
 void BM_RasterCold(benchmark::State& state) { run(state, false); }
+void BM_RasterFrameCull(benchmark::State& state) { run(state, true, true); }
 
 void args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"model", "w", "h", "threads"});
@@ -103,3 +106,12 @@ void args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_RasterFrame)->Apply(args);
 BENCHMARK(BM_RasterCold)->Apply(args);
+// Same as BM_RasterFrame with back-face culling (closed meshes: the same visible surfaces, about
+// half the triangles set up and rasterized).
+BENCHMARK(BM_RasterFrameCull)
+    ->ArgNames({"model", "w", "h", "threads"})
+    ->Args({1, 1920, 1080, 2})
+    ->Args({2, 1920, 1080, 1})
+    ->Args({2, 1920, 1080, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
