@@ -155,7 +155,9 @@ TEST(Swatches, DeterministicAndPaintedForEveryEffect) {
             EXPECT_GE(hi, 0.9f) << "target " << t << " channel " << c;
             // Signed channels are painted both ways (granulation/dry-brush, accumulate/dilute,
             // overlaps/gaps, edge intensity).
-            if ((t == kCtrlPigment && c >= 1) || (t == kCtrlEdge && (c == 0 || c == 2))) EXPECT_LE(lo, -0.9f) << t << "," << c;
+            if ((t == kCtrlPigment && c >= 1) || (t == kCtrlEdge && (c == 0 || c == 2))) {
+                EXPECT_LE(lo, -0.9f) << t << "," << c;
+            }
         }
     // Unique object IDs from 1.
     std::set<std::uint32_t> ids;

@@ -74,7 +74,9 @@ TEST(ShippedScenes, EveryDataFileLoads) {
         const glm::vec4 c = d.camera.view * glm::vec4(0.5f * (b.min + b.max), 1.0f);
         EXPECT_LT(c.z, -d.camera.znear);
         EXPECT_GT(c.z, -d.camera.zfar);
-        if (!d.paper.empty()) EXPECT_TRUE(fs::is_regular_file(d.paper)) << d.paper;
+        if (!d.paper.empty()) {
+            EXPECT_TRUE(fs::is_regular_file(d.paper)) << d.paper;
+        }
     }
     for (const char* required : {"suzanne", "waterbottle", "orientation_test", "dragon_202k", "procedural"})
         EXPECT_EQ(names.count(required), 1u) << required;
