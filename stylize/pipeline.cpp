@@ -371,6 +371,14 @@ void validate_pipeline(const Pipeline& p, const Targets* gbuffer) {
 }
 
 void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
+    std::map<std::string, ImageF> recycled;
+    if (opt.reuse_outputs)
+        for (std::size_t i = 0; i < p.steps.size(); ++i)
+            for (const std::string& t : resolve_step(p, i).outputs)
+                if (targets.has(t) && !recycled.count(t)) {
+                    recycled[t] = std::move(targets.get_mut(t));
+                    targets.erase(t);
+                }
     validate_pipeline(p, &targets);
     // Image size: the first G-buffer target a step reads (validate checked they agree).
     int w = 0, h = 0;
@@ -399,6 +407,8 @@ void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
         for (std::size_t k = 0; k < r.inputs.size(); ++k)
             io.in.push_back(targets.has(r.inputs[k]) ? &targets.get(r.inputs[k]) : nullptr);
         std::vector<ImageF> outs(r.outputs.size());
+        for (std::size_t k = 0; k < outs.size(); ++k)
+            if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[k] = std::move(it->second);
         for (auto& o : outs) io.out.push_back(&o);
         try {
             r.variant->run(io, r.params, opt.exec);

@@ -58,6 +58,10 @@ void set_variant(Pipeline& p, const std::string& assignment);
 struct RunOptions {
     Exec exec;
     std::function<void(int index, int count, const std::string& step)> progress;
+    //! Frame loops: targets that the pipeline writes and that are already in `targets` are taken
+    //! as the previous frame's outputs — removed before validation and their storage handed back
+    //! to the stages (no re-allocation and page faults per frame). Off: such targets are an error.
+    bool reuse_outputs = false;
 };
 
 //! Validates (validate_pipeline with the given targets as G-buffer), then runs each step in order,

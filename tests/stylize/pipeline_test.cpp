@@ -108,6 +108,21 @@ TEST(Pipeline, GroupAPipelineRunsAndMatchesTheReferenceTraversal) {
     EXPECT_EQ(ref.get("bleed").width(), 27);  // joint_bilateral defaults to half resolution
 }
 
+TEST(Pipeline, FrameLoopReusesOutputsAndGivesTheSameBytes) {
+    const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
+    Targets t = test::synthetic_gbuffer(41, 29);
+    RunOptions o;
+    o.exec = Exec::fast(2);
+    run_pipeline(p, t, o);
+    const std::string first = sha256_hex(t.get("color.bled"));
+    const float* storage = t.get("bleed").data();
+    EXPECT_THROW(run_pipeline(p, t, o), Error) << "outputs present and reuse_outputs off";
+    o.reuse_outputs = true;
+    run_pipeline(p, t, o);
+    EXPECT_EQ(sha256_hex(t.get("color.bled")), first);
+    EXPECT_EQ(t.get("bleed").data(), storage) << "the previous frame's storage is reused";
+}
+
 TEST(Pipeline, SetParamAndSetVariant) {
     Pipeline p = parse_pipeline(kGroupA, "group_a.json");
     set_param(p, "extend_edges.width=7");
