@@ -100,7 +100,7 @@ GStats compare_gbuffers(const Targets& a, const Targets& b) {
 
 void write_failure_images(const std::string& scene, const Targets& cpp, const Targets& gl) {
     for (const char* name : {target::kColor, target::kDepthLinear, target::kObjectId, target::kNormal}) {
-        const std::string base = test::output_dir() + "/gbuffer." + scene + "." + safe_file_name(name);
+        const std::string base = test::output_dir() + "/gbuffer." + safe_file_name(scene) + "." + safe_file_name(name);
         write_image(base + ".cpp.exr", cpp.get(name));
         write_image(base + ".gl.exr", gl.get(name));
         write_image(base + ".diff.png", diff_heatmap(cpp.get(name), gl.get(name)));
@@ -147,8 +147,14 @@ TEST_P(GBufferReference, RasterMatchesGlTwin) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GBufferReference,
-                         ::testing::Values("suzanne", "waterbottle", "orientation_test", "procedural"),
-                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+                         ::testing::Values("suzanne", "waterbottle", "orientation_test", "procedural", "dragon_202k",
+                                           "gltf/Fox/glTF/Fox.gltf", "gltf/BoxTextured/BoxTextured.gltf"),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                             std::string n = i.param;
+                             for (char& c : n)
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return n;
+                         });
 
 }  // namespace
 }  // namespace aq::ref

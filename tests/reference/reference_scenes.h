@@ -29,7 +29,14 @@ inline std::vector<std::string> reference_scene_names() {
     return {"synthetic", "suzanne", "waterbottle", "orientation_test", "procedural"};
 }
 
+//! A scene file of scenes/data by name, or a bare glTF under ../shared/assets when the name ends
+//! in .gltf/.glb (framed automatically, default light, neutral control).
 inline scene::SceneDesc load_reference_scene(const std::string& name) {
+    const auto ends = [&](const char* e) {
+        const std::string x = e;
+        return name.size() > x.size() && name.compare(name.size() - x.size(), x.size(), x) == 0;
+    };
+    if (ends(".gltf") || ends(".glb")) return scene::load_scene(test::asset(name));
     return scene::load_scene(test::source_dir() + "/scenes/data/" + name + ".json");
 }
 
