@@ -255,10 +255,11 @@ void add_instance(Scene& s, Primitive prim, int material, const glm::mat4& world
 Scene make_swatches() {
     Scene s;
     s.source = "procedural:swatches";
-    s.materials = {swatch_material("ground", {236, 224, 200}), swatch_material("orange", {194, 94, 0}),
+    s.materials = {swatch_material("ground", {190, 160, 110}), swatch_material("orange", {194, 94, 0}),
                    swatch_material("blue", {31, 171, 224}),    swatch_material("red", {200, 40, 50}),
                    swatch_material("green", {60, 150, 70}),    swatch_material("violet", {120, 70, 170})};
     s.materials[1].wc.specular = 0.3f;  // shows the specular term on one sphere
+    s.materials[0].wc.dilute = 0.25f;   // the lit ground would otherwise dilute to the paper colour
 
     // Ground plane (XZ, 8 x 6 units): granulation (+) to dry-brush (-) gradient along X, a
     // paper-distortion band along Z and pigment-variation noise.
