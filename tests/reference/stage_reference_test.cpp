@@ -38,7 +38,7 @@ struct Tolerance {
 
 const std::map<std::string, Tolerance>& tolerances() {
     static const std::map<std::string, Tolerance> t = {
-        {"adjust/mnpr", {2e-6, 0.0, "pointwise; only the depth division (GL: x * rcp(y)) may differ by an ulp"}},
+        {"adjust/mnpr", {2e-6, 0.0, "pointwise; the depth division (GLSL x / y, C++ x * (1 / y)) may differ by an ulp"}},
         {"gaps_overlaps/wc18",
          {0.05, 0.005,
           "overlap colours go through an iterative RGB->RYB least-squares inverse: for colours outside the "
