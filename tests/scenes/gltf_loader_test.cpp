@@ -516,6 +516,34 @@ TEST(Textures, RealModelsDecodeTheirMaps) {
     EXPECT_TRUE(s.warnings.empty());
 }
 
+TEST(Textures, RealSamplersMapToWrapAndFilter) {
+    // BoxTextured: magFilter LINEAR, minFilter NEAREST_MIPMAP_LINEAR, wrapS MIRRORED_REPEAT, wrapT CLAMP_TO_EDGE.
+    const Scene s = load("gltf/BoxTextured/BoxTextured.gltf");
+    const TextureRef& t = s.materials.at(0).base_color_texture;
+    ASSERT_GE(t.texture, 0);
+    EXPECT_EQ(s.textures[std::size_t(t.texture)].image.width(), 211);
+    EXPECT_EQ(t.sampler.mag, Filter::Linear);
+    EXPECT_EQ(t.sampler.min, Filter::Nearest);
+    EXPECT_EQ(t.sampler.wrap_s, Wrap::MirroredRepeat);
+    EXPECT_EQ(t.sampler.wrap_t, Wrap::ClampToEdge);
+}
+
+TEST(Materials, BlendIsKeptAndDefaultMaterialAppended) {
+    GltfBuilder b;
+    const int pa = b.add(aq::test::quad_positions(), kFloat, "VEC3", 4);
+    b.j["meshes"] = nlohmann::json::array({{{"primitives", nlohmann::json::array({{{"attributes", {{"POSITION", pa}}}, {"mode", 6}, {"material", 0}},
+                                                                                  {{"attributes", {{"POSITION", pa}}}, {"mode", 6}}})}}});
+    b.j["nodes"] = nlohmann::json::array({{{"mesh", 0}}});
+    b.j["scenes"] = nlohmann::json::array({{{"nodes", {0}}}});
+    b.j["materials"] = nlohmann::json::array({{{"name", "glass"}, {"alphaMode", "BLEND"}}});
+    const Scene s = load_gltf(b.write_gltf(out_path("blend.gltf")));
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[0].alpha_mode, AlphaMode::Blend);  // drawn opaque by the rasterizer (docs/scenes.md)
+    EXPECT_EQ(s.materials[1].name, "default");
+    EXPECT_EQ(s.meshes[0].primitives[0].material, 0);
+    EXPECT_EQ(s.meshes[0].primitives[1].material, 1);
+}
+
 // --- other inputs ----------------------------------------------------------------------------
 
 TEST(Positions, NonFiniteAreKeptAndCounted) {
