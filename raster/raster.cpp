@@ -644,7 +644,12 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
     };
     if (fast) with_arena(s.exec, body);
     else body();
-    if (mode == Mode::GBuffer && K > 1) return resolve(tg, K, s.width, s.height, fr.background_depth, s.exec);
+    timer.lap("arena exit");
+    if (mode == Mode::GBuffer && K > 1) {
+        Targets lo = resolve(tg, K, s.width, s.height, fr.background_depth, s.exec);
+        timer.lap("resolve");
+        return lo;
+    }
     return tg;
 }
 
