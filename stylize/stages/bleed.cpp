@@ -278,18 +278,19 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
         ImageF hc, hk, hz;
         if (p.half_res) {
             hc = detail::resample(color, wr, hr, ex);
-            hk = detail::resample(ctrl, wr, hr, ex);
+            hk = detail::resample(detail::extract_channel(ctrl, 2, ex), wr, hr, ex);  // bleeding only
             if (!depth.empty()) hz = detail::resample(depth, wr, hr, ex);
         }
         const float* cd = p.half_res ? hc.data() : color.data();
-        const float* kd = p.half_res ? hk.data() : ctrl.data();
+        const float* kd = p.half_res ? hk.data() : ctrl.data() + 2;  // + 2: the B channel
+        const std::size_t ks = p.half_res ? 1 : 4;
         const float* zd = depth.empty() ? nullptr : (p.half_res ? hz.data() : depth.data());
         detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
             for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i) {
                 src.p[0][i] = cd[4 * i];
                 src.p[1][i] = cd[4 * i + 1];
                 src.p[2][i] = cd[4 * i + 2];
-                src.p[3][i] = kd[4 * i + 2];  // ctrl.abstraction.b = bleeding (spec §1)
+                src.p[3][i] = kd[ks * i];  // ctrl.abstraction.b = bleeding (spec §1)
                 src.p[4][i] = zd ? zd[i] : 0.0f;
             }
         });

@@ -94,8 +94,29 @@ struct ResampleAxis {
     }
 };
 
-//! Bilinear resample of src (any channel count) to w x h with the convention above. Row blocks on
-//! the traversal of ex; each value is the same expression as sample_resampled.
+template <int C>
+void resample_rows(const float* s, int sw, float* d, int w, const ResampleAxis& ax, const ResampleAxis& ay, int y0,
+                   int y1) {
+    for (int y = y0; y < y1; ++y) {
+        const float ty = ay.t[std::size_t(y)];
+        const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
+        const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
+        float* o = d + std::size_t(y) * w * C;
+        for (int x = 0; x < w; ++x) {
+            const float tx = ax.t[std::size_t(x)];
+            const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
+            for (int c = 0; c < C; ++c) {  // C is a constant: unrolled, channels side by side
+                const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
+                const float top = a + (cc - a) * tx;
+                const float bot = dd + (e - dd) * tx;
+                o[std::size_t(x) * C + c] = top + (bot - top) * ty;
+            }
+        }
+    }
+}
+
+//! Bilinear resample of src (1..4 channels) to w x h with the convention above. Row blocks on the
+//! traversal of ex; each value is the same expression as sample_resampled.
 inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
     const int C = src.channels(), sw = src.width();
     const ResampleAxis ax(w, sw), ay(h, src.height());
@@ -103,22 +124,24 @@ inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
     const float* s = src.data();
     float* d = dst.data();
     for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (int y = y0; y < y1; ++y) {
-            const float ty = ay.t[std::size_t(y)];
-            const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
-            const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
-            float* o = d + std::size_t(y) * w * C;
-            for (int x = 0; x < w; ++x) {
-                const float tx = ax.t[std::size_t(x)];
-                const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
-                for (int c = 0; c < C; ++c) {
-                    const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
-                    const float top = a + (cc - a) * tx;
-                    const float bot = dd + (e - dd) * tx;
-                    o[std::size_t(x) * C + c] = top + (bot - top) * ty;
-                }
-            }
+        switch (C) {
+            case 1: resample_rows<1>(s, sw, d, w, ax, ay, y0, y1); break;
+            case 2: resample_rows<2>(s, sw, d, w, ax, ay, y0, y1); break;
+            case 3: resample_rows<3>(s, sw, d, w, ax, ay, y0, y1); break;
+            default: resample_rows<4>(s, sw, d, w, ax, ay, y0, y1); break;
         }
+    });
+    return dst;
+}
+
+//! Channel c of src as a 1-channel image (row blocks on ex).
+inline ImageF extract_channel(const ImageF& src, int c, const Exec& ex) {
+    const int w = src.width(), C = src.channels();
+    ImageF dst(w, src.height(), 1);
+    const float* s = src.data();
+    float* d = dst.data();
+    for_each_row_block(ex, src.height(), [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) d[i] = s[i * C + std::size_t(c)];
     });
     return dst;
 }
