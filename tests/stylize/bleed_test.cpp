@@ -3,6 +3,8 @@
 // normalised Gaussian, zero control changes nothing, and the two bleeding rules of WC17 Figure 9
 // on small synthetic G-buffers.
 #include <cmath>
+#include <cstring>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -146,6 +148,34 @@ TEST(Bleed, Figure9BledForegroundBleedsIntoUnbledBackground) {
     bleed(naive, s.color, s.depth, s.ctrl, BleedRule::Naive, full_res(), Exec::reference());
     bleed_blend(out, s.color, naive, BleedBlendParams{}, Exec::reference());
     EXPECT_EQ(out.at(bx, by, 1), 1.0f) << "naive bleeding is clipped at the painted mask (problem case 2)";
+}
+
+// Larger images (many row blocks on several workers) and concurrent callers: the fast traversal
+// keeps per-calling-thread scratch planes, which worker threads must never confuse with their own.
+TEST(Bleed, FastEqualsReferenceOnLargerImagesAndConcurrentCallers) {
+    const int w = 517, h = 301;
+    Scene s(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool fg = (x - 240) * (x - 240) + (y - 150) * (y - 150) < 10000;
+            s.set(x, y, {0.1f + 0.003f * float(x % 200), 0.5f + 0.002f * float(y), fg ? 0.2f : 0.9f}, fg ? 0.2f : 0.7f,
+                  fg ? 0.5f + 0.5f * std::sin(0.1f * float(x)) : (x > 400 ? 0.7f : 0.0f));
+        }
+    for (BleedRule rule : kRules)
+        for (bool half : {false, true}) {
+            BleedParams p = full_res();
+            p.half_res = half;
+            ImageF ref;
+            bleed(ref, s.color, s.depth, s.ctrl, rule, p, Exec::reference());
+            ImageF a, b;
+            std::thread t1([&] { bleed(a, s.color, s.depth, s.ctrl, rule, p, Exec{4, Traversal::Fast, 16}); });
+            std::thread t2([&] { bleed(b, s.color, s.depth, s.ctrl, rule, p, Exec{3, Traversal::Fast, 32}); });
+            t1.join();
+            t2.join();
+            ASSERT_TRUE(ref.same_size(a) && ref.same_size(b));
+            EXPECT_EQ(std::memcmp(ref.data(), a.data(), ref.num_values() * sizeof(float)), 0) << int(rule) << half;
+            EXPECT_EQ(std::memcmp(ref.data(), b.data(), ref.num_values() * sizeof(float)), 0) << int(rule) << half;
+        }
 }
 
 TEST(BleedBlend, UpsamplesAHalfResolutionBleedAndRejectsOtherSizes) {

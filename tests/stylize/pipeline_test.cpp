@@ -95,6 +95,21 @@ TEST(Pipeline, EveryPresetLoadsValidatesAndRunsDeterministically) {
     }
 }
 
+TEST(Pipeline, PresetPapersResolveToTheSharedAssetsAndRun) {
+    for (const char* name : {"wc18", "wc17"}) {
+        const Pipeline p = load_pipeline(name);
+        ASSERT_TRUE(p.has_paper) << name;
+        EXPECT_TRUE(std::filesystem::exists(p.paper.file)) << name << ": " << p.paper.file;
+    }
+    Pipeline p = load_pipeline("wc18");
+    Targets t = test::synthetic_gbuffer(48, 32);
+    run_pipeline(p, t, RunOptions{Exec::fast(2), {}});
+    ASSERT_TRUE(t.has("paper"));
+    EXPECT_EQ(t.get("paper").channels(), 3);
+    EXPECT_TRUE(t.get("paper").same_size(t.get(target::kColor)));
+    EXPECT_TRUE(t.has(p.output));
+}
+
 TEST(Pipeline, GroupAPipelineRunsAndMatchesTheReferenceTraversal) {
     const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
     Targets ref = test::synthetic_gbuffer(53, 41), fast = test::synthetic_gbuffer(53, 41);
