@@ -41,6 +41,8 @@ struct ModelCase {
     std::size_t triangles;
 };
 
+void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.path << " (" << c.triangles << " triangles)"; }
+
 class RealModels : public ::testing::TestWithParam<ModelCase> {};
 
 TEST_P(RealModels, LoadWithExpectedTriangleCount) {
@@ -63,7 +65,16 @@ INSTANTIATE_TEST_SUITE_P(
                       ModelCase{"gltf/OrientationTest/glTF-Binary/OrientationTest.glb", 524},
                       ModelCase{"gltf/OrientationTest/glTF-Embedded/OrientationTest.gltf", 524},
                       ModelCase{"gltf/Suzanne/glTF/Suzanne.gltf", 3936}, ModelCase{"gltf/WaterBottle/glTF/WaterBottle.gltf", 4510},
-                      ModelCase{"meshes/stanford_dragon/dragon_202k.glb", 202520}));
+                      ModelCase{"meshes/stanford_dragon/dragon_202k.glb", 202520}),
+    [](const ::testing::TestParamInfo<ModelCase>& info) {
+        // "gltf/Box/glTF-Embedded/Box.gltf" -> "Box_glTF_Embedded_Box_gltf" (unique and readable)
+        std::string s = info.param.path;
+        if (s.rfind("gltf/", 0) == 0) s = s.substr(5);
+        if (s.rfind("meshes/", 0) == 0) s = s.substr(7);
+        for (char& c : s)
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+        return s;
+    });
 
 }  // namespace
 }  // namespace aq::scene
@@ -205,6 +216,8 @@ struct ColorEncoding {
     int components;  // 3 or 4
 };
 
+void PrintTo(const ColorEncoding& e, std::ostream* os) { *os << "componentType " << e.component_type << " x" << e.components; }
+
 class ColorComponentTypes : public ::testing::TestWithParam<ColorEncoding> {};
 
 TEST_P(ColorComponentTypes, DecodeToNormalisedValues) {
@@ -263,7 +276,12 @@ TEST_P(ColorComponentTypes, DecodeToNormalisedValues) {
 
 INSTANTIATE_TEST_SUITE_P(AllTypes, ColorComponentTypes,
                          ::testing::Values(ColorEncoding{kFloat, 3}, ColorEncoding{kFloat, 4}, ColorEncoding{kUByte, 3},
-                                           ColorEncoding{kUByte, 4}, ColorEncoding{kUShort, 3}, ColorEncoding{kUShort, 4}));
+                                           ColorEncoding{kUByte, 4}, ColorEncoding{kUShort, 3}, ColorEncoding{kUShort, 4}),
+                         [](const ::testing::TestParamInfo<ColorEncoding>& info) {
+                             const int ct = info.param.component_type;
+                             return std::string(ct == kFloat ? "float" : ct == kUByte ? "ubyte" : "ushort") + "_vec" +
+                                    std::to_string(info.param.components);
+                         });
 
 // --- node transforms ---------------------------------------------------------------------------
 
