@@ -2,8 +2,8 @@
 // The WC18 blur uses the delta form of blur.h with a per-pixel normalised table:
 //   acc = e0;  for a = -(K-1)..(K-1) ascending: acc = acc + w_K[|a|] * (E(x + a) - e0)
 // Reference: per pixel through the border rule. Fast: K precomputed per pixel (shared by both
-// passes), a loop over the largest K with the accumulator kept unchanged where |a| >= K(x) — the
-// same operations on the same values for every counted tap, so bit-identical.
+// passes), each row split into runs of equal K, each run a fixed-kernel loop with x innermost —
+// the same taps in the same order per pixel, so bit-identical.
 #include "stylize/stages/edge_blur.h"
 
 #include <cmath>
