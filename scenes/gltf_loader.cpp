@@ -593,6 +593,26 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
 }
 
 void Loader::convert_meshes() {
+    // Pre-pass over the counts alone, so that a file whose primitives add up to absurd sizes is
+    // refused before anything is allocated (each accessor is fully validated later).
+    std::size_t vertices = 0, triangles = 0;
+    for (const tinygltf::Mesh& gm : m_.meshes)
+        for (const tinygltf::Primitive& gp : gm.primitives) {
+            const int mode = gp.mode < 0 ? TINYGLTF_MODE_TRIANGLES : gp.mode;
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) continue;
+            auto it = gp.attributes.find("POSITION");
+            if (it == gp.attributes.end() || it->second < 0 || std::size_t(it->second) >= m_.accessors.size()) continue;
+            const std::size_t n = std::min(m_.accessors[std::size_t(it->second)].count, kMaxVertices + 1);
+            std::size_t nidx = n;
+            if (gp.indices >= 0 && std::size_t(gp.indices) < m_.accessors.size())
+                nidx = std::min(m_.accessors[std::size_t(gp.indices)].count, kMaxVertices + 1);
+            vertices += n;
+            triangles += mode == TINYGLTF_MODE_TRIANGLES ? nidx / 3 : (nidx >= 3 ? nidx - 2 : 0);
+            if (vertices > kMaxVertices)
+                fail("the triangle primitives hold more than " + std::to_string(kMaxVertices) + " vertices in total (limit)");
+            if (triangles > kMaxTriangles)
+                fail("more than " + std::to_string(kMaxTriangles) + " triangles in the file (limit)");
+        }
     for (std::size_t mi = 0; mi < m_.meshes.size(); ++mi) {
         const tinygltf::Mesh& gm = m_.meshes[mi];
         Mesh mesh;

@@ -18,7 +18,8 @@ namespace aq::scene {
 //! Limits checked before allocating (docs/scenes.md "Limits").
 inline constexpr std::size_t kMaxTriangles = 50'000'000;     //!< per file, after strip/fan expansion,
                                                              //!< and again after instancing
-inline constexpr std::size_t kMaxVertices = 50'000'000;      //!< per accessor
+inline constexpr std::size_t kMaxVertices = 50'000'000;      //!< per accessor, and summed over
+                                                             //!< the triangle primitives of a file
 inline constexpr std::size_t kMaxFileBytes = 2'000'000'000;  //!< .gltf/.glb and each external buffer
 inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy depth
 

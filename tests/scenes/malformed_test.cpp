@@ -163,6 +163,23 @@ TEST(Malformed, AbsurdCountIsRefusedBeforeAllocating) {
     expect_error(c.write_gltf(out_path("count_overflow.gltf")), "limit");
 }
 
+TEST(Malformed, PrimitivesCannotAddUpPastTheLimitsBeforeAllocating) {
+    // 3 primitives of 20M zero vertices each (no bufferView): 60M vertices in total.
+    GltfBuilder b = quad(false);
+    b.j["accessors"][0].erase("bufferView");
+    b.j["accessors"][0]["count"] = 20000000;
+    const nlohmann::json prim = {{"attributes", {{"POSITION", 0}}}, {"mode", 4}};
+    b.j["meshes"][0]["primitives"] = nlohmann::json::array({prim, prim, prim});
+    expect_error(b.write_gltf(out_path("many_vertices.gltf")), "vertices in total");
+    // 20M-index strips over a 4-vertex quad: ~60M triangles in total (refused by the pre-pass,
+    // before the undersized index view is even looked at).
+    GltfBuilder c = quad(false);
+    c.j["accessors"].push_back({{"bufferView", 0}, {"componentType", kUShort}, {"count", 20000000}, {"type", "SCALAR"}});
+    const nlohmann::json strip = {{"attributes", {{"POSITION", 0}}}, {"mode", 5}, {"indices", 1}};
+    c.j["meshes"][0]["primitives"] = nlohmann::json::array({strip, strip, strip});
+    expect_error(c.write_gltf(out_path("many_triangles.gltf")), "triangles in the file");
+}
+
 TEST(Malformed, InstancingCannotMultiplyTrianglesPastTheLimit) {
     // A 1M-triangle strip (accessor without bufferView: zeros) placed by 60 nodes = 60M triangles.
     GltfBuilder b = quad(false);
