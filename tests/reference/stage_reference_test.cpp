@@ -263,7 +263,9 @@ TEST(StageReferenceCoverage, EveryRegisteredVariantHasATwin) {
 
 TEST(StageReferenceCoverage, EveryTwinParses) {
     for (auto* v : stylize::builtin_registry().all())
-        if (has_twin(*v)) EXPECT_NO_THROW(StageTwin t(*v)) << v->key();
+        if (has_twin(*v)) {
+            EXPECT_NO_THROW(StageTwin t(*v)) << v->key();
+        }
 }
 
 }  // namespace
