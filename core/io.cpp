@@ -38,7 +38,12 @@ void write_image(const std::string& path, const ImageF& img) {
 
     OIIO::ImageSpec spec(img.width(), img.height(), img.channels(),
                          eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (ext == ".exr") spec.attribute("compression", "zip");
+    if (ext == ".exr") {
+        spec.attribute("compression", "zip");
+        // OpenImageIO stamps EXR files with the wall-clock time (capDate) unless DateTime is set;
+        // a fixed value keeps "same input, same bytes" true for whole files, not only pixels.
+        spec.attribute("DateTime", "1970:01:01 00:00:00");
+    }
 
     // Temporary file beside the destination, same extension so OIIO picks the same format.
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");

@@ -71,7 +71,8 @@ ls "$work"/anim_0000.png "$work"/anim_0002.png >/dev/null 2>&1 && ok "animation 
 cmp -s "$work/anim_0000.png" "$work/anim_0001.png" && bad "tremor: frames 0 and 1 identical" || ok "tremor: frames 0 and 1 differ"
 expect_rc "compare identical" 0 "$bin" compare "$work/t1/color.exr" "$work/t2/color.exr" --diff "$work/diff.png"
 grep -q "max_abs     0" "$work/last.out" && ok "compare reports zero error" || bad "compare reports zero error"
-expect_rc "compare size mismatch" 1 "$bin" compare "$work/t1/color.exr" "$work/targets/color.exr"
+expect_rc "procedural render, other size" 0 "$bin" render procedural:swatches --width 48 --height 32 --quiet --out "$work/other.exr"
+expect_rc "compare size mismatch" 1 "$bin" compare "$work/t1/color.exr" "$work/other.exr"
 
 echo "cli: $pass passed, $fail failed"
 [ $fail -eq 0 ]
