@@ -56,7 +56,14 @@ struct PhaseTimer {
 };
 
 struct Chunk {
-    std::uint32_t draw = 0, tri_begin = 0, tri_end = 0;
+    //! Consecutive triangles of the submission sequence, possibly spanning several draws (so the
+    //! number of chunks, and of per-chunk bin tables, is bounded by triangles / kChunkTris + 1
+    //! however many small draws the scene has).
+    struct Segment {
+        std::uint32_t draw, begin, end;
+    };
+    std::vector<Segment> segments;
+    std::uint32_t size = 0;
     std::vector<TriSetup> tris;
     std::vector<ClipVerts> clips;
     std::vector<std::uint32_t> bin_offsets;  // per tile, CSR into bin_items (fast path only)
@@ -189,41 +196,45 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
 
     for (std::uint32_t d = 0; d < fr.draws.size(); ++d) {
         const std::uint32_t ntri = std::uint32_t(fr.draws[d].prim->indices.size() / 3);
-        for (std::uint32_t b = 0; b < ntri; b += kChunkTris) {
-            Chunk c;
-            c.draw = d;
-            c.tri_begin = b;
-            c.tri_end = std::min(ntri, b + kChunkTris);
-            fr.chunks.push_back(std::move(c));
+        for (std::uint32_t b = 0; b < ntri;) {
+            if (fr.chunks.empty() || fr.chunks.back().size == kChunkTris) fr.chunks.emplace_back();
+            Chunk& c = fr.chunks.back();
+            const std::uint32_t e = std::min(ntri, b + (kChunkTris - c.size));
+            c.segments.push_back({d, b, e});
+            c.size += e - b;
+            b = e;
         }
     }
     const int ntiles = fr.tiles_x * fr.tiles_y;
     run_for(parallel, fr.chunks.size(), [&](std::size_t ci) {
         Chunk& c = fr.chunks[ci];
-        const DrawVertices& dv = fr.draws[c.draw];
-        c.tris.reserve(c.tri_end - c.tri_begin);
+        c.tris.reserve(c.size);
         if (!bin) {
-            for (std::uint32_t t = c.tri_begin; t < c.tri_end; ++t)
-                setup_triangle(dv, c.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+            for (const Chunk::Segment& sg : c.segments)
+                for (std::uint32_t t = sg.begin; t < sg.end; ++t)
+                    setup_triangle(fr.draws[sg.draw], sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
             return;
         }
         // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
         // (stable, so each tile's list stays in submission order). The 120-byte setups are
         // written once and not re-read here.
         std::vector<std::uint64_t> pairs;
-        pairs.reserve(c.tri_end - c.tri_begin);
+        pairs.reserve(c.size);
         c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
-        for (std::uint32_t t = c.tri_begin; t < c.tri_end; ++t) {
-            std::size_t k = c.tris.size();
-            setup_triangle(dv, c.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
-            for (; k < c.tris.size(); ++k) {
-                const TriSetup& s = c.tris[k];
-                for (int ty = s.y0 / kTile; ty <= s.y1 / kTile; ++ty)
-                    for (int tx = s.x0 / kTile; tx <= s.x1 / kTile; ++tx) {
-                        const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
-                        ++c.bin_offsets[tile + 1];
-                        pairs.push_back(std::uint64_t(tile) << 32 | k);
-                    }
+        for (const Chunk::Segment& sg : c.segments) {
+            const DrawVertices& dv = fr.draws[sg.draw];
+            for (std::uint32_t t = sg.begin; t < sg.end; ++t) {
+                std::size_t k = c.tris.size();
+                setup_triangle(dv, sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+                for (; k < c.tris.size(); ++k) {
+                    const TriSetup& st = c.tris[k];
+                    for (int ty = st.y0 / kTile; ty <= st.y1 / kTile; ++ty)
+                        for (int tx = st.x0 / kTile; tx <= st.x1 / kTile; ++tx) {
+                            const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
+                            ++c.bin_offsets[tile + 1];
+                            pairs.push_back(std::uint64_t(tile) << 32 | k);
+                        }
+                }
             }
         }
         for (int i = 0; i < ntiles; ++i) c.bin_offsets[i + 1] += c.bin_offsets[i];
