@@ -209,6 +209,8 @@ GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StageReference);
 struct PipelineCase {
     std::string preset, scene;
 };
+// Readable names in `--gtest_list_tests` (and so in CTest) instead of a byte dump.
+void PrintTo(const PipelineCase& c, std::ostream* os) { *os << c.preset << " on " << c.scene; }
 
 std::vector<PipelineCase> pipeline_cases() {
     std::vector<PipelineCase> out;
