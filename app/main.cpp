@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/cli_args.h"
+#include "app/visualize.h"
 #include "core/compare.h"
 #include "core/io.h"
 #include "raster/raster.h"
@@ -48,6 +49,7 @@ options:
   --out FILE            output image (.png 8-bit display, .exr float); required.
                         With --frames, FILE must contain #### (replaced by the frame number).
   --targets DIR         also write every G-buffer target and every pipeline intermediate as EXR
+  --targets-png DIR     also write display versions (PNG) of every target (see docs/gallery.md)
   --style S             wc18 | wc17 | wc16 | mnpr | FILE.json | none (G-buffer colour only);
                         default: the scene file's style, else wc18
   --set STAGE.PARAM=V   override a stage parameter (repeatable)
@@ -72,7 +74,7 @@ images could be compared (whatever the difference), 1 on error.
 )";
 
 struct RenderOptions {
-    std::string scene, out, targets_dir, style;
+    std::string scene, out, targets_dir, targets_png_dir, style;
     bool style_given = false;
     std::vector<std::string> sets, variants;
     int width = 0, height = 0, ssaa = 1, threads = 0;
@@ -111,6 +113,8 @@ RenderOptions parse_render(Args& a) {
             o.out = a.value(arg);
         } else if (arg == "--targets") {
             o.targets_dir = a.value(arg);
+        } else if (arg == "--targets-png") {
+            o.targets_png_dir = a.value(arg);
         } else if (arg == "--style") {
             o.style = a.value(arg);
             o.style_given = true;
@@ -213,6 +217,7 @@ int cmd_render(Args& a) {
         desc.camera = aq::scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
 
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
+    if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
 
     const int nframes = o.frame_last - o.frame_first + 1;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
@@ -247,6 +252,13 @@ int cmd_render(Args& a) {
             const std::string dir = o.animation ? o.targets_dir + "/" + frame_path("frame####", f) : o.targets_dir;
             aq::ensure_directory(dir);
             for (auto& [name, img] : targets.all()) aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", img);
+        }
+        if (!o.targets_png_dir.empty()) {
+            const std::string dir =
+                o.animation ? o.targets_png_dir + "/" + frame_path("frame####", f) : o.targets_png_dir;
+            aq::ensure_directory(dir);
+            for (auto& [name, img] : targets.all())
+                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
         }
         const std::string out = frame_path(o.out, f);
         aq::write_image(out, targets.get(final_name));
