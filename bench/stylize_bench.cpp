@@ -5,6 +5,9 @@
 // Inputs are the synthetic G-buffer of the tests (tests/stylize/synthetic_gbuffer.h): a disc and
 // a bar at different depths with painted control on the objects and none on the background.
 // Results: docs/performance.md "## Stylization".
+#include <chrono>
+#include <cstdio>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <string>
@@ -78,6 +81,62 @@ void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads) 
     st.counters["threads"] = threads;
 }
 
+//! Where a frame goes: the pipeline with a progress callback timing each step, reported as
+//! counters "NN_stage" in ms per frame: CPU time of the calling thread between step starts (with
+//! threads:1 that is all of the step's work, and it is far less disturbed by other load on the
+//! machine than wall time). `reuse`
+//! = the frame-loop path (RunOptions::reuse_outputs); off = the CLI's single-frame path (fresh
+//! targets every run, as `aquarelle render` does).
+void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, bool reuse) {
+    struct Clock {  // CPU time of the calling thread
+        using time_point = std::chrono::duration<double, std::milli>;
+        static time_point now() {
+            timespec ts{};
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+            return time_point(double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6);
+        }
+    };
+    Pipeline p = load_pipeline(preset);
+    const Targets g = test::synthetic_gbuffer(s.w, s.h);
+    Targets t = g;
+    RunOptions o;
+    o.exec = Exec::fast(threads);
+    o.reuse_outputs = reuse;
+    std::vector<std::string> names;
+    std::vector<double> ms;
+    Clock::time_point last;
+    int current = -1;
+    o.progress = [&](int i, int, const std::string& step) {
+        const Clock::time_point now = Clock::now();
+        if (current >= 0) ms[std::size_t(current)] += (now - last).count();
+        if (names.size() <= std::size_t(i)) {
+            names.resize(std::size_t(i) + 1);
+            ms.resize(std::size_t(i) + 1);
+        }
+        names[std::size_t(i)] = step.substr(0, step.find(' '));
+        current = i;
+        last = now;
+    };
+    auto frame = [&] {
+        if (!reuse) t = g;  // the CLI path: only the G-buffer exists before the run
+        current = -1;
+        run_pipeline(p, t, o);
+        ms[std::size_t(current)] += (Clock::now() - last).count();
+    };
+    frame();  // warm-up
+    std::fill(ms.begin(), ms.end(), 0.0);
+    for (auto _ : st) {
+        frame();
+        benchmark::DoNotOptimize(t.get(p.output).data());
+    }
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        char key[64];
+        std::snprintf(key, sizeof key, "%02zu_%s", i, names[i].c_str());
+        st.counters[key] = ms[i] / double(st.iterations());
+    }
+    st.SetItemsProcessed(st.iterations() * std::int64_t(s.w) * s.h);
+}
+
 const bool kRegistered = [] {
     for (const StageVariant* v : builtin_registry().all())
         for (const Size& s : kSizes) {
@@ -99,6 +158,16 @@ const bool kRegistered = [] {
                                              bm_pipeline, preset, s, threads)
                     ->Unit(benchmark::kMillisecond)
                     ->UseRealTime();
+    for (const std::string& preset : preset_names())
+        for (const Size& s : kSizes)
+            for (int threads : {1, 2})
+                for (bool reuse : {false, true})
+                    benchmark::RegisterBenchmark(("profile/" + preset + "/" + s.name + "/fast/threads:" +
+                                                  std::to_string(threads) + (reuse ? "/reuse" : "/fresh"))
+                                                     .c_str(),
+                                                 bm_profile, preset, s, threads, reuse)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseRealTime();
     return true;
 }();
 

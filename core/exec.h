@@ -5,6 +5,10 @@
 // per pixel/tile), so the bytes cannot depend on the thread count.
 #pragma once
 
+#include <memory>
+#include <mutex>
+#include <vector>
+
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -27,12 +31,24 @@ struct Exec {
     static Exec fast(int threads = 0) { return {threads, Traversal::Fast, 64}; }
 };
 
-//! Runs body(int max_concurrency) inside a task arena honouring ex.threads.
+//! The task arena of concurrency n (>= 1), created on first use and kept for the process.
+//! A stage pass makes several parallel loops per frame; a fresh arena per loop paid its creation
+//! and made the workers join it again each time. task_arena::execute is safe from any thread.
+inline tbb::task_arena& arena_for(int n) {
+    static std::mutex m;
+    static std::vector<std::unique_ptr<tbb::task_arena>> arenas;
+    std::lock_guard<std::mutex> lock(m);
+    if (arenas.size() <= std::size_t(n)) arenas.resize(std::size_t(n) + 1);
+    auto& a = arenas[std::size_t(n)];
+    if (!a) a = std::make_unique<tbb::task_arena>(n);
+    return *a;
+}
+
+//! Runs body() inside a task arena honouring ex.threads.
 template <class F>
 void with_arena(const Exec& ex, F&& body) {
     const int n = ex.threads > 0 ? ex.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(n);
-    arena.execute([&] { body(); });
+    arena_for(n).execute([&] { body(); });
 }
 
 //! Calls f(Roi tile) over roi: one row-major loop for Reference, tiles on oneTBB for Fast.

@@ -1,6 +1,11 @@
 // core/image.cpp — ImageF allocation with size limits, border names.
 #include "core/image.h"
 
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <new>
+
 namespace aq {
 
 void check_image_size(int w, int h, const std::string& what) {
@@ -14,14 +19,57 @@ void check_image_size(int w, int h, const std::string& what) {
                     std::to_string(kMaxImagePixels) + " px in all; see docs/limits.md)");
 }
 
-ImageF::ImageF(int w, int h, int channels, float fill) {
+namespace {
+//! x86-64 transparent huge page size. Buffers at least this large are aligned to it so that the
+//! kernel can back them with huge pages from the first byte.
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+//! Alignment of smaller buffers: one AVX2 vector / cache line.
+constexpr std::size_t kSmallAlign = 64;
+}  // namespace
+
+void ImageF::allocate(int w, int h, int channels) {
     check_image_size(w, h);
     if (channels < 1 || channels > 4)
         throw Error("image: channel count " + std::to_string(channels) + " is not in [1, 4]");
+    const std::size_t n = std::size_t(w) * h * channels;
+    const std::size_t bytes = n * sizeof(float);
+    const std::size_t align = bytes >= kHugePage ? kHugePage : kSmallAlign;
+    const std::size_t rounded = (bytes + align - 1) / align * align;  // aligned_alloc needs a multiple
+    float* p = static_cast<float*>(std::aligned_alloc(align, rounded));
+    if (!p) throw std::bad_alloc();
+    // A hint only (THP may be off, or the range already backed): failure changes nothing but speed.
+    if (align == kHugePage) (void)madvise(p, rounded, MADV_HUGEPAGE);
+    pixels_.reset(p);
     w_ = w;
     h_ = h;
     c_ = channels;
-    pixels_.assign(std::size_t(w) * h * channels, fill);
+    n_ = n;
+}
+
+ImageF::ImageF(int w, int h, int channels, float fill) {
+    allocate(w, h, channels);
+    std::fill_n(pixels_.get(), n_, fill);
+}
+
+ImageF::ImageF(int w, int h, int channels, Uninitialized) { allocate(w, h, channels); }
+
+ImageF::ImageF(const ImageF& o) {
+    if (o.empty()) return;
+    allocate(o.w_, o.h_, o.c_);
+    std::copy_n(o.pixels_.get(), n_, pixels_.get());
+}
+
+ImageF& ImageF::operator=(const ImageF& o) {
+    if (this != &o) {
+        ImageF copy(o);
+        *this = std::move(copy);
+    }
+    return *this;
+}
+
+bool ImageF::operator==(const ImageF& o) const {
+    return w_ == o.w_ && h_ == o.h_ && c_ == o.c_ && n_ == o.n_ &&
+           std::equal(pixels_.get(), pixels_.get() + n_, o.pixels_.get());
 }
 
 void ImageF::check_view(std::size_t c) const {

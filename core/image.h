@@ -9,6 +9,8 @@
 #include <climits>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -76,19 +78,34 @@ struct View {
     }
 };
 
+//! Tag of the ImageF constructor that leaves the values unspecified: for outputs that the caller
+//! overwrites completely (stage outputs), where filling would only add a pass over the memory.
+struct Uninitialized {};
+inline constexpr Uninitialized kUninitialized{};
+
 //! Interleaved float image, 1..4 channels, row-major, no padding.
+//!
+//! Storage: large images (>= 2 MiB) are allocated 2 MiB-aligned and marked MADV_HUGEPAGE, so a
+//! 1080p intermediate (8-33 MB) is first touched in a handful of huge-page faults instead of
+//! thousands of 4 KiB ones (THP runs in `madvise` mode on our machines). See docs/performance.md.
 class ImageF {
 public:
     ImageF() = default;
     ImageF(int w, int h, int channels, float fill = 0.0f);
+    //! Values unspecified: every value must be written before it is read.
+    ImageF(int w, int h, int channels, Uninitialized);
+    ImageF(const ImageF& o);
+    ImageF& operator=(const ImageF& o);
+    ImageF(ImageF&&) noexcept = default;
+    ImageF& operator=(ImageF&&) noexcept = default;
 
     int width() const { return w_; }
     int height() const { return h_; }
     int channels() const { return c_; }
-    bool empty() const { return pixels_.empty(); }
-    std::size_t num_values() const { return pixels_.size(); }
-    float* data() { return pixels_.data(); }
-    const float* data() const { return pixels_.data(); }
+    bool empty() const { return n_ == 0; }
+    std::size_t num_values() const { return n_; }
+    float* data() { return pixels_.get(); }
+    const float* data() const { return pixels_.get(); }
     float& at(int x, int y, int c) { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
     float at(int x, int y, int c) const { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
     bool same_size(const ImageF& o) const { return w_ == o.w_ && h_ == o.h_; }
@@ -97,20 +114,26 @@ public:
     template <class T>
     View<T> view() {
         check_view(sizeof(T) / sizeof(float));
-        return {reinterpret_cast<T*>(pixels_.data()), w_, h_, w_};
+        return {reinterpret_cast<T*>(data()), w_, h_, w_};
     }
     template <class T>
     View<const T> view() const {
         check_view(sizeof(T) / sizeof(float));
-        return {reinterpret_cast<const T*>(pixels_.data()), w_, h_, w_};
+        return {reinterpret_cast<const T*>(data()), w_, h_, w_};
     }
 
-    bool operator==(const ImageF& o) const = default;
+    //! Same size, channels and values (compared as floats, as std::vector's == did).
+    bool operator==(const ImageF& o) const;
 
 private:
+    struct Free {
+        void operator()(float* p) const { std::free(p); }
+    };
+    void allocate(int w, int h, int channels);
     void check_view(std::size_t c) const;
     int w_ = 0, h_ = 0, c_ = 0;
-    std::vector<float> pixels_;
+    std::size_t n_ = 0;
+    std::unique_ptr<float[], Free> pixels_;
 };
 
 }  // namespace aq

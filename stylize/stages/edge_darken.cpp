@@ -29,7 +29,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     if (!(p.smooth_high > p.smooth_low)) throw Error(st + ": smooth_high must exceed smooth_low");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    ensure_output(dst, w, h, 4, roi);
     // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
     const bool same = blurred.same_size(color);
     const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
@@ -84,7 +84,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    ensure_output(dst, w, h, 4, roi);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, 0);
     static const float kZero = 0.0f;

@@ -113,7 +113,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    ensure_output(dst, w, h, 4, roi);
     static const float kZero = 0.0f;
     const bool bleed_same = !bleed || bleed->same_size(color);
     const Upsampler up = bleed_same ? Upsampler() : Upsampler(w, h, bleed->width(), bleed->height());

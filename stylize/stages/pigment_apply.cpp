@@ -21,7 +21,7 @@ struct Inputs {
     Plane ctrl, height;
 };
 
-Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper, Roi roi,
              const std::string& st) {
     check_input(&color, 4, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
@@ -34,7 +34,7 @@ Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
     check_not_alias(dst, paper, st, "paper");
-    ensure_output(dst, color.width(), color.height(), 4);
+    ensure_output(dst, color.width(), color.height(), 4, roi);
     return {color.view<glm::vec4>(), plane(ctrl_pigment, 1),
             paper ? plane(*paper, 2) : constant_plane(&kFlatHeight, color.width(), color.height())};
 }
@@ -43,7 +43,7 @@ Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const
 
 void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
                         const PigmentApplyWc17Params& p, Roi roi, const Exec& ex) {
-    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc17");
+    const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc17");
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks as in wc18: the same operations as pigment_apply_wc17_px, pixel by pixel.
     for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
@@ -72,7 +72,7 @@ void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
 
 void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
                         glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi, const Exec& ex) {
-    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
+    const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks: prepare every pixel, take the powers in one vectorisable loop, finish.
     // Same operations as pigment_apply_wc18_px, pixel by pixel.

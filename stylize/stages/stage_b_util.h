@@ -211,9 +211,14 @@ inline void check_not_alias(const ImageF& dst, const ImageF* in, const std::stri
     if (in && &dst == in) throw Error(stage + ": output aliases input '" + port + "'");
 }
 
-//! (Re)allocates dst to w x h x c unless it already has that shape.
-inline void ensure_output(ImageF& dst, int w, int h, int c) {
-    if (dst.width() != w || dst.height() != h || dst.channels() != c) dst = ImageF(w, h, c);
+//! (Re)allocates dst to w x h x c unless it already has that shape. The stage then writes the
+//! region `written`: a new image is left unfilled when that covers it (no wasted pass over tens of
+//! MB), and zero-filled otherwise, so pixels outside a partial roi stay defined.
+inline void ensure_output(ImageF& dst, int w, int h, int c, Roi written) {
+    if (dst.width() == w && dst.height() == h && dst.channels() == c) return;
+    const Roi r = written.clipped(w, h);
+    const bool whole = r.x0 == 0 && r.y0 == 0 && r.x1 == w && r.y1 == h;
+    dst = whole ? ImageF(w, h, c, kUninitialized) : ImageF(w, h, c);
 }
 
 //! Border parameter value: 0 = clamp, 1 = mirror.

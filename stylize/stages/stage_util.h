@@ -33,9 +33,10 @@ inline void check_same_size(const ImageF& img, const ImageF& like, const std::st
 }
 
 //! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller
-//! running a stage every frame then writes into the same pages). Contents are unspecified.
+//! running a stage every frame then writes into the same pages). Contents are unspecified (a new
+//! image is not filled: the stage writes every value).
 inline void ensure_image(ImageF& img, int w, int h, int c) {
-    if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c);
+    if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c, kUninitialized);
 }
 
 //! The source index of every padded position -pad..n-1+pad under border rule b.
@@ -137,7 +138,7 @@ inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
 //! Channel c of src as a 1-channel image (row blocks on ex).
 inline ImageF extract_channel(const ImageF& src, int c, const Exec& ex) {
     const int w = src.width(), C = src.channels();
-    ImageF dst(w, src.height(), 1);
+    ImageF dst(w, src.height(), 1, kUninitialized);  // every value written below
     const float* s = src.data();
     float* d = dst.data();
     for_each_row_block(ex, src.height(), [&](int y0, int y1) {

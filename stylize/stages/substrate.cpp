@@ -31,7 +31,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     check_not_alias(dst, &ctrl_substrate, st, "ctrl_substrate");
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    ensure_output(dst, w, h, 4, roi);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, 0);
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
@@ -83,7 +83,7 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    ensure_output(dst, w, h, 4, roi);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
