@@ -2,6 +2,8 @@
 // bleeds): reference and fast run the same per-pixel function (bit-exact).
 #include "stylize/stages/bleed_blend.h"
 
+#include <vector>
+
 #include "stylize/kernels.h"
 #include "stylize/stages/stage_util.h"
 
@@ -18,21 +20,37 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
                     std::to_string(h) + ") or half of it (" + std::to_string(half_size(w)) + "x" +
                     std::to_string(half_size(h)) + ")");
     detail::ensure_image(dst, w, h, 4);
-    // A half-resolution bleed is upsampled first (detail::resample: the sample_resampled
-    // convention, value for value); then eq. 7 per pixel.
-    ImageF up;
-    if (!full) up = detail::resample(bleed, w, h, ex);
     const float* I = color.data();
-    const float* B = full ? bleed.data() : up.data();
     float* o = dst.data();
     const float gain = p.gain;
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
+    // Eq. 7 for the n pixels starting at pixel index i0, with their bleed values in B[0 .. 4n).
+    auto blend = [&](const float* B, std::size_t i0, std::size_t n) {
+        const float* Ii = I + 4 * i0;
+        float* oi = o + 4 * i0;
+        for (std::size_t i = 0; i < n; ++i) {
             const float k = sat(gain * B[4 * i + 3]);
-            o[4 * i + 0] = k * (B[4 * i + 0] - I[4 * i + 0]) + I[4 * i + 0];
-            o[4 * i + 1] = k * (B[4 * i + 1] - I[4 * i + 1]) + I[4 * i + 1];
-            o[4 * i + 2] = k * (B[4 * i + 2] - I[4 * i + 2]) + I[4 * i + 2];
-            o[4 * i + 3] = I[4 * i + 3];
+            oi[4 * i + 0] = k * (B[4 * i + 0] - Ii[4 * i + 0]) + Ii[4 * i + 0];
+            oi[4 * i + 1] = k * (B[4 * i + 1] - Ii[4 * i + 1]) + Ii[4 * i + 1];
+            oi[4 * i + 2] = k * (B[4 * i + 2] - Ii[4 * i + 2]) + Ii[4 * i + 2];
+            oi[4 * i + 3] = Ii[4 * i + 3];
+        }
+    };
+    if (full) {
+        detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+            const std::size_t i0 = std::size_t(y0) * w;
+            blend(bleed.data() + 4 * i0, i0, std::size_t(y1 - y0) * w);
+        });
+        return;
+    }
+    // A half-resolution bleed is upsampled row by row into a buffer (detail::resample_row: the
+    // sample_resampled convention, value for value) and blended at once: no full-size temporary
+    // (33 MB at 1080p, written and read back every frame).
+    const detail::ResampleAxis ax(w, bleed.width()), ay(h, bleed.height());
+    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        std::vector<float> row(std::size_t(w) * 4);
+        for (int y = y0; y < y1; ++y) {
+            detail::resample_row<4>(bleed.data(), bleed.width(), row.data(), w, ax, ay, y);
+            blend(row.data(), std::size_t(y) * w, std::size_t(w));
         }
     });
 }

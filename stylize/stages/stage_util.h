@@ -95,25 +95,30 @@ struct ResampleAxis {
     }
 };
 
+//! Output row y (w pixels of C channels, written to o) of the resampling of s (sw texels wide).
+//! Stages that consume a resampled image pixel by pixel call this into a row buffer instead of
+//! materialising the whole resampled image (same values, no full-size temporary).
+template <int C>
+void resample_row(const float* s, int sw, float* o, int w, const ResampleAxis& ax, const ResampleAxis& ay, int y) {
+    const float ty = ay.t[std::size_t(y)];
+    const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
+    const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
+    for (int x = 0; x < w; ++x) {
+        const float tx = ax.t[std::size_t(x)];
+        const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
+        for (int c = 0; c < C; ++c) {  // C is a constant: unrolled, channels side by side
+            const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
+            const float top = a + (cc - a) * tx;
+            const float bot = dd + (e - dd) * tx;
+            o[std::size_t(x) * C + c] = top + (bot - top) * ty;
+        }
+    }
+}
+
 template <int C>
 void resample_rows(const float* s, int sw, float* d, int w, const ResampleAxis& ax, const ResampleAxis& ay, int y0,
                    int y1) {
-    for (int y = y0; y < y1; ++y) {
-        const float ty = ay.t[std::size_t(y)];
-        const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
-        const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
-        float* o = d + std::size_t(y) * w * C;
-        for (int x = 0; x < w; ++x) {
-            const float tx = ax.t[std::size_t(x)];
-            const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
-            for (int c = 0; c < C; ++c) {  // C is a constant: unrolled, channels side by side
-                const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
-                const float top = a + (cc - a) * tx;
-                const float bot = dd + (e - dd) * tx;
-                o[std::size_t(x) * C + c] = top + (bot - top) * ty;
-            }
-        }
-    }
+    for (int y = y0; y < y1; ++y) resample_row<C>(s, sw, d + std::size_t(y) * w * C, w, ax, ay, y);
 }
 
 //! Bilinear resample of src (1..4 channels) to w x h with the convention above. Row blocks on the
@@ -121,7 +126,7 @@ void resample_rows(const float* s, int sw, float* d, int w, const ResampleAxis& 
 inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
     const int C = src.channels(), sw = src.width();
     const ResampleAxis ax(w, sw), ay(h, src.height());
-    ImageF dst(w, h, C);
+    ImageF dst(w, h, C, kUninitialized);  // every value written below
     const float* s = src.data();
     float* d = dst.data();
     for_each_row_block(ex, h, [&](int y0, int y1) {
