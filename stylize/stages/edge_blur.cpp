@@ -1,8 +1,8 @@
 // stylize/stages/edge_blur.cpp — WC17 half-resolution 5x5 Gaussian and WC18 variable-width edge blur.
 // The WC18 blur uses the delta form of blur.h with a per-pixel normalised table:
 //   acc = e0;  for a = -(K-1)..(K-1) ascending: acc = acc + w_K[|a|] * (E(x + a) - e0)
-// Reference: per pixel through the border rule. Fast: K precomputed per pixel (shared by both
-// passes), each row split into runs of equal K, each run a fixed-kernel loop with x innermost —
+// Reference: per pixel through the border rule. Fast: K computed per row (the same K for a pixel
+// in both passes), each row split into runs of equal K, each run a fixed-kernel loop with x innermost —
 // the same taps in the same order per pixel, so bit-identical.
 #include "stylize/stages/edge_blur.h"
 
@@ -62,15 +62,18 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     const int w = edges.width(), h = edges.height();
     const int kmax = 4 * p.width;
     const auto tab = wc18_tables(kmax);
-    std::vector<int> K(std::size_t(w) * h);
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i)
-            K[i] = edge_blur_kernel_size(p.width, ctrl.data()[4 * i + 1]);
-    });
-    ImageF tmp(w, h, 1);
+    // K of the pixels [i0, i0 + n), from ctrl.edge.g. Recomputed per row where needed: cheaper
+    // than a full-size table (8 MB at 1080p, faulted in and filled every frame).
+    auto kernel_sizes = [&](std::size_t i0, std::size_t n, int* k) {
+        const float* c = ctrl.data() + 4 * i0;
+        for (std::size_t i = 0; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + 1]);
+    };
+    ImageF tmp(w, h, 1, kUninitialized);  // pass 0 writes every value
     detail::ensure_image(dst, w, h, 1);
     const Border b = p.border;
     if (ex.traversal == Traversal::Reference) {
+        std::vector<int> K(std::size_t(w) * h);
+        kernel_sizes(0, K.size(), K.data());
         for (int pass = 0; pass < 2; ++pass) {
             const float* s = pass == 0 ? edges.data() : tmp.data();
             float* o = pass == 0 ? tmp.data() : dst.data();
@@ -101,10 +104,12 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
         float* o = pass == 0 ? tmp.data() : dst.data();
         detail::for_each_row_block(ex, h, [&](int y0, int y1) {
             std::vector<float> pad(std::size_t(w + 2 * R));
+            std::vector<int> krow(static_cast<std::size_t>(w));
             for (int y = y0; y < y1; ++y) {
                 const std::size_t row = std::size_t(y) * w;
                 const float* __restrict sr = s + row;
-                const int* kr = K.data() + row;
+                kernel_sizes(row, std::size_t(w), krow.data());
+                const int* kr = krow.data();
                 float* __restrict orow = o + row;
                 if (pass == 0)
                     for (int i = 0; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
