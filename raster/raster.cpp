@@ -354,6 +354,16 @@ void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float
 
 // ---- Tiled traversal: one task per tile, visibility then deferred shading ---------------------
 
+// Prefetch hints for the shading gathers of a triangle (no effect on results).
+inline void prefetch_indices(const Frame& fr, const TriSetup& t) {
+    __builtin_prefetch(fr.draws[t.draw].prim->indices.data() + 3 * std::size_t(t.tri));
+}
+inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
+    const DrawVertices& dv = fr.draws[t.draw];
+    const std::uint32_t* idx = dv.prim->indices.data() + 3 * std::size_t(t.tri);
+    for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[idx[j]]);  // indices checked in setup
+}
+
 struct TileRef {
     std::uint32_t chunk, tri;
 };
@@ -438,16 +448,33 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             std::fill_n(tp.specular + i0, n, 0.0f);
         }
     }
-    for (int y = Y0; y <= Y1; ++y)
-        for (int x = X0; x <= X1; ++x) {
-            const TileRef r = ids[(y - Y0) * kTile + (x - X0)];
-            if (r.chunk == kNoChunk) continue;
-            const Chunk& ch = fr.chunks[r.chunk];
-            const TriSetup& t = ch.tris[r.tri];
-            std::int64_t e[3];
-            edge_values(t, x, y, e);
-            shade_and_write(fr, ch, t, perspective_bary(t, e), tp, x, y);
+    // Deferred shading of the covered pixels, row-major. Each pixel gathers its setup, then the
+    // triangle's indices, then its vertices (dependent cache misses: one small triangle per pixel
+    // on dense meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
+    std::uint16_t covered[kTile * kTile];
+    int nc = 0;
+    for (int li = 0; li < kTile * kTile; ++li)
+        if (ids[li].chunk != kNoChunk) covered[nc++] = std::uint16_t(li);
+    auto setup_at = [&](int k) -> const TriSetup& {
+        const TileRef r = ids[covered[k]];
+        return fr.chunks[r.chunk].tris[r.tri];
+    };
+    for (int k = 0; k < nc; ++k) {
+        if (k + 12 < nc) {
+            const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
+            __builtin_prefetch(a);
+            __builtin_prefetch(a + 64);
         }
+        if (k + 8 < nc) prefetch_indices(fr, setup_at(k + 8));
+        if (k + 4 < nc) prefetch_vertices(fr, setup_at(k + 4));
+        const int x = X0 + covered[k] % kTile, y = Y0 + covered[k] / kTile;
+        const TileRef r = ids[covered[k]];
+        const Chunk& ch = fr.chunks[r.chunk];
+        const TriSetup& t = ch.tris[r.tri];
+        std::int64_t e[3];
+        edge_values(t, x, y, e);
+        shade_and_write(fr, ch, t, perspective_bary(t, e), tp, x, y);
+    }
 }
 
 // Builds the frame constants for a raster grid of W x H (supersampled).
