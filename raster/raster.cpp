@@ -19,6 +19,8 @@
 #include <cstdlib>
 #include <ctime>
 
+#include <immintrin.h>
+
 #include <tbb/parallel_for.h>
 
 #include "raster/material.h"
@@ -364,6 +366,51 @@ inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
     for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[idx[j]]);  // indices checked in setup
 }
 
+// Streams n floats to dst: 32-byte aligned runs with non-temporal stores, the ends plain.
+inline void stream_floats(float* dst, const float* src, std::size_t n) {
+    std::size_t i = 0;
+    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 31) != 0; ++i) dst[i] = src[i];
+    for (; i + 8 <= n; i += 8) _mm256_stream_ps(dst + i, _mm256_loadu_ps(src + i));
+    for (; i < n; ++i) dst[i] = src[i];
+}
+
+// One tile row of all ten targets (kTile pixels), written by shade_and_write at (x, 0).
+struct RowBuffer {
+    float color[4 * kTile], ctrl[scene::kNumControlTargets][4 * kTile], depth[kTile],
+        normal[3 * kTile], id[kTile], diffuse[kTile], specular[kTile];
+    TargetPtrs pointers() {
+        TargetPtrs p;
+        p.color = color;
+        for (int k = 0; k < scene::kNumControlTargets; ++k) p.ctrl[k] = ctrl[k];
+        p.depth = depth;
+        p.normal = normal;
+        p.id = id;
+        p.diffuse = diffuse;
+        p.specular = specular;
+        p.width = kTile;
+        return p;
+    }
+    void background(int n, float bg_depth) {  // the values write_background stores
+        std::fill_n(color, 4 * n, 0.0f);
+        for (auto& c : ctrl) std::fill_n(c, 4 * n, 0.0f);
+        std::fill_n(depth, n, bg_depth);
+        std::fill_n(normal, 3 * n, 0.0f);
+        std::fill_n(id, n, 0.0f);
+        std::fill_n(diffuse, n, 0.0f);
+        std::fill_n(specular, n, 0.0f);
+    }
+    void stream_row(const TargetPtrs& tp, int x0, int y, int n) const {
+        const std::size_t i = std::size_t(y) * tp.width + x0;
+        stream_floats(tp.color + 4 * i, color, 4 * std::size_t(n));
+        for (int k = 0; k < scene::kNumControlTargets; ++k) stream_floats(tp.ctrl[k] + 4 * i, ctrl[k], 4 * std::size_t(n));
+        stream_floats(tp.depth + i, depth, std::size_t(n));
+        stream_floats(tp.normal + 3 * i, normal, 3 * std::size_t(n));
+        stream_floats(tp.id + i, id, std::size_t(n));
+        stream_floats(tp.diffuse + i, diffuse, std::size_t(n));
+        stream_floats(tp.specular + i, specular, std::size_t(n));
+    }
+};
+
 struct TileRef {
     std::uint32_t chunk, tri;
 };
@@ -433,21 +480,6 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         }
     }
     if (count) return;
-    if (clear) {
-        // Previous frame in the targets: background over the whole tile, row segments at a time
-        // (vector stores), then the covered pixels are overwritten below.
-        for (int y = Y0; y <= Y1; ++y) {
-            const std::size_t i0 = std::size_t(y) * tp.width + X0;
-            const std::size_t n = std::size_t(tw);
-            std::fill_n(tp.color + 4 * i0, 4 * n, 0.0f);
-            for (int k = 0; k < scene::kNumControlTargets; ++k) std::fill_n(tp.ctrl[k] + 4 * i0, 4 * n, 0.0f);
-            std::fill_n(tp.depth + i0, n, fr.background_depth);
-            std::fill_n(tp.normal + 3 * i0, 3 * n, 0.0f);
-            std::fill_n(tp.id + i0, n, 0.0f);
-            std::fill_n(tp.diffuse + i0, n, 0.0f);
-            std::fill_n(tp.specular + i0, n, 0.0f);
-        }
-    }
     // Deferred shading of the covered pixels, row-major. Each pixel gathers its setup, then the
     // triangle's indices, then its vertices (dependent cache misses: one small triangle per pixel
     // on dense meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
@@ -459,22 +491,36 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         const TileRef r = ids[covered[k]];
         return fr.chunks[r.chunk].tris[r.tri];
     };
-    for (int k = 0; k < nc; ++k) {
-        if (k + 12 < nc) {
-            const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
-            __builtin_prefetch(a);
-            __builtin_prefetch(a + 64);
+    // Each row is composed in a small buffer (background, then its shaded pixels) and streamed
+    // to the targets: every byte of the 108 B/px G-buffer is written once, with non-temporal
+    // stores (no read-for-ownership of lines that are overwritten whole). Without `clear` the
+    // targets already hold the background and rows with no covered pixel are skipped.
+    RowBuffer rb;
+    const TargetPtrs rp = rb.pointers();
+    int k = 0;
+    for (int y = Y0; y <= Y1; ++y) {
+        const int ly = y - Y0;
+        if (!clear && !(k < nc && covered[k] / kTile == ly)) continue;
+        rb.background(tw, fr.background_depth);
+        for (; k < nc && covered[k] / kTile == ly; ++k) {
+            if (k + 12 < nc) {
+                const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
+                __builtin_prefetch(a);
+                __builtin_prefetch(a + 64);
+            }
+            if (k + 8 < nc) prefetch_indices(fr, setup_at(k + 8));
+            if (k + 4 < nc) prefetch_vertices(fr, setup_at(k + 4));
+            const int lx = covered[k] % kTile;
+            const TileRef r = ids[covered[k]];
+            const Chunk& ch = fr.chunks[r.chunk];
+            const TriSetup& t = ch.tris[r.tri];
+            std::int64_t e[3];
+            edge_values(t, X0 + lx, y, e);
+            shade_and_write(fr, ch, t, perspective_bary(t, e), rp, lx, 0);
         }
-        if (k + 8 < nc) prefetch_indices(fr, setup_at(k + 8));
-        if (k + 4 < nc) prefetch_vertices(fr, setup_at(k + 4));
-        const int x = X0 + covered[k] % kTile, y = Y0 + covered[k] / kTile;
-        const TileRef r = ids[covered[k]];
-        const Chunk& ch = fr.chunks[r.chunk];
-        const TriSetup& t = ch.tris[r.tri];
-        std::int64_t e[3];
-        edge_values(t, x, y, e);
-        shade_and_write(fr, ch, t, perspective_bary(t, e), tp, x, y);
+        rb.stream_row(tp, X0, y, tw);
     }
+    _mm_sfence();  // order the non-temporal stores before the task completes
 }
 
 // Builds the frame constants for a raster grid of W x H (supersampled).
