@@ -224,13 +224,30 @@ inline void ensure_output(ImageF& dst, int w, int h, int c, Roi written) {
 //! Border parameter value: 0 = clamp, 1 = mirror.
 inline Border border_from(int v) { return v != 0 ? Border::Mirror : Border::Clamp; }
 
-//! Calls row(y, x0, x1) for every row segment of roi with the traversal of ex: one row-major loop
-//! for Reference, oneTBB tiles for Fast. Each pixel's value depends only on the inputs, so the
-//! bytes are the same for every traversal and thread count.
+//! Calls row(y, x0, x1) for every row of roi with the traversal of ex: one row-major loop for
+//! Reference, oneTBB blocks of whole rows for Fast. Each pixel's value depends only on the inputs,
+//! so the bytes are the same for every traversal and thread count.
+//! Whole rows rather than 2-D tiles: these stages are pointwise or read a few pixels around, so
+//! tiles buy no cache reuse, while 64-pixel row pieces (1 KiB of RGBA) restart the hardware
+//! prefetcher on every row and make a task per 64x64 tile; measured at 1080p, one thread, the
+//! tiled fast traversal was 20-50 % slower than the plain reference loop (docs/performance.md).
 template <class F>
 void for_each_row_segment(const Exec& ex, Roi roi, F&& row) {
-    for_each_tile(ex, roi, [&](Roi r) {
-        for (int y = r.y0; y < r.y1; ++y) row(y, r.x0, r.x1);
+    if (roi.empty()) return;
+    if (ex.traversal == Traversal::Reference) {
+        for (int y = roi.y0; y < roi.y1; ++y) row(y, roi.x0, roi.x1);
+        return;
+    }
+    // Rows per task as group A's row blocks (stage_util.h): tile / 8, within [1, 16] (8 at the
+    // default tile): at 1080p ~135 tasks, enough to balance 2-8 threads, small enough to fit L2.
+    const int grain = std::max(1, std::min(ex.tile > 0 ? ex.tile / 8 : 8, 16));
+    with_arena(ex, [&] {
+        tbb::parallel_for(
+            tbb::blocked_range<int>(roi.y0, roi.y1, grain),
+            [&](const tbb::blocked_range<int>& r) {
+                for (int y = r.begin(); y < r.end(); ++y) row(y, roi.x0, roi.x1);
+            },
+            tbb::simple_partitioner());
     });
 }
 
