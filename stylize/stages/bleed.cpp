@@ -278,7 +278,7 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
         ImageF hc, hk, hz;
         if (p.half_res) {
             hc = detail::resample(color, wr, hr, ex);
-            hk = detail::resample(detail::extract_channel(ctrl, 2, ex), wr, hr, ex);  // bleeding only
+            hk = detail::resample_channel(ctrl, 2, wr, hr, ex);  // bleeding control only
             if (!depth.empty()) hz = detail::resample(depth, wr, hr, ex);
         }
         const float* cd = p.half_res ? hc.data() : color.data();

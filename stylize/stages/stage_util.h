@@ -98,14 +98,16 @@ struct ResampleAxis {
 //! Output row y (w pixels of C channels, written to o) of the resampling of s (sw texels wide).
 //! Stages that consume a resampled image pixel by pixel call this into a row buffer instead of
 //! materialising the whole resampled image (same values, no full-size temporary).
-template <int C>
+//! S: the source's channel count when it differs from C (then s points at the first channel
+//! wanted, e.g. data() + 2 resamples channel 2 of an S-channel image without extracting it).
+template <int C, int S = C>
 void resample_row(const float* s, int sw, float* o, int w, const ResampleAxis& ax, const ResampleAxis& ay, int y) {
     const float ty = ay.t[std::size_t(y)];
-    const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * C;
-    const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * C;
+    const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * S;
+    const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * S;
     for (int x = 0; x < w; ++x) {
         const float tx = ax.t[std::size_t(x)];
-        const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * C, a1 = std::size_t(ax.i1[std::size_t(x)]) * C;
+        const std::size_t a0 = std::size_t(ax.i0[std::size_t(x)]) * S, a1 = std::size_t(ax.i1[std::size_t(x)]) * S;
         for (int c = 0; c < C; ++c) {  // C is a constant: unrolled, channels side by side
             const float a = r0[a0 + c], cc = r0[a1 + c], dd = r1[a0 + c], e = r1[a1 + c];
             const float top = a + (cc - a) * tx;
@@ -136,6 +138,20 @@ inline ImageF resample(const ImageF& src, int w, int h, const Exec& ex) {
             case 3: resample_rows<3>(s, sw, d, w, ax, ay, y0, y1); break;
             default: resample_rows<4>(s, sw, d, w, ax, ay, y0, y1); break;
         }
+    });
+    return dst;
+}
+
+//! Channel c of a 4-channel src resampled to a w x h 1-channel image: the same values as
+//! resample(extract_channel(src, c), w, h), without the full-size extracted copy.
+inline ImageF resample_channel(const ImageF& src, int c, int w, int h, const Exec& ex) {
+    const ResampleAxis ax(w, src.width()), ay(h, src.height());
+    ImageF dst(w, h, 1, kUninitialized);  // every value written below
+    const float* s = src.data() + c;
+    float* d = dst.data();
+    const int sw = src.width();
+    for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) resample_row<1, 4>(s, sw, d + std::size_t(y) * w, w, ax, ay, y);
     });
     return dst;
 }
