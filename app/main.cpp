@@ -179,9 +179,21 @@ int cmd_render(Args& a) {
     log("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
         std::to_string(int(ms_since(t0))) + " ms");
 
+    aq::raster::RenderSettings rs;
+    rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
+    rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
+    rs.ssaa = o.ssaa;
+    rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
+    rs.exec = o.reference ? aq::Exec::reference() : aq::Exec::fast(o.threads);
+    aq::check_image_size(rs.width, rs.height, "output");
+    aq::check_image_size(rs.width * rs.ssaa, rs.height * rs.ssaa, "supersampled render (--ssaa)");
+    const float aspect = float(rs.width) / float(rs.height);
+    if (desc.camera_auto && aspect != desc.auto_aspect)  // reframe for the size actually rendered
+        desc.camera = aq::scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
+
     std::string style = o.style_given ? o.style : (desc.style.empty() ? "wc18" : desc.style);
     const bool stylize = style != "none";
-    aq::stylize::Pipeline pipeline;
+    aq::stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
     if (stylize) {
         pipeline = aq::stylize::load_pipeline(style);
         if (!o.style_given || o.style == desc.style) {
@@ -191,6 +203,20 @@ int cmd_render(Args& a) {
                 std::snprintf(num, sizeof num, "%.17g", v);
                 aq::stylize::set_param(pipeline, k + "=" + num);
             }
+        }
+        if (desc.camera_auto) {
+            // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically
+            // framed camera hugs the scene's bounding sphere, so its clip range is the scene's
+            // depth range whatever the model's units: normalise over it instead.
+            for (const auto& step : pipeline.steps)
+                if (step.stage == "adjust") {
+                    const std::string id = step.id.empty() ? step.stage : step.id;
+                    char buf[160];
+                    std::snprintf(buf, sizeof buf, "%s.depth_near=%.9g", id.c_str(), double(desc.camera.znear));
+                    aq::stylize::set_param(pipeline, buf);
+                    std::snprintf(buf, sizeof buf, "%s.depth_far=%.9g", id.c_str(), double(desc.camera.zfar));
+                    aq::stylize::set_param(pipeline, buf);
+                }
         }
         for (auto& v : o.variants) aq::stylize::set_variant(pipeline, v);
         for (auto& s : o.sets) aq::stylize::set_param(pipeline, s);
@@ -203,18 +229,7 @@ int cmd_render(Args& a) {
         throw UsageError("render: --set/--variant need a style (not --style none)");
     }
 
-    aq::raster::RenderSettings rs;
-    rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
-    rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
-    rs.ssaa = o.ssaa;
-    rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
-    rs.exec = o.reference ? aq::Exec::reference() : aq::Exec::fast(o.threads);
     rs.substrate_color = stylize ? pipeline.substrate_color : desc.substrate_color;
-    aq::check_image_size(rs.width, rs.height, "output");
-    aq::check_image_size(rs.width * rs.ssaa, rs.height * rs.ssaa, "supersampled render (--ssaa)");
-    const float aspect = float(rs.width) / float(rs.height);
-    if (desc.camera_auto && aspect != desc.auto_aspect)  // reframe for the size actually rendered
-        desc.camera = aq::scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
 
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
     if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
