@@ -276,7 +276,18 @@ int cmd_render(Args& a) {
                 aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
         }
         const std::string out = frame_path(o.out, f);
-        aq::write_image(out, targets.get(final_name));
+        const aq::ImageF& final_img = targets.get(final_name);
+        // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer colour
+        // (--style none) keeps its coverage alpha for compositing. --targets keeps every channel.
+        if (stylize && final_img.channels() == 4) {
+            aq::ImageF rgb(final_img.width(), final_img.height(), 3);
+            for (int y = 0; y < rgb.height(); ++y)
+                for (int x = 0; x < rgb.width(); ++x)
+                    for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = final_img.at(x, y, c);
+            aq::write_image(out, rgb);
+        } else {
+            aq::write_image(out, final_img);
+        }
         log(prefix + "wrote " + out);
     }
     log("done in " + std::to_string(int(ms_since(t0))) + " ms");

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # One command for a newcomer: install dependencies, build, and render a real scene (Suzanne,
-# ../shared/assets) through the WC18 watercolor pipeline to out/suzanne_wc18.png.
+# ../shared/assets/gltf/WaterBottle) through the WC18 pipeline to out/waterbottle_wc18.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 mkdir -p out
-./build/app/aquarelle render scenes/data/suzanne.json --style wc18 --width 1280 --height 720 \
-  --out out/suzanne_wc18.png --targets out/suzanne_targets
-echo "quickstart: wrote out/suzanne_wc18.png (G-buffer and intermediates as EXR in out/suzanne_targets/)"
+./build/app/aquarelle render scenes/data/waterbottle.json --style wc18 \
+  --out out/waterbottle_wc18.png --targets out/waterbottle_targets
+echo "quickstart: wrote out/waterbottle_wc18.png (G-buffer and intermediates as EXR in out/waterbottle_targets/)"
