@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One command for a newcomer: install dependencies, build, and render a real scene (Suzanne,
+# One command for a newcomer: install dependencies, build, and render a real scene (the Khronos WaterBottle,
 # ../shared/assets/gltf/WaterBottle) through the WC18 pipeline to out/waterbottle_wc18.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
