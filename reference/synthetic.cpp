@@ -2,21 +2,15 @@
 #include "reference/synthetic.h"
 
 #include <cmath>
+
+#include "core/hash.h"
 #include <limits>
 
 namespace aq::ref {
 
 namespace {
 
-// Integer hash (lowbias32): deterministic per (x, y, seed), independent of traversal.
-std::uint32_t hash32(std::uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
+using aq::hash32;  // core/hash.h: lowbias32
 float hash01(std::uint32_t a, std::uint32_t b, std::uint32_t seed) {
     return float(hash32(a * 0x9E3779B1U ^ hash32(b + 0x85EBCA77U * seed))) * (1.0f / 4294967296.0f);
 }

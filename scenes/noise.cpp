@@ -4,18 +4,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/hash.h"
+
 namespace aq::scene {
 namespace {
 
-// Lowbias32 integer hash (Chris Wellons): well mixed, cheap, platform independent.
-std::uint32_t hash32(std::uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
+using aq::hash32;  // core/hash.h: lowbias32
 
 float lattice(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t seed) {
     std::uint32_t h = hash32(seed ^ 0x9e3779b9U);
