@@ -224,6 +224,7 @@ int cmd_render(Args& a) {
             pipeline.paper.file = desc.paper;
             pipeline.has_paper = true;
         }
+        if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
         aq::stylize::validate_pipeline(pipeline);
     } else if (!o.sets.empty() || !o.variants.empty()) {
         throw UsageError("render: --set/--variant need a style (not --style none)");

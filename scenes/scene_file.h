@@ -65,6 +65,7 @@ struct SceneDesc {
     float fps = 24.0f;
     std::string paper;                                 //!< optional paper file, resolved path
     glm::vec3 substrate_color{1.0f};
+    bool substrate_color_set = false;                  //!< the file named a substrate colour (it then replaces the style's)
     //! The camera was framed automatically (camera "auto", bare glTF). The framing used
     //! `auto_aspect` (the file's width/height, else 16:9); a caller rendering at another aspect
     //! should call frame_bounds(scene.world_bounds(), its_aspect, auto_view_dir, auto_yfov).
