@@ -57,6 +57,8 @@ options:
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
   --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
   --frames A-B          render frames A..B inclusive (animation), with progress
+  --sweep S.P=A:B:N     render N images with parameter P of step S from A to B (G-buffer
+                        rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
@@ -82,6 +84,9 @@ struct RenderOptions {
     bool animation = false;
     double fps = 0;
     bool reference = false, quiet = false;
+    std::string sweep;  //!< "step.param" swept by --sweep
+    double sweep_from = 0, sweep_to = 0;
+    int sweep_count = 0;
 };
 
 std::string frame_path(const std::string& pattern, int frame) {
@@ -137,6 +142,18 @@ RenderOptions parse_render(Args& a) {
             if (o.frame_last < o.frame_first) throw UsageError("--frames: last frame before first");
             if (o.frame_last - o.frame_first >= 100'000) throw UsageError("--frames: more than 100000 frames");
             o.animation = true;
+        } else if (arg == "--sweep") {
+            // STEP.PARAM=FROM:TO:COUNT
+            const std::string v = a.value(arg);
+            const auto eq = v.find('=');
+            const auto c1 = v.find(':', eq == std::string::npos ? 0 : eq);
+            const auto c2 = c1 == std::string::npos ? c1 : v.find(':', c1 + 1);
+            if (eq == std::string::npos || c1 == std::string::npos || c2 == std::string::npos || eq == 0)
+                throw UsageError("--sweep expects STEP.PARAM=FROM:TO:COUNT, e.g. edge_darken.intensity=0:4:9");
+            o.sweep = v.substr(0, eq);
+            o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -1e30, 1e30);
+            o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -1e30, 1e30);
+            o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), 2, 1000));
         } else if (arg == "--fps") {
             o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
         } else if (arg == "--ssaa") {
@@ -159,6 +176,10 @@ RenderOptions parse_render(Args& a) {
     if (o.out.empty()) throw UsageError("render: --out FILE is required");
     if (o.animation && o.out.find("####") == std::string::npos && o.frame_first != o.frame_last)
         throw UsageError("render: with --frames, --out must contain #### for the frame number");
+    if (!o.sweep.empty() && o.animation)
+        throw UsageError("render: --sweep and --frames cannot be combined");
+    if (!o.sweep.empty() && o.out.find("####") == std::string::npos)
+        throw UsageError("render: with --sweep, --out must contain #### for the sweep index");
     check_output_path(o.out, "--out");
     return o;
 }
@@ -235,6 +256,26 @@ int cmd_render(Args& a) {
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
     if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
 
+    // A sweep renders the G-buffer once and reruns the style for each value of one parameter.
+    std::vector<aq::stylize::Pipeline> styles{pipeline};
+    std::vector<std::string> sweep_labels{""};
+    if (!o.sweep.empty()) {
+        if (!stylize) throw UsageError("render: --sweep needs a style (not --style none)");
+        styles.clear();
+        sweep_labels.clear();
+        for (int i = 0; i < o.sweep_count; ++i) {
+            const double t = double(i) / double(o.sweep_count - 1);
+            const double v = o.sweep_from + (o.sweep_to - o.sweep_from) * t;
+            char assign[256];
+            std::snprintf(assign, sizeof assign, "%s=%.9g", o.sweep.c_str(), v);
+            aq::stylize::Pipeline p = pipeline;
+            aq::stylize::set_param(p, assign);  // every value checked before anything is rendered
+            styles.push_back(std::move(p));
+            sweep_labels.push_back(assign);
+        }
+    }
+    const bool sweeping = styles.size() > 1;
+
     const int nframes = o.frame_last - o.frame_first + 1;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
         const auto tf = std::chrono::steady_clock::now();
@@ -242,54 +283,64 @@ int cmd_render(Args& a) {
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
         rs.frame = f;
         std::vector<std::string> warnings;
-        aq::Targets targets = aq::raster::render_gbuffer(desc.scene, desc.camera, rs, &warnings);
+        aq::Targets gbuffer = aq::raster::render_gbuffer(desc.scene, desc.camera, rs, &warnings);
         for (auto& w : warnings) std::cerr << "warning: " << w << "\n";
         log(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
             std::to_string(int(ms_since(tf))) + " ms");
 
-        std::string final_name = aq::target::kColor;
-        if (stylize) {
-            const auto ts = std::chrono::steady_clock::now();
-            aq::stylize::RunOptions ro;
-            ro.exec = rs.exec;
-            if (!o.quiet && !o.animation)
-                ro.progress = [&](int i, int n, const std::string& step) {
-                    std::cerr << "  stage " << (i + 1) << "/" << n << ": " << step << std::endl;
-                };
-            aq::stylize::run_pipeline(pipeline, targets, ro);
-            final_name = pipeline.output;
-            log(prefix + "style " + pipeline.name + " (" + std::to_string(pipeline.steps.size()) + " stages) in " +
-                std::to_string(int(ms_since(ts))) + " ms");
-        }
+        for (std::size_t si = 0; si < styles.size(); ++si) {
+            const int index = sweeping ? int(si) : f;  // the number that replaces #### in paths
+            const std::string tag = sweeping ? "[sweep " + std::to_string(si + 1) + "/" + std::to_string(styles.size()) +
+                                                   " " + sweep_labels[si] + "] "
+                                             : prefix;
+            aq::Targets targets = sweeping ? gbuffer : std::move(gbuffer);
+            std::string final_name = aq::target::kColor;
+            if (stylize) {
+                const auto ts = std::chrono::steady_clock::now();
+                aq::stylize::RunOptions ro;
+                ro.exec = rs.exec;
+                if (!o.quiet && !o.animation && !sweeping)
+                    ro.progress = [&](int i, int n, const std::string& step) {
+                        std::cerr << "  stage " << (i + 1) << "/" << n << ": " << step << std::endl;
+                    };
+                aq::stylize::run_pipeline(styles[si], targets, ro);
+                final_name = styles[si].output;
+                log(tag + "style " + styles[si].name + " (" + std::to_string(styles[si].steps.size()) +
+                    " stages) in " + std::to_string(int(ms_since(ts))) + " ms");
+            }
 
-        // Intermediates first, the display image last: a listener waiting for --out sees a
-        // complete set.
-        if (!o.targets_dir.empty()) {
-            const std::string dir = o.animation ? o.targets_dir + "/" + frame_path("frame####", f) : o.targets_dir;
-            aq::ensure_directory(dir);
-            for (auto& [name, img] : targets.all()) aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", img);
+            // Intermediates first, the display image last: a listener waiting for --out sees a
+            // complete set.
+            const bool numbered = o.animation || sweeping;
+            const std::string sub = frame_path(sweeping ? "sweep####" : "frame####", index);
+            if (!o.targets_dir.empty()) {
+                const std::string dir = numbered ? o.targets_dir + "/" + sub : o.targets_dir;
+                aq::ensure_directory(dir);
+                for (auto& [name, img] : targets.all())
+                    aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", img);
+            }
+            if (!o.targets_png_dir.empty()) {
+                const std::string dir = numbered ? o.targets_png_dir + "/" + sub : o.targets_png_dir;
+                aq::ensure_directory(dir);
+                for (auto& [name, img] : targets.all())
+                    aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
+            }
+            const std::string out = frame_path(o.out, index);
+            const aq::ImageF& final_img = targets.get(final_name);
+            // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
+            // colour (--style none) keeps its coverage alpha for compositing; --targets keeps
+            // every channel.
+            if (stylize && final_img.channels() == 4) {
+                aq::ImageF rgb(final_img.width(), final_img.height(), 3);
+                for (int y = 0; y < rgb.height(); ++y)
+                    for (int x = 0; x < rgb.width(); ++x)
+                        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = final_img.at(x, y, c);
+                aq::write_image(out, rgb);
+            } else {
+                aq::write_image(out, final_img);
+            }
+            log(tag + "wrote " + out);
         }
-        if (!o.targets_png_dir.empty()) {
-            const std::string dir =
-                o.animation ? o.targets_png_dir + "/" + frame_path("frame####", f) : o.targets_png_dir;
-            aq::ensure_directory(dir);
-            for (auto& [name, img] : targets.all())
-                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
-        }
-        const std::string out = frame_path(o.out, f);
-        const aq::ImageF& final_img = targets.get(final_name);
-        // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer colour
-        // (--style none) keeps its coverage alpha for compositing. --targets keeps every channel.
-        if (stylize && final_img.channels() == 4) {
-            aq::ImageF rgb(final_img.width(), final_img.height(), 3);
-            for (int y = 0; y < rgb.height(); ++y)
-                for (int x = 0; x < rgb.width(); ++x)
-                    for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = final_img.at(x, y, c);
-            aq::write_image(out, rgb);
-        } else {
-            aq::write_image(out, final_img);
-        }
-        log(prefix + "wrote " + out);
     }
     log("done in " + std::to_string(int(ms_since(t0))) + " ms");
     return 0;
