@@ -82,13 +82,19 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
         float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
+            bool any = false;
             for (int i = 0; i < n; ++i) {
                 const int x = xs + i;
                 q[i] = pigment_apply_wc18_prepare(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
+                any |= q[i].granulate;
                 for (int k = 0; k < 3; ++k) {
                     base[3 * i + k] = q[i].granulate ? std::fabs(q[i].out[k]) : 1.0f;
                     dexp[3 * i + k] = q[i].da;
                 }
+            }
+            if (!any) {  // nothing granulates (uncovered or dry-brushed): finish ignores g
+                for (int i = 0; i < n; ++i) o(xs + i, y) = q[i].out;
+                continue;
             }
             for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
             for (int i = 0; i < n; ++i)
