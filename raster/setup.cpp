@@ -17,7 +17,7 @@ inline T max3(T a, T b, T c) { return std::max(a, std::max(b, c)); }
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
-bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
+[[gnu::always_inline]] inline bool build(const SnapVertex (&sv)[3], const glm::vec3* beta, const Viewport& vp,
            const SetupOptions& opt, bool double_sided, TriSetup& t, ClipVerts& cv) {
     std::int64_t x[3] = {sv[0].x, sv[1].x, sv[2].x};
     std::int64_t y[3] = {sv[0].y, sv[1].y, sv[2].y};

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <immintrin.h>
+
 namespace aq::raster {
 
 namespace {
@@ -78,17 +80,26 @@ std::uint32_t outcode(const glm::vec4& c, const Viewport& vp) {
     return code;
 }
 
-SnapVertex snap_vertex(const glm::vec4& c, float depth, const Viewport& vp) {
+namespace {
+// snap_vertex written field by field into its destination: the vertex loop stored the returned
+// struct piecewise and re-read it as one vector (a store-forwarding stall per vertex).
+// std::llrint == cvtsd2si under the default (round-to-nearest-even) MXCSR, inlined.
+inline void snap_into(const glm::vec4& c, float depth, const Viewport& vp, SnapVertex& s) {
     // Double precision: at the guard band (2^21 px) a float would only resolve 1/4 px.
     const double iw = 1.0 / double(c.w);
     const double sx = (double(c.x) * iw + 1.0) * (0.5 * vp.width);
     const double sy = (1.0 - double(c.y) * iw) * (0.5 * vp.height);
-    SnapVertex s;
-    s.code = 0;
-    s.x = std::int32_t(std::llrint(sx * kSubpixelOne));
-    s.y = std::int32_t(std::llrint(sy * kSubpixelOne));
+    s.x = std::int32_t(_mm_cvtsd_si64(_mm_set_sd(sx * kSubpixelOne)));
+    s.y = std::int32_t(_mm_cvtsd_si64(_mm_set_sd(sy * kSubpixelOne)));
     s.inv_w = float(iw);
     s.depth = depth;
+    s.code = 0;
+}
+}  // namespace
+
+SnapVertex snap_vertex(const glm::vec4& c, float depth, const Viewport& vp) {
+    SnapVertex s;
+    snap_into(c, depth, vp, s);
     return s;
 }
 
@@ -103,6 +114,8 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
     const bool has_normals = prim.normals.size() == prim.positions.size();
     const bool has_tan = !dv.view_tangent.empty();
     const float px_x = 2.0f / float(fp.out_width), px_y = 2.0f / float(fp.out_height);
+    const TremorParams& tp = rs.tremor;
+    const float phase = (fp.time_s * tp.speed) * kTremorSpeedScale;
     for (std::size_t i = begin; i < end; ++i) {
         const glm::vec3 p = prim.positions[i];
         const glm::vec3 n = has_normals ? prim.normals[i] : glm::vec3(0, 0, 1);
@@ -117,7 +130,15 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
         const glm::vec3 nv = normalize3(nm * n);
         if (do_tremor) {
             const glm::vec3 vdir = fp.perspective ? normalize3(-glm::vec3(v)) : glm::vec3(0, 0, 1);
-            const glm::vec2 off = tremor_offset_px(rs.tremor, fp.time_s, p, nv, vdir);
+            // tremor_offset_px inlined, with both sines always evaluated and the zero weight
+            // selected afterwards: the weight test mispredicted along silhouettes (same values;
+            // keep in step with tremor_offset_px).
+            const float ndv = nv.x * vdir.x + nv.y * vdir.y + nv.z * vdir.z;
+            const float w = std::min(sat(kTremorNdotVGain * ndv), 1.0f - tp.front);
+            const float sx = std::sin(phase + (p.x * tp.frequency) * kTremorFreqScale);
+            const float sy = std::sin(phase + (p.y * tp.frequency) * kTremorFreqScale);
+            const bool on = w > 0.0f;
+            const glm::vec2 off(on ? (sx * tp.tremor_px) * w : 0.0f, on ? (sy * tp.tremor_px) * w : 0.0f);
             // Pixels -> clip units: one output pixel is 2/W in NDC, times w to survive the divide.
             c.x = c.x + (off.x * px_x) * c.w;
             c.y = c.y + (off.y * px_y) * c.w;
@@ -130,10 +151,15 @@ void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::m
             dv.view_tangent[i] = glm::vec4(normalize3(glm::mat3(mv) * glm::vec3(t)), t.w);
         }
         const std::uint32_t code = outcode(c, fp.vp);
+        SnapVertex& sv = dv.snap[i];
         if (code == 0) {
-            dv.snap[i] = snap_vertex(c, -v.z, fp.vp);
+            snap_into(c, -v.z, fp.vp, sv);
         } else {
-            dv.snap[i] = SnapVertex{0, 0, 0.0f, 0.0f, code};
+            sv.x = 0;
+            sv.y = 0;
+            sv.inv_w = 0.0f;
+            sv.depth = 0.0f;
+            sv.code = code;
         }
     }
 }

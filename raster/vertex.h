@@ -63,10 +63,15 @@ template <class T>
 class UninitArray {
     static_assert(std::is_trivially_default_constructible_v<T>);
 public:
+    //! Keeps the buffer when it is large enough (frame scratch reused between frames).
     void resize(std::size_t n) {
-        p_.reset(new T[n]);
+        if (n > cap_) {
+            p_.reset(new T[n]);
+            cap_ = n;
+        }
         n_ = n;
     }
+    void clear() { n_ = 0; }
     T& operator[](std::size_t i) { return p_[i]; }
     const T& operator[](std::size_t i) const { return p_[i]; }
     std::size_t size() const { return n_; }
@@ -74,6 +79,7 @@ public:
 private:
     std::unique_ptr<T[]> p_;
     std::size_t n_ = 0;
+    std::size_t cap_ = 0;
 };
 
 //! Outcode of a clip-space position against near/far and the guard band; kOutNonFinite if any
