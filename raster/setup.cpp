@@ -216,11 +216,13 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
         if (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((xmax - kSubpixelOne / 2) >> kSubpixelBits) ||
             ((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((ymax - kSubpixelOne / 2) >> kSubpixelBits))
             return;
-        TriSetup t;  // uninitialised; build() writes every field it keeps
+        // Built in place, uninitialised (build() writes every field it keeps): a stack copy
+        // re-read right after its narrow stores stalls on store forwarding. Dropped on reject.
+        TriSetup& t = out.emplace_back(TriSetup::NoInit{});
         t.draw = draw_index;
         t.tri = tri;
         t.clip = -1;
-        if (build(sv, nullptr, vp, opt, double_sided, t, unused)) out.push_back(t);
+        if (!build(sv, nullptr, vp, opt, double_sided, t, unused)) out.pop_back();
         return;
     }
     setup_clipped(dv, draw_index, tri, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);

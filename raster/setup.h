@@ -31,6 +31,9 @@ struct TriSetup {
     std::uint8_t perm;         //!< 0: identity, 1: vertices 1 and 2 swapped
     std::uint8_t back;         //!< 1 when the triangle faces away (CW in NDC)
     // No default member initializers: trivially constructible, setup writes every field.
+    struct NoInit {};
+    TriSetup() = default;
+    explicit TriSetup(NoInit) {}  //!< for emplace_back without the zeroing of value-initialisation
 };
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
