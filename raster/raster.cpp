@@ -32,7 +32,7 @@ namespace aq::raster {
 
 namespace {
 
-constexpr std::uint32_t kChunkTris = 8192;  // triangles per setup chunk (schedule only)
+constexpr std::uint32_t kChunkTris = 32768;  // triangles per setup chunk (schedule only)
 constexpr std::size_t kVertexGrain = 4096;
 constexpr int kTile = 64;                   // tile side in pixels (binning and raster)
 constexpr std::uint32_t kNoChunk = 0xffffffffu;
