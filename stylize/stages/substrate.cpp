@@ -1,7 +1,13 @@
 // stylize/stages/substrate.cpp — paper distortion (WC17 §3.3 / MNPR) and substrate lighting
 // (WC18 eq. 5). Each output pixel reads a bounded neighbourhood of its inputs only (offsets are at
 // most 5*distortion pixels), so reference and fast traversals are bit-exact.
+// -fno-trapping-math (FP exception flags only, no value changes) lets GCC vectorise the selects,
+// as in edge_darken.cpp.
+#pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/substrate.h"
+
+#include <algorithm>
+#include <cmath>
 
 #include "stylize/kernels.h"
 
@@ -38,35 +44,57 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
     const Border b = border_from(p.border);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    // Rows in chunks: offsets and bilinear weights in one vectorisable loop (the same operations
+    // as substrate_offset and the scalar taps below, value by value), then the taps.
     for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            const glm::vec2 off = substrate_offset(nr(x, y), ng(x, y), ctrl(x, y), p);
-            if (off.x == 0.0f && off.y == 0.0f) {
-                o(x, y) = c(x, y);
-                continue;
+        constexpr int kChunk = 64;
+        float tr[kChunk], tg[kChunk], tc[kChunk], ox[kChunk], oy[kChunk], txs[kChunk], tys[kChunk];
+        int xas[kChunk], yas[kChunk];
+        const float dist5 = p.distortion;
+        const float fyc = float(y) + 0.5f;
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int n = std::min(kChunk, x1 - xs);
+            for (int i = 0; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
+            for (int i = 0; i < n; ++i) {
+                float vx = tr[i] * 2.0f - 1.0f, vy = tg[i] * 2.0f - 1.0f;
+                vx = vx > -1.0f ? (vx < 1.0f ? vx : 1.0f) : -1.0f;
+                vy = vy > -1.0f ? (vy < 1.0f ? vy : 1.0f) : -1.0f;
+                float k = tc[i] + kDistortCtrlBias;
+                k = k > 0.0f ? (k < 1.0f ? k : 1.0f) : 0.0f;
+                const float sc = dist5 * kDistortPixelsPerUnit * k;
+                const float offx = vx * sc, offy = vy * sc;
+                ox[i] = offx, oy[i] = offy;
+                const float px = float(xs + i) + 0.5f + offx, py = fyc + offy;
+                const float fx = px - 0.5f, fy = py - 0.5f;
+                const float x0f = std::floor(fx), y0f = std::floor(fy);
+                txs[i] = fx - x0f, tys[i] = fy - y0f;
+                xas[i] = int(x0f), yas[i] = int(y0f);
             }
-            const float px = float(x) + 0.5f + off.x, py = float(y) + 0.5f + off.y;
-            // Bilinear taps as kernels.h sample_bilinear (same operations); the border rule is
-            // resolved only when a tap falls outside the image.
-            const float fx = px - 0.5f, fy = py - 0.5f;
-            const float x0f = std::floor(fx), y0f = std::floor(fy);
-            const float tx = fx - x0f, ty = fy - y0f;
-            int xa = int(x0f), ya = int(y0f), xb = xa + 1, yb = ya + 1;
-            if (xa < 0 || yb >= h || ya < 0 || xb >= w) {
-                xa = resolve_border(xa, w, b), xb = resolve_border(xb, w, b);
-                ya = resolve_border(ya, h, b), yb = resolve_border(yb, h, b);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                if (ox[i] == 0.0f && oy[i] == 0.0f) {
+                    o(x, y) = c(x, y);
+                    continue;
+                }
+                const float tx = txs[i], ty = tys[i];
+                int xa = xas[i], ya = yas[i], xb = xa + 1, yb = ya + 1;
+                if (xa < 0 || yb >= h || ya < 0 || xb >= w) {
+                    xa = resolve_border(xa, w, b), xb = resolve_border(xb, w, b);
+                    ya = resolve_border(ya, h, b), yb = resolve_border(yb, h, b);
+                }
+                const float za = z(xa, ya), zc = z(xb, ya), zd0 = z(xa, yb), ze = z(xb, yb);
+                const float ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
+                const float dz = z(x, y) - (ztop + (zbot - ztop) * ty);
+                const bool blocked =
+                    p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
+                if (blocked) {
+                    o(x, y) = c(x, y);
+                    continue;
+                }
+                const glm::vec4 ca = c(xa, ya), cc = c(xb, ya), cd = c(xa, yb), ce = c(xb, yb);
+                const glm::vec4 top = ca + (cc - ca) * tx, bot = cd + (ce - cd) * tx;
+                o(x, y) = top + (bot - top) * ty;
             }
-            const float za = z(xa, ya), zc = z(xb, ya), zd0 = z(xa, yb), ze = z(xb, yb);
-            const float ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
-            const float dz = z(x, y) - (ztop + (zbot - ztop) * ty);
-            const bool blocked = p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
-            if (blocked) {
-                o(x, y) = c(x, y);
-                continue;
-            }
-            const glm::vec4 ca = c(xa, ya), cc = c(xb, ya), cd = c(xa, yb), ce = c(xb, yb);
-            const glm::vec4 top = ca + (cc - ca) * tx, bot = cd + (ce - cd) * tx;
-            o(x, y) = top + (bot - top) * ty;
         }
     });
 }
