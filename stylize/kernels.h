@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -36,9 +37,11 @@ inline std::vector<float> gaussian_weights(int radius, float sigma) {
 }
 
 //! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
-//! texture() with GL_LINEAR), with the given border rule for the four taps.
-template <class T>
-T sample_bilinear(const View<const T>& v, float px, float py, Border b) {
+//! texture() with GL_LINEAR), with the given border rule for the four taps. V is any view with
+//! `at(x, y, border)` (View<const T>, the stage planes of stage_b_util.h). Coordinates must be finite.
+template <class V>
+auto sample_bilinear(const V& v, float px, float py, Border b) {
+    using T = std::decay_t<decltype(v.at(0, 0, b))>;
     const float fx = px - 0.5f, fy = py - 0.5f;
     const float x0f = std::floor(fx), y0f = std::floor(fy);
     const float tx = fx - x0f, ty = fy - y0f;

@@ -15,6 +15,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
+#include "stylize/kernels.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize::stage_b {
@@ -39,19 +40,9 @@ inline Plane plane(const ImageF& img, int channel) {
 
 inline Plane constant_plane(const float* value, int w, int h) { return {value, 0, 0, w, h}; }
 
-//! Bilinear sample of a plane at continuous pixel coordinates (pixel centres at +0.5, GL_LINEAR),
-//! the same arithmetic as kernels.h sample_bilinear. Coordinates must be finite.
-inline float sample_bilinear(const Plane& v, float px, float py, Border b) {
-    const float fx = px - 0.5f, fy = py - 0.5f;
-    const float x0f = std::floor(fx), y0f = std::floor(fy);
-    const float tx = fx - x0f, ty = fy - y0f;
-    const int x0 = int(x0f), y0 = int(y0f);
-    const float a = v.at(x0, y0, b), c = v.at(x0 + 1, y0, b);
-    const float d = v.at(x0, y0 + 1, b), e = v.at(x0 + 1, y0 + 1, b);
-    const float top = a + (c - a) * tx;
-    const float bot = d + (e - d) * tx;
-    return top + (bot - top) * ty;
-}
+//! Bilinear sample of a plane: the shared kernels.h sample_bilinear (same arithmetic as every
+//! other bilinear tap, pixel centres at +0.5, GL_LINEAR).
+using aq::stylize::sample_bilinear;
 
 //! Resampling between resolutions, the convention of docs/stylize.md: output pixel x of an
 //! n_out-pixel axis samples the source (n_src texels) at ((x + 0.5) / n_out) * n_src — GL's
