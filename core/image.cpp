@@ -4,7 +4,10 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <mutex>
 #include <new>
+#include <utility>
+#include <vector>
 
 namespace aq {
 
@@ -25,7 +28,79 @@ namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 //! Alignment of smaller buffers: one AVX2 vector / cache line.
 constexpr std::size_t kSmallAlign = 64;
+
+//! Freed huge-page-aligned buffers, most recently freed last. A plain mutex: images are allocated
+//! per stage call, not per pixel, so contention is negligible.
+struct BufferPool {
+    std::mutex m;
+    std::vector<std::pair<std::size_t, float*>> free;
+    std::size_t bytes = 0;
+};
+BufferPool& pool() {
+    static BufferPool* p = new BufferPool;  // never destroyed: images may be freed during exit
+    return *p;
+}
+
+float* pool_take(std::size_t rounded) {
+    BufferPool& bp = pool();
+    std::lock_guard<std::mutex> lock(bp.m);
+    for (std::size_t i = bp.free.size(); i-- > 0;)
+        if (bp.free[i].first == rounded) {
+            float* p = bp.free[i].second;
+            bp.free.erase(bp.free.begin() + std::ptrdiff_t(i));
+            bp.bytes -= rounded;
+            return p;
+        }
+    return nullptr;
+}
+
+void pool_give(float* p, std::size_t rounded) {
+    if (rounded > kImagePoolBytes) {
+        std::free(p);
+        return;
+    }
+    std::vector<float*> evicted;
+    {
+        BufferPool& bp = pool();
+        std::lock_guard<std::mutex> lock(bp.m);
+        bp.free.emplace_back(rounded, p);
+        bp.bytes += rounded;
+        std::size_t drop = 0;
+        while (bp.bytes > kImagePoolBytes) {
+            bp.bytes -= bp.free[drop].first;
+            evicted.push_back(bp.free[drop].second);
+            ++drop;
+        }
+        bp.free.erase(bp.free.begin(), bp.free.begin() + std::ptrdiff_t(drop));
+    }
+    for (float* e : evicted) std::free(e);  // outside the lock
+}
 }  // namespace
+
+std::size_t image_pool_bytes() {
+    BufferPool& bp = pool();
+    std::lock_guard<std::mutex> lock(bp.m);
+    return bp.bytes;
+}
+
+void image_pool_release() {
+    std::vector<std::pair<std::size_t, float*>> all;
+    {
+        BufferPool& bp = pool();
+        std::lock_guard<std::mutex> lock(bp.m);
+        all.swap(bp.free);
+        bp.bytes = 0;
+    }
+    for (auto& [n, p] : all) std::free(p);
+}
+
+void detail::ImageFree::operator()(float* p) const {
+    if (!p) return;
+    if (bytes >= kHugePage)
+        pool_give(p, bytes);
+    else
+        std::free(p);
+}
 
 void ImageF::allocate(int w, int h, int channels) {
     check_image_size(w, h);
@@ -35,11 +110,14 @@ void ImageF::allocate(int w, int h, int channels) {
     const std::size_t bytes = n * sizeof(float);
     const std::size_t align = bytes >= kHugePage ? kHugePage : kSmallAlign;
     const std::size_t rounded = (bytes + align - 1) / align * align;  // aligned_alloc needs a multiple
-    float* p = static_cast<float*>(std::aligned_alloc(align, rounded));
-    if (!p) throw std::bad_alloc();
-    // A hint only (THP may be off, or the range already backed): failure changes nothing but speed.
-    if (align == kHugePage) (void)madvise(p, rounded, MADV_HUGEPAGE);
-    pixels_.reset(p);
+    float* p = align == kHugePage ? pool_take(rounded) : nullptr;
+    if (!p) {
+        p = static_cast<float*>(std::aligned_alloc(align, rounded));
+        if (!p) throw std::bad_alloc();
+        // A hint only (THP may be off, or the range already backed): failure changes nothing but speed.
+        if (align == kHugePage) (void)madvise(p, rounded, MADV_HUGEPAGE);
+    }
+    pixels_ = std::unique_ptr<float[], Free>(p, Free{rounded});
     w_ = w;
     h_ = h;
     c_ = channels;

@@ -78,6 +78,24 @@ struct View {
     }
 };
 
+//! Most bytes of freed large image buffers kept for reuse (core/image.cpp); beyond it the oldest
+//! are returned to the system. Two 1080p frames' worth of 4-channel temporaries.
+inline constexpr std::size_t kImagePoolBytes = std::size_t(256) << 20;
+
+//! Bytes currently held by the buffer pool (for tests and diagnostics).
+std::size_t image_pool_bytes();
+//! Returns every pooled buffer to the system.
+void image_pool_release();
+
+namespace detail {
+//! ImageF's deleter: large buffers return to the pool (defined outside ImageF so that it is
+//! default-constructible where ImageF is still incomplete).
+struct ImageFree {
+    std::size_t bytes = 0;  //!< allocated (rounded) size
+    void operator()(float* p) const;
+};
+}  // namespace detail
+
 //! Tag of the ImageF constructor that leaves the values unspecified: for outputs that the caller
 //! overwrites completely (stage outputs), where filling would only add a pass over the memory.
 struct Uninitialized {};
@@ -87,7 +105,11 @@ inline constexpr Uninitialized kUninitialized{};
 //!
 //! Storage: large images (>= 2 MiB) are allocated 2 MiB-aligned and marked MADV_HUGEPAGE, so a
 //! 1080p intermediate (8-33 MB) is first touched in a handful of huge-page faults instead of
-//! thousands of 4 KiB ones (THP runs in `madvise` mode on our machines). See docs/performance.md.
+//! thousands of 4 KiB ones (THP runs in `madvise` mode on our machines). Freed large buffers are
+//! kept in a small process-wide pool (at most kImagePoolBytes) and handed to the next image of the
+//! same byte size, so per-frame temporaries do not make the kernel clear fresh pages every frame
+//! (a fill still writes every value; kUninitialized means "unspecified", as before).
+//! See docs/performance.md.
 class ImageF {
 public:
     ImageF() = default;
@@ -126,9 +148,7 @@ public:
     bool operator==(const ImageF& o) const;
 
 private:
-    struct Free {
-        void operator()(float* p) const { std::free(p); }
-    };
+    using Free = detail::ImageFree;
     void allocate(int w, int h, int channels);
     void check_view(std::size_t c) const;
     int w_ = 0, h_ = 0, c_ = 0;

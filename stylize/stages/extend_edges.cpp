@@ -1,8 +1,14 @@
 // stylize/stages/extend_edges.cpp — see extend_edges.h. The separable part is blur.h (bit-exact
-// reference/fast); the pointwise gamma runs on the same values in both traversals.
+// reference/fast); the pointwise gamma runs on the same values in both traversals, with the
+// deterministic pow_c of stylize/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
+// flags only, no value changes).
+#pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/extend_edges.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "stylize/fastmath.h"
 #include <vector>
 
 #include "stylize/stages/blur.h"
@@ -30,9 +36,19 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
     float* d = dst.data();
     const int w = dst.width();
     detail::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
-            const float b = d[i];
-            d[i] = b > 0.0f ? std::pow(std::pow(b, 1.0f / b), g) : 0.0f;
+        // b > 0: (b^(1/b))^(2/W), two powers as in MNPR; b <= 0 (and NaN) -> 0. Chunks of a row
+        // keep each loop simple enough to vectorise.
+        constexpr std::size_t kChunk = 256;
+        float bs[kChunk], t[kChunk];
+        const std::size_t end = std::size_t(y1) * w;
+        for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
+            const std::size_t n = std::min(kChunk, end - i0);
+            float* di = d + i0;
+            for (std::size_t j = 0; j < n; ++j) bs[j] = di[j] > 0.0f ? di[j] : 1.0f;
+            for (std::size_t j = 0; j < n; ++j) t[j] = 1.0f / bs[j];
+            for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(bs[j], t[j]);
+            for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(t[j], g);
+            for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? t[j] : 0.0f;
         }
     });
 }

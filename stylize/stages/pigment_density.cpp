@@ -1,9 +1,14 @@
 // stylize/stages/pigment_density.cpp — spec §4.3 (WC18 pigment turbulence in image space, MNPR
-// form). Pointwise: reference and fast run the same per-pixel function (bit-exact).
+// form). Pointwise: reference and fast run the same per-pixel function (bit-exact). The powers
+// are the deterministic pow_c of stylize/fastmath.h, taken over chunks of a row so the loop
+// vectorises (it needs -fno-trapping-math: FP exception flags only, no value changes).
+#pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/pigment_density.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "stylize/fastmath.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/stage_util.h"
 
@@ -20,16 +25,24 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     const float* k = ctrl.data();
     float* o = dst.data();
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i) {
-            const float d = 1.0f + p.strength * k[4 * i + 2];
-            const float t = sat(d);
-            for (int ch = 0; ch < 3; ++ch) {
-                // x^1 == x exactly, so unpainted pixels skip the pow (same value either way).
-                const float ac = std::fabs(c[4 * i + ch]);
-                const float cp = d == 1.0f ? ac : std::pow(ac, d);
-                o[4 * i + ch] = mix(substrate[ch], cp, t);
+        constexpr std::size_t kChunk = 64;
+        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
+        const std::size_t end = std::size_t(y1) * w;
+        for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
+            const std::size_t n = std::min(kChunk, end - i0);
+            for (std::size_t j = 0; j < n; ++j) {
+                const std::size_t i = i0 + j;
+                const float d = 1.0f + p.strength * k[4 * i + 2];
+                for (int ch = 0; ch < 3; ++ch) base[3 * j + ch] = std::fabs(c[4 * i + ch]), dexp[3 * j + ch] = d;
             }
-            o[4 * i + 3] = c[4 * i + 3];
+            // x^1 == x exactly in pow_c, so unpainted pixels keep their colour bit for bit.
+            for (std::size_t j = 0; j < 3 * n; ++j) r[j] = pow_c(base[j], dexp[j]);
+            for (std::size_t j = 0; j < n; ++j) {
+                const std::size_t i = i0 + j;
+                const float t = sat(dexp[3 * j]);
+                for (int ch = 0; ch < 3; ++ch) o[4 * i + ch] = mix(substrate[ch], r[3 * j + ch], t);
+                o[4 * i + 3] = c[4 * i + 3];
+            }
         }
     });
 }

@@ -40,3 +40,40 @@ TEST(ImageF, ViewChannelCountIsChecked) {
 }
 
 }  // namespace aq
+
+namespace aq {
+namespace {
+
+// The buffer pool hands a freed large buffer to the next image of the same size; a filled image
+// must still hold its fill value everywhere, whatever the recycled buffer contained.
+TEST(ImagePool, RecycledBuffersAreRefilledAndBounded) {
+    image_pool_release();
+    const float* first = nullptr;
+    {
+        ImageF a(1024, 1024, 4, 7.0f);  // 16 MiB: pooled size class
+        first = a.data();
+    }
+    EXPECT_EQ(image_pool_bytes(), std::size_t(16) << 20);
+    ImageF b(1024, 1024, 4, 0.0f);
+    EXPECT_EQ(b.data(), first);  // the same buffer came back...
+    EXPECT_EQ(image_pool_bytes(), 0u);
+    for (std::size_t i = 0; i < b.num_values(); ++i)
+        ASSERT_EQ(b.data()[i], 0.0f) << "value " << i;  // ...and was refilled
+    ImageF c(b);  // copies are exact whatever buffer they get
+    EXPECT_TRUE(c == b);
+    {
+        std::vector<ImageF> many;
+        for (int i = 0; i < 20; ++i) many.emplace_back(1024, 1024, 4, kUninitialized);  // 320 MiB
+    }
+    EXPECT_LE(image_pool_bytes(), kImagePoolBytes);  // the oldest went back to the system
+    EXPECT_GT(image_pool_bytes(), 0u);
+    {
+        ImageF small(16, 16, 1);  // small buffers never enter the pool
+    }
+    EXPECT_LE(image_pool_bytes(), kImagePoolBytes);
+    image_pool_release();
+    EXPECT_EQ(image_pool_bytes(), 0u);
+}
+
+}  // namespace
+}  // namespace aq
