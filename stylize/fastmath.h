@@ -41,7 +41,10 @@ inline float pow_c(float x, float d) {
     e = big ? e1 : e;
     const float t = (m - 1.0f) / (m + 1.0f);
     const float t2 = t * t;
-    const float s = 1.0f + t2 * (1.0f / 3.0f + t2 * (1.0f / 5.0f + t2 * (1.0f / 7.0f + t2 * (1.0f / 9.0f))));
+    // Series 1 + t2/3 + t2^2/5 + t2^3/7 + t2^4/9 in Estrin form: short dependency chains, so the
+    // out-of-order core overlaps neighbouring vectors (Horner's 8-deep chain was latency bound).
+    const float t4 = t2 * t2;
+    const float s = (1.0f + t2 * (1.0f / 3.0f)) + t4 * ((1.0f / 5.0f + t2 * (1.0f / 7.0f)) + t4 * (1.0f / 9.0f));
     const float l = float(e) + (2.0f * 1.44269504f) * t * s;
     // exp2(y), y = d * l, |f| <= 0.5, e^(f ln 2) by Taylor to degree 7 (truncation < 3e-9).
     const float y0 = d * l;
@@ -50,9 +53,9 @@ inline float pow_c(float x, float d) {
     const float y = under ? -126.0f : yc;
     const float n = std::floor(y + 0.5f);
     const float z = (y - n) * 0.69314718f;
-    const float p =
-        1.0f + z * (1.0f + z * (0.5f + z * (1.0f / 6.0f + z * (1.0f / 24.0f + z * (1.0f / 120.0f +
-                                                                                  z * (1.0f / 720.0f + z * (1.0f / 5040.0f)))))));
+    const float z2 = z * z, z4 = z2 * z2;  // Estrin form, as above
+    const float p = ((1.0f + z) + z2 * (0.5f + z * (1.0f / 6.0f))) +
+                    z4 * ((1.0f / 24.0f + z * (1.0f / 120.0f)) + z2 * (1.0f / 720.0f + z * (1.0f / 5040.0f)));
     float r = p * std::bit_cast<float>(std::uint32_t(int(n) + 127) << 23);
     r = under ? 0.0f : r;
     r = (d >= 1.0f && x < 1.0f && r > x) ? x : r;

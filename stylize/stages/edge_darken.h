@@ -60,14 +60,20 @@ inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, 
     return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
 }
 
-//! WC18 §3.1 / MNPR exponent 1 + E_d for one pixel (exactly 1 where nothing darkens).
-inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
-                                       const EdgeDarkenRgbdParams& p) {
-    if (ci > 0.0f) ci *= kEdgeCtrlPositiveGain;
+//! WC18 §3.1 / MNPR exponent 1 + E_d for one pixel (exactly 1 where nothing darkens). Selects
+//! only, no branches: rows evaluate it in a vectorised loop (edge_darken.cpp).
+inline float edge_darken_rgbd_exponent(float r, float g, float b, float edge, float ci, float bleed,
+                                       glm::vec3 substrate, const EdgeDarkenRgbdParams& p) {
+    ci = ci > 0.0f ? ci * kEdgeCtrlPositiveGain : ci;
     float e = edge * p.intensity * (1.0f + ci);
-    e *= stage_b::satf(stage_b::length3(glm::vec3(c) - substrate) * kEdgeSubstrateFade);
+    const float dr = r - substrate.x, dg = g - substrate.y, db = b - substrate.z;
+    e *= stage_b::satf(std::sqrt(dr * dr + dg * dg + db * db) * kEdgeSubstrateFade);
     e *= stage_b::satf(1.0f - bleed * kEdgeBleedFade);
     return e > 0.0f ? 1.0f + e : 1.0f;  // E_d <= 0 or NaN: C^1 = C
+}
+inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
+                                       const EdgeDarkenRgbdParams& p) {
+    return edge_darken_rgbd_exponent(c.x, c.y, c.z, edge, ci, bleed, substrate, p);
 }
 
 //! WC18 §3.1 / MNPR for one pixel: edge = blurred Sobel edge, ci = ctrl.edge.r, bleed = bleeding mask.

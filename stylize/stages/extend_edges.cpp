@@ -36,19 +36,27 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
     float* d = dst.data();
     const int w = dst.width();
     detail::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
-        // b > 0: (b^(1/b))^(2/W), two powers as in MNPR; b <= 0 (and NaN) -> 0. Chunks of a row
-        // keep each loop simple enough to vectorise.
+        // b > 0: (b^(1/b))^(2/W) = b^((1/b) (2/W)), taken as one power (MNPR takes two; the
+        // results differ by rounding only, and where b^(1/b) alone would underflow: values below
+        // 1e-30, checked against the two-power GLSL twin by tests/reference); b <= 0 (and NaN) -> 0.
+        // The positive values of a chunk are packed and only they take the power (vectorised).
         constexpr std::size_t kChunk = 256;
         float bs[kChunk], t[kChunk];
+        int idx[kChunk];
         const std::size_t end = std::size_t(y1) * w;
         for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
             const std::size_t n = std::min(kChunk, end - i0);
             float* di = d + i0;
-            for (std::size_t j = 0; j < n; ++j) bs[j] = di[j] > 0.0f ? di[j] : 1.0f;
-            for (std::size_t j = 0; j < n; ++j) t[j] = 1.0f / bs[j];
-            for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(bs[j], t[j]);
-            for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(t[j], g);
-            for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? t[j] : 0.0f;
+            int m = 0;
+            for (std::size_t j = 0; j < n; ++j) {
+                idx[m] = int(j);
+                m += di[j] > 0.0f;
+            }
+            for (int q = 0; q < m; ++q) bs[q] = di[idx[q]];
+            for (int q = 0; q < m; ++q) t[q] = (1.0f / bs[q]) * g;
+            for (int q = 0; q < m; ++q) t[q] = pow_c(bs[q], t[q]);
+            for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;  // <= 0, NaN -> 0
+            for (int q = 0; q < m; ++q) di[idx[q]] = t[q];
         }
     });
 }

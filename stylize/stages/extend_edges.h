@@ -19,7 +19,8 @@ struct ExtendEdgesParams {
 };
 
 //! b = V(H(edges)) with the linear kernel, then (MNPR) b = b^(1/b) ("get rid of weak gradients")
-//! and b = b^(2/W) ("adjust gamma depending on kernel size"); b <= 0 or NaN gives 0.
+//! and b = b^(2/W) ("adjust gamma depending on kernel size"), evaluated as the single power
+//! b^((1/b)(2/W)) (equal but for rounding); b <= 0 or NaN gives 0.
 //! edges: 1 channel; dst: 1 channel, same size.
 void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, const Exec& ex = {});
 

@@ -74,31 +74,62 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                         glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi, const Exec& ex) {
     const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
-    // Rows in chunks: prepare every pixel, take the powers in one vectorisable loop, finish.
-    // Same operations as pigment_apply_wc18_px, pixel by pixel.
+    // Rows in chunks of 64 pixels, each step a simple loop over arrays so GCC vectorises it:
+    // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers of the
+    // granulating pixels only (packed), the blend. Value for value the operations of
+    // pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
     for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
-        PigmentWc18Prep q[kChunk];
+        float cr[kChunk], cg[kChunk], cb[kChunk], ca[kChunk], ht[kChunk], av[kChunk];
+        float outr[kChunk], outg[kChunk], outb[kChunk], da[kChunk], fade[kChunk];
+        int mode[kChunk], idx[kChunk];
         float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
+        const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
-            bool any = false;
             for (int i = 0; i < n; ++i) {
-                const int x = xs + i;
-                q[i] = pigment_apply_wc18_prepare(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
-                any |= q[i].granulate;
-                for (int k = 0; k < 3; ++k) {
-                    base[3 * i + k] = q[i].granulate ? std::fabs(q[i].out[k]) : 1.0f;
-                    dexp[3 * i + k] = q[i].da;
-                }
+                const glm::vec4 cv = in.c(xs + i, y);
+                cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z, ca[i] = cv.w;
+                ht[i] = in.height(xs + i, y);
+                av[i] = in.ctrl(xs + i, y);
             }
-            if (!any) {  // nothing granulates (uncovered or dry-brushed): finish ignores g
-                for (int i = 0; i < n; ++i) o(xs + i, y) = q[i].out;
-                continue;
+            for (int i = 0; i < n; ++i) {
+                const float hr = (ht[i] - 0.5f) * p.roughness + 0.5f;  // eq. 1
+                const float dry = hr + av[i];
+                const float t = satf(-dry * p.dry_brush_threshold);   // eq. 2, case 1
+                const float u = 1.0f - t;
+                outr[i] = cr[i] * u + sr * t, outg[i] = cg[i] * u + sg * t, outb[i] = cb[i] * u + sb * t;
+                float dg = std::fabs(av[i]) + p.granulation_min;      // eq. 3
+                const float l = 0.2126f * cr[i] + 0.7152f * cg[i] + 0.0722f * cb[i];
+                dg = dg * (1.0f - l) + (dg * kGranulationLuminanceGain) * l;
+                const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
+                da[i] = 1.0f + dg * hiv * p.density;                   // eq. 4
+                const float dr = cr[i] - sr, dgr = cg[i] - sg, db = cb[i] - sb;
+                fade[i] = satf(std::sqrt(dr * dr + dgr * dgr + db * db) * kPigmentSubstrateFade);
+                // 0: uncovered (unchanged), 1: dry-brushed, 2: granulates
+                mode[i] = !(ca[i] >= kPigmentAlphaMask) ? 0 : (dry < 0.0f ? 1 : 2);
             }
-            for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
+            int m = 0;
+            for (int i = 0; i < n; ++i) {
+                idx[m] = i;
+                m += mode[i] == 2;
+            }
+            for (int k = 0; k < m; ++k) {
+                const int i = idx[k];
+                base[3 * k] = std::fabs(cr[i]), base[3 * k + 1] = std::fabs(cg[i]), base[3 * k + 2] = std::fabs(cb[i]);
+                dexp[3 * k] = dexp[3 * k + 1] = dexp[3 * k + 2] = da[i];
+            }
+            for (int j = 0; j < 3 * m; ++j) g[j] = pow_c(base[j], dexp[j]);
+            for (int k = 0; k < m; ++k) {  // eq. 2, case 2, blended by the substrate fade
+                const int i = idx[k];
+                const float f = fade[i], u = 1.0f - f;
+                outr[i] = cr[i] * u + g[3 * k] * f;
+                outg[i] = cg[i] * u + g[3 * k + 1] * f;
+                outb[i] = cb[i] * u + g[3 * k + 2] * f;
+            }
             for (int i = 0; i < n; ++i)
-                o(xs + i, y) = pigment_apply_wc18_finish(q[i], {g[3 * i], g[3 * i + 1], g[3 * i + 2]});
+                o(xs + i, y) = mode[i] == 0 ? glm::vec4(cr[i], cg[i], cb[i], ca[i])
+                                            : glm::vec4(outr[i], outg[i], outb[i], ca[i]);
         }
     });
 }

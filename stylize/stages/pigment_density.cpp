@@ -24,24 +24,40 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     const float* c = color.data();
     const float* k = ctrl.data();
     float* o = dst.data();
+    // Chunks of a row: the exponents, then the powers of only the pixels with d != 1, packed, in
+    // one vectorised loop (x^1 == x exactly in pow_c, so the others keep |c| bit for bit), then
+    // the blend: value for value the formula of pigment_density.h.
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
-        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
+        float d[kChunk], base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk], cp[3 * kChunk];
+        int idx[kChunk];
         const std::size_t end = std::size_t(y1) * w;
         for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
             const std::size_t n = std::min(kChunk, end - i0);
+            const float* ci = c + 4 * i0;
+            const float* ki = k + 4 * i0;
+            float* oi = o + 4 * i0;
+            for (std::size_t j = 0; j < n; ++j) d[j] = 1.0f + p.strength * ki[4 * j + 2];
+            for (std::size_t j = 0; j < n; ++j)
+                for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = std::fabs(ci[4 * j + ch]);
+            int m = 0;
             for (std::size_t j = 0; j < n; ++j) {
-                const std::size_t i = i0 + j;
-                const float d = 1.0f + p.strength * k[4 * i + 2];
-                for (int ch = 0; ch < 3; ++ch) base[3 * j + ch] = std::fabs(c[4 * i + ch]), dexp[3 * j + ch] = d;
+                idx[m] = int(j);
+                m += d[j] != 1.0f;
             }
-            // x^1 == x exactly in pow_c, so unpainted pixels keep their colour bit for bit.
-            for (std::size_t j = 0; j < 3 * n; ++j) r[j] = pow_c(base[j], dexp[j]);
+            for (int q = 0; q < m; ++q) {
+                const int j = idx[q];
+                for (int ch = 0; ch < 3; ++ch) base[3 * q + ch] = cp[3 * j + ch], dexp[3 * q + ch] = d[j];
+            }
+            for (int q = 0; q < 3 * m; ++q) r[q] = pow_c(base[q], dexp[q]);
+            for (int q = 0; q < m; ++q) {
+                const int j = idx[q];
+                for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = r[3 * q + ch];
+            }
             for (std::size_t j = 0; j < n; ++j) {
-                const std::size_t i = i0 + j;
-                const float t = sat(dexp[3 * j]);
-                for (int ch = 0; ch < 3; ++ch) o[4 * i + ch] = mix(substrate[ch], r[3 * j + ch], t);
-                o[4 * i + 3] = c[4 * i + 3];
+                const float t = sat(d[j]);
+                for (int ch = 0; ch < 3; ++ch) oi[4 * j + ch] = mix(substrate[ch], cp[3 * j + ch], t);
+                oi[4 * j + 3] = ci[4 * j + 3];
             }
         }
     });

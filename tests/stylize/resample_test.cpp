@@ -46,3 +46,33 @@ TEST(Resample, EvenDownsampleIsTheBoxAverageAndConstantsSurvive) {
 
 }  // namespace
 }  // namespace aq::stylize
+
+namespace aq::stylize {
+namespace {
+
+// The row-block resampler (cached horizontal rows) equals the plain per-row resampling value for
+// value, for up- and downsampling, odd sizes, one channel of four, and blocks starting anywhere.
+TEST(Resample, RowResamplerEqualsResampleRow) {
+    const ImageF src = test::synthetic_target("color", 4, 37, 23, 9);
+    for (auto [w, h] : {std::pair{74, 46}, {73, 45}, {19, 12}, {37, 23}, {100, 7}}) {
+        const detail::ResampleAxis ax(w, src.width()), ay(h, src.height());
+        std::vector<float> want(std::size_t(w) * 4), got(std::size_t(w) * 4), want1(static_cast<std::size_t>(w)), got1(static_cast<std::size_t>(w));
+        for (int y0 : {0, 1, h / 2, h - 1}) {
+            detail::RowResampler<4> up(src.data(), src.width(), w, ax, ay);
+            detail::RowResampler<1, 4> up1(src.data() + 3, src.width(), w, ax, ay);
+            for (int y = y0; y < h; ++y) {
+                detail::resample_row<4>(src.data(), src.width(), want.data(), w, ax, ay, y);
+                up.row(y, got.data());
+                ASSERT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0)
+                    << w << "x" << h << " row " << y << " (block from " << y0 << ")";
+                detail::resample_row<1, 4>(src.data() + 3, src.width(), want1.data(), w, ax, ay, y);
+                up1.row(y, got1.data());
+                ASSERT_EQ(std::memcmp(want1.data(), got1.data(), want1.size() * sizeof(float)), 0)
+                    << w << "x" << h << " alpha row " << y;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize
