@@ -36,14 +36,10 @@ struct Planes {
     }
 };
 
-typedef float v8f __attribute__((vector_size(32)));
-typedef int v8i __attribute__((vector_size(32)));
-inline v8f load8(const float* p) {
-    v8f v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+using detail::load8;
+using detail::store8;
+using detail::v8f;
+using detail::v8i;
 
 template <BleedRule R>
 inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope) {

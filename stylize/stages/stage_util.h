@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,18 @@ inline const Globals& globals_of(const StageIO& io) {
     static const Globals kDefault{};
     return io.globals ? *io.globals : kDefault;
 }
+
+//! Eight floats / ints as a GCC vector (one AVX2 register with -mavx2, two SSE ones without):
+//! for kernels that keep an accumulator in registers across taps. Element-wise IEEE operations,
+//! so a lane computes exactly what the scalar expression computes.
+typedef float v8f __attribute__((vector_size(32)));
+typedef int v8i __attribute__((vector_size(32)));
+inline v8f load8(const float* p) {
+    v8f v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
 
 //! Runs f(y0, y1) over row blocks: one call for Reference, oneTBB row blocks for Fast. Each block
 //! writes only its own rows, so results cannot depend on the thread count.
