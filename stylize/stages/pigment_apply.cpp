@@ -75,14 +75,14 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
     const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks of 64 pixels, each step a simple loop over arrays so GCC vectorises it:
-    // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers of the
-    // granulating pixels only (packed), the blend. Value for value the operations of
+    // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers (for
+    // chunks where a pixel granulates), the blend. Value for value the operations of
     // pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
     for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float cr[kChunk], cg[kChunk], cb[kChunk], ca[kChunk], ht[kChunk], av[kChunk];
         float outr[kChunk], outg[kChunk], outb[kChunk], da[kChunk], fade[kChunk];
-        int mode[kChunk], idx[kChunk];
+        int mode[kChunk];
         float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
         const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
@@ -109,23 +109,23 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                 // 0: uncovered (unchanged), 1: dry-brushed, 2: granulates
                 mode[i] = !(ca[i] >= kPigmentAlphaMask) ? 0 : (dry < 0.0f ? 1 : 2);
             }
-            int m = 0;
-            for (int i = 0; i < n; ++i) {
-                idx[m] = i;
-                m += mode[i] == 2;
-            }
-            for (int k = 0; k < m; ++k) {
-                const int i = idx[k];
-                base[3 * k] = std::fabs(cr[i]), base[3 * k + 1] = std::fabs(cg[i]), base[3 * k + 2] = std::fabs(cb[i]);
-                dexp[3 * k] = dexp[3 * k + 1] = dexp[3 * k + 2] = da[i];
-            }
-            for (int j = 0; j < 3 * m; ++j) g[j] = pow_c(base[j], dexp[j]);
-            for (int k = 0; k < m; ++k) {  // eq. 2, case 2, blended by the substrate fade
-                const int i = idx[k];
-                const float f = fade[i], u = 1.0f - f;
-                outr[i] = cr[i] * u + g[3 * k] * f;
-                outg[i] = cg[i] * u + g[3 * k + 1] * f;
-                outb[i] = cb[i] * u + g[3 * k + 2] * f;
+            // Covered pixels come in runs: when any pixel of the chunk granulates, the powers are
+            // taken for the whole chunk (one vectorised loop) and blended where mode == 2.
+            bool any = false;
+            for (int i = 0; i < n; ++i) any |= mode[i] == 2;
+            if (any) {
+                for (int i = 0; i < n; ++i) {
+                    base[3 * i] = std::fabs(cr[i]), base[3 * i + 1] = std::fabs(cg[i]), base[3 * i + 2] = std::fabs(cb[i]);
+                    dexp[3 * i] = dexp[3 * i + 1] = dexp[3 * i + 2] = da[i];
+                }
+                for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
+                for (int i = 0; i < n; ++i) {  // eq. 2, case 2, blended by the substrate fade
+                    const float f = fade[i], u = 1.0f - f;
+                    const bool gr = mode[i] == 2;
+                    outr[i] = gr ? cr[i] * u + g[3 * i] * f : outr[i];
+                    outg[i] = gr ? cg[i] * u + g[3 * i + 1] * f : outg[i];
+                    outb[i] = gr ? cb[i] * u + g[3 * i + 2] * f : outb[i];
+                }
             }
             for (int i = 0; i < n; ++i)
                 o(xs + i, y) = mode[i] == 0 ? glm::vec4(cr[i], cg[i], cb[i], ca[i])

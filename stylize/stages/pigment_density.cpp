@@ -24,13 +24,12 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     const float* c = color.data();
     const float* k = ctrl.data();
     float* o = dst.data();
-    // Chunks of a row: the exponents, then the powers of only the pixels with d != 1, packed, in
-    // one vectorised loop (x^1 == x exactly in pow_c, so the others keep |c| bit for bit), then
-    // the blend: value for value the formula of pigment_density.h.
+    // Chunks of a row: the exponents, the powers in one vectorised loop (x^1 == x exactly in
+    // pow_c, so a chunk without paint skips them and keeps |c| bit for bit), then the blend:
+    // value for value the formula of pigment_density.h.
     detail::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
-        float d[kChunk], base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk], cp[3 * kChunk];
-        int idx[kChunk];
+        float d[kChunk], dexp[3 * kChunk], cp[3 * kChunk];
         const std::size_t end = std::size_t(y1) * w;
         for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
             const std::size_t n = std::min(kChunk, end - i0);
@@ -40,19 +39,14 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             for (std::size_t j = 0; j < n; ++j) d[j] = 1.0f + p.strength * ki[4 * j + 2];
             for (std::size_t j = 0; j < n; ++j)
                 for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = std::fabs(ci[4 * j + ch]);
-            int m = 0;
-            for (std::size_t j = 0; j < n; ++j) {
-                idx[m] = int(j);
-                m += d[j] != 1.0f;
-            }
-            for (int q = 0; q < m; ++q) {
-                const int j = idx[q];
-                for (int ch = 0; ch < 3; ++ch) base[3 * q + ch] = cp[3 * j + ch], dexp[3 * q + ch] = d[j];
-            }
-            for (int q = 0; q < 3 * m; ++q) r[q] = pow_c(base[q], dexp[q]);
-            for (int q = 0; q < m; ++q) {
-                const int j = idx[q];
-                for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = r[3 * q + ch];
+            // Painted regions are contiguous: a chunk is usually all painted or all unpainted, so
+            // the powers are taken for the whole chunk when any pixel needs one.
+            bool any = false;
+            for (std::size_t j = 0; j < n; ++j) any |= d[j] != 1.0f;
+            if (any) {
+                for (std::size_t j = 0; j < n; ++j)
+                    for (int ch = 0; ch < 3; ++ch) dexp[3 * j + ch] = d[j];
+                for (std::size_t q = 0; q < 3 * n; ++q) cp[q] = pow_c(cp[q], dexp[q]);
             }
             for (std::size_t j = 0; j < n; ++j) {
                 const float t = sat(d[j]);
