@@ -27,25 +27,6 @@ void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w,
             }
 }
 
-//! o[i] = the delta-form sum over taps for i < n: acc = s[i]; acc = acc + wt[a] (d[a][i] - s[i])
-//! for a = 0..taps-1 in order — the reference's operations per value — eight values at a time
-//! with the accumulator in registers across the taps.
-void accumulate_taps(float* o, const float* s, const float* const* d, const float* wt, int taps, std::size_t n) {
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        const detail::v8f e0 = detail::load8(s + i);
-        detail::v8f acc = e0;
-        for (int a = 0; a < taps; ++a) acc = acc + wt[a] * (detail::load8(d[a] + i) - e0);
-        detail::store8(o + i, acc);
-    }
-    for (; i < n; ++i) {
-        const float e0 = s[i];
-        float acc = e0;
-        for (int a = 0; a < taps; ++a) acc = acc + wt[a] * (d[a][i] - e0);
-        o[i] = acc;
-    }
-}
-
 void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal,
                const Exec& ex) {
     const int W = src.width(), H = src.height(), C = src.channels();

@@ -133,26 +133,13 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                     while (x1 < w && kr[x1] == k) ++x1;
                     const float* wk = tab[std::size_t(k)].data();
                     const int taps = 2 * k - 1;
-                    for (int ai = 0; ai < taps; ++ai) {  // tap a = ai - (k - 1)
+                    for (int ai = 0; ai < taps; ++ai) {  // tap a = ai - (k - 1), aligned with x0
                         const int a = ai - (k - 1);
-                        dp[ai] = pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w;
+                        dp[ai] = (pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w) + x0;
                         wt[ai] = wk[std::abs(a)];
                     }
-                    // Eight pixels at a time with the accumulator in registers across the taps;
-                    // per pixel the taps and their order are the reference loop's.
-                    int x = x0;
-                    for (; x + 8 <= x1; x += 8) {
-                        const detail::v8f e0 = detail::load8(sr + x);
-                        detail::v8f acc = e0;
-                        for (int ai = 0; ai < taps; ++ai) acc = acc + wt[ai] * (detail::load8(dp[ai] + x) - e0);
-                        detail::store8(orow + x, acc);
-                    }
-                    for (; x < x1; ++x) {
-                        const float e0 = sr[x];
-                        float acc = e0;
-                        for (int ai = 0; ai < taps; ++ai) acc = acc + wt[ai] * (dp[ai][x] - e0);
-                        orow[x] = acc;
-                    }
+                    // Per pixel the taps and their order are the reference loop's.
+                    accumulate_taps(orow + x0, sr + x0, dp, wt, taps, std::size_t(x1 - x0));
                     x0 = x1;
                 }
             }
