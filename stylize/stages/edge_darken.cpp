@@ -95,7 +95,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather the inputs (scalar),
     // the exponents (vectorised, edge_darken_rgbd_exponent), then the powers of only the pixels
     // that darken, packed (vectorised pow_c), and the output. Value for value the operations of
-    // edge_darken_rgbd_px (tests/stylize: RowKernelsEqualPixelFunctions).
+    // edge_darken_rgbd_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
     for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float cr[kChunk], cg[kChunk], cb[kChunk], ev[kChunk], ci[kChunk], bl[kChunk], d[kChunk];
