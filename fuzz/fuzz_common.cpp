@@ -1,0 +1,70 @@
+// fuzz/fuzz_common.cpp — see fuzz_common.h.
+#include "fuzz/fuzz_common.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace aq::fuzz {
+namespace fs = std::filesystem;
+
+namespace {
+std::string* g_dir = nullptr;
+
+void remove_temp_dir() {
+    if (!g_dir) return;
+    std::error_code ec;
+    fs::remove_all(*g_dir, ec);
+}
+}  // namespace
+
+const std::string& temp_dir() {
+    if (!g_dir) {
+        const char* t = std::getenv("TMPDIR");
+        std::string tmpl = std::string(t && *t ? t : "/tmp") + "/aq-fuzz-XXXXXX";
+        std::vector<char> buf(tmpl.begin(), tmpl.end());
+        buf.push_back('\0');
+        if (!::mkdtemp(buf.data())) {
+            std::perror("aq fuzz: mkdtemp");
+            std::abort();
+        }
+        g_dir = new std::string(buf.data());
+        std::atexit(remove_temp_dir);
+    }
+    return *g_dir;
+}
+
+std::string write_temp(const std::string& name, const std::uint8_t* data, std::size_t size) {
+    const std::string path = temp_dir() + "/" + name;
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) {
+        std::perror(("aq fuzz: cannot write " + path).c_str());
+        std::abort();
+    }
+    if ((size > 0 && std::fwrite(data, 1, size, f) != size) || std::fclose(f) != 0) {
+        std::perror(("aq fuzz: cannot write " + path).c_str());
+        std::abort();
+    }
+    return path;
+}
+
+bool verbose() {
+    static const bool v = [] {
+        const char* e = std::getenv("AQ_FUZZ_VERBOSE");
+        return e && *e && *e != '0';
+    }();
+    return v;
+}
+
+void report(const char* what, const char* outcome) { std::fprintf(stderr, "aq fuzz: %s: %s\n", what, outcome); }
+
+void unexpected_exception(const char* what, const char* type, const char* msg) {
+    std::fprintf(stderr, "aq fuzz: %s threw %s (not aq::Error): %s\n", what, type, msg);
+    std::abort();
+}
+
+}  // namespace aq::fuzz

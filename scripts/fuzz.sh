@@ -1,0 +1,153 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/, clang + ASan + UBSan) into build-fuzz/ and runs each for a
+# while on a temporary copy of its seed corpus; exits non-zero on any finding (fuzz/README.md).
+# Usage: scripts/fuzz.sh [--seconds N] [--target NAME]... [--jobs J] [--no-install] [--build-dir DIR]
+#                        [--corpus-out DIR] [--no-build] [-- EXTRA_LIBFUZZER_FLAGS...]
+#   --seconds N      fuzzing time per target and job (default 30)
+#   --target NAME    gltf, scene_file, pipeline or image (fuzz_ prefix optional); repeatable; default all
+#   --jobs J         parallel fuzzer processes per target, sharing its corpus (default 1)
+#   --corpus-out DIR copy each target's grown corpus to DIR/<target>/ afterwards (for fuzz/README.md
+#                    "Keeping corpus growth"); the repository's fuzz/corpus is never written
+#   --no-install     do not install missing Debian packages
+# Before fuzzing, every file in fuzz/regressions/<target>/ is run once (a finding fixed must stay
+# fixed). Crash inputs are kept in <build-dir>/artifacts/<run>/ and their paths printed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+seconds=30
+jobs=1
+install=1
+build=1
+build_dir=build-fuzz
+corpus_out=""
+targets=()
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds="$2"; shift ;;
+    --target) t="${2#fuzz_}"; targets+=("$t"); shift ;;
+    --jobs) jobs="$2"; shift ;;
+    --no-install) install=0 ;;
+    --no-build) build=0 ;;
+    --build-dir) build_dir="$2"; shift ;;
+    --corpus-out) corpus_out="$2"; shift ;;
+    --) shift; extra=("$@"); break ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    *) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+all_targets=(gltf scene_file pipeline image)
+[ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
+for t in "${targets[@]}"; do
+  case " ${all_targets[*]} " in *" $t "*) ;; *) echo "fuzz.sh: unknown target '$t' (${all_targets[*]})" >&2; exit 2 ;; esac
+done
+case "$seconds$jobs" in *[!0-9]*) echo "fuzz.sh: --seconds and --jobs take whole numbers" >&2; exit 2 ;; esac
+
+# Per target: the longest input, in bytes (seeds are below it: scripts/make_fuzz_corpus.sh).
+max_len() {
+  case "$1" in
+    gltf) echo 65536 ;; image) echo 65536 ;; *) echo 16384 ;;
+  esac
+}
+
+# --- packages (idempotent, as scripts/setup.sh) ----------------------------------------------------
+pkgs=(clang libclang-rt-14-dev cmake ninja-build pkg-config
+      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev)
+if [ "$install" = 1 ]; then
+  missing=()
+  for p in "${pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "fuzz.sh: installing ${missing[*]}"
+    sudo_cmd=""
+    [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+    $sudo_cmd apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+fi
+
+# --- build (only the fuzz targets and the libraries they link) ---------------------------------------
+if [ "$build" = 1 ]; then
+  if [ ! -f "$build_dir/CMakeCache.txt" ]; then
+    gen=()
+    command -v ninja >/dev/null && gen=(-G Ninja)
+    CC=clang CXX=clang++ cmake -S . -B "$build_dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DAQ_BUILD_FUZZ=ON -DBUILD_TESTING=OFF -DAQ_BUILD_BENCH=OFF -DAQ_BUILD_REFERENCE=OFF >/dev/null
+  fi
+  build_targets=()
+  for t in "${targets[@]}"; do build_targets+=(--target "fuzz_$t"); done
+  cmake --build "$build_dir" "${build_targets[@]}" --parallel "$(nproc)"
+fi
+
+# --- run ---------------------------------------------------------------------------------------------
+run_id=$(date +%Y%m%d-%H%M%S)-$$
+artifacts="$root/$build_dir/artifacts/$run_id"
+work=$(mktemp -d "${TMPDIR:-/tmp}/aq-fuzz-run.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$artifacts" "$work/tmp"
+failed=()
+# Leaks inside third-party libraries only (each named with its reason in the file).
+export LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+stat_of() { grep -h "^stat::$1:" "$2" 2>/dev/null | awk '{s += $2} END {print s + 0}'; }
+
+for t in "${targets[@]}"; do
+  bin="$root/$build_dir/fuzz/fuzz_$t"
+  [ -x "$bin" ] || { echo "fuzz.sh: $bin not built" >&2; exit 1; }
+  flags=(-rss_limit_mb=2048 -timeout=10 -max_len="$(max_len "$t")" -print_final_stats=1)
+  [ -f "fuzz/dict/$t.dict" ] && flags+=(-dict="$root/fuzz/dict/$t.dict")
+  # Regressions first: each input once.
+  if compgen -G "fuzz/regressions/$t/*" >/dev/null; then
+    if ! TMPDIR="$work/tmp" "$bin" "${flags[@]}" -artifact_prefix="$artifacts/$t-regression-" \
+           fuzz/regressions/"$t"/* >"$work/$t-regressions.log" 2>&1; then
+      echo "fuzz.sh: $t: a regression input fails again (fuzz/regressions/$t/); log:"
+      tail -40 "$work/$t-regressions.log"
+      failed+=("$t (regression)")
+      continue
+    fi
+    echo "fuzz.sh: $t: $(ls fuzz/regressions/"$t" | wc -l) regression inputs pass"
+  fi
+  corpus="$work/corpus/$t"
+  mkdir -p "$corpus"
+  cp fuzz/corpus/"$t"/* "$corpus"/ 2>/dev/null || true
+  before=$(ls "$corpus" | wc -l)
+  echo "fuzz.sh: $t: fuzzing ${seconds}s x $jobs job(s) from $before seeds"
+  pids=()
+  for j in $(seq 1 "$jobs"); do
+    TMPDIR="$work/tmp" "$bin" "${flags[@]}" -max_total_time="$seconds" \
+      -artifact_prefix="$artifacts/$t-" "${extra[@]}" "$corpus" >"$work/$t-$j.log" 2>&1 &
+    pids+=($!)
+  done
+  rc=0
+  for p in "${pids[@]}"; do wait "$p" || rc=1; done
+  logs=("$work/$t"-[0-9]*.log)
+  mkdir -p "$artifacts/logs"
+  cp "${logs[@]}" "$artifacts/logs/" 2>/dev/null || true
+  execs=$(stat_of number_of_executed_units "${logs[@]}")
+  rss=$(grep -h "^stat::peak_rss_mb:" "${logs[@]}" | awk '{m = $2 > m ? $2 : m} END {print m + 0}')
+  after=$(ls "$corpus" | wc -l)
+  echo "fuzz.sh: $t: $execs runs in ${seconds}s x $jobs ($((execs / (seconds * jobs > 0 ? seconds * jobs : 1))) exec/s per job), corpus $before -> $after, peak RSS ${rss} MB"
+  if [ -n "$corpus_out" ]; then
+    mkdir -p "$corpus_out/$t"
+    cp -n "$corpus"/* "$corpus_out/$t"/ 2>/dev/null || true
+  fi
+  if [ "$rc" != 0 ] || compgen -G "$artifacts/$t-*" >/dev/null; then
+    failed+=("$t")
+    for log in "${logs[@]}"; do
+      if grep -qE "ERROR: |==[0-9]+==|Test unit written|aq fuzz: .* threw" "$log"; then
+        echo "---- $log"
+        grep -E "ERROR: |SUMMARY|aq fuzz: .* threw|Test unit written|#[0-9]+ 0x" "$log" | head -30
+      fi
+    done
+    for a in "$artifacts/$t"-*; do
+      [ -e "$a" ] && echo "fuzz.sh: $t: finding kept in $a (reproduce: $bin $a)"
+    done
+  fi
+done
+
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzz.sh: FINDINGS in: ${failed[*]} (inputs and logs in $artifacts/)"
+  exit 1
+fi
+echo "fuzz.sh: no findings (${targets[*]}; logs in $artifacts/)"
