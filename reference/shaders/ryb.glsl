@@ -43,7 +43,7 @@ double dist2(dvec3 a, dvec3 b) { dvec3 d = a - b; return dot(d, d); }
 vec3 rgb2ryb(vec3 rgb) {
     dvec3 t = dvec3(rgb);
     dvec3 best = dvec3(0.0);
-    double best_d = 1e300;
+    double best_d = 1e300lf;  // lf: an unsuffixed literal is a float, and 1e300 overflows it (NVIDIA: error C0153)
     for (int i = 0; i <= 4; ++i)
         for (int j = 0; j <= 4; ++j)
             for (int k = 0; k <= 4; ++k) {
