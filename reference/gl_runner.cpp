@@ -266,6 +266,9 @@ std::string load_shader_file(const std::string& name) {
 std::string assemble_fragment(const std::string& body, const std::vector<std::string>& defines) {
     std::string src = "#version 450 core\n";
     for (auto& d : defines) src += "#define " + d + "\n";
+    // Diagnostic: exact-weight bilinear taps instead of the texture unit's (common.glsl).
+    if (const char* e = std::getenv("AQ_REFERENCE_EXACT_BILINEAR"); e && std::string(e) == "1")
+        src += "#define AQ_EXACT_BILINEAR 1\n";
     src += "#line 1 1\n" + load_shader_file("common.glsl");
     src += "\n#line 1 2\n" + body;
     return src;

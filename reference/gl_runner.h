@@ -89,6 +89,9 @@ std::string shader_dir();
 bool shader_file_exists(const std::string& name);
 
 //! Glues "#version 450 core", `defines` (one "#define ..." per entry), common.glsl and `body`.
+//! With the environment variable AQ_REFERENCE_EXACT_BILINEAR=1 it also defines AQ_EXACT_BILINEAR,
+//! which makes the twins' bilinear taps exact-weight texelFetch sums instead of texture() (a
+//! diagnostic for GPUs, whose texture units quantise the weights; common.glsl).
 std::string assemble_fragment(const std::string& body, const std::vector<std::string>& defines = {});
 
 //! glFinish: waits until every queued command has executed (for timing).

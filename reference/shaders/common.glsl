@@ -39,9 +39,37 @@ float luminance(vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 // Border chosen by a stage's `border` parameter: 0 = clamp, 1 = mirror.
 vec4 fetch_b(sampler2D s, ivec2 p, int border) { return border == 1 ? fetch_mirror(s, p) : fetch_clamp(s, p); }
 
+// Bilinear taps on a GL_LINEAR + clamp-to-edge sampler at `pos` in texel units (texel centres at
+// +0.5): the texture unit's texture(), or, when AQ_EXACT_BILINEAR is 1 (environment variable
+// AQ_REFERENCE_EXACT_BILINEAR=1, a diagnostic), four exact taps weighted in float arithmetic.
+// GPUs quantise texture()'s weights (NVIDIA: 8 bits, 1/256 steps); llvmpipe does not
+// (docs/reference.md, "On a real GPU").
+#ifndef AQ_EXACT_BILINEAR
+#define AQ_EXACT_BILINEAR 0
+#endif
+vec4 bilinear_clamp(sampler2D s, vec2 pos) {
+#if AQ_EXACT_BILINEAR
+    vec2 f = pos - 0.5;
+    vec2 f0 = floor(f);
+    vec2 t = f - f0;
+    ivec2 p0 = ivec2(f0);
+    vec4 a = fetch_clamp(s, p0), b = fetch_clamp(s, p0 + ivec2(1, 0));
+    vec4 c = fetch_clamp(s, p0 + ivec2(0, 1)), d = fetch_clamp(s, p0 + ivec2(1, 1));
+    return mix(mix(a, b, t.x), mix(c, d, t.x), t.y);
+#else
+    return texture(s, pos / vec2(textureSize(s, 0)));
+#endif
+}
+
 // GL's own resampling between resolutions: a full-screen pass reading `s` (any size) with
 // texture() at uv = gl_FragCoord.xy / output size, on a GL_LINEAR + clamp-to-edge sampler.
-vec4 resample(sampler2D s) { return texture(s, gl_FragCoord.xy / vec2(u_out_size)); }
+vec4 resample(sampler2D s) {
+#if AQ_EXACT_BILINEAR
+    return bilinear_clamp(s, gl_FragCoord.xy / vec2(u_out_size) * vec2(textureSize(s, 0)));
+#else
+    return texture(s, gl_FragCoord.xy / vec2(u_out_size));
+#endif
+}
 // Same size: the exact texel; otherwise the bilinear resample above.
 vec4 same_or_resample(sampler2D s) {
     return textureSize(s, 0) == u_out_size ? texelFetch(s, pixel(), 0) : resample(s);

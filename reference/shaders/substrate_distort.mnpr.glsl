@@ -7,7 +7,7 @@
 //@pass distort out=4 in=color:linear,depth:linear,ctrl_substrate,paper
 
 vec4 bilinear_b(sampler2D s, vec2 pos) {
-    if (u_border == 0) return texture(s, pos / vec2(textureSize(s, 0)));
+    if (u_border == 0) return bilinear_clamp(s, pos);  // texture(), or exact taps (common.glsl)
     vec2 f = pos - 0.5;
     vec2 f0 = floor(f);
     vec2 t = f - f0;
