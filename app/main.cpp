@@ -3,6 +3,7 @@
 // Every failure prints one clear message to stderr and exits non-zero; nothing is written unless
 // the whole image was computed (core/io.h writes through a temporary file and a rename).
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -63,6 +64,8 @@ options:
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
   --reference           use the plain reference traversals (slow; the oracle)
+  --allow-outside-files let a glTF read buffers and images outside its own folder (by default
+                        refused after resolving '..', percent-encoding and links; docs/limits.md)
   --quiet               no progress on stderr
   --help                this text
 )";
@@ -83,7 +86,7 @@ struct RenderOptions {
     int frame_first = 0, frame_last = 0;
     bool animation = false;
     double fps = 0;
-    bool reference = false, quiet = false;
+    bool reference = false, quiet = false, allow_outside_files = false;
     std::string sweep;  //!< "step.param" swept by --sweep
     double sweep_from = 0, sweep_to = 0;
     int sweep_count = 0;
@@ -162,6 +165,8 @@ RenderOptions parse_render(Args& a) {
             o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
         } else if (arg == "--reference") {
             o.reference = true;
+        } else if (arg == "--allow-outside-files") {
+            o.allow_outside_files = true;
         } else if (arg == "--quiet" || arg == "-q") {
             o.quiet = true;
         } else if (!arg.empty() && arg[0] == '-' && arg != "-") {
@@ -195,7 +200,9 @@ int cmd_render(Args& a) {
     };
 
     // 1. Scene, then the style: every name and value is validated before anything is rendered.
-    aq::scene::SceneDesc desc = aq::scene::load_scene(o.scene);
+    aq::scene::LoadOptions load_options;
+    load_options.allow_outside_files = o.allow_outside_files;
+    aq::scene::SceneDesc desc = aq::scene::load_scene(o.scene, load_options);
     for (auto& w : desc.scene.warnings) std::cerr << "warning: " << w << "\n";
     log("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
         std::to_string(int(ms_since(t0))) + " ms");
@@ -220,9 +227,9 @@ int cmd_render(Args& a) {
         if (!o.style_given || o.style == desc.style) {
             for (auto& [k, v] : desc.style_variant) aq::stylize::set_variant(pipeline, k + "=" + v);
             for (auto& [k, v] : desc.style_set) {
-                char num[64];
-                std::snprintf(num, sizeof num, "%.17g", v);
-                aq::stylize::set_param(pipeline, k + "=" + num);
+                const auto dot = k.find('.');
+                aq::stylize::set_param_value(pipeline, k.substr(0, dot), dot == std::string::npos ? "" : k.substr(dot + 1),
+                                             v, "scene file '" + o.scene + "' style value '" + k + "'");
             }
         }
         if (desc.camera_auto) {
@@ -232,11 +239,9 @@ int cmd_render(Args& a) {
             for (const auto& step : pipeline.steps)
                 if (step.stage == "adjust") {
                     const std::string id = step.id.empty() ? step.stage : step.id;
-                    char buf[160];
-                    std::snprintf(buf, sizeof buf, "%s.depth_near=%.9g", id.c_str(), double(desc.camera.znear));
-                    aq::stylize::set_param(pipeline, buf);
-                    std::snprintf(buf, sizeof buf, "%s.depth_far=%.9g", id.c_str(), double(desc.camera.zfar));
-                    aq::stylize::set_param(pipeline, buf);
+                    const std::string why = "the automatic depth range of the framed camera";
+                    aq::stylize::set_param_value(pipeline, id, "depth_near", double(desc.camera.znear), why);
+                    aq::stylize::set_param_value(pipeline, id, "depth_far", double(desc.camera.zfar), why);
                 }
         }
         for (auto& v : o.variants) aq::stylize::set_variant(pipeline, v);
@@ -443,6 +448,9 @@ int cmd_compare(Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // A file-size limit (ulimit -f) must fail a write with EFBIG, reported like a full disk,
+    // instead of killing the process with SIGXFSZ.
+    std::signal(SIGXFSZ, SIG_IGN);
     if (argc < 2) {
         std::cerr << kMainHelp;
         return 2;

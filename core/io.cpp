@@ -1,15 +1,22 @@
-// core/io.cpp — OpenImageIO read/write with atomic rename.
+// core/io.cpp — OpenImageIO decoding with header checks; encoding to memory and crash-safe writes.
 #include "core/io.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include "core/input.h"
 
 namespace aq {
 namespace fs = std::filesystem;
@@ -28,14 +35,98 @@ std::string safe_file_name(const std::string& name) {
     return s;
 }
 
-void write_image(const std::string& path, const ImageF& img) {
-    if (img.empty()) throw Error("write '" + path + "': the image is empty");
-    const fs::path dst(path);
-    std::string ext = dst.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
-    if (ext.empty()) throw Error("write '" + path + "': no file extension to choose a format");
+// --- reading ---------------------------------------------------------------------------------
 
+namespace {
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+//! The format by magic bytes where they are unambiguous, else by the name's extension.
+std::string format_name_for(const unsigned char* b, std::size_t n, const std::string& name) {
+    if (n >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return "memory.png";
+    if (n >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return "memory.jpg";
+    if (n >= 4 && std::memcmp(b, "\x76\x2f\x31\x01", 4) == 0) return "memory.exr";
+    if (n >= 4 && std::memcmp(b, "DDS ", 4) == 0) return "memory.dds";
+    if (n >= 2 && b[0] == 'B' && b[1] == 'M') return "memory.bmp";
+    if (n >= 4 && std::memcmp(b, "GIF8", 4) == 0) return "memory.gif";
+    if (n >= 4 && (std::memcmp(b, "II*\0", 4) == 0 || std::memcmp(b, "MM\0*", 4) == 0)) return "memory.tif";
+    const std::string ext = lower_extension(name);
+    return "memory" + (ext.empty() ? std::string(".png") : ext);
+}
+
+//! Refuses what we do not decode, from the header alone (before any pixel is read).
+void check_spec(const OIIO::ImageSpec& spec, const std::string& where, DecodeBudget* budget) {
+    if (spec.depth > 1)
+        throw Error(where + ": a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
+    if (spec.deep) throw Error(where + ": deep image data is not supported");
+    if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
+        throw Error(where + ": " + std::to_string(spec.nchannels) + " channels (1.." + std::to_string(kMaxImageChannels) +
+                    " are read)");
+    check_image_size(spec.width, spec.height, where);
+    if (budget) {
+        const std::size_t need = std::size_t(spec.width) * std::size_t(spec.height) * 4 * sizeof(float);
+        if (need > budget->bytes_left)
+            throw BudgetError(where + ": decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                        " would exceed the budget for " + budget->what + " (" + std::to_string(budget->bytes_left) +
+                        " bytes left; docs/limits.md)");
+        budget->bytes_left -= need;
+    }
+}
+
+ImageF read_opened(OIIO::ImageInput& in, const std::string& where, DecodeBudget* budget) {
+    const OIIO::ImageSpec spec = in.spec();
+    check_spec(spec, where, budget);
+    const int c = std::min(spec.nchannels, 4);
+    ImageF img(spec.width, spec.height, c);
+    if (!in.read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, img.data())) throw Error(where + ": " + in.geterror());
+    in.close();
+    return img;
+}
+
+}  // namespace
+
+ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name, DecodeBudget* budget) {
+    const std::string where = "image '" + name + "'";
+    if (!bytes || size == 0) throw Error(where + ": no data");
+    const std::string fake = format_name_for(bytes, size, name);
+    OIIO::Filesystem::IOMemReader mem(bytes, size);
+    // OIIO 2.4 honours an in-memory proxy passed as the "oiio:ioproxy" configuration hint (the
+    // ioproxy argument of open() alone is not enough for its PNG reader).
+    OIIO::ImageSpec config;
+    void* proxy = &mem;
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto in = OIIO::ImageInput::open(fake, &config);
+    if (!in) {
+        std::string e = OIIO::geterror();
+        throw Error(where + ": cannot be decoded" + (e.empty() ? std::string() : ": " + e));
+    }
+    return read_opened(*in, where, budget);
+}
+
+ImageF read_image(const std::string& path, DecodeBudget* budget) {
+    const std::vector<unsigned char> bytes = read_input_file(path, kMaxImageFileBytes, "image");
+    return decode_image(bytes.data(), bytes.size(), path, budget);
+}
+
+// --- writing ---------------------------------------------------------------------------------
+
+namespace {
+
+constexpr const char* kTmpPrefix = ".aqtmp.";  //!< `.aqtmp.PID.N.NAME`: recognisable leftovers
+
+[[noreturn]] void fail_write(const std::string& path, const std::string& why) {
+    throw Error("write '" + path + "': " + why);
+}
+
+//! Encodes img in the format of the extension into memory (OpenImageIO writer through a proxy).
+std::vector<unsigned char> encode_image(const std::string& path, const ImageF& img) {
+    const std::string ext = lower_extension(path);
+    if (ext.empty()) fail_write(path, "no file extension to choose a format");
+    const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
     OIIO::ImageSpec spec(img.width(), img.height(), img.channels(),
                          eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
     if (ext == ".exr") {
@@ -44,18 +135,12 @@ void write_image(const std::string& path, const ImageF& img) {
         // a fixed value keeps "same input, same bytes" true for whole files, not only pixels.
         spec.attribute("DateTime", "1970:01:01 00:00:00");
     }
-
-    // Temporary file beside the destination, same extension so OIIO picks the same format.
-    const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
-    if (!fs::is_directory(dir)) throw Error("write '" + path + "': folder '" + dir.string() + "' does not exist");
-    const fs::path tmp = dir / ("." + dst.stem().string() + ".tmp" + std::to_string(::getpid()) + ext);
-
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw Error("write '" + path + "': no writer for '" + ext + "': " + OIIO::geterror());
-    if (!out->open(tmp.string(), spec)) {
-        std::string e = out->geterror();
-        throw Error("write '" + path + "': " + e);
-    }
+    auto out = OIIO::ImageOutput::create("memory" + ext);
+    if (!out) fail_write(path, "no writer for '" + ext + "': " + OIIO::geterror());
+    if (!out->supports("ioproxy")) fail_write(path, "the '" + ext + "' writer cannot encode to memory; use .png, .exr, .tif or .jpg");
+    std::vector<unsigned char> buf;
+    OIIO::Filesystem::IOVecOutput vec(buf);
+    if (!out->set_ioproxy(&vec) || !out->open("memory" + ext, spec)) fail_write(path, out->geterror());
     bool ok;
     if (eight_bit) {
         std::vector<unsigned char> q(img.num_values());
@@ -71,31 +156,116 @@ void write_image(const std::string& path, const ImageF& img) {
     }
     std::string err = ok ? "" : out->geterror();
     ok = out->close() && ok;
-    if (!ok) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw Error("write '" + path + "': " + (err.empty() ? std::string("close failed") : err));
+    if (!ok) fail_write(path, err.empty() ? out->geterror() : err);
+    if (buf.empty()) fail_write(path, "the encoder produced no bytes");
+    return buf;
+}
+
+bool write_all(int fd, const unsigned char* p, std::size_t n, int* err) {
+    while (n > 0) {
+        const ssize_t w = ::write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) {
+            *err = w < 0 ? errno : ENOSPC;
+            return false;
+        }
+        p += w;
+        n -= std::size_t(w);
     }
+    return true;
+}
+
+std::atomic<unsigned> g_tmp_counter{0};
+
+}  // namespace
+
+int remove_stale_temporaries(const std::string& dir) {
+    int removed = 0;
     std::error_code ec;
-    fs::rename(tmp, dst, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("write '" + path + "': cannot rename the finished file into place");
+    for (fs::directory_iterator it(dir.empty() ? "." : dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string n = it->path().filename().string();
+        if (n.rfind(kTmpPrefix, 0) != 0) continue;
+        const std::size_t a = std::strlen(kTmpPrefix), b = n.find('.', a);
+        if (b == std::string::npos) continue;
+        long pid = 0;
+        try {
+            pid = std::stol(n.substr(a, b - a));
+        } catch (...) {
+            continue;
+        }
+        if (pid <= 0 || pid == long(::getpid())) continue;
+        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // still alive (or not ours to judge)
+        std::error_code rm;
+        if (fs::remove(it->path(), rm)) ++removed;
+    }
+    return removed;
+}
+
+void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+    const fs::path dst(path);
+    const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) fail_write(path, "folder '" + dir.string() + "' does not exist");
+    if (fs::is_directory(dst, ec)) fail_write(path, "is a folder");
+    if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
+    remove_stale_temporaries(dir.string());
+
+    // A named temporary beside the destination (same file system, so rename is atomic). It first
+    // exists without a name (O_TMPFILE) while being written, so a crash there leaves nothing.
+    const std::string tmp = (dir / (std::string(kTmpPrefix) + std::to_string(::getpid()) + "." +
+                                    std::to_string(g_tmp_counter++) + "." + dst.filename().string()))
+                                .string();
+    bool named = false;
+    int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) fail_write(path, std::string("cannot create a temporary file in '") + dir.string() + "': " + std::strerror(errno));
+        named = true;
+    }
+    auto abandon = [&](const std::string& why) {
+        ::close(fd);
+        if (named) ::unlink(tmp.c_str());
+        fail_write(path, why + "; the previous file, if any, is unchanged");
+    };
+    int err = 0;
+    if (!write_all(fd, static_cast<const unsigned char*>(data), size, &err))
+        abandon(std::string("write failed: ") + std::strerror(err));
+    if (::fsync(fd) != 0) abandon(std::string("flush (fsync) failed: ") + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || std::size_t(st.st_size) != size)
+        abandon("the written file has " + std::to_string(st.st_size) + " bytes, expected " + std::to_string(size));
+    if (!named) {
+        const std::string proc = "/proc/self/fd/" + std::to_string(fd);
+        if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) != 0)
+            abandon(std::string("cannot name the temporary file: ") + std::strerror(errno));
+        named = true;
+    }
+    if (::close(fd) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        fail_write(path, std::string("close failed: ") + std::strerror(e) + "; the previous file, if any, is unchanged");
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        fail_write(path, std::string("cannot rename the finished file into place: ") + std::strerror(e));
+    }
+    // Make the rename itself durable.
+    if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
     }
 }
 
-ImageF read_image(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("read '" + path + "': " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    check_image_size(spec.width, spec.height, "read '" + path + "'");
-    const int c = std::min(spec.nchannels, 4);
-    ImageF img(spec.width, spec.height, c);
-    if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, img.data())) {
-        std::string e = in->geterror();
-        throw Error("read '" + path + "': " + e);
-    }
-    return img;
+void write_image(const std::string& path, const ImageF& img) {
+    if (img.empty()) fail_write(path, "the image is empty");
+    const fs::path dst(path);
+    const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) fail_write(path, "folder '" + dir.string() + "' does not exist");
+    if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
+    const std::vector<unsigned char> bytes = encode_image(path, img);
+    write_file_atomically(path, bytes.data(), bytes.size());
 }
 
 }  // namespace aq

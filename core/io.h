@@ -1,27 +1,63 @@
-// core/io.h — image files through OpenImageIO, written atomically.
+// core/io.h — image files through OpenImageIO: checked before decoding, written so that no failure
+// can lose data.
 //
 // PNG: 8-bit, values clamped to [0,1] and rounded (no transfer curve is applied: the watercolor
 // maths works on display-referred colour, as MNPR does). EXR: 32-bit float, all channels.
-// Every write goes to a temporary file in the destination folder and is renamed over the target
-// only when complete, so a failure never leaves a half image over a good one.
+//
+// Reading: the file goes through core/input.h (regular files only, size-capped), then its header
+// is checked before any pixel is decoded: 2D only (no volume/deep data), 1..kMaxImageChannels
+// channels, a size within core/image.h's limits, and, when a DecodeBudget is given, the decoded
+// bytes within the budget.
+//
+// Writing: the file is encoded in memory, written to an unnamed temporary file in the destination
+// folder (O_TMPFILE; a named `.aqtmp.PID.*` file where the file system has none), fsync'ed and
+// checked (every write's result, the file's size), then linked and renamed over the destination.
+// On any failure the temporary is removed, the old file is untouched and aq::Error names the file
+// and the reason. A path that is an input of the run (core/input.h) is refused. docs/limits.md.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "core/image.h"
 
 namespace aq {
 
-//! Writes img to path; the format follows the extension (.png, .exr, .tif, ...). Throws aq::Error.
+inline constexpr int kMaxImageChannels = 64;  //!< more channels than this is not an image we read
+
+//! Raised when a decode would exceed its DecodeBudget (a hard error, not a missing texture).
+struct BudgetError : Error {
+    using Error::Error;
+};
+
+//! A total for decoded image bytes shared by several reads (one scene's textures).
+struct DecodeBudget {
+    std::size_t bytes_left = 0;
+    std::string what;  //!< named in the error, e.g. "the scene's textures (1 GiB)"
+};
+
+//! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). Throws aq::Error.
 void write_image(const std::string& path, const ImageF& img);
 
-//! Reads any OpenImageIO-readable file as float, keeping up to 4 channels. Throws aq::Error.
-ImageF read_image(const std::string& path);
+//! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
+void write_file_atomically(const std::string& path, const void* data, std::size_t size);
+
+//! Reads an image file as float with its stored values, keeping up to 4 channels. Throws aq::Error.
+ImageF read_image(const std::string& path, DecodeBudget* budget = nullptr);
+
+//! Decodes an encoded image held in memory (PNG, JPEG, EXR, ...); `name` is used in messages and
+//! to guess the format when the magic bytes do not say. Same checks as read_image.
+ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name,
+                    DecodeBudget* budget = nullptr);
 
 //! Creates the folder (and parents) if missing. Throws aq::Error.
 void ensure_directory(const std::string& dir);
 
 //! Replaces characters outside [A-Za-z0-9._-] so a target name is a safe file name.
 std::string safe_file_name(const std::string& name);
+
+//! Removes temporaries (`.aqtmp.PID.*`) that a killed process left in `dir` (PID no longer alive).
+//! write_file_atomically() calls it for its destination folder. Returns how many were removed.
+int remove_stale_temporaries(const std::string& dir);
 
 }  // namespace aq

@@ -25,6 +25,9 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include "core/input.h"
+#include "core/io.h"
+#include "core/json_file.h"
 #include "scenes/material_params.h"
 
 namespace aq::scene {
@@ -32,54 +35,30 @@ namespace {
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------------------------------------
-// Files (also used as tinygltf's file-system callbacks, so external buffers and images go through
-// the same checks: regular files only, size-capped).
-
-bool read_file_bytes(const std::string& path, std::vector<unsigned char>* out, std::string* err) {
-    std::error_code ec;
-    const fs::file_status st = fs::status(path, ec);
-    if (ec || !fs::exists(st)) {
-        *err = "file not found";
-        return false;
-    }
-    if (!fs::is_regular_file(st)) {
-        *err = "not a regular file";
-        return false;
-    }
-    const std::uintmax_t size = fs::file_size(path, ec);
-    if (ec) {
-        *err = "cannot get the file size";
-        return false;
-    }
-    if (size > kMaxFileBytes) {
-        *err = "file of " + std::to_string(size) + " bytes exceeds the limit of " +
-               std::to_string(kMaxFileBytes);
-        return false;
-    }
-    std::ifstream f(path, std::ios::binary);
-    if (!f) {
-        *err = "cannot open the file";
-        return false;
-    }
-    out->resize(std::size_t(size));
-    if (size > 0) f.read(reinterpret_cast<char*>(out->data()), std::streamsize(size));
-    if (!f) {
-        *err = "read error";
-        return false;
-    }
-    return true;
-}
+// Files: tinygltf's file-system callbacks, so external buffers and images go through the same
+// rules as the model itself (core/input.h: regular files only, size-capped) and the path policy
+// (inside the model's folder unless allowed; tinygltf also tries the working folder, which the
+// policy refuses like any other outside path).
 
 bool fs_exists(const std::string& p, void*) {
+    // Existence only: the policy is enforced by fs_read, so a refused path gets a message that
+    // explains the policy instead of tinygltf's "File not found".
     std::error_code ec;
-    return fs::is_regular_file(p, ec);
+    return fs::exists(p, ec);
 }
 std::string fs_expand(const std::string& p, void*) { return p; }
-bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& p, void*) {
-    std::string e;
-    if (read_file_bytes(p, out, &e)) return true;
-    if (err) *err += "'" + p + "': " + e + "\n";
-    return false;
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& p, void* user) {
+    if (const std::string why = path_policy_violation(*static_cast<const PathPolicy*>(user), p); !why.empty()) {
+        if (err) *err += "'" + p + "': refused: " + why + "\n";
+        return false;
+    }
+    try {
+        *out = read_input_file(p, kMaxFileBytes, "file");
+        return true;
+    } catch (const Error& e) {
+        if (err) *err += std::string(e.what()) + "\n";
+        return false;
+    }
 }
 bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
     if (err) *err += "writing is disabled in the loader\n";
@@ -243,7 +222,11 @@ bool finite(const glm::mat4& m) {
 
 class Loader {
 public:
-    Loader(const std::string& path, const tinygltf::Model& m) : path_(path), m_(m) {}
+    Loader(const std::string& path, const tinygltf::Model& m, std::size_t texture_budget) : path_(path), m_(m) {
+        texture_budget_.bytes_left = texture_budget;
+        texture_budget_.what = "the textures of one glTF file (" + std::to_string(texture_budget) +
+                               " bytes decoded as RGBA float)";
+    }
 
     Scene run();
     std::vector<std::string> warnings;
@@ -252,7 +235,7 @@ private:
     [[noreturn]] void fail(const std::string& msg) const { throw Error("glTF '" + path_ + "': " + msg); }
     void warn(const std::string& msg) { warnings.push_back("glTF '" + path_ + "': " + msg); }
 
-    AccessorView accessor(int index, const std::string& what) const;
+    AccessorView accessor(int index, const std::string& what);
     std::pair<const unsigned char*, std::size_t> buffer_view_bytes(int index, const std::string& what) const;
     Material convert_material(int index);
     TextureRef texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what);
@@ -271,6 +254,8 @@ private:
     std::vector<char> node_state_;  //!< 0 unvisited, 1 on the current path, 2 done
     std::uint32_t next_object_id_ = 1;
     std::vector<std::size_t> infinite_cameras_;
+    DecodeBudget texture_budget_;
+    std::size_t accessor_bytes_ = 0, implicit_accessor_bytes_ = 0;
 };
 
 std::pair<const unsigned char*, std::size_t> Loader::buffer_view_bytes(int index,
@@ -291,7 +276,7 @@ std::pair<const unsigned char*, std::size_t> Loader::buffer_view_bytes(int index
     return {data.data() + bv.byteOffset, bv.byteLength};
 }
 
-AccessorView Loader::accessor(int index, const std::string& what) const {
+AccessorView Loader::accessor(int index, const std::string& what) {
     if (index < 0 || std::size_t(index) >= m_.accessors.size())
         fail(what + ": accessor " + std::to_string(index) + " does not exist (the file has " +
              std::to_string(m_.accessors.size()) + ")");
@@ -312,7 +297,19 @@ AccessorView Loader::accessor(int index, const std::string& what) const {
     v.normalized = a.normalized;
     const std::size_t elem = std::size_t(csize) * std::size_t(nc);
     v.stride = elem;
-    if (a.bufferView == -1) return v;  // no bufferView: zeros (glTF 2.0 §3.6.2.2)
+    const std::size_t data_bytes = a.count * elem;  // count <= kMaxVertices: no overflow
+    accessor_bytes_ += data_bytes;
+    if (accessor_bytes_ > kMaxAccessorBytes)
+        fail(name + ": the accessors read so far hold " + std::to_string(accessor_bytes_) +
+             " bytes, above the limit of " + std::to_string(kMaxAccessorBytes) + " per file (docs/limits.md)");
+    if (a.bufferView == -1) {  // no bufferView: zeros (glTF 2.0 §3.6.2.2)
+        implicit_accessor_bytes_ += data_bytes;
+        if (implicit_accessor_bytes_ > kMaxImplicitAccessorBytes)
+            fail(name + " has no bufferView (implicit zeros) and count " + std::to_string(a.count) +
+                 ": implicit accessor data above " + std::to_string(kMaxImplicitAccessorBytes) +
+                 " bytes per file is refused (docs/limits.md)");
+        return v;
+    }
     const auto [bytes, length] = buffer_view_bytes(a.bufferView, name);
     const tinygltf::BufferView& bv = m_.bufferViews[std::size_t(a.bufferView)];
     if (bv.byteStride != 0) {
@@ -403,10 +400,12 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
         try {
             Texture tex;
             tex.name = label;
-            tex.image = decode_image_bytes(bytes, size, label);
+            tex.image = decode_image_bytes(bytes, size, label, &texture_budget_);
             tex.srgb = srgb;
             scene_.textures.push_back(std::move(tex));
             result = int(scene_.textures.size()) - 1;
+        } catch (const BudgetError& e) {
+            fail(what + ": " + e.what());
         } catch (const Error& e) {
             warn(what + ": texture '" + label + "' cannot be decoded (" + e.what() + "); treated as absent (" +
                  fallback + ")");
@@ -920,49 +919,21 @@ ImageF to_rgba(const float* src, int w, int h, int c) {
     return img;
 }
 
-std::string guess_extension(const unsigned char* b, std::size_t n, const std::string& name) {
-    if (n >= 8 && std::memcmp(b, "\x89PNG\r\n\x1a\n", 8) == 0) return ".png";
-    if (n >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return ".jpg";
-    if (n >= 2 && b[0] == 'B' && b[1] == 'M') return ".bmp";
-    if (n >= 4 && std::memcmp(b, "GIF8", 4) == 0) return ".gif";
-    const std::string ext = fs::path(name).extension().string();
-    return ext.empty() ? ".png" : ext;
-}
 }  // namespace
 
-ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name) {
-    if (!bytes || size == 0) throw Error("image '" + name + "': no data");
-    const std::string fake = "memory" + guess_extension(bytes, size, name);
-    OIIO::Filesystem::IOMemReader mem(bytes, size);
-    // OIIO 2.4 honours an in-memory proxy passed as the "oiio:ioproxy" configuration hint (the
-    // ioproxy argument of open() alone is not enough for its PNG reader).
-    OIIO::ImageSpec config;
-    void* proxy = &mem;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    auto in = OIIO::ImageInput::open(fake, &config);
-    if (!in) throw Error("image '" + name + "': " + OIIO::geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    check_image_size(spec.width, spec.height, "image '" + name + "'");
-    const int c = std::min(spec.nchannels, 4);
-    if (c < 1) throw Error("image '" + name + "': no channels");
-    std::vector<float> px(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(c));
-    if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, px.data()))
-        throw Error("image '" + name + "': " + in->geterror());
-    in->close();
-    return to_rgba(px.data(), spec.width, spec.height, c);
+ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name,
+                          DecodeBudget* budget) {
+    const ImageF img = decode_image(bytes, size, name, budget);
+    return to_rgba(img.data(), img.width(), img.height(), img.channels());
 }
 
 ImageF read_texture_file(const std::string& path) {
-    std::vector<unsigned char> bytes;
-    std::string err;
-    if (!read_file_bytes(path, &bytes, &err)) throw Error("image '" + path + "': " + err);
+    const std::vector<unsigned char> bytes = read_input_file(path, kMaxImageFileBytes, "image");
     return decode_image_bytes(bytes.data(), bytes.size(), path);
 }
 
-Scene load_gltf(const std::string& path, std::vector<std::string>* warnings) {
-    std::vector<unsigned char> bytes;
-    std::string err;
-    if (!read_file_bytes(path, &bytes, &err)) throw Error("glTF '" + path + "': " + err);
+Scene load_gltf(const std::string& path, std::vector<std::string>* warnings, const LoadOptions& options) {
+    std::vector<unsigned char> bytes = read_input_file(path, kMaxFileBytes, "glTF");
     const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     const std::string ext = fs::path(path).extension().string();
     if (!binary && (ext == ".glb" || ext == ".GLB"))
@@ -971,15 +942,18 @@ Scene load_gltf(const std::string& path, std::vector<std::string>* warnings) {
     std::string glb_warning;
     if (binary) {
         check_glb(bytes, &glb_warning, "glTF '" + path + "'");
-        detail::check_json_depth(bytes.data() + 20, le32(&bytes[12]), "glTF '" + path + "'");
+        aq::check_json_depth(bytes.data() + 20, le32(&bytes[12]), "glTF '" + path + "'");
     } else {
-        detail::check_json_depth(bytes.data(), bytes.size(), "glTF '" + path + "'");
+        aq::check_json_depth(bytes.data(), bytes.size(), "glTF '" + path + "'");
     }
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(keep_image_bytes, nullptr);
     gltf.SetStoreOriginalJSONForExtrasAndExtensions(true);
-    tinygltf::FsCallbacks cb{fs_exists, fs_expand, fs_read, fs_write, nullptr};
+    PathPolicy policy;
+    policy.root = fs::path(path).parent_path();
+    policy.allow_outside = options.allow_outside_files;
+    tinygltf::FsCallbacks cb{fs_exists, fs_expand, fs_read, fs_write, &policy};
     gltf.SetFsCallbacks(cb);
     tinygltf::Model model;
     std::string terr, twarn;
@@ -1005,7 +979,7 @@ Scene load_gltf(const std::string& path, std::vector<std::string>* warnings) {
     };
     if (!ok) throw Error("glTF '" + path + "': " + (terr.empty() ? std::string("cannot be parsed") : trim(terr)));
 
-    Loader loader(path, model);
+    Loader loader(path, model, options.texture_budget_bytes);
     if (!glb_warning.empty()) loader.warnings.push_back("glTF '" + path + "': " + glb_warning);
     if (!twarn.empty()) loader.warnings.push_back("glTF '" + path + "': " + trim(twarn));
     Scene s;

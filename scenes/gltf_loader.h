@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io.h"
 #include "scenes/scene.h"
 
 namespace aq::scene {
@@ -21,6 +22,23 @@ inline constexpr std::size_t kMaxTriangles = 50'000'000;     //!< per file, afte
 inline constexpr std::size_t kMaxVertices = 50'000'000;      //!< per accessor, and summed over
                                                              //!< the triangle primitives of a file
 inline constexpr std::size_t kMaxFileBytes = 2'000'000'000;  //!< .gltf/.glb and each external buffer
+//! Decoded texture bytes of one file, counted as RGBA float (16 B/texel), checked from each
+//! image's header before it is decoded: 1 GiB = 64 Mpx (16 textures of 2048x2048).
+inline constexpr std::size_t kMaxDecodedTextureBytes = std::size_t(1) << 30;
+//! Accessor data read from one file (count x element size summed over every accessor use,
+//! repeats included): 2 GiB.
+inline constexpr std::size_t kMaxAccessorBytes = std::size_t(2) << 30;
+//! An accessor without a bufferView is all zeros (glTF 2.0 §3.6.2.2): such implicit data is
+//! limited to 16 MiB per file, so a tiny file cannot ask for gigabytes of zeros.
+inline constexpr std::size_t kMaxImplicitAccessorBytes = std::size_t(16) << 20;
+
+struct LoadOptions {
+    //! Allow buffer and image URIs that resolve outside the model's folder (docs/limits.md
+    //! "Path policy"; CLI --allow-outside-files).
+    bool allow_outside_files = false;
+    //! Budget for the decoded textures of the file (tests lower it; docs/limits.md).
+    std::size_t texture_budget_bytes = kMaxDecodedTextureBytes;
+};
 inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy depth
 
 //! Loads a .gltf or .glb file (format chosen by the magic bytes, not the extension).
@@ -29,7 +47,8 @@ inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy
 //! referenced or not. Cameras attached to nodes become Scene::cameras in the same order.
 //! Non-fatal problems (skipped points/lines, missing textures, non-finite positions, ...) are
 //! appended to Scene::warnings and, when given, to *warnings. Throws aq::Error naming the file.
-Scene load_gltf(const std::string& path, std::vector<std::string>* warnings = nullptr);
+Scene load_gltf(const std::string& path, std::vector<std::string>* warnings = nullptr,
+                const LoadOptions& options = {});
 
 //! Area-weighted vertex normals of an indexed triangle list (degenerate and non-finite triangles
 //! contribute nothing; a vertex with no contribution gets +Z).
@@ -51,7 +70,8 @@ std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uin
 //! Decodes an encoded image (PNG, JPEG, ... anything OpenImageIO reads from memory) into RGBA
 //! float with the stored values (no transfer curve). `name` is used for messages and to guess
 //! the format. Throws aq::Error.
-ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name);
+ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name,
+                          DecodeBudget* budget = nullptr);
 
 //! Reads an image file into RGBA float, stored values (grey -> RGB replicated, alpha 1 if absent).
 ImageF read_texture_file(const std::string& path);

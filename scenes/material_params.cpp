@@ -28,24 +28,6 @@ int parse_control_target(const std::string& s0) {
 
 std::string json_type_name(const json& j) { return j.type_name(); }
 
-void check_json_depth(const unsigned char* p, std::size_t n, const std::string& where) {
-    int depth = 0;
-    bool in_string = false;
-    for (std::size_t i = 0; i < n; ++i) {
-        const unsigned char c = p[i];
-        if (in_string) {
-            if (c == '\\') ++i;
-            else if (c == '"') in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > kMaxJsonDepth)
-                throw Error(where + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-        } else if (c == ']' || c == '}') {
-            --depth;
-        }
-    }
-}
 
 
 namespace {

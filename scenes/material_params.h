@@ -36,11 +36,6 @@ void apply_material_json(Material& m, const nlohmann::json& j, const std::string
                          const std::string& key_prefix,
                          const std::vector<std::string>& extra_allowed_keys = {});
 
-//! JSON nesting deeper than this is refused before parsing: recursive JSON handling (tinygltf's)
-//! overflows the stack on pathological nesting (a 200,000-deep array crashes it).
-inline constexpr int kMaxJsonDepth = 256;
-//! Throws aq::Error "<where>: JSON nested deeper than ..." (string contents are skipped).
-void check_json_depth(const unsigned char* p, std::size_t n, const std::string& where);
 
 //! JSON type name for messages.
 std::string json_type_name(const nlohmann::json& j);

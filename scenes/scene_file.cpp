@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "core/json_file.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/material_params.h"
 #include "scenes/procedural.h"
@@ -453,20 +454,9 @@ std::vector<int> match_materials(const Ctx& ctx, const Scene& s, const std::stri
     return out;
 }
 
-SceneDesc load_scene_file(const std::string& path) {
+SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     Ctx ctx{"scene file '" + path + "'", fs::path(path).parent_path()};
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw Error(ctx.where + ": cannot be opened");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    json j;
-    const std::string text = ss.str();
-    detail::check_json_depth(reinterpret_cast<const unsigned char*>(text.data()), text.size(), ctx.where);
-    try {
-        j = json::parse(text);
-    } catch (const json::exception& e) {
-        throw Error(ctx.where + ": invalid JSON: " + e.what());
-    }
+    const json j = read_json_file(path, "scene file");
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
                            "materials", "style", "width", "height", "fps", "paper", "substrate_color"});
     if (j.contains("description")) ctx.string(j["description"], "description");
@@ -504,7 +494,7 @@ SceneDesc load_scene_file(const std::string& path) {
             }
             procedural = true;
         } else {
-            d.scene = load_gltf(ctx.file(j["gltf"], "gltf"));
+            d.scene = load_gltf(ctx.file(j["gltf"], "gltf"), nullptr, options);
         }
     }
 
@@ -615,7 +605,7 @@ SceneDesc load_scene_file(const std::string& path) {
 
 }  // namespace
 
-SceneDesc load_scene(const std::string& spec) {
+SceneDesc load_scene(const std::string& spec, const LoadOptions& options) {
     SceneDesc d;
     if (spec.rfind(kProceduralPrefix, 0) == 0) {
         d.scene = make_procedural(spec.substr(std::string(kProceduralPrefix).size()));
@@ -629,11 +619,11 @@ SceneDesc load_scene(const std::string& spec) {
         return d;
     }
     std::error_code ec;
-    if (!fs::is_regular_file(spec, ec)) throw Error("scene '" + spec + "': file not found");
+    if (!fs::exists(spec, ec)) throw Error("scene '" + spec + "': file not found");
     const std::string ext = lower(fs::path(spec).extension().string());
-    if (ext == ".json") return load_scene_file(spec);
+    if (ext == ".json") return load_scene_file(spec, options);
     if (ext == ".gltf" || ext == ".glb") {
-        d.scene = load_gltf(spec);
+        d.scene = load_gltf(spec, nullptr, options);
         d.scene.lights = {default_light()};
         d.camera_auto = true;
         d.camera = frame_bounds(d.scene.world_bounds(), d.auto_aspect, d.auto_view_dir, d.auto_yfov);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes/gltf_loader.h"
 #include "scenes/noise.h"
 #include "scenes/scene.h"
 
@@ -77,7 +78,7 @@ struct SceneDesc {
 
 //! A scene file (.json), a bare .gltf/.glb (camera framing the bounds, a default light, neutral
 //! control) or "procedural:NAME" (its own camera and lights). Throws aq::Error.
-SceneDesc load_scene(const std::string& path_or_spec);
+SceneDesc load_scene(const std::string& path_or_spec, const LoadOptions& options = {});
 
 //! Perspective camera looking along view_dir (need not be normalised) at the bounds' centre, far
 //! enough that the bounding sphere fits the smaller of the vertical and horizontal fields of view;

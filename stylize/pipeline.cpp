@@ -1,6 +1,9 @@
 // stylize/pipeline.cpp — JSON pipeline files, command-line overrides, validation and the runner.
 #include "stylize/pipeline.h"
 
+#include "core/input.h"
+#include "core/json_file.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -117,12 +120,7 @@ std::vector<std::string> preset_names() {
 }
 
 Pipeline parse_pipeline(const std::string& text, const std::string& src, const std::string& base_dir) {
-    json j;
-    try {
-        j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        fail(src, "", std::string("malformed JSON (") + e.what() + ")");
-    }
+    const json j = parse_json(text, src);
     if (!j.is_object()) fail(src, "", "expected a JSON object at the top level");
     check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "$schema", "comment"}, src, "");
     Pipeline p;
@@ -206,11 +204,8 @@ Pipeline load_pipeline(const std::string& name_or_path) {
                         (have.empty() ? "none" : have) + ")");
         }
     }
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw Error(path.string() + ": cannot read pipeline file");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return parse_pipeline(ss.str(), path.string(), path.parent_path().string());
+    const std::string text = read_input_text(path.string(), kMaxJsonFileBytes, "style file");
+    return parse_pipeline(text, path.string(), path.parent_path().string());
 }
 
 namespace {
@@ -255,8 +250,12 @@ void set_param(Pipeline& p, const std::string& a) {
         v = std::strtod(val.c_str(), &end);
         if (val.empty() || end != val.c_str() + val.size()) throw Error("--set '" + a + "': '" + val + "' is not a number");
     }
-    const std::size_t i = find_one_step(p, step, "--set '" + a + "'");
-    Registry::resolve_params(variant_of(p.steps[i]), {{param, v}}, "--set '" + a + "'");
+    set_param_value(p, step, param, v, "--set '" + a + "'");
+}
+
+void set_param_value(Pipeline& p, const std::string& step, const std::string& param, double v, const std::string& source) {
+    const std::size_t i = find_one_step(p, step, source);
+    Registry::resolve_params(variant_of(p.steps[i]), {{param, v}}, source);
     p.steps[i].params[param] = v;
 }
 

@@ -52,6 +52,10 @@ std::string preset_dir();
 //! "step.param=value" where step is a step id or stage name (ambiguous names are an error);
 //! values: numbers, true/false. Throws aq::Error on unknown step/param or out-of-range values.
 void set_param(Pipeline& p, const std::string& assignment);
+//! Sets one parameter by number (no text round trip), checked against its range; `source` names
+//! where the value came from in the error ("scene file 'x.json' style.set", "automatic depth range").
+void set_param_value(Pipeline& p, const std::string& step, const std::string& param, double value,
+                     const std::string& source);
 //! "step=variant". Parameters the new variant does not have are an error (named).
 void set_variant(Pipeline& p, const std::string& assignment);
 

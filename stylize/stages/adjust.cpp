@@ -14,6 +14,10 @@ namespace aq::stylize {
 
 namespace {
 
+//! Linear depth is in scene units, whatever the model's units: a model in large units (a box
+//! scaled by 1e6) has an automatic depth range in the millions. Any finite float range is valid.
+constexpr double kMaxDepthRange = 1e30;
+
 // One pixel. Branch-free apart from the compile-time atmosphere switch, so the row loop
 // vectorises; the reference and the fast traversal both call exactly this.
 template <bool kAtmosphere>
@@ -128,8 +132,8 @@ void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const Ima
 
 void register_adjust(Registry& r) {
     static const ParamTable<AdjustParams> t = ParamTable<AdjustParams>()
-        .f("depth_near", &AdjustParams::depth_near, 0, 1e6, "linear depth mapped to 0 (MNPR 8)")
-        .f("depth_far", &AdjustParams::depth_far, 0, 1e6, "linear depth mapped to 1 (MNPR 50)")
+        .f("depth_near", &AdjustParams::depth_near, 0, kMaxDepthRange, "linear depth mapped to 0 (MNPR 8)")
+        .f("depth_far", &AdjustParams::depth_far, 0, kMaxDepthRange, "linear depth mapped to 1 (MNPR 50)")
         .f("saturation", &AdjustParams::saturation, 0, 5, "saturation, 1 = unchanged")
         .f("contrast", &AdjustParams::contrast, 0, 5, "contrast, 1 = unchanged")
         .f("brightness", &AdjustParams::brightness, 0, 5, "brightness, 1 = unchanged")

@@ -1,9 +1,17 @@
 // tests/core/io_test.cpp — round trips through OpenImageIO and atomic replacement.
 #include "core/io.h"
 
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
+
+#include "core/input.h"
 
 #include "core/compare.h"
 #include "core/hash.h"
@@ -47,6 +55,107 @@ TEST(ImageIO, FailedWriteLeavesExistingFileUntouched) {
     EXPECT_EQ(std::filesystem::file_size(p), before);
     for (auto& e : std::filesystem::directory_iterator(dir))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+//! An image whose encoding is larger than the file-size limit used below (noise compresses badly).
+ImageF noisy_image() {
+    ImageF img(64, 64, 3);
+    std::uint32_t h = 12345;
+    for (std::size_t i = 0; i < img.num_values(); ++i) {
+        h = h * 1664525u + 1013904223u;
+        img.data()[i] = float(h >> 8) / float(1u << 24);
+    }
+    return img;
+}
+
+std::string file_bytes(const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+bool has_temporaries(const std::string& dir) {
+    for (auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().filename().string().rfind(".aqtmp", 0) == 0) return true;
+    return false;
+}
+
+// A full disk, simulated by the kernel: with RLIMIT_FSIZE every write past the limit fails with
+// EFBIG (SIGXFSZ ignored, as the CLI does). The good file must survive byte for byte, the failure
+// must be an aq::Error naming the file, and no temporary may be left.
+class WriteFailure : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(WriteFailure, OnAFullFileSystemTheOldFileIsKept) {
+    // The child re-executes this test ("threadsafe"; a plain fork() of a process whose encoder
+    // thread pools run can deadlock), so it does every step itself and reports by exit code.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string ext = GetParam();
+    auto child = [&] {
+        const std::string dir = test::output_dir();
+        const std::string p = dir + "/keep" + ext;
+        write_image(p, ImageF(8, 8, 3, 0.25f));  // the good file (small, written without a limit)
+        const std::string before = file_bytes(p);
+        ::signal(SIGXFSZ, SIG_IGN);
+        rlimit lim;
+        lim.rlim_cur = lim.rlim_max = 512;
+        ::setrlimit(RLIMIT_FSIZE, &lim);
+        try {
+            write_image(p, noisy_image());
+            std::_Exit(10);  // wrote past the limit: impossible unless errors are ignored
+        } catch (const Error& e) {
+            const std::string m = e.what();
+            if (m.find(p) == std::string::npos || m.find("unchanged") == std::string::npos) {
+                std::fprintf(stderr, "message: %s\n", m.c_str());
+                std::_Exit(11);
+            }
+        }
+        if (file_bytes(p) != before) std::_Exit(12);  // the good file was modified
+        if (has_temporaries(dir)) std::_Exit(13);      // a temporary was left behind
+        std::_Exit(3);
+    };
+    EXPECT_EXIT(child(), ::testing::ExitedWithCode(3), "") << "10: wrote past the limit, 11: message, 12: old file "
+                                                              "modified, 13: temporary left";
+    // Without the limit the same write succeeds and replaces the file.
+    const std::string p = test::output_dir() + "/keep" + ext;
+    write_image(p, ImageF(8, 8, 3, 0.25f));
+    const std::string before = file_bytes(p);
+    write_image(p, noisy_image());
+    EXPECT_NE(file_bytes(p), before);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryFormat, WriteFailure, ::testing::Values(".png", ".exr", ".jpg", ".tif"),
+                         [](const auto& info) { return std::string(info.param + 1); });
+
+TEST(ImageIO, RefusesToOverwriteAnInputOfTheRun) {
+    const std::string p = test::output_dir() + "/input.png";
+    write_image(p, ImageF(4, 4, 3, 0.5f));
+    const std::string before = file_bytes(p);
+    (void)read_image(p);
+    EXPECT_TRUE(is_input_of_run(p));
+    try {
+        write_image(p, ImageF(4, 4, 3, 0.9f));
+        ADD_FAILURE() << "overwrote an input";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("input of this run"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(file_bytes(p), before);
+}
+
+TEST(ImageIO, StaleTemporariesOfDeadProcessesAreRemoved) {
+    const std::string dir = test::output_dir();
+    // A PID that is not alive: a child that has exited and been reaped.
+    const pid_t dead = ::fork();
+    if (dead == 0) std::_Exit(0);
+    ASSERT_GT(dead, 0);
+    int st = 0;
+    ::waitpid(dead, &st, 0);
+    const std::string stale = dir + "/.aqtmp." + std::to_string(dead) + ".0.frame.png";
+    const std::string live = dir + "/.aqtmp." + std::to_string(::getppid()) + ".0.other.png";
+    std::ofstream(stale) << "half";
+    std::ofstream(live) << "in progress";
+    write_image(dir + "/next.png", ImageF(4, 4, 3, 0.5f));
+    EXPECT_FALSE(std::filesystem::exists(stale)) << "a dead process's temporary was kept";
+    EXPECT_TRUE(std::filesystem::exists(live)) << "a live process's temporary was removed";
+    std::filesystem::remove(live);
 }
 
 TEST(Compare, IdenticalAndKnownDifference) {

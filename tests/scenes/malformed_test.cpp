@@ -54,7 +54,7 @@ TEST(Malformed, MissingFileNamesThePath) { expect_error(out_path("does_not_exist
 
 TEST(Malformed, DirectoryIsNotAFile) {
     fs::create_directories(out_path("a_folder.gltf"));
-    expect_error(out_path("a_folder.gltf"), "not a regular file");
+    expect_error(out_path("a_folder.gltf"), "is a folder; only regular files are read");
 }
 
 // A valid quad GLB cut at many lengths: every prefix must be refused cleanly.

@@ -164,7 +164,7 @@ TEST(Pipeline, SetParamAndSetVariant) {
 }
 
 TEST(Pipeline, BadFilesNameTheFileAndTheKey) {
-    EXPECT_ERROR_MENTIONS(parse_pipeline("{\"steps\": [", "bad.json"), "bad.json", "malformed JSON");
+    EXPECT_ERROR_MENTIONS(parse_pipeline("{\"steps\": [", "bad.json"), "bad.json", "invalid JSON at key 'steps[0]'");
     EXPECT_ERROR_MENTIONS(parse_pipeline("[1, 2]", "bad.json"), "bad.json");
     EXPECT_ERROR_MENTIONS(parse_pipeline(R"({"steps": [{"stage": "nope"}]})", "x.json"), "x.json", "steps[0].stage",
                           "nope");
@@ -187,7 +187,7 @@ TEST(Pipeline, BadFilesNameTheFileAndTheKey) {
                           "substrate_color");
     // from a file: the message names the path
     const std::string path = write_temp("broken_pipeline.json", "{\"steps\": [{\"stage\": \"adjust\",, }]}");
-    EXPECT_ERROR_MENTIONS(load_pipeline(path), "broken_pipeline.json", "malformed JSON");
+    EXPECT_ERROR_MENTIONS(load_pipeline(path), "broken_pipeline.json", "invalid JSON at key 'steps[0].stage'");
     EXPECT_ERROR_MENTIONS(load_pipeline("no_such_style"), "no_such_style");
     EXPECT_ERROR_MENTIONS(load_pipeline("/nonexistent/dir/p.json"), "/nonexistent/dir/p.json");
 }

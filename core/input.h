@@ -1,0 +1,51 @@
+// core/input.h — the one way Aquarelle reads a file it was given: regular files only, size-capped,
+// read before parsing; a path policy for files that one input names (glTF buffers and images);
+// a record of every file read so an output can never overwrite an input of the same run.
+//
+// Every reader of the project (glTF and GLB, scene files, style/pipeline JSON, papers, control
+// textures, `compare` inputs) goes through read_input_file(), so the rules are stated once and
+// documented in docs/limits.md ("Reading files").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace aq {
+
+//! Size caps, checked with fstat on the opened file before a byte is read (docs/limits.md).
+inline constexpr std::uintmax_t kMaxModelFileBytes = 2'000'000'000;  //!< .gltf/.glb and external buffers
+inline constexpr std::uintmax_t kMaxImageFileBytes = 512u << 20;     //!< an encoded image (paper, texture, compare input)
+inline constexpr std::uintmax_t kMaxJsonFileBytes = 64u << 20;       //!< scene, style and pipeline files
+
+//! Reads the whole file at `path` into memory. Refuses (aq::Error "WHAT 'PATH': reason") anything
+//! that is not a regular file once opened (FIFOs, devices, folders: opened non-blocking, so a FIFO
+//! never blocks), files larger than max_bytes, and short reads. Records the file as an input of
+//! this run (see is_input_of_run()).
+std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
+//! The same, as text.
+std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
+
+//! Checks that `path` names an existing regular file of at most max_bytes, without reading it, and
+//! records it as an input of the run (for readers that must open the file themselves, e.g. formats
+//! OpenImageIO reads only by name). Throws aq::Error like read_input_file().
+void check_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
+
+//! True when `path` is (the same inode as) a file read as an input by this process.
+bool is_input_of_run(const std::string& path);
+//! Records a file as an input of this run (readers that do not go through read_input_file()).
+void note_input_of_run(const std::string& path);
+
+//! Where files named inside a model (glTF buffer and image URIs) may be: by default inside the
+//! model's own folder tree after `..`, percent-decoding and symbolic links are resolved
+//! (docs/limits.md "Path policy"); `allow_outside` lifts the confinement (CLI --allow-outside-files).
+struct PathPolicy {
+    std::filesystem::path root;  //!< the model's folder
+    bool allow_outside = false;
+};
+//! Empty string when `candidate` is allowed by the policy; else the reason it is refused.
+std::string path_policy_violation(const PathPolicy& policy, const std::string& candidate);
+
+}  // namespace aq
