@@ -3,10 +3,45 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 namespace aq::test {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::mutex g_dir_mutex;
+std::string g_dir;  // made on first use by output_dir()
+
+//! Removes this process's folder at exit when every test passed; keeps it (and says so) otherwise.
+class OutputDirCleanup : public ::testing::Environment {
+public:
+    void TearDown() override {
+        std::lock_guard<std::mutex> lock(g_dir_mutex);
+        if (g_dir.empty()) return;
+        if (::testing::UnitTest::GetInstance()->Passed() && !std::getenv("AQ_KEEP_TEST_OUTPUT")) {
+            std::error_code ec;
+            fs::remove_all(g_dir, ec);
+        } else {
+            std::printf("test output kept in %s\n", g_dir.c_str());
+        }
+    }
+};
+
+[[maybe_unused]] const auto* g_cleanup = ::testing::AddGlobalTestEnvironment(new OutputDirCleanup);
+
+std::string current_test_name() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string n = info ? std::string(info->test_suite_name()) + "." + info->name() : "process";
+    for (char& c : n)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
+    return n.substr(0, 120);
+}
+
+}  // namespace
 
 std::string shared_dir() {
     if (const char* e = std::getenv("AQ_SHARED")) return e;
@@ -15,16 +50,27 @@ std::string shared_dir() {
 
 std::string asset(const std::string& rel) {
     std::string p = shared_dir() + "/assets/" + rel;
-    if (!std::filesystem::exists(p))
+    if (!fs::exists(p))
         ADD_FAILURE() << "shared asset missing: " << p
                       << " (tests expect ../shared beside the checkout, or $AQ_SHARED)";
     return p;
 }
 
 std::string output_dir() {
-    std::string d = AQ_TEST_OUTPUT_DIR;
-    std::filesystem::create_directories(d);
-    return d;
+    std::lock_guard<std::mutex> lock(g_dir_mutex);
+    if (!g_dir.empty()) return g_dir;
+    const fs::path root = AQ_TEST_OUTPUT_DIR;
+    std::error_code ec;
+    fs::create_directories(root, ec);
+    std::string templ = (root / (current_test_name() + ".XXXXXX")).string();
+    std::vector<char> buf(templ.begin(), templ.end());
+    buf.push_back('\0');
+    if (!::mkdtemp(buf.data())) {
+        ADD_FAILURE() << "cannot create a test output folder under " << root;
+        return root.string();
+    }
+    g_dir = buf.data();
+    return g_dir;
 }
 
 std::string source_dir() { return AQ_SOURCE_DIR; }

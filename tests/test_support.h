@@ -1,4 +1,4 @@
-// tests/test_support.h — paths to shared assets and a place for failure artefacts.
+// tests/test_support.h — paths to shared assets and each test's own output folder.
 #pragma once
 
 #include <string>
@@ -9,7 +9,11 @@ namespace aq::test {
 std::string shared_dir();
 //! Path under shared/assets; ADD_FAILURE()s (and returns it anyway) if the file is missing.
 std::string asset(const std::string& rel);
-//! Folder for images written on failure (created on demand).
+//! This test process's own folder for every file a test writes (inputs it builds, outputs, failure
+//! artefacts): `<build>/test-output/<Suite.Test>.XXXXXX`, made unique with mkdtemp on first use.
+//! CTest runs each test in its own process, possibly in parallel, so no two tests share a folder.
+//! The folder is removed when every test of the process passed and kept (its path printed) when
+//! one failed, so failure images can be inspected.
 std::string output_dir();
 //! Source tree root (for scenes/data, stylize/presets, ...).
 std::string source_dir();

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # tests/app/cli_test.sh — end-to-end checks of the aquarelle command line: help, exit codes,
 # hostile input (nothing written, nothing replaced), determinism of the output bytes.
-# Usage: cli_test.sh AQUARELLE_BINARY SOURCE_DIR SHARED_DIR WORK_DIR
+# Usage: cli_test.sh AQUARELLE_BINARY SOURCE_DIR SHARED_DIR OUTPUT_PARENT
+# Everything is written inside a fresh folder OUTPUT_PARENT/cli.XXXXXX (mktemp), removed when every
+# check passed and kept (path printed) when one failed.
 set -u
-bin=$1 src=$2 shared=$3 work=$4
-rm -rf "$work"; mkdir -p "$work"
+bin=$1 src=$2 shared=$3
+mkdir -p "$4"
+work=$(mktemp -d "$4/cli.XXXXXX") || { echo "cannot create a work folder under $4"; exit 1; }
 pass=0 fail=0
 ok()  { pass=$((pass+1)); echo "ok   - $1"; }
 bad() { fail=$((fail+1)); echo "FAIL - $1"; }
@@ -59,6 +62,85 @@ expect_rc "malformed style JSON refused" nonzero "$bin" render procedural:swatch
 grep -q "broken.json" "$work/last.err" && ok "style error names the file" || bad "style error names the file"
 [ "$(sha256sum "$work/good.png" | cut -d' ' -f1)" = "$good_sum" ] && ok "good image untouched by failures" || bad "good image was replaced"
 
+# Issue 8 regressions: hostile files, full disks, inputs as outputs, stale temporaries.
+# Each reader refuses FIFOs and devices at once (timeout guards a hang: rc 124 would fail "1").
+mkfifo "$work/paper.fifo"
+sed "s#paper/mnpr/rough_default_2k.jpg#$work/paper.fifo#" "$src/stylize/presets/wc18.json" > "$work/fifo_style.json"
+expect_rc "paper naming a FIFO refused without hanging" 1 timeout 30 "$bin" render procedural:swatches "${small[@]}" --style "$work/fifo_style.json" --out "$work/good.png"
+grep -q "FIFO" "$work/last.err" && ok "FIFO error says FIFO" || bad "FIFO error says FIFO"
+expect_rc "--style /dev/zero refused without hanging" 1 timeout 30 "$bin" render procedural:swatches "${small[@]}" --style /dev/zero --out "$work/good.png"
+grep -q "character device" "$work/last.err" && ok "/dev/zero error names the device" || bad "/dev/zero error names the device"
+printf '{"name":"x","paper":{"file":"p.png","scale":1e400},"steps":[]}' > "$work/overflow.json"
+expect_rc "number 1e400 refused" 1 "$bin" render procedural:swatches "${small[@]}" --style "$work/overflow.json" --out "$work/good.png"
+grep "overflow.json" "$work/last.err" | grep -q "paper.scale" && ok "1e400 error names file and key" || bad "1e400 error names file and key"
+expect_rc "compare with a FIFO refused" 1 timeout 30 "$bin" compare "$work/paper.fifo" "$work/good.png"
+[ "$(sha256sum "$work/good.png" | cut -d' ' -f1)" = "$good_sum" ] && ok "good image untouched by hostile files" || bad "good image was replaced"
+
+# A full file system, simulated by a file-size limit (writes fail with EFBIG): every format and
+# --targets-png keep the old file, exit 1, name the file, leave no temporary.
+mkdir -p "$work/full"
+for ext in png exr jpg tif; do
+  "$bin" render procedural:swatches --width 8 --height 8 --quiet --out "$work/full/keep.$ext" >/dev/null 2>&1
+  before=$(sha256sum "$work/full/keep.$ext" | cut -d' ' -f1)
+  expect_rc "full disk ($ext) fails" 1 bash -c "ulimit -f 1; exec \"\$0\" \"\$@\"" "$bin" render procedural:swatches --width 256 --height 256 --quiet --out "$work/full/keep.$ext"
+  grep -q "keep.$ext" "$work/last.err" && ok "full disk ($ext): message names the file" || bad "full disk ($ext): message names the file"
+  [ "$(sha256sum "$work/full/keep.$ext" | cut -d' ' -f1)" = "$before" ] && ok "full disk ($ext): old file kept" || bad "full disk ($ext): old file replaced"
+done
+expect_rc "full disk (--targets-png) fails" 1 bash -c "ulimit -f 1; exec \"\$0\" \"\$@\"" "$bin" render procedural:swatches --width 256 --height 256 --quiet --targets-png "$work/full/tp" --out "$work/full/tp.png"
+empty=$(find "$work/full/tp" -type f -size 0 2>/dev/null | wc -l)
+[ "$empty" = 0 ] && ok "full disk: no 0-byte target PNG" || bad "full disk: $empty 0-byte target PNGs"
+left=$(find "$work/full" -name '.aqtmp*' | wc -l)
+[ "$left" = 0 ] && ok "full disk: no temporaries left" || bad "full disk: $left temporaries left"
+
+# An output naming one of the model's own files is refused; the model's texture is untouched.
+mkdir -p "$work/boxtex"
+cp "$shared"/assets/gltf/BoxTextured/BoxTextured.gltf "$shared"/assets/gltf/BoxTextured/BoxTextured0.bin "$shared"/assets/gltf/BoxTextured/CesiumLogoFlat.png "$work/boxtex/"
+tex_sum=$(sha256sum "$work/boxtex/CesiumLogoFlat.png" | cut -d' ' -f1)
+expect_rc "--out naming the model's texture refused" 1 "$bin" render "$work/boxtex/BoxTextured.gltf" "${small[@]}" --out "$work/boxtex/CesiumLogoFlat.png"
+[ "$(sha256sum "$work/boxtex/CesiumLogoFlat.png" | cut -d' ' -f1)" = "$tex_sum" ] && ok "input texture untouched" || bad "input texture overwritten"
+expect_rc "--out naming the model itself refused" 2 "$bin" render "$work/boxtex/BoxTextured.gltf" "${small[@]}" --out "$work/boxtex/BoxTextured.gltf"
+
+# Path policy: a buffer URI leaving the model's folder ('..', percent-encoded, symlink) is refused
+# unless --allow-outside-files; the working-folder fallback is refused too.
+mkdir -p "$work/esc/model"
+cp "$shared"/assets/gltf/BoxTextured/BoxTextured0.bin "$work/esc/outside.bin"
+for uri in "../outside.bin" "%2e%2e/outside.bin" "link.bin"; do
+  sed "s#\"BoxTextured0.bin\"#\"$uri\"#; s#\"CesiumLogoFlat.png\"#\"missing.png\"#" "$shared"/assets/gltf/BoxTextured/BoxTextured.gltf > "$work/esc/model/m.gltf"
+  ln -sf ../outside.bin "$work/esc/model/link.bin"
+  expect_rc "buffer URI '$uri' outside the model refused" 1 "$bin" render "$work/esc/model/m.gltf" "${small[@]}" --out "$work/esc/x.png"
+  grep -q "outside the model's folder" "$work/last.err" && ok "refusal for '$uri' explains the policy" || bad "refusal for '$uri' explains the policy"
+  expect_rc "buffer URI '$uri' allowed with --allow-outside-files" 0 "$bin" render "$work/esc/model/m.gltf" "${small[@]}" --allow-outside-files --out "$work/esc/x.png"
+done
+sed "s#\"BoxTextured0.bin\"#\"cwd_only.bin\"#" "$shared"/assets/gltf/BoxTextured/BoxTextured.gltf > "$work/esc/model/cwd.gltf"
+cp "$work/esc/outside.bin" "$work/esc/cwd_only.bin"
+expect_rc "working-folder fallback refused" 1 bash -c "cd \"$work/esc\" && exec \"\$0\" \"\$@\"" "$bin" render model/cwd.gltf "${small[@]}" --out x.png
+
+# A valid model in large units renders (the automatic depth range is not a --set).
+python3 - "$shared/assets/gltf/Box/glTF-Embedded/Box.gltf" "$work/bigbox.gltf" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+for n in j["nodes"]:
+    n.pop("matrix", None)
+j["nodes"][0]["scale"] = [1e6, 1e6, 1e6]
+json.dump(j, open(sys.argv[2], "w"))
+PY
+expect_rc "box scaled by 1e6 renders" 0 "$bin" render "$work/bigbox.gltf" "${small[@]}" --out "$work/bigbox.png"
+
+# Temporaries of a killed render are recognisable and removed by the next run into the folder.
+mkdir -p "$work/kill"
+"$bin" render procedural:swatches --width 64 --height 64 --quiet --out "$work/kill/k.png" >/dev/null 2>&1
+kill_sum=$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)
+for i in 1 2 3; do
+  "$bin" render "$src/scenes/data/suzanne.json" --width 1920 --height 1080 --quiet --out "$work/kill/k.png" >/dev/null 2>&1 &
+  pid=$!; sleep 0.$((3 * i)); kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+done
+[ "$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)" = "$kill_sum" ] && ok "SIGKILL: old file survives" || bad "SIGKILL: old file damaged"
+true & dead=$!; wait $dead  # a PID that is no longer alive
+echo half > "$work/kill/.aqtmp.$dead.0.k.png"
+expect_rc "render after a killed one" 0 "$bin" render procedural:swatches --width 32 --height 32 --quiet --out "$work/kill/k2.png"
+left=$(find "$work/kill" -name '.aqtmp*' | wc -l)
+[ "$left" = 0 ] && ok "stale temporaries removed by the next run" || bad "$left stale temporaries left"
+
 # Same input, same bytes, whatever the thread count; a real model end to end.
 suz="$src/scenes/data/suzanne.json"
 expect_rc "suzanne threads=1" 0 "$bin" render "$suz" "${small[@]}" --threads 1 --out "$work/t1.png" --targets "$work/t1"
@@ -81,4 +163,5 @@ expect_rc "procedural render, other size" 0 "$bin" render procedural:swatches --
 expect_rc "compare size mismatch" 1 "$bin" compare "$work/t1/color.exr" "$work/other.exr"
 
 echo "cli: $pass passed, $fail failed"
+if [ $fail -eq 0 ]; then rm -rf "$work"; else echo "cli: outputs kept in $work"; fi
 [ $fail -eq 0 ]

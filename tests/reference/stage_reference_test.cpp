@@ -114,9 +114,9 @@ stylize::ParamValues alt_params(const StageVariant& v) {
     return stylize::Registry::resolve_params(v, o, "alt_params");
 }
 
-//! One row per comparison, appended to test-output/reference_stage_errors.tsv (ctest runs every
-//! test in its own process, possibly in parallel: rows accumulate across processes and runs;
-//! delete the file to start a fresh table).
+//! One row per comparison, appended to reference_stage_errors.tsv in this test's own output folder
+//! (kept when the test fails or AQ_KEEP_TEST_OUTPUT is set; tests/test_support.h). The same numbers
+//! are printed on stdout, so `ctest -L reference -V` shows the whole table.
 void append_error_row(const std::string& row) {
     const std::string path = test::output_dir() + "/reference_stage_errors.tsv";
     const bool fresh = !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0;
