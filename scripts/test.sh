@@ -1,8 +1,28 @@
 #!/usr/bin/env bash
-# Builds (if needed) and runs every test with CTest: unit, invariants, determinism, bad input and
-# the GPU-equivalent OpenGL reference checks (label `reference`).
-# Usage: scripts/test.sh [extra ctest args, e.g. -L reference or -R raster]
+# Runs the whole test suite (docs/testing.md):
+#   1. builds (if needed) and runs every CTest test of the normal build: unit, invariants,
+#      determinism, bad input, the CLI end-to-end script and the GPU-equivalent OpenGL reference
+#      checks (label `reference`);
+#   2. the same unit and CLI tests built with AddressSanitizer + UBSan (scripts/sanitize.sh);
+#   3. a smoke run of every libFuzzer target on its seed corpus and regression inputs
+#      (scripts/fuzz.sh --seconds $AQ_FUZZ_SECONDS, default 30).
+# Usage: scripts/test.sh                 everything (what .ci/run runs)
+#        scripts/test.sh CTEST_ARGS...   only step 1, with extra ctest args (e.g. -L reference, -R raster)
+# AQ_SKIP_SANITIZERS=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 for a quick local run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+start=$SECONDS
 ctest --test-dir build --output-on-failure --timeout 900 -j "$(nproc)" "$@"
+echo "test.sh: normal build tests in $((SECONDS - start)) s"
+[ $# -gt 0 ] && exit 0
+if [ "${AQ_SKIP_SANITIZERS:-0}" != 1 ]; then
+  start=$SECONDS
+  bash scripts/sanitize.sh
+  echo "test.sh: sanitizer build and tests in $((SECONDS - start)) s"
+fi
+if [ "${AQ_SKIP_FUZZ:-0}" != 1 ]; then
+  start=$SECONDS
+  bash scripts/fuzz.sh --seconds "${AQ_FUZZ_SECONDS:-30}"
+  echo "test.sh: fuzz smoke run in $((SECONDS - start)) s"
+fi
