@@ -15,5 +15,15 @@ void main() {
 #else
     float id = 1.0 - u * u_shading;
 #endif
+    if (u_normalize) {  // divide by the flat paper's Id (N = (0, 0, 1)), as a multiplication by 1 / Id_flat
+        float u0 = 1.0 - l.z;
+#if SQUARED
+        float flat_id = 1.0 - u0 * u0 * u_shading;
+#else
+        float flat_id = 1.0 - u0 * u_shading;
+#endif
+        float norm = flat_id > 0.0 ? 1.0 / flat_id : 1.0;
+        id = id * norm;
+    }
     o_color = vec4(c.rgb * id, c.a);
 }

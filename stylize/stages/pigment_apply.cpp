@@ -140,7 +140,9 @@ void register_pigment_apply(Registry& r) {
     static const ParamTable<P17> t17 = ParamTable<P17>()
         .f("density", &P17::density, 0, 10, "d: pigment density at the paper's valleys (eq. 9)")
         .f("roughness", &P17::roughness, 0, 5, "r: paper height (H - 0.5) r + 0.5")
-        .b("literal", &P17::literal, "subtract P_iv as printed in eq. 9 (darkens even at Ctrl = 0)");
+        .b("literal", &P17::literal, "subtract P_iv as printed in eq. 9 (darkens even at Ctrl = 0)")
+        .f("paper_texture", &P17::paper_texture, 0, 1,
+           "t: eq. 9's uncontrolled term at strength t, k + t P_iv, also on the bare paper (0 = off)");
     static const ParamTable<P18> t18 = ParamTable<P18>()
         .f("density", &P18::density, 0, 20, "D: global pigment density (eq. 4, MNPR 5)")
         .f("dry_brush_threshold", &P18::dry_brush_threshold, 0, 100, "t_dry: dry-brush edge sharpness (eq. 2, MNPR 5)")
@@ -165,7 +167,7 @@ void register_pigment_apply(Registry& r) {
         StageVariant v;
         v.stage = "pigment_apply";
         v.variant = "wc17";
-        v.doc = "WC17 eq. 9: I(I - k) + (1 - I) I^(1 + k), k = Ctrl d P_iv (split granulation model)";
+        v.doc = "WC17 eq. 9: I(I - k - t P_iv) + (1 - I) I^(1 + k), k = Ctrl d P_iv (split granulation model)";
         v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
         v.outputs = {{"color", "color.pigment", 4, false}};
         v.params = t17.descs();

@@ -7,7 +7,11 @@
 //         inverted paper. Read literally, the subtractive term removes P_iv even where Ctrl = 0,
 //         which contradicts "Ctrl ... art-direct[s] the pigment density at the valleys"; by default
 //         we subtract the same controlled amount k = Ctrl d P_iv used in the exponent, so that
-//         Ctrl = 0 is the identity (parameter `literal` restores I - P_iv).
+//         Ctrl = 0 is the identity (parameter `literal` restores I - P_iv). Parameter
+//         `paper_texture` t keeps the printed uncontrolled term at a chosen strength: the subtracted
+//         amount becomes k + t P_iv, applied on the bare paper too (alpha < 0.01, Ctrl = 0), where
+//         eq. 9 reduces to I (1 - t P_iv): the paper texture visible everywhere, as in WC17's
+//         figures (docs/look.md). t = 0 (the stage default) is the controlled reading above.
 //   wc18  WC18 §4.1 eq. 1-4 in MNPR's form (quadPigmentApplication pigmentApplicationWCFrag):
 //         Hr = (H - 0.5) r + 0.5 (eq. 1); dry-brush where Hr < -a (a = ctrl.pigment.g, negative =
 //         dry-brush): C + sat(t_dry |Hr + a|) (Cs - C) (eq. 2 case 1); otherwise granulation:
@@ -45,6 +49,9 @@ struct PigmentApplyWc17Params {
     float density = 1.0f;    //!< d of eq. 9 [0, 10]
     float roughness = 1.0f;  //!< paper roughness r: Hr = (H - 0.5) r + 0.5 [0, 5]
     bool literal = false;    //!< subtract P_iv as printed (true) or Ctrl d P_iv (false, identity at Ctrl = 0)
+    //! t: strength of eq. 9's uncontrolled subtractive term, k + t P_iv, also on the bare paper
+    //! (docs/look.md) [0, 1]. 0 = off (identity at Ctrl = 0); ignored when `literal`.
+    float paper_texture = 0.0f;
 };
 
 struct PigmentApplyWc18Params {
@@ -54,9 +61,10 @@ struct PigmentApplyWc18Params {
     float granulation_min = kGranulationDefault;  //!< d_min [0, 1]
 };
 
-//! WC17 eq. 9 amounts for one pixel: the exponent 1 + k and the subtracted amount (k, or P_iv
-//! when literal); `apply` false where the pixel is left unchanged (alpha mask, or k = 0 and not
-//! literal).
+//! WC17 eq. 9 amounts for one pixel: the exponent 1 + k and the subtracted amount (k + t P_iv, or
+//! P_iv when literal); `apply` false where the pixel is left unchanged (alpha mask without paper
+//! texture, or nothing to subtract and not literal). Uncovered pixels (alpha < 0.01) get only the
+//! paper texture term (their control is 0).
 struct PigmentWc17Prep {
     float d = 1.0f, sub = 0.0f;
     bool apply = false;
@@ -64,12 +72,14 @@ struct PigmentWc17Prep {
 
 inline PigmentWc17Prep pigment_apply_wc17_prepare(glm::vec4 c, float height, float ctrl,
                                                   const PigmentApplyWc17Params& p) {
-    if (c.w < kPigmentAlphaMask) return {};
+    const bool covered = c.w >= kPigmentAlphaMask;
+    if (!covered && (p.literal || !(p.paper_texture > 0.0f))) return {};
     const float hr = (height - 0.5f) * p.roughness + 0.5f;
     const float piv = 1.0f - hr;
-    const float k = std::max(ctrl, 0.0f) * p.density * piv;
-    if (!p.literal && k == 0.0f) return {};  // Ctrl = 0: exactly unchanged
-    return {1.0f + k, p.literal ? piv : k, true};
+    const float k = covered ? std::max(ctrl, 0.0f) * p.density * piv : 0.0f;
+    const float tex = p.paper_texture * piv;
+    if (!p.literal && k == 0.0f && tex == 0.0f) return {};  // Ctrl = 0, no texture: exactly unchanged
+    return {1.0f + k, p.literal ? piv : k + tex, true};
 }
 
 //! I_g = sat(I (I - sub) + (1 - I) I^(1 + k)) for one channel, pw = I^(1 + k).

@@ -116,10 +116,12 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
     const glm::vec3 l = substrate_light_dir(p);
+    const float norm = substrate_light_norm(l, p, squared);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
         for (int x = x0; x < x1; ++x) {
-            const float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
+            float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
+            if (p.normalize) id = id * norm;
             const glm::vec4 v = c(x, y);
             o(x, y) = {v.x * id, v.y * id, v.z * id, v.w};
         }
@@ -138,7 +140,8 @@ void register_substrate(Registry& r) {
         .f("direction", &L::direction, 0, 360, "light direction in degrees (MNPR 180)")
         .f("tilt", &L::tilt, 0, 89, "light tilt in degrees, L.z = tilt/89 (MNPR 45)")
         .f("shading", &L::shading, 0, 1, "diffuse shading contribution ds (MNPR 0.5)")
-        .f("roughness", &L::roughness, 0, 5, "r: relief scale of the paper normal");
+        .f("roughness", &L::roughness, 0, 5, "r: relief scale of the paper normal")
+        .b("normalize", &L::normalize, "divide by the flat paper's Id: flat paper keeps the substrate colour (0 = eq. 5 as printed)");
     {
         StageVariant v;
         v.stage = "substrate_distort";

@@ -49,6 +49,10 @@ struct SubstrateLightParams {
     float tilt = kSubstrateLightTilt;            //!< light tilt in degrees [0, 89]
     float shading = kSubstrateShading;           //!< ds [0, 1]
     float roughness = 1.0f;                      //!< r: relief scale of the normal [0, 5]
+    //! Divide Id by the flat paper's Id (N = (0, 0, 1)), so the paper keeps its substrate colour on
+    //! average and only the relief shades it (docs/look.md: eq. 5 read literally lights the flat
+    //! paper at 1 - (1 - tilt/89) ds = 0.753, a grey paper). false = eq. 5 as printed.
+    bool normalize = false;
 };
 
 //! Offset in pixels for one pixel (0 for the flat paper exactly; never NaN, |offset| <= 5*distortion).
@@ -65,6 +69,15 @@ inline glm::vec2 substrate_offset(float tex_r, float tex_g, float ctrl, const Su
 inline glm::vec3 substrate_light_dir(const SubstrateLightParams& p) {
     const float rad = p.direction * 3.14159265f / 180.0f;
     return {std::sin(rad), std::cos(rad), p.tilt / 89.0f};
+}
+
+//! 1 / Id of the flat paper (N = (0, 0, 1)) when p.normalize, else 1; Id_flat <= 0 (no light on
+//! the flat paper) gives 1.
+inline float substrate_light_norm(glm::vec3 l, const SubstrateLightParams& p, bool squared) {
+    if (!p.normalize) return 1.0f;
+    const float u = 1.0f - l.z;
+    const float flat = 1.0f - (squared ? u * u : u) * p.shading;
+    return flat > 0.0f ? 1.0f / flat : 1.0f;
 }
 
 //! Diffuse factor Id for one pixel (squared = MNPR's curve).
