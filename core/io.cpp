@@ -129,6 +129,9 @@ std::vector<unsigned char> encode_image(const std::string& path, const ImageF& i
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
     OIIO::ImageSpec spec(img.width(), img.height(), img.channels(),
                          eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    // 8-bit images are display images: sRGB-encoded in either working space (docs/look.md), tagged
+    // so (the PNG writer emits an sRGB chunk). Float files hold the working-space values untagged.
+    if (eight_bit) spec.attribute("oiio:ColorSpace", "sRGB");
     if (ext == ".exr") {
         spec.attribute("compression", "zip");
         // OpenImageIO stamps EXR files with the wall-clock time (capDate) unless DateTime is set;

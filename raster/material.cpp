@@ -32,6 +32,14 @@ inline float safe_coord(float x) {
 }
 }  // namespace
 
+glm::vec3 base_color_to_working(glm::vec3 C, bool linear_color, WorkingSpace ws) {
+    if (linear_color && ws == WorkingSpace::Display)
+        return {linear_to_srgb(sat(C.x)), linear_to_srgb(sat(C.y)), linear_to_srgb(sat(C.z))};
+    if (!linear_color && ws == WorkingSpace::Linear)
+        return {srgb_to_linear(C.x), srgb_to_linear(C.y), srgb_to_linear(C.z)};
+    return C;
+}
+
 float diffuse_factor(float n_dot_l, float shade_wrap, float k) {
     const float wrapped = sat((n_dot_l + shade_wrap) / (1.0f + shade_wrap));
     return 1.0f + (wrapped - 1.0f) * k;
@@ -115,12 +123,13 @@ FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
                               const FragmentInput& in) {
     FragmentOutput out;
     const scene::WatercolorMaterial& wc = m.wc;
-    // 1. Base colour: factor x texture x COLOR_0.
+    // 1. Base colour: factor x texture x COLOR_0, then into the working space (docs/look.md).
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
             C = C * glm::vec3(sample_texture(t->image, m.base_color_texture.sampler, in.uv));
     C = C * glm::vec3(in.color);
+    C = base_color_to_working(C, m.linear_color, ctx.working_space);
 
     // 2. Normal: normalise, tangent-space normal map, double-sided back faces flipped.
     glm::vec3 N = normalize3(in.normal);

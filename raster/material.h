@@ -26,6 +26,12 @@ inline glm::vec3 normalize3(glm::vec3 v) {
     return v * (1.0f / std::sqrt(l2));
 }
 
+//! The base colour (factor x texture x COLOR_0) in the working space: a glTF material
+//! (linear_color) is clamped to [0, 1] and encoded to sRGB for the display-referred space; a
+//! display-valued material (procedural, linear_color false) is decoded for the linear space;
+//! otherwise unchanged.
+glm::vec3 base_color_to_working(glm::vec3 C, bool linear_color, WorkingSpace ws);
+
 // ---- WC17 / MNPR shading maths (pure) -------------------------------------------------------
 
 //! MNPR diffuse factor with shade wrap: DF = lerp(1, sat((N.L + wrap) / (1 + wrap)), k),
@@ -94,6 +100,7 @@ struct ShadeContext {
     bool perspective = true;
     glm::vec3 substrate{1};
     bool object_space_turbulence = false;
+    WorkingSpace working_space = WorkingSpace::Display;  //!< see base_color_to_working
 };
 
 struct FragmentOutput {

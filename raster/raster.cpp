@@ -594,6 +594,7 @@ Frame make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderS
     fr.ctx.perspective = !cam.orthographic;
     fr.ctx.substrate = s.substrate_color;
     fr.ctx.object_space_turbulence = s.turbulence == RenderSettings::Turbulence::ObjectSpace;
+    fr.ctx.working_space = s.working_space;
     const glm::mat3 v3(cam.view);
     for (const scene::Light& l : sc.lights) {
         ViewLight vl;

@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/color.h"
 #include "core/exec.h"
 #include "core/targets.h"
 #include "scenes/scene.h"
@@ -39,7 +40,9 @@ struct RenderSettings {
     TremorParams tremor;
     bool bleed_displacement = true; //!< WC17 §3.2: push bleeding vertices along their normal
     enum class Turbulence { ImageSpace, ObjectSpace } turbulence = Turbulence::ImageSpace;  //!< eq. 6 variant
-    glm::vec3 substrate_color{1};   //!< Cp, paper colour for dilution / fading
+    glm::vec3 substrate_color{1};   //!< Cp, paper colour for dilution / fading (in the working space)
+    //! Colour space of the G-buffer colour (core/color.h; docs/look.md "Colour management").
+    WorkingSpace working_space = WorkingSpace::Display;
 };
 
 //! Renders the G-buffer of `scene` seen by `camera` (docs/raster.md "Targets"):

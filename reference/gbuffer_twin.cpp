@@ -122,6 +122,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
     set_uniform(prog, "u_ambient", sc.ambient);
     set_uniform(prog, "u_substrate", s.substrate_color);
     set_uniform(prog, "u_object_space_turbulence", s.turbulence == raster::RenderSettings::Turbulence::ObjectSpace);
+    set_uniform(prog, "u_working_linear", s.working_space == WorkingSpace::Linear);
     const glm::mat3 v3(cam.view);
     int nl = 0;
     for (const scene::Light& l : sc.lights) {
@@ -185,6 +186,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
 
             const auto& wc = m.wc;
             set_uniform(prog, "u_base_color", m.base_color);
+            set_uniform(prog, "u_linear_color", m.linear_color);
             set_uniform(prog, "u_has_uv", has_uv);
             set_uniform(prog, "u_has_tangent", has_tan);
             set_uniform(prog, "u_double_sided", m.double_sided);

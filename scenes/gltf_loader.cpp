@@ -8,6 +8,7 @@
 #include "scenes/gltf_loader.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include "core/color.h"
 #include "core/input.h"
 #include "core/io.h"
 #include "core/json_file.h"
@@ -333,6 +335,28 @@ AccessorView Loader::accessor(int index, const std::string& what) {
 
 // --- images and textures -------------------------------------------------------------------------
 
+//! sRGB-encoded RGB -> linear in place (alpha is linear in glTF). 8- and 16-bit sources decode to
+//! value / 255 or / 65535; 8-bit values go through a 256-entry table (the same float as the
+//! formula), anything else through srgb_to_linear.
+void decode_srgb_texture(ImageF& img) {
+    static const std::array<float, 256> lut = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[std::size_t(i)] = srgb_to_linear(float(i) / 255.0f);
+        return t;
+    }();
+    const int nc = img.channels();
+    const int rgb = std::min(nc, 3);
+    float* d = img.data();
+    const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
+    for (std::size_t i = 0; i < n; ++i)
+        for (int c = 0; c < rgb; ++c) {
+            float& v = d[i * std::size_t(nc) + std::size_t(c)];
+            const float k = std::nearbyint(v * 255.0f);
+            if (k >= 0.0f && k <= 255.0f && float(int(k)) / 255.0f == v) v = lut[std::size_t(k)];
+            else v = srgb_to_linear(v);
+        }
+}
+
 TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what) {
     TextureRef ref;
     if (tex_index < 0) return ref;
@@ -402,6 +426,7 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
             tex.name = label;
             tex.image = decode_image_bytes(bytes, size, label, &texture_budget_);
             tex.srgb = srgb;
+            if (srgb) decode_srgb_texture(tex.image);  // glTF §3.9.2: base colour textures are sRGB
             scene_.textures.push_back(std::move(tex));
             result = int(scene_.textures.size()) - 1;
         } catch (const BudgetError& e) {
@@ -421,6 +446,7 @@ Material Loader::convert_material(int index) {
     const std::string what = "material " + std::to_string(index) + (gm.name.empty() ? "" : " '" + gm.name + "'");
     Material mat;
     mat.name = gm.name.empty() ? "material_" + std::to_string(index) : gm.name;
+    mat.linear_color = true;  // glTF §3.9.2: baseColorFactor and COLOR_n are linear
     const auto& f = gm.pbrMetallicRoughness.baseColorFactor;
     if (f.size() != 4) fail(what + ": baseColorFactor must have 4 values");
     for (int i = 0; i < 4; ++i) {
@@ -757,6 +783,7 @@ Scene Loader::run() {
     if (need_default_material_) {
         Material def;
         def.name = "default";
+        def.linear_color = true;
         scene_.materials.push_back(def);
     }
 

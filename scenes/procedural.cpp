@@ -216,10 +216,12 @@ std::vector<std::string> procedural_names() { return {"swatches"}; }
 
 namespace {
 
-// Colours from the papers: WC17 Fig. 7 orange (194, 94, 0) and Fig. 10 blue (31, 171, 224).
+// Colours from the papers: WC17 Fig. 7 orange (194, 94, 0) and Fig. 10 blue (31, 171, 224), as
+// display values (linear_color = false), with MNPR's reflectance values (the published ones).
 Material swatch_material(const std::string& name, glm::vec3 rgb255) {
     Material m;
     m.name = name;
+    m.wc = mnpr_watercolor_material();
     m.base_color = glm::vec4(rgb255 / 255.0f, 1.0f);
     return m;
 }

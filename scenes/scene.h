@@ -29,10 +29,11 @@ struct Sampler {
 
 struct Texture {
     std::string name;  //!< URI or image name, for messages
-    ImageF image;      //!< RGBA float, values as stored (no transfer curve applied)
-    //! The file declares these values sRGB-encoded (glTF base colour). Loaders do NOT decode
-    //! them: the watercolor maths runs on display-referred colour like MNPR (docs/scenes.md).
-    bool srgb = false;
+    //! RGBA float. Values as stored, except that an sRGB texture (srgb = true) has its RGB decoded
+    //! to linear by the loader (alpha stays as stored), so filtering happens in linear as GL's
+    //! sRGB textures do (docs/look.md "Colour management").
+    ImageF image;
+    bool srgb = false;  //!< the file declares the values sRGB-encoded (glTF base colour)
 };
 
 struct TextureRef {
@@ -48,13 +49,26 @@ enum class AlphaMode { Opaque, Mask, Blend };
 inline constexpr int kNumControlTargets = 4;
 enum ControlTarget { kCtrlPigment = 0, kCtrlSubstrate = 1, kCtrlEdge = 2, kCtrlAbstraction = 3 };
 
+//! MNPR's reflectance defaults (the authors' Maya material; WC17 Fig. 7 uses dA = 1): kept for
+//! reproducing the papers (procedural:swatches, mnpr_watercolor_material()).
+inline constexpr float kMnprDilute = 0.8f;
+inline constexpr float kMnprCangiante = 0.2f;
+inline constexpr float kMnprDiluteArea = 1.0f;
+//! Defaults for materials that name none (bare glTF models; docs/look.md "Material defaults"):
+//! MNPR's d = 0.8 pulls every lit face 80 % of the way to the paper and hides the model's colours.
+//! d = 0.35 with dA = 0.6 dilutes only faces turned towards the key light (N.L > 0.4), at most
+//! 35 %; c = 0.1 keeps a visible warm/cool shift without washing the hue out.
+inline constexpr float kDefaultDilute = 0.35f;
+inline constexpr float kDefaultCangiante = 0.1f;
+inline constexpr float kDefaultDiluteArea = 0.6f;
+
 //! Per-material watercolor parameters: the second of WC18 §5's three levels of control.
 struct WatercolorMaterial {
-    // Reflectance model, WC17 eq. 3-5 (MNPR defaults).
-    float dilute = 0.8f;        //!< d, [0, 1]
-    float cangiante = 0.2f;     //!< c, [0, 1]
-    float diffuse_factor = 0.2f;//!< k in DF = lerp(1, sat(N.L), k), [0, 1]
-    float dilute_area = 1.0f;   //!< dA, [0.01, 1]
+    // Reflectance model, WC17 eq. 3-5 (bare-model defaults; MNPR's are kMnpr*).
+    float dilute = kDefaultDilute;            //!< d, [0, 1]
+    float cangiante = kDefaultCangiante;      //!< c, [0, 1]
+    float diffuse_factor = 0.2f;              //!< k in DF = lerp(1, sat(N.L), k), [0, 1] (MNPR)
+    float dilute_area = kDefaultDiluteArea;   //!< dA, [0.01, 1]
     float shade_wrap = 0.0f;    //!< wraps the diffuse term, [0, 1]
     glm::vec3 shade_color{0.0f};//!< colour of the shaded side mixed by (1 - DF), MNPR default black (off)
     float specular = 0.0f;      //!< Blinn-Phong specular intensity, [0, 1]
@@ -65,6 +79,15 @@ struct WatercolorMaterial {
     std::array<TextureRef, kNumControlTargets> control_texture{};
 };
 
+//! A WatercolorMaterial with MNPR's reflectance defaults (d 0.8, c 0.2, dA 1).
+inline WatercolorMaterial mnpr_watercolor_material() {
+    WatercolorMaterial w;
+    w.dilute = kMnprDilute;
+    w.cangiante = kMnprCangiante;
+    w.dilute_area = kMnprDiluteArea;
+    return w;
+}
+
 struct Material {
     std::string name;
     glm::vec4 base_color{1.0f};
@@ -73,6 +96,11 @@ struct Material {
     AlphaMode alpha_mode = AlphaMode::Opaque;
     float alpha_cutoff = 0.5f;
     bool double_sided = false;
+    //! glTF 2.0 colour semantics: base_color and COLOR_0 are linear and the base colour texture
+    //! holds linear values (decoded by the loader); the rasterizer multiplies them in linear and
+    //! encodes the product into the working space. false (procedural scenes, the papers' swatch
+    //! colours): base_color and COLOR_0 are display-referred sRGB values, used as given.
+    bool linear_color = false;
     WatercolorMaterial wc;
 };
 

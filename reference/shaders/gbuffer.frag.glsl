@@ -1,5 +1,7 @@
 // gbuffer.frag.glsl — the watercolor material of the G-buffer twin (spec §3; WC17 eq. 3-6):
-// base colour factor x texture x COLOR_0; tangent-space normal map; double-sided back faces
+// base colour factor x texture x COLOR_0 brought into the working space (glTF materials are linear
+// and are clamped and sRGB-encoded for the display-referred space; display-valued materials are
+// decoded for the linear space; docs/look.md); tangent-space normal map; double-sided back faces
 // flipped; per light the MNPR diffuse factor DF = lerp(1, sat((N.L + wrap) / (1 + wrap)), k) and
 // Blinn-Phong specular; lit colour C * sum(radiance DF) + ambient, shade colour on the unlit side of
 // the key light; WC17 reflectance with the key light: DA = max((L.N + dA - 1) / dA, 0),
@@ -31,6 +33,8 @@ uniform vec3 u_ambient;
 uniform bool u_perspective;
 uniform vec3 u_substrate;
 uniform bool u_object_space_turbulence;
+uniform bool u_working_linear;   // WorkingSpace::Linear (core/color.h)
+uniform bool u_linear_color;     // Material::linear_color (glTF colour semantics)
 
 uniform vec4 u_base_color;
 uniform bool u_has_uv, u_has_tangent, u_double_sided, u_alpha_mask;
@@ -50,6 +54,16 @@ uniform float u_object_id;
 float sat(float x) { return clamp(x, 0.0, 1.0); }
 vec3 safe_normalize(vec3 v) { float l2 = dot(v, v); return l2 > 0.0 ? v * (1.0 / sqrt(l2)) : v; }
 
+// IEC 61966-2-1, as core/color.h.
+float srgb_to_linear(float v) { return !(v > 0.04045) ? v / 12.92 : pow((v + 0.055) / (1.0 + 0.055), 2.4); }
+float linear_to_srgb(float v) { return !(v > 0.0031308) ? v * 12.92 : (1.0 + 0.055) * pow(v, 1.0 / 2.4) - 0.055; }
+vec3 base_color_to_working(vec3 c) {
+    if (u_linear_color && !u_working_linear)
+        return vec3(linear_to_srgb(sat(c.x)), linear_to_srgb(sat(c.y)), linear_to_srgb(sat(c.z)));
+    if (!u_linear_color && u_working_linear) return vec3(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));
+    return c;
+}
+
 vec4 ctrl_tex(int k) {
     if (k == 0) return texture(s_ctrl0, v_uv);
     if (k == 1) return texture(s_ctrl1, v_uv);
@@ -60,7 +74,7 @@ vec4 ctrl_tex(int k) {
 void main() {
     vec4 base = (u_has_uv && u_has_base_tex) ? texture(s_base, v_uv) : vec4(1.0);
     if (u_alpha_mask && u_base_color.a * base.a * v_color.a < u_alpha_cutoff) discard;
-    vec3 C = u_base_color.rgb * base.rgb * v_color.rgb;
+    vec3 C = base_color_to_working(u_base_color.rgb * base.rgb * v_color.rgb);
 
     vec3 N = safe_normalize(v_normal);
     if (u_has_uv && u_has_tangent && u_has_normal_tex) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/color.h"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -463,9 +465,11 @@ TEST(Textures, LoadedWithSamplerAndMaterialFields) {
     EXPECT_FALSE(s.textures[std::size_t(m.normal_texture.texture)].srgb);
     ASSERT_EQ(t.image.width(), 4);
     ASSERT_EQ(t.image.channels(), 4);                       // RGB widened to RGBA
-    EXPECT_NEAR(t.image.at(3, 1, 0), 1.0f, 1e-6f);          // stored values, no transfer curve
-    EXPECT_NEAR(t.image.at(1, 0, 0), 85.0f / 255.0f, 1e-6f);
-    EXPECT_NEAR(t.image.at(2, 1, 2), 128.0f / 255.0f, 1e-6f);
+    // Base colour textures are sRGB (glTF 2.0 §3.9.2): decoded to linear at load (docs/look.md).
+    EXPECT_NEAR(t.image.at(3, 1, 0), 1.0f, 1e-6f);
+    EXPECT_NEAR(t.image.at(1, 0, 0), 0.0908417f, 1e-6f);    // sRGB 85/255 -> linear
+    EXPECT_NEAR(t.image.at(2, 1, 2), 0.2158605f, 1e-6f);    // sRGB 128/255 -> linear
+    EXPECT_FLOAT_EQ(t.image.at(1, 0, 0), srgb_to_linear(85.0f / 255.0f));
     EXPECT_EQ(t.image.at(0, 0, 3), 1.0f);
     EXPECT_EQ(m.base_color_texture.sampler.wrap_s, Wrap::ClampToEdge);
     EXPECT_EQ(m.base_color_texture.sampler.wrap_t, Wrap::MirroredRepeat);
