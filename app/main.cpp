@@ -2,6 +2,7 @@
 //
 // Every failure prints one clear message to stderr and exits non-zero; nothing is written unless
 // the whole image was computed (core/io.h writes through a temporary file and a rename).
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +14,7 @@
 
 #include "app/cli_args.h"
 #include "app/visualize.h"
+#include "core/color.h"
 #include "core/compare.h"
 #include "core/io.h"
 #include "raster/raster.h"
@@ -44,7 +46,7 @@ error in the input or while rendering, 2 on a usage error.
 constexpr const char* kRenderHelp = R"(usage: aquarelle render SCENE --out FILE.png [options]
 
 SCENE is a scene file (.json, see docs/scenes.md), a bare .gltf/.glb (automatic camera, default
-light, neutral control) or procedural:NAME (e.g. procedural:swatches).
+light, the style's default control) or procedural:NAME (e.g. procedural:swatches).
 
 options:
   --out FILE            output image (.png 8-bit display, .exr float); required.
@@ -53,6 +55,12 @@ options:
   --targets-png DIR     also write display versions (PNG) of every target (see docs/gallery.md)
   --style S             wc18 | wc17 | wc16 | mnpr | FILE.json | none (G-buffer colour only);
                         default: the scene file's style, else wc18
+  --control C           default | neutral. default: a model without painted control (no scene-file
+                        "control" rules, no material control) gets the style's default
+                        art-direction (noise fields, docs/look.md); neutral: all control zero,
+                        the papers' equations in isolation (default: default)
+  --working-space W     display | linear: colour space of the watercolor maths (default display,
+                        as the papers; linear encodes the result to sRGB at the end; docs/look.md)
   --set STAGE.PARAM=V   override a stage parameter (repeatable)
   --variant STAGE=VAR   choose a stage variant (repeatable)
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
@@ -87,6 +95,8 @@ struct RenderOptions {
     bool animation = false;
     double fps = 0;
     bool reference = false, quiet = false, allow_outside_files = false;
+    bool neutral_control = false;
+    aq::WorkingSpace working_space = aq::WorkingSpace::Display;
     std::string sweep;  //!< "step.param" swept by --sweep
     double sweep_from = 0, sweep_to = 0;
     int sweep_count = 0;
@@ -126,6 +136,16 @@ RenderOptions parse_render(Args& a) {
         } else if (arg == "--style") {
             o.style = a.value(arg);
             o.style_given = true;
+        } else if (arg == "--control") {
+            const std::string v = a.value(arg);
+            if (v == "neutral") o.neutral_control = true;
+            else if (v == "default") o.neutral_control = false;
+            else throw UsageError("--control expects default or neutral, got '" + v + "'");
+        } else if (arg == "--working-space") {
+            const std::string v = a.value(arg);
+            if (v == "display") o.working_space = aq::WorkingSpace::Display;
+            else if (v == "linear") o.working_space = aq::WorkingSpace::Linear;
+            else throw UsageError("--working-space expects display or linear, got '" + v + "'");
         } else if (arg == "--set") {
             o.sets.push_back(a.value(arg));
         } else if (arg == "--variant") {
@@ -257,6 +277,27 @@ int cmd_render(Args& a) {
     }
 
     rs.substrate_color = stylize ? pipeline.substrate_color : desc.substrate_color;
+    rs.working_space = o.working_space;
+    if (o.working_space == aq::WorkingSpace::Linear) {
+        // The paper colour is given as a display value; the maths and the G-buffer run in linear.
+        for (int k = 0; k < 3; ++k) rs.substrate_color[k] = aq::srgb_to_linear(rs.substrate_color[k]);
+        if (stylize) pipeline.substrate_color = rs.substrate_color;
+    }
+    if (stylize) {
+        // WC17 §3.2: pigment turbulence is object-space in a pipeline without the image-space
+        // density stage (wc16, wc17): the material applies eq. 6 from ctrl.pigment.b.
+        bool image_space_density = false;
+        for (const auto& step : pipeline.steps) image_space_density |= step.stage == "pigment_density";
+        if (!image_space_density) rs.turbulence = aq::raster::RenderSettings::Turbulence::ObjectSpace;
+        // Default art-direction (docs/look.md) for primitives without painted control, unless the
+        // scene file has its own rules or --control neutral.
+        if (!o.neutral_control && !desc.control_rules && !pipeline.default_control.empty()) {
+            const auto rules = aq::scene::parse_control_rules(pipeline.default_control,
+                                                              "style '" + pipeline.name + "' default_control");
+            const std::size_t n = aq::scene::apply_default_control(desc.scene, rules);
+            if (n) log("default control of style " + pipeline.name + " on " + std::to_string(n) + " primitive(s)");
+        }
+    }
 
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
     if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
@@ -331,7 +372,15 @@ int cmd_render(Args& a) {
                     aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
             }
             const std::string out = frame_path(o.out, index);
-            const aq::ImageF& final_img = targets.get(final_name);
+            aq::ImageF encoded;
+            if (o.working_space == aq::WorkingSpace::Linear) {  // output transform: linear -> sRGB
+                encoded = targets.get(final_name);
+                float* d = encoded.data();
+                const int nc = encoded.channels();
+                for (std::size_t i = 0; i < encoded.num_values(); ++i)
+                    if (nc < 4 || i % std::size_t(nc) != 3) d[i] = aq::linear_to_srgb(std::clamp(d[i], 0.0f, 1.0f));
+            }
+            const aq::ImageF& final_img = o.working_space == aq::WorkingSpace::Linear ? encoded : targets.get(final_name);
             // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
             // colour (--style none) keeps its coverage alpha for compositing; --targets keeps
             // every channel.

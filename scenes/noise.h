@@ -23,6 +23,10 @@ struct NoiseField {
     float offset = 0.0f;     //!< added after scaling
     std::uint32_t seed = 0;
     int octaves = 1;         //!< fBm octaves [1, 8], each at twice the frequency and half the weight
+    //! Positions are object-space coordinates (false) or divided by the diagonal of the mesh's
+    //! object-space bounding box first (true: frequency = cells per model size, whatever the
+    //! model's units; scene files: "space": "bounds"). Either way the field sticks to the surface.
+    bool bounds_relative = false;
 };
 
 //! Normalised fBm (weights sum to 1) in [-1, 1], then offset + amplitude * value.

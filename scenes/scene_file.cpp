@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -183,7 +184,7 @@ void map_wc17_control(const glm::vec4& c0, std::array<glm::vec4, kNumControlTarg
 }
 
 void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, ControlLayout layout,
-                         const std::string& where) {
+                         const std::string& where, const std::function<bool(const Primitive&)>& only) {
     // Texture rules: one Texture per (file, scale, bias); bound to the matching materials.
     std::map<std::tuple<std::string, float, float>, int> tex_cache;
     for (const ControlRule& r : rules) {
@@ -213,7 +214,21 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
     std::set<std::pair<std::size_t, std::size_t>> warned;  // (rule, mesh)
     std::vector<glm::vec4> scratch;
     for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+        // Object-space size of the mesh for bounds-relative noise: diagonal of its finite positions.
+        float inv_diag = 1.0f;
+        {
+            glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+            bool any = false;
+            for (const Primitive& p : scene.meshes[mi].primitives)
+                for (const glm::vec3& v : p.positions)
+                    if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) {
+                        lo = glm::min(lo, v), hi = glm::max(hi, v), any = true;
+                    }
+            const float diag = any ? glm::length(hi - lo) : 0.0f;
+            if (diag > 0.0f && std::isfinite(diag)) inv_diag = 1.0f / diag;
+        }
         for (Primitive& p : scene.meshes[mi].primitives) {
+            if (only && !only(p)) continue;
             const std::size_t n = p.positions.size();
             // Per-vertex values of the active rules, per destination channel.
             // Destination key: WC18 -> target*4 + channel; WC17 -> channel (0..3).
@@ -242,7 +257,10 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
                     float v = 0.0f;
                     switch (r.source) {
                         case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
-                        case ControlRule::Source::Noise: v = noise_field(r.noise, p.positions[i]) * r.scale + r.bias; break;
+                        case ControlRule::Source::Noise:
+                            v = noise_field(r.noise, r.noise.bounds_relative ? p.positions[i] * inv_diag : p.positions[i]) *
+                                    r.scale + r.bias;
+                            break;
                         case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
                         case ControlRule::Source::Texture: break;
                     }
@@ -364,7 +382,12 @@ ControlRule parse_rule(const Ctx& ctx, const json& j, const std::string& key, Co
         if (r.source != ControlRule::Source::Noise) ctx.bad(key + ".noise", "only noise rules take noise parameters");
         const json& n = j["noise"];
         const std::string nk = key + ".noise";
-        ctx.check_keys(n, nk, {"frequency", "amplitude", "offset", "seed", "octaves"});
+        ctx.check_keys(n, nk, {"frequency", "amplitude", "offset", "seed", "octaves", "space"});
+        if (n.contains("space")) {
+            const std::string sp = ctx.string(n["space"], nk + ".space");
+            if (sp == "bounds") r.noise.bounds_relative = true;
+            else if (sp != "object") ctx.bad(nk + ".space", "'" + sp + "': expected \"object\" or \"bounds\"");
+        }
         if (n.contains("frequency")) r.noise.frequency = float(ctx.number(n["frequency"], nk + ".frequency", 1e-6, 1e6));
         if (n.contains("amplitude")) r.noise.amplitude = float(ctx.number(n["amplitude"], nk + ".amplitude", -1e6, 1e6));
         if (n.contains("offset")) r.noise.offset = float(ctx.number(n["offset"], nk + ".offset", -1e6, 1e6));
@@ -583,6 +606,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         else ctx.bad("control_layout", "'" + s + "': expected \"wc18\" or \"wc17\"");
     }
     if (j.contains("control")) {
+        d.control_rules = true;
         const json& c = j["control"];
         if (!c.is_array()) ctx.bad("control", "expected an array of rules");
         std::vector<ControlRule> rules;
@@ -604,6 +628,55 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
 }
 
 }  // namespace
+
+std::vector<ControlRule> parse_control_rules(const std::string& text, const std::string& where, ControlLayout layout) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw Error(where + ": malformed JSON (" + e.what() + ")");
+    }
+    Ctx ctx{where, fs::path()};
+    if (!j.is_array()) ctx.bad("", "expected an array of control rules");
+    std::vector<ControlRule> rules;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const std::string k = "[" + std::to_string(i) + "]";
+        if (j[i].is_object() && j[i].contains("source") && j[i]["source"].is_string()) {
+            const std::string src = j[i]["source"].get<std::string>();
+            if (src != "noise" && src != "constant")
+                ctx.bad(k + ".source", "'" + src + "': default control takes noise and constant rules only");
+        }
+        if (j[i].is_object() && j[i].contains("materials")) ctx.bad(k + ".materials", "not allowed in default control");
+        rules.push_back(parse_rule(ctx, j[i], k, layout));
+    }
+    return rules;
+}
+
+bool has_painted_control(const Scene& scene, const Primitive& p) {
+    for (const auto& c : p.control)
+        if (!c.empty()) return true;
+    if (p.material >= 0 && std::size_t(p.material) < scene.materials.size()) {
+        const WatercolorMaterial& wc = scene.materials[std::size_t(p.material)].wc;
+        for (int k = 0; k < kNumControlTargets; ++k) {
+            const glm::vec4& c = wc.control[std::size_t(k)];
+            if (c.x != 0.0f || c.y != 0.0f || c.z != 0.0f) return true;
+            if (wc.control_texture[std::size_t(k)].texture >= 0) return true;
+        }
+    }
+    return false;
+}
+
+std::size_t apply_default_control(Scene& scene, const std::vector<ControlRule>& rules, const std::string& where) {
+    if (rules.empty()) return 0;
+    std::vector<const Primitive*> todo;
+    for (const Mesh& m : scene.meshes)
+        for (const Primitive& p : m.primitives)
+            if (!has_painted_control(scene, p)) todo.push_back(&p);
+    if (todo.empty()) return 0;
+    auto selected = [&](const Primitive& p) { return std::find(todo.begin(), todo.end(), &p) != todo.end(); };
+    apply_control_rules(scene, rules, ControlLayout::WC18, where, selected);
+    return todo.size();
+}
 
 SceneDesc load_scene(const std::string& spec, const LoadOptions& options) {
     SceneDesc d;

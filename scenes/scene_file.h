@@ -7,6 +7,7 @@
 // aq::Error naming the file and the key path.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,7 +55,23 @@ void map_wc17_control(const glm::vec4& wc17, std::array<glm::vec4, kNumControlTa
 //! decodes a control texel as 2t - 1) and set Material::wc.control_texture. `where` prefixes
 //! messages; warnings (attribute missing on a primitive) go to scene.warnings.
 void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, ControlLayout layout,
-                         const std::string& where = "control");
+                         const std::string& where = "control",
+                         const std::function<bool(const Primitive&)>& only = nullptr);
+
+//! Control rules from JSON text (an array in the scene-file schema of docs/scenes.md), as the
+//! pipeline presets' "default_control" holds them. Only noise and constant sources are accepted
+//! (the rules apply to models of unknown attributes). `where` prefixes error messages.
+std::vector<ControlRule> parse_control_rules(const std::string& json_array_text, const std::string& where,
+                                             ControlLayout layout = ControlLayout::WC18);
+
+//! A primitive carries painted control when any of its control targets has per-vertex values or
+//! its material adds a constant control or a control texture.
+bool has_painted_control(const Scene& scene, const Primitive& p);
+
+//! The default art-direction (docs/look.md): applies `rules` (WC18 layout) to every primitive
+//! without painted control (has_painted_control false). Returns the number of primitives changed.
+std::size_t apply_default_control(Scene& scene, const std::vector<ControlRule>& rules,
+                                  const std::string& where = "default control");
 
 struct SceneDesc {
     Scene scene;
@@ -74,6 +91,9 @@ struct SceneDesc {
     glm::vec3 auto_view_dir{-0.35f, -0.3f, -1.0f};
     float auto_yfov = 0.6f;
     float auto_aspect = 16.0f / 9.0f;
+    //! The scene file has a "control" key: its rules (even none) are the art-direction, and a
+    //! style's default control is not applied (docs/look.md).
+    bool control_rules = false;
 };
 
 //! A scene file (.json), a bare .gltf/.glb (camera framing the bounds, a default light, neutral

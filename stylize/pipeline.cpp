@@ -122,12 +122,17 @@ std::vector<std::string> preset_names() {
 Pipeline parse_pipeline(const std::string& text, const std::string& src, const std::string& base_dir) {
     const json j = parse_json(text, src);
     if (!j.is_object()) fail(src, "", "expected a JSON object at the top level");
-    check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "$schema", "comment"}, src, "");
+    check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "default_control", "$schema", "comment"},
+               src, "");
     Pipeline p;
     p.source = src;
     p.name = j.contains("name") ? get_string(j["name"], src, "name") : fs::path(src).stem().string();
     if (j.contains("doc")) p.doc = get_string(j["doc"], src, "doc");
     if (j.contains("output")) p.output = get_string(j["output"], src, "output");
+    if (j.contains("default_control")) {
+        if (!j["default_control"].is_array()) fail(src, "default_control", "expected an array of control rules");
+        p.default_control = j["default_control"].dump();
+    }
     if (j.contains("substrate_color")) {
         const json& c = j["substrate_color"];
         if (!c.is_array() || c.size() != 3) fail(src, "substrate_color", "expected [r, g, b]");

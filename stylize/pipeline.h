@@ -32,6 +32,11 @@ struct Pipeline {
     bool has_paper = false;
     std::vector<PipelineStep> steps;
     std::string output = "color.final";  //!< target holding the final image
+    //! Default art-direction (docs/look.md): a JSON array of control rules in the scene-file
+    //! schema (docs/scenes.md "Control mapping", wc18 layout; noise and constant sources only),
+    //! applied by the CLI to primitives without painted control. Empty = none. Kept as text:
+    //! the rules are parsed and checked by aq::scene::parse_control_rules.
+    std::string default_control;
 };
 
 //! A preset name ("wc18", looked up in $AQ_PRESET_DIR, else the compiled-in preset folder) or a

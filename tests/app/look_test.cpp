@@ -1,0 +1,207 @@
+// tests/app/look_test.cpp — issue 10: a bare glTF rendered with default options looks like a
+// watercolor painting on paper in every style (docs/look.md). Runs the `aquarelle` CLI on shared
+// models (bare, default options, 640x480) in wc16, wc17, wc18 and `--style none`, inside this
+// test's own output folder, and measures:
+//   paper    mean Rec. 709 luminance and its standard deviation over unpainted paper: pixels
+//            farther than kPaperMargin from the object (coverage from the `none` image's alpha);
+//   inside   mean over the object (eroded by kInsideErode px) of the largest per-channel
+//            |stylised - none| difference;
+//   edges    darkening (luminance of stylised - none) on the ring 1..kEdgeRing px inside the
+//            silhouette against the ring kInnerFrom..kInnerTo px inside: the silhouette ring must
+//            be darker by kMinEdgeContrast. Relative to `none` so the model's own shading (a lit
+//            rim) does not count.
+//
+// AQ_LOOK_ALL=1 measures every shared glTF model and prints the table (docs/look.md numbers);
+// AQ_LOOK_EXE=PATH measures another aquarelle binary (e.g. an older build, for "before").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/image.h"
+#include "core/io.h"
+#include "tests/test_support.h"
+
+namespace aq {
+namespace {
+
+// Thresholds (docs/look.md "Acceptance").
+constexpr double kPaperLumMin = 0.85;        //!< issue 10: photographs of watercolor paper
+constexpr double kPaperLumMax = 0.97;
+constexpr double kMinPaperStd = 0.012;       //!< luminance std-dev over the paper: ~3 8-bit levels
+constexpr double kMinInsideDiff = 0.03;      //!< mean max-channel |stylised - none| on the object
+constexpr double kMinEdgeContrast = 0.01;    //!< silhouette ring darker than the inner ring by this
+constexpr int kPaperMargin = 16;             //!< px between the object and "unpainted paper"
+constexpr int kInsideErode = 2;
+constexpr int kEdgeRing = 2;
+constexpr int kInnerFrom = 8, kInnerTo = 14;
+constexpr int kWidth = 640, kHeight = 480;
+
+std::string exe() {
+    if (const char* e = std::getenv("AQ_LOOK_EXE"); e && *e) return e;
+    return AQ_CLI_EXE;
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+ImageF render(const std::string& model, const std::string& style, const std::string& extra = "") {
+    const std::string out = test::output_dir() + "/" + std::to_string(std::hash<std::string>{}(model + style + extra)) +
+                            "_" + style + ".png";
+    const std::string cmd = quote(exe()) + " render " + quote(model) + " --style " + style + " --width " +
+                            std::to_string(kWidth) + " --height " + std::to_string(kHeight) + " --quiet " + extra +
+                            " --out " + quote(out) + " 2>" + quote(out + ".log");
+    const int rc = std::system(cmd.c_str());
+    EXPECT_EQ(rc, 0) << cmd;
+    return read_image(out);
+}
+
+double luma(const ImageF& im, int x, int y) {
+    return 0.2126 * im.at(x, y, 0) + 0.7152 * im.at(x, y, 1) + 0.0722 * im.at(x, y, 2);
+}
+
+//! Chessboard distance of every pixel to the nearest pixel whose `inside` differs from its own
+//! (both ways: distance to the object outside it, to the background inside it).
+std::vector<int> distance_to_boundary(const std::vector<char>& inside, int w, int h) {
+    std::vector<int> d(std::size_t(w) * h, -1);
+    std::deque<int> q;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const int i = y * w + x;
+            bool border = false;
+            for (int dy = -1; dy <= 1 && !border; ++dy)
+                for (int dx = -1; dx <= 1 && !border; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx >= 0 && yy >= 0 && xx < w && yy < h && inside[std::size_t(yy * w + xx)] != inside[std::size_t(i)])
+                        border = true;
+                }
+            if (border) d[std::size_t(i)] = 1, q.push_back(i);
+        }
+    while (!q.empty()) {
+        const int i = q.front();
+        q.pop_front();
+        const int x = i % w, y = i / w;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const int j = yy * w + xx;
+                if (d[std::size_t(j)] < 0 && inside[std::size_t(j)] == inside[std::size_t(i)]) {
+                    d[std::size_t(j)] = d[std::size_t(i)] + 1;
+                    q.push_back(j);
+                }
+            }
+    }
+    for (int& v : d)
+        if (v < 0) v = 1 << 20;  // no boundary at all
+    return d;
+}
+
+struct LookStats {
+    double paper_mean = 0, paper_std = 0, inside_diff = 0, edge_dark = 0, inner_dark = 0;
+    long paper_px = 0, inside_px = 0, edge_px = 0, inner_px = 0;
+};
+
+LookStats measure(const ImageF& sty, const ImageF& none) {
+    LookStats s;
+    const int w = none.width(), h = none.height();
+    std::vector<char> in(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) in[std::size_t(y * w + x)] = none.channels() == 4 ? none.at(x, y, 3) > 0.5f : 0;
+    const std::vector<int> dist = distance_to_boundary(in, w, h);
+    double sum = 0, sum2 = 0, diff = 0, edge = 0, inner = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y * w + x);
+            const double l = luma(sty, x, y);
+            if (!in[i]) {
+                if (dist[i] > kPaperMargin) sum += l, sum2 += l * l, ++s.paper_px;
+                continue;
+            }
+            const double dl = l - luma(none, x, y);
+            if (dist[i] > kInsideErode) {
+                double m = 0;
+                for (int c = 0; c < 3; ++c) m = std::max(m, double(std::fabs(sty.at(x, y, c) - none.at(x, y, c))));
+                diff += m, ++s.inside_px;
+            }
+            if (dist[i] <= kEdgeRing) edge += dl, ++s.edge_px;
+            else if (dist[i] >= kInnerFrom && dist[i] <= kInnerTo) inner += dl, ++s.inner_px;
+        }
+    if (s.paper_px) {
+        s.paper_mean = sum / double(s.paper_px);
+        s.paper_std = std::sqrt(std::max(0.0, sum2 / double(s.paper_px) - s.paper_mean * s.paper_mean));
+    }
+    if (s.inside_px) s.inside_diff = diff / double(s.inside_px);
+    if (s.edge_px) s.edge_dark = edge / double(s.edge_px);
+    if (s.inner_px) s.inner_dark = inner / double(s.inner_px);
+    return s;
+}
+
+struct Case {
+    std::string model;  //!< under shared/assets
+};
+
+void check_model(const std::string& rel, bool assert_thresholds) {
+    const std::string model = test::asset(rel);
+    const ImageF none = render(model, "none");
+    ASSERT_EQ(none.channels(), 4) << "--style none keeps the coverage alpha";
+    for (const char* style : {"wc16", "wc17", "wc18"}) {
+        const ImageF sty = render(model, style);
+        ASSERT_TRUE(sty.same_size(none));
+        const LookStats s = measure(sty, none);
+        std::printf("LOOK\t%s\t%s\tpaper_mean %.4f\tpaper_std %.4f\tpaper_px %ld\tinside_diff %.4f\tedge_dark %.4f\t"
+                    "inner_dark %.4f\tedge_contrast %.4f\n",
+                    rel.c_str(), style, s.paper_mean, s.paper_std, s.paper_px, s.inside_diff, s.edge_dark, s.inner_dark,
+                    s.inner_dark - s.edge_dark);
+        if (!assert_thresholds) continue;
+        const std::string what = rel + " " + style;
+        ASSERT_GT(s.paper_px, 1000) << what << ": too little unpainted paper to measure";
+        EXPECT_GE(s.paper_mean, kPaperLumMin) << what << ": paper too dark";
+        EXPECT_LE(s.paper_mean, kPaperLumMax) << what << ": paper too bright (no paper tone)";
+        EXPECT_GE(s.paper_std, kMinPaperStd) << what << ": paper texture not visible";
+        EXPECT_GE(s.inside_diff, kMinInsideDiff) << what << ": stylised object too close to --style none";
+        EXPECT_GE(s.inner_dark - s.edge_dark, kMinEdgeContrast) << what << ": silhouette not darkened";
+    }
+}
+
+// Three kinds of bare model: flat baseColorFactor colours (low-poly tree), an sRGB texture with a
+// normal map (photoscan), a textured rigged model.
+TEST(Look, BareBirchTreeLooksPainted) { check_model("plants/quaternius/BirchTree_4.glb", true); }
+TEST(Look, BareAvocadoLooksPainted) { check_model("gltf/Avocado/glTF/Avocado.gltf", true); }
+TEST(Look, BareFoxLooksPainted) { check_model("gltf/Fox/glTF/Fox.gltf", true); }
+
+// --control neutral keeps today's neutral control: on the procedural swatches (painted by code,
+// so no default control applies) both give the same bytes; on a bare model they differ.
+TEST(Look, NeutralControlOption) {
+    const ImageF a = render("procedural:swatches", "wc18");
+    const ImageF b = render("procedural:swatches", "wc18", "--control neutral");
+    EXPECT_EQ(std::vector<float>(a.data(), a.data() + a.num_values()), std::vector<float>(b.data(), b.data() + b.num_values()))
+        << "painted scenes must not receive the default control";
+    const std::string tree = test::asset("plants/quaternius/BirchTree_4.glb");
+    const ImageF c = render(tree, "wc18");
+    const ImageF d = render(tree, "wc18", "--control neutral");
+    EXPECT_NE(std::vector<float>(c.data(), c.data() + c.num_values()), std::vector<float>(d.data(), d.data() + d.num_values()))
+        << "a bare model gets the default control unless --control neutral";
+}
+
+// Measurement only (AQ_LOOK_ALL=1): every shared glTF model, numbers on stdout.
+TEST(Look, MeasureEveryModel) {
+    if (!std::getenv("AQ_LOOK_ALL")) GTEST_SKIP() << "set AQ_LOOK_ALL=1 to measure every shared model";
+    for (const char* m : {"gltf/Avocado/glTF/Avocado.gltf", "gltf/Box/glTF-Embedded/Box.gltf",
+                          "gltf/BoxTextured/BoxTextured.gltf", "gltf/BoxVertexColors_CC0/glTF-Embedded/BoxVertexColors.gltf",
+                          "gltf/Cube/glTF/Cube.gltf", "gltf/Fox/glTF/Fox.gltf", "gltf/OrientationTest/glTF/OrientationTest.gltf",
+                          "gltf/Suzanne/glTF/Suzanne.gltf", "gltf/WaterBottle/glTF/WaterBottle.gltf",
+                          "plants/quaternius/BirchTree_4.glb", "plants/quaternius/CommonTree_1.glb"})
+        check_model(m, false);
+}
+
+}  // namespace
+}  // namespace aq
