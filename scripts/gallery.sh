@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # Renders the pictures of docs/gallery.md with the CLI: G-buffer targets, each effect's
 # contribution along the WC18 pipeline, and the WC16/WC17/WC18 pipelines side by side, for a real
-# model (WaterBottle) and the procedural swatches. Usage: scripts/gallery.sh [build-dir]
+# model (WaterBottle) and the procedural swatches; then every shared glTF model bare, default
+# options, 640x480, in --style none, wc16, wc17, wc18 (docs/gallery.md "Bare models", docs/look.md).
+# Usage: scripts/gallery.sh [build-dir]
+# BEFORE_BIN=path/to/old/aquarelle BEFORE_PRESETS=dir also renders the "before" column of the bare
+# models (three of them) with an older binary and its presets (AQ_PRESET_DIR) into docs/gallery/bare_before/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build}/app/aquarelle
@@ -22,4 +26,30 @@ for scene in procedural:swatches scenes/data/waterbottle.json; do
     "$bin" render "$scene" "${size[@]}" --style "$style" --out "$out/${tag}_style_${style}.png"
   done
 done
-echo "gallery: wrote $(ls "$out" | wc -l) images to $out/"
+# Bare models: default options, 640x480 (issue 10). Assets stay in ../shared (never copied here).
+shared=${AQ_SHARED:-../shared}/assets
+bare_models=(gltf/Avocado/glTF/Avocado.gltf gltf/Box/glTF-Embedded/Box.gltf gltf/BoxTextured/BoxTextured.gltf
+             gltf/BoxVertexColors_CC0/glTF-Embedded/BoxVertexColors.gltf gltf/Cube/glTF/Cube.gltf gltf/Fox/glTF/Fox.gltf
+             gltf/OrientationTest/glTF/OrientationTest.gltf gltf/Suzanne/glTF/Suzanne.gltf
+             gltf/Triangle/glTF/Triangle.gltf gltf/WaterBottle/glTF/WaterBottle.gltf
+             plants/quaternius/BirchTree_4.glb plants/quaternius/CommonTree_1.glb)
+bare=(--width 640 --height 480 --quiet)
+mkdir -p "$out/bare"
+for m in "${bare_models[@]}"; do
+  [ -f "$shared/$m" ] || { echo "gallery: $shared/$m missing, skipped" >&2; continue; }
+  tag=$(basename "${m%.*}")
+  echo "gallery: bare $tag"
+  for style in none wc16 wc17 wc18; do
+    "$bin" render "$shared/$m" "${bare[@]}" --style "$style" --out "$out/bare/${tag}_${style}.png" 2>/dev/null
+  done
+  # "before" pictures for three representative models only (flat colours, photoscan, textured):
+  # the textured paper makes each 640x480 PNG ~0.4 MB.
+  if [ -n "${BEFORE_BIN:-}" ] && [[ " BirchTree_4 Avocado Fox " == *" $tag "* ]]; then
+    mkdir -p "$out/bare_before"
+    for style in wc16 wc17 wc18; do
+      AQ_PRESET_DIR=${BEFORE_PRESETS:?set BEFORE_PRESETS to the old presets} \
+        "$BEFORE_BIN" render "$shared/$m" "${bare[@]}" --style "$style" --out "$out/bare_before/${tag}_${style}.png" 2>/dev/null
+    done
+  fi
+done
+echo "gallery: wrote $(find "$out" -name '*.png' | wc -l) images under $out/"
