@@ -11,7 +11,7 @@
 //            be darker by kMinEdgeContrast. Relative to `none` so the model's own shading (a lit
 //            rim) does not count.
 //
-// AQ_LOOK_ALL=1 measures every shared glTF model and prints the table (docs/look.md numbers);
+// Look.DISABLED_MeasureEveryModel (run explicitly) measures every shared glTF model and prints the table (docs/look.md numbers);
 // AQ_LOOK_EXE=PATH measures another aquarelle binary (e.g. an older build, for "before").
 #include <algorithm>
 #include <cmath>
@@ -192,9 +192,10 @@ TEST(Look, NeutralControlOption) {
         << "a bare model gets the default control unless --control neutral";
 }
 
-// Measurement only (AQ_LOOK_ALL=1): every shared glTF model, numbers on stdout.
-TEST(Look, MeasureEveryModel) {
-    if (!std::getenv("AQ_LOOK_ALL")) GTEST_SKIP() << "set AQ_LOOK_ALL=1 to measure every shared model";
+// Measurement, not a check (numbers on stdout for docs/look.md): disabled, so CTest neither runs
+// nor counts it. Run it with
+//   build/tests/app/look_test --gtest_also_run_disabled_tests --gtest_filter=Look.DISABLED_MeasureEveryModel
+TEST(Look, DISABLED_MeasureEveryModel) {
     for (const char* m : {"gltf/Avocado/glTF/Avocado.gltf", "gltf/Box/glTF-Embedded/Box.gltf",
                           "gltf/BoxTextured/BoxTextured.gltf", "gltf/BoxVertexColors_CC0/glTF-Embedded/BoxVertexColors.gltf",
                           "gltf/Cube/glTF/Cube.gltf", "gltf/Fox/glTF/Fox.gltf", "gltf/OrientationTest/glTF/OrientationTest.gltf",
