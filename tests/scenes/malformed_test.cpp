@@ -4,8 +4,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
+#include "core/io.h"
 #include "scenes/gltf_loader.h"
 #include "tests/scenes/gltf_builder.h"
 #include "tests/test_support.h"
@@ -365,6 +367,84 @@ TEST(Malformed, UnsupportedRequiredExtension) {
     b.j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
     expect_error(b.write_gltf(out_path("draco.gltf")), "KHR_draco_mesh_compression");
 }
+
+// --- issue 8: budgets and the path policy (docs/limits.md) ------------------------------------------
+
+namespace issue8 {
+
+//! A glTF whose mesh has `n` primitives, primitive i using material i whose base colour is the
+//! embedded PNG i (64x64), so loading decodes n textures.
+std::string many_textures(int n, const std::string& name) {
+    GltfBuilder b = quad();
+    const std::string png = out_path(name + ".src.png");
+    aq::write_image(png, aq::ImageF(64, 64, 3, 0.5f));
+    const std::vector<unsigned char> bytes = aq::test::read_bytes(png);
+    nlohmann::json prim = b.j["meshes"][0]["primitives"][0];
+    b.j["meshes"][0]["primitives"] = nlohmann::json::array();
+    b.j["images"] = b.j["textures"] = b.j["materials"] = nlohmann::json::array();
+    for (int i = 0; i < n; ++i) {
+        b.j["images"].push_back({{"uri", "data:image/png;base64," + aq::test::base64(bytes)}});
+        b.j["textures"].push_back({{"source", i}});
+        b.j["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", i}}}}}});
+        prim["material"] = i;
+        b.j["meshes"][0]["primitives"].push_back(prim);
+    }
+    return b.write_gltf(out_path(name + ".gltf"));
+}
+
+TEST(Malformed, DecodedTexturesShareOneBudgetPerFile) {
+    // Issue 8: a 1 MB glTF embedding PNGs of 16384x2048 zeros decoded 4.7-8.9 GB. The budget is
+    // checked from each image's header before decoding; past it the load fails (not a warning).
+    const std::string path = many_textures(8, "bomb");
+    aq::scene::LoadOptions opt;
+    opt.texture_budget_bytes = std::size_t(64) * 64 * 16 * 3;  // three textures fit, not four
+    try {
+        load_gltf(path, nullptr, opt);
+        ADD_FAILURE() << "eight textures loaded within a budget of three";
+    } catch (const aq::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("budget"), std::string::npos) << e.what();
+    }
+    // The default budget (1 GiB) holds them.
+    const aq::scene::Scene s = load_gltf(path);
+    EXPECT_EQ(s.textures.size(), 8u);
+}
+
+TEST(Malformed, TinyFileCannotAskForGigabytesOfZeros) {
+    // Issue 8: a 2 KB glTF whose POSITION accessor has no bufferView and count 49,999,998 took
+    // 5 s and 4.5 GB. Implicit (all-zero) accessor data is capped at 16 MiB per file.
+    GltfBuilder b = quad(false);
+    b.j["accessors"][0].erase("bufferView");
+    b.j["accessors"][0]["count"] = 49999998;
+    expect_error(b.write_gltf(out_path("zeros.gltf")), "implicit");
+}
+
+TEST(Malformed, UrisOutsideTheModelFolderAreRefused) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(out_path("policy")) / "model";
+    fs::create_directories(dir);
+    GltfBuilder b = quad();
+    b.finish_buffer();
+    aq::test::write_bytes((dir.parent_path() / "outside.bin").string(), b.bin);
+    aq::test::write_bytes((dir / "inside.bin").string(), b.bin);
+    for (const std::string uri : {"../outside.bin", "%2e%2e/outside.bin", "%2E%2E%2Foutside.bin"}) {
+        b.j["buffers"][0]["uri"] = uri;
+        std::ofstream((dir / "m.gltf").string()) << b.j.dump();
+        expect_error((dir / "m.gltf").string(), "outside the model's folder");
+        aq::scene::LoadOptions allow;
+        allow.allow_outside_files = true;
+        EXPECT_NO_THROW(load_gltf((dir / "m.gltf").string(), nullptr, allow)) << uri;
+    }
+    // An absolute path is no relative URI reference: tinygltf joins it below the model's folder,
+    // where it is not found (so /etc/passwd is never read).
+    b.j["buffers"][0]["uri"] = (dir.parent_path() / "outside.bin").string();
+    std::ofstream((dir / "m.gltf").string()) << b.j.dump();
+    expect_error((dir / "m.gltf").string(), "not found");
+    b.j["buffers"][0]["uri"] = "inside.bin";
+    std::ofstream((dir / "m.gltf").string()) << b.j.dump();
+    EXPECT_NO_THROW(load_gltf((dir / "m.gltf").string())) << "a buffer beside the model must load";
+}
+
+}  // namespace issue8
 
 }  // namespace
 }  // namespace aq::scene
