@@ -1,0 +1,92 @@
+// tests/scenes/fuzz_regressions_test.cpp — the minimised inputs of fuzzing findings
+// (fuzz/regressions/<target>/, fuzz/README.md "Findings") read by the unit tests, so a finding fixed
+// stays fixed in every build, not only in the clang fuzz build. Each reader must end in an
+// aq::Error (or load): any other exception, a crash or a sanitizer report fails.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "core/io.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/scene_file.h"
+#include "tests/test_support.h"
+
+namespace aq::scene {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path regressions(const std::string& target) { return fs::path(aq::test::source_dir()) / "fuzz" / "regressions" / target; }
+
+std::vector<unsigned char> bytes_of(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+//! Copies a regression input into this test's own folder (readers may look beside it).
+std::string copy_to_output(const fs::path& p, const std::string& name) {
+    const fs::path dst = fs::path(aq::test::output_dir()) / "fuzz" / name;
+    fs::create_directories(dst.parent_path());
+    fs::copy_file(p, dst, fs::copy_options::overwrite_existing);
+    return dst.string();
+}
+
+//! Runs fn; passes on success or aq::Error, fails on any other exception.
+template <class Fn>
+void expect_clean(const std::string& what, Fn&& fn) {
+    try {
+        fn();
+    } catch (const aq::Error&) {
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << what << ": threw a non-aq::Error exception: " << e.what();
+    }
+}
+
+// OpenImageIO 2.4's GIF reader throws std::length_error from ImageInput::open for a 13-byte GIF
+// whose logical screen is 12298 x 26234; decode_image let it escape (not an aq::Error), so a glTF
+// texture in that state failed the whole model instead of being "treated as absent".
+TEST(FuzzRegressions, GifWithHugeScreenIsAnImageError) {
+    const fs::path in = regressions("image") / "gif-screen-size-length-error.gif";
+    const std::vector<unsigned char> b = bytes_of(in);
+    ASSERT_EQ(b.size(), 13u);
+    try {
+        (void)decode_image_bytes(b.data(), b.size(), "texture.gif");
+        ADD_FAILURE() << "decoded";
+    } catch (const aq::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("texture.gif': cannot be decoded"), std::string::npos) << e.what();
+    }
+    const std::string path = copy_to_output(in, "paper.gif");
+    EXPECT_THROW((void)aq::read_image(path), aq::Error);
+}
+
+TEST(FuzzRegressions, EveryImageInputIsReadOrRefused) {
+    for (const auto& e : fs::directory_iterator(regressions("image"))) {
+        SCOPED_TRACE(e.path().string());
+        const std::vector<unsigned char> b = bytes_of(e.path());
+        expect_clean("decode_image_bytes", [&] { (void)decode_image_bytes(b.data(), b.size(), e.path().filename().string()); });
+        const std::string path = copy_to_output(e.path(), e.path().filename().string());
+        expect_clean("read_image", [&] { (void)aq::read_image(path); });
+    }
+}
+
+TEST(FuzzRegressions, EveryGltfAndSceneInputIsLoadedOrRefused) {
+    for (const std::string target : {"gltf", "scene_file"}) {
+        if (!fs::is_directory(regressions(target))) continue;
+        for (const auto& e : fs::directory_iterator(regressions(target))) {
+            SCOPED_TRACE(e.path().string());
+            if (target == "gltf") {
+                const std::string path = copy_to_output(e.path(), "in.gltf");
+                expect_clean("load_gltf", [&] { (void)load_gltf(path); });
+            } else {
+                const std::string path = copy_to_output(e.path(), "scene.json");
+                expect_clean("load_scene", [&] { (void)load_scene(path); });
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::scene
