@@ -96,6 +96,10 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
     const std::string where = "image '" + name + "'";
     if (!bytes || size == 0) throw Error(where + ": no data");
     const std::string fake = format_name_for(bytes, size, name);
+    // OpenImageIO's GIF reader allocates the whole logical screen (width x height x 4) inside
+    // open(), before check_spec can refuse it: a 14-byte GIF cost 1.3 GB (fuzz/README.md).
+    if (fake == "memory.gif" && size >= 10)
+        check_image_size(bytes[6] | bytes[7] << 8, bytes[8] | bytes[9] << 8, where + ": GIF screen");
     OIIO::Filesystem::IOMemReader mem(bytes, size);
     // OIIO 2.4 honours an in-memory proxy passed as the "oiio:ioproxy" configuration hint (the
     // ioproxy argument of open() alone is not enough for its PNG reader).

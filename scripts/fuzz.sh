@@ -127,7 +127,8 @@ for t in "${targets[@]}"; do
   execs=$(stat_of number_of_executed_units "${logs[@]}")
   rss=$(grep -h "^stat::peak_rss_mb:" "${logs[@]}" | awk '{m = $2 > m ? $2 : m} END {print m + 0}')
   after=$(ls "$corpus" | wc -l)
-  echo "fuzz.sh: $t: $execs runs in ${seconds}s x $jobs ($((execs / (seconds * jobs > 0 ? seconds * jobs : 1))) exec/s per job), corpus $before -> $after, peak RSS ${rss} MB"
+  rate=$(stat_of average_exec_per_sec "${logs[@]}")
+  echo "fuzz.sh: $t: $execs runs (up to ${seconds}s x $jobs job(s); $rate exec/s in all), corpus $before -> $after, peak RSS ${rss} MB"
   if [ -n "$corpus_out" ]; then
     mkdir -p "$corpus_out/$t"
     cp -n "$corpus"/* "$corpus_out/$t"/ 2>/dev/null || true

@@ -56,10 +56,25 @@ TEST(FuzzRegressions, GifWithHugeScreenIsAnImageError) {
         (void)decode_image_bytes(b.data(), b.size(), "texture.gif");
         ADD_FAILURE() << "decoded";
     } catch (const aq::Error& e) {
-        EXPECT_NE(std::string(e.what()).find("texture.gif': cannot be decoded"), std::string::npos) << e.what();
+        // Now refused by the GIF screen check below, before OpenImageIO runs; decode_image also
+        // turns any exception of a reader into aq::Error.
+        EXPECT_NE(std::string(e.what()).find("image 'texture.gif': "), std::string::npos) << e.what();
     }
     const std::string path = copy_to_output(in, "paper.gif");
     EXPECT_THROW((void)aq::read_image(path), aq::Error);
+}
+
+// A 14-byte GIF announcing a 16383 x 16383 screen: OpenImageIO's GIF reader allocated the whole
+// screen (1.3 GB resident, 3.4 s) inside open(), before the size check on the decoded header.
+TEST(FuzzRegressions, GifScreenIsCheckedBeforeOpenImageIOAllocatesIt) {
+    const std::vector<unsigned char> b = bytes_of(regressions("image") / "gif-screen-16383x16383.gif");
+    ASSERT_EQ(b.size(), 14u);
+    try {
+        (void)decode_image_bytes(b.data(), b.size(), "bomb.gif");
+        ADD_FAILURE() << "decoded";
+    } catch (const aq::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("GIF screen: size 16383x16383 exceeds the limit"), std::string::npos) << e.what();
+    }
 }
 
 TEST(FuzzRegressions, EveryImageInputIsReadOrRefused) {
