@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets (fuzz/, clang + ASan + UBSan) into build-fuzz/ and runs each for a
 # while on a temporary copy of its seed corpus; exits non-zero on any finding (fuzz/README.md).
 # Usage: scripts/fuzz.sh [--seconds N] [--target NAME]... [--jobs J] [--no-install] [--build-dir DIR]
-#                        [--corpus-out DIR] [--no-build] [-- EXTRA_LIBFUZZER_FLAGS...]
+#                        [--corpus-out DIR] [--no-build] [--build-only] [-- EXTRA_LIBFUZZER_FLAGS...]
 #   --seconds N      fuzzing time per target and job (default 30)
 #   --target NAME    gltf, scene_file, pipeline or image (fuzz_ prefix optional); repeatable; default all
 #   --jobs J         parallel fuzzer processes per target, sharing its corpus (default 1)
@@ -18,6 +18,7 @@ seconds=30
 jobs=1
 install=1
 build=1
+build_only=0
 build_dir=build-fuzz
 corpus_out=""
 targets=()
@@ -29,6 +30,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs="$2"; shift ;;
     --no-install) install=0 ;;
     --no-build) build=0 ;;
+    --build-only) build_only=1 ;;
     --build-dir) build_dir="$2"; shift ;;
     --corpus-out) corpus_out="$2"; shift ;;
     --) shift; extra=("$@"); break ;;
@@ -80,6 +82,8 @@ if [ "$build" = 1 ]; then
   for t in "${targets[@]}"; do build_targets+=(--target "fuzz_$t"); done
   cmake --build "$build_dir" "${build_targets[@]}" --parallel "$(nproc)"
 fi
+
+[ "$build_only" = 1 ] && exit 0
 
 # --- run ---------------------------------------------------------------------------------------------
 run_id=$(date +%Y%m%d-%H%M%S)-$$

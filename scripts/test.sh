@@ -3,9 +3,10 @@
 #   1. builds (if needed) and runs every CTest test of the normal build: unit, invariants,
 #      determinism, bad input, the CLI end-to-end script and the GPU-equivalent OpenGL reference
 #      checks (label `reference`);
-#   2. the same unit and CLI tests built with AddressSanitizer + UBSan (scripts/sanitize.sh);
-#   3. a smoke run of every libFuzzer target on its seed corpus and regression inputs
-#      (scripts/fuzz.sh --seconds $AQ_FUZZ_SECONDS, default 30).
+#   2. the same unit and CLI tests built with clang, AddressSanitizer + UBSan (scripts/sanitize.sh,
+#      build-fuzz/);
+#   3. a smoke run of every libFuzzer target on its seed corpus and regression inputs, from the same
+#      instrumented build (scripts/fuzz.sh --seconds $AQ_FUZZ_SECONDS, default 30).
 # Usage: scripts/test.sh                 everything (what .ci/run runs)
 #        scripts/test.sh CTEST_ARGS...   only step 1, with extra ctest args (e.g. -L reference, -R raster)
 # AQ_SKIP_SANITIZERS=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 for a quick local run.
