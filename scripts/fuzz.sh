@@ -56,19 +56,7 @@ max_len() {
 # --- packages (idempotent, as scripts/setup.sh) ----------------------------------------------------
 pkgs=(clang libclang-rt-14-dev cmake ninja-build pkg-config
       libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev)
-if [ "$install" = 1 ]; then
-  missing=()
-  for p in "${pkgs[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
-  if [ ${#missing[@]} -gt 0 ]; then
-    echo "fuzz.sh: installing ${missing[*]}"
-    sudo_cmd=""
-    [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-    $sudo_cmd apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
-  fi
-fi
+[ "$install" = 1 ] && bash scripts/install_packages.sh fuzz.sh "${pkgs[@]}"
 
 # --- build (only the fuzz targets and the libraries they link) ---------------------------------------
 if [ "$build" = 1 ]; then

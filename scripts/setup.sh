@@ -21,21 +21,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
       nlohmann-json3-dev libssl-dev
       libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)
 
-if [ "$install" = 1 ]; then
-  missing=()
-  for p in "${pkgs[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
-  if [ ${#missing[@]} -gt 0 ]; then
-    echo "setup: installing ${missing[*]}"
-    sudo_cmd=""
-    [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-    $sudo_cmd apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
-  else
-    echo "setup: all Debian packages present"
-  fi
-fi
+[ "$install" = 1 ] && bash scripts/install_packages.sh setup "${pkgs[@]}"
 
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
