@@ -34,7 +34,7 @@ STUB = re.compile(
 
 # Run by OpenImageIO's static initialisers and at exit (DCMTK's `static DiRegister`, ...): default
 # constructors and destructors are no-ops in a stub; everything else aborts.
-NOOP = re.compile(r"(C[12]Ev|D[012]Ev)$")
+NOOP = re.compile(r"(C[12]Ev|D[012]Ev)$|^_ZN5OFLog9configure")
 # Version queries (OpenImageIO's plugin catalogue asks each format library for its version):
 # return a pointer to the string "stub" (as an integer: an arbitrary value).
 VERSION = re.compile(r"version", re.IGNORECASE)

@@ -43,6 +43,50 @@ TEST(ImageIO, PngQuantisesAndClamps) {
     EXPECT_FLOAT_EQ(back.at(1, 0, 2), 128.0f / 255.0f);
 }
 
+// Only the documented formats reach a decoder (docs/limits.md "Image formats"): the format comes
+// from the magic bytes where known, else from the extension, and OpenImageIO is not allowed to
+// fall back to trying its other readers.
+TEST(ImageIO, OnlyTheDocumentedFormatsAreDecoded) {
+    ImageF img(3, 2, 3);
+    img.at(1, 1, 2) = 0.5f;
+    const std::string dir = test::output_dir();
+    for (const char* ext : {".png", ".exr", ".tif", ".tga", ".bmp", ".hdr", ".jpg"}) {
+        SCOPED_TRACE(ext);
+        const std::string p = dir + "/allowed" + ext;
+        write_image(p, img);
+        const ImageF back = read_image(p);
+        EXPECT_EQ(back.width(), 3);
+        EXPECT_EQ(back.height(), 2);
+    }
+    // A PNG named .gif is read as the PNG it is (magic bytes win over the name).
+    std::filesystem::copy_file(dir + "/allowed.png", dir + "/png_named.gif");
+    EXPECT_EQ(read_image(dir + "/png_named.gif").width(), 3);
+    // Bytes that are no valid PNG, in a file named .png, are not handed to OpenImageIO's other
+    // readers (its create() tries every reader it has when the named one refuses the bytes):
+    // a binary PPM that its PNM reader would decode is refused.
+    std::ofstream(dir + "/ppm_named.png", std::ios::binary) << "P6\n3 2\n255\n" << std::string(18, '\x40');
+    EXPECT_THROW((void)read_image(dir + "/ppm_named.png"), Error);
+    // Formats OpenImageIO knows but we do not read, by magic or by name.
+    const std::vector<std::pair<std::string, std::string>> refused = {
+        {"a.gif", "GIF89a\x01\x00\x01\x00\x00\x00\x00;"},
+        {"a.dds", std::string("DDS \x7c\x00\x00\x00", 8)},
+        {"a.psd", "8BPS\x00\x01"},
+        {"a.sgi", std::string("\x01\xda\x00\x01", 4)},
+        {"a.ppm", "P6\n1 1\n255\nabc"},
+    };
+    for (const auto& [name, content] : refused) {
+        SCOPED_TRACE(name);
+        const std::string p = dir + "/" + name;
+        std::ofstream(p, std::ios::binary) << content;
+        try {
+            (void)read_image(p);
+            ADD_FAILURE() << "decoded";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("format is not read"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(ImageIO, FailedWriteLeavesExistingFileUntouched) {
     std::string dir = test::output_dir();
     std::string p = dir + "/io_keep.png";
