@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/cli_args.h"
+#include "app/render_job.h"
 #include "app/visualize.h"
 #include "core/color.h"
 #include "core/compare.h"
@@ -86,21 +87,7 @@ OpenImageIO reads). --diff writes a heatmap of the per-pixel max error. Exit sta
 images could be compared (whatever the difference), 1 on error.
 )";
 
-struct RenderOptions {
-    std::string scene, out, targets_dir, targets_png_dir, style;
-    bool style_given = false;
-    std::vector<std::string> sets, variants;
-    int width = 0, height = 0, ssaa = 1, threads = 0;
-    int frame_first = 0, frame_last = 0;
-    bool animation = false;
-    double fps = 0;
-    bool reference = false, quiet = false, allow_outside_files = false;
-    bool neutral_control = false;
-    aq::WorkingSpace working_space = aq::WorkingSpace::Display;
-    std::string sweep;  //!< "step.param" swept by --sweep
-    double sweep_from = 0, sweep_to = 0;
-    int sweep_count = 0;
-};
+using aq::app::RenderOptions;
 
 std::string frame_path(const std::string& pattern, int frame) {
     auto pos = pattern.find("####");
@@ -210,193 +197,42 @@ RenderOptions parse_render(Args& a) {
 }
 
 int cmd_render(Args& a) {
-    RenderOptions o = parse_render(a);
-    auto log = [&](const std::string& s) {
+    const RenderOptions o = parse_render(a);
+    aq::app::Reporter report;
+    report.progress = [&](const std::string& s) {
         if (!o.quiet) std::cerr << s << std::endl;
     };
+    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
     const auto t0 = std::chrono::steady_clock::now();
-    auto ms_since = [](auto t) {
-        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-    };
-
-    // 1. Scene, then the style: every name and value is validated before anything is rendered.
-    aq::scene::LoadOptions load_options;
-    load_options.allow_outside_files = o.allow_outside_files;
-    aq::scene::SceneDesc desc = aq::scene::load_scene(o.scene, load_options);
-    for (auto& w : desc.scene.warnings) std::cerr << "warning: " << w << "\n";
-    log("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
-        std::to_string(int(ms_since(t0))) + " ms");
-
-    aq::raster::RenderSettings rs;
-    rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
-    rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
-    rs.ssaa = o.ssaa;
-    rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
-    rs.exec = o.reference ? aq::Exec::reference() : aq::Exec::fast(o.threads);
-    aq::check_image_size(rs.width, rs.height, "output");
-    aq::check_image_size(rs.width * rs.ssaa, rs.height * rs.ssaa, "supersampled render (--ssaa)");
-    const float aspect = float(rs.width) / float(rs.height);
-    if (desc.camera_auto && aspect != desc.auto_aspect)  // reframe for the size actually rendered
-        desc.camera = aq::scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
-
-    std::string style = o.style_given ? o.style : (desc.style.empty() ? "wc18" : desc.style);
-    const bool stylize = style != "none";
-    aq::stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
-    if (stylize) {
-        pipeline = aq::stylize::load_pipeline(style);
-        if (!o.style_given || o.style == desc.style) {
-            for (auto& [k, v] : desc.style_variant) aq::stylize::set_variant(pipeline, k + "=" + v);
-            for (auto& [k, v] : desc.style_set) {
-                const auto dot = k.find('.');
-                aq::stylize::set_param_value(pipeline, k.substr(0, dot), dot == std::string::npos ? "" : k.substr(dot + 1),
-                                             v, "scene file '" + o.scene + "' style value '" + k + "'");
-            }
-        }
-        if (desc.camera_auto) {
-            // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically
-            // framed camera hugs the scene's bounding sphere, so its clip range is the scene's
-            // depth range whatever the model's units: normalise over it instead.
-            for (const auto& step : pipeline.steps)
-                if (step.stage == "adjust") {
-                    const std::string id = step.id.empty() ? step.stage : step.id;
-                    const std::string why = "the automatic depth range of the framed camera";
-                    aq::stylize::set_param_value(pipeline, id, "depth_near", double(desc.camera.znear), why);
-                    aq::stylize::set_param_value(pipeline, id, "depth_far", double(desc.camera.zfar), why);
-                }
-        }
-        for (auto& v : o.variants) aq::stylize::set_variant(pipeline, v);
-        for (auto& s : o.sets) aq::stylize::set_param(pipeline, s);
-        if (!desc.paper.empty()) {
-            pipeline.paper.file = desc.paper;
-            pipeline.has_paper = true;
-        }
-        if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
-        aq::stylize::validate_pipeline(pipeline);
-    } else if (!o.sets.empty() || !o.variants.empty()) {
-        throw UsageError("render: --set/--variant need a style (not --style none)");
-    }
-
-    rs.substrate_color = stylize ? pipeline.substrate_color : desc.substrate_color;
-    rs.working_space = o.working_space;
-    if (o.working_space == aq::WorkingSpace::Linear) {
-        // The paper colour is given as a display value; the maths and the G-buffer run in linear.
-        for (int k = 0; k < 3; ++k) rs.substrate_color[k] = aq::srgb_to_linear(rs.substrate_color[k]);
-        if (stylize) pipeline.substrate_color = rs.substrate_color;
-    }
-    if (stylize) {
-        // WC17 §3.2: pigment turbulence is object-space in a pipeline without the image-space
-        // density stage (wc16, wc17): the material applies eq. 6 from ctrl.pigment.b.
-        bool image_space_density = false;
-        for (const auto& step : pipeline.steps) image_space_density |= step.stage == "pigment_density";
-        if (!image_space_density) rs.turbulence = aq::raster::RenderSettings::Turbulence::ObjectSpace;
-        // Default art-direction (docs/look.md) for primitives without painted control, unless the
-        // scene file has its own rules or --control neutral.
-        if (!o.neutral_control && !desc.control_rules && !pipeline.default_control.empty()) {
-            const auto rules = aq::scene::parse_control_rules(pipeline.default_control,
-                                                              "style '" + pipeline.name + "' default_control");
-            const std::size_t n = aq::scene::apply_default_control(desc.scene, rules);
-            if (n) log("default control of style " + pipeline.name + " on " + std::to_string(n) + " primitive(s)");
-        }
-    }
-
+    // Every name and value is validated before anything is rendered.
+    aq::app::RenderJob job = aq::app::prepare_render(o, report);
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
     if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
 
-    // A sweep renders the G-buffer once and reruns the style for each value of one parameter.
-    std::vector<aq::stylize::Pipeline> styles{pipeline};
-    std::vector<std::string> sweep_labels{""};
-    if (!o.sweep.empty()) {
-        if (!stylize) throw UsageError("render: --sweep needs a style (not --style none)");
-        styles.clear();
-        sweep_labels.clear();
-        for (int i = 0; i < o.sweep_count; ++i) {
-            const double t = double(i) / double(o.sweep_count - 1);
-            const double v = o.sweep_from + (o.sweep_to - o.sweep_from) * t;
-            char assign[256];
-            std::snprintf(assign, sizeof assign, "%s=%.9g", o.sweep.c_str(), v);
-            aq::stylize::Pipeline p = pipeline;
-            aq::stylize::set_param(p, assign);  // every value checked before anything is rendered
-            styles.push_back(std::move(p));
-            sweep_labels.push_back(assign);
+    aq::app::run_render(job, [&](aq::app::RenderedImage& img) {
+        // Intermediates first, the display image last: a listener waiting for --out sees a
+        // complete set.
+        const bool numbered = o.animation || job.sweeping();
+        const std::string sub = frame_path(job.sweeping() ? "sweep####" : "frame####", img.index);
+        if (!o.targets_dir.empty()) {
+            const std::string dir = numbered ? o.targets_dir + "/" + sub : o.targets_dir;
+            aq::ensure_directory(dir);
+            for (auto& [name, t] : img.targets.all())
+                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", t);
         }
-    }
-    const bool sweeping = styles.size() > 1;
-
-    const int nframes = o.frame_last - o.frame_first + 1;
-    for (int f = o.frame_first; f <= o.frame_last; ++f) {
-        const auto tf = std::chrono::steady_clock::now();
-        const std::string prefix =
-            o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
-        rs.frame = f;
-        std::vector<std::string> warnings;
-        aq::Targets gbuffer = aq::raster::render_gbuffer(desc.scene, desc.camera, rs, &warnings);
-        for (auto& w : warnings) std::cerr << "warning: " << w << "\n";
-        log(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
-            std::to_string(int(ms_since(tf))) + " ms");
-
-        for (std::size_t si = 0; si < styles.size(); ++si) {
-            const int index = sweeping ? int(si) : f;  // the number that replaces #### in paths
-            const std::string tag = sweeping ? "[sweep " + std::to_string(si + 1) + "/" + std::to_string(styles.size()) +
-                                                   " " + sweep_labels[si] + "] "
-                                             : prefix;
-            aq::Targets targets = sweeping ? gbuffer : std::move(gbuffer);
-            std::string final_name = aq::target::kColor;
-            if (stylize) {
-                const auto ts = std::chrono::steady_clock::now();
-                aq::stylize::RunOptions ro;
-                ro.exec = rs.exec;
-                if (!o.quiet && !o.animation && !sweeping)
-                    ro.progress = [&](int i, int n, const std::string& step) {
-                        std::cerr << "  stage " << (i + 1) << "/" << n << ": " << step << std::endl;
-                    };
-                aq::stylize::run_pipeline(styles[si], targets, ro);
-                final_name = styles[si].output;
-                log(tag + "style " + styles[si].name + " (" + std::to_string(styles[si].steps.size()) +
-                    " stages) in " + std::to_string(int(ms_since(ts))) + " ms");
-            }
-
-            // Intermediates first, the display image last: a listener waiting for --out sees a
-            // complete set.
-            const bool numbered = o.animation || sweeping;
-            const std::string sub = frame_path(sweeping ? "sweep####" : "frame####", index);
-            if (!o.targets_dir.empty()) {
-                const std::string dir = numbered ? o.targets_dir + "/" + sub : o.targets_dir;
-                aq::ensure_directory(dir);
-                for (auto& [name, img] : targets.all())
-                    aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", img);
-            }
-            if (!o.targets_png_dir.empty()) {
-                const std::string dir = numbered ? o.targets_png_dir + "/" + sub : o.targets_png_dir;
-                aq::ensure_directory(dir);
-                for (auto& [name, img] : targets.all())
-                    aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, img));
-            }
-            const std::string out = frame_path(o.out, index);
-            aq::ImageF encoded;
-            if (o.working_space == aq::WorkingSpace::Linear) {  // output transform: linear -> sRGB
-                encoded = targets.get(final_name);
-                float* d = encoded.data();
-                const int nc = encoded.channels();
-                for (std::size_t i = 0; i < encoded.num_values(); ++i)
-                    if (nc < 4 || i % std::size_t(nc) != 3) d[i] = aq::linear_to_srgb(std::clamp(d[i], 0.0f, 1.0f));
-            }
-            const aq::ImageF& final_img = o.working_space == aq::WorkingSpace::Linear ? encoded : targets.get(final_name);
-            // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
-            // colour (--style none) keeps its coverage alpha for compositing; --targets keeps
-            // every channel.
-            if (stylize && final_img.channels() == 4) {
-                aq::ImageF rgb(final_img.width(), final_img.height(), 3);
-                for (int y = 0; y < rgb.height(); ++y)
-                    for (int x = 0; x < rgb.width(); ++x)
-                        for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = final_img.at(x, y, c);
-                aq::write_image(out, rgb);
-            } else {
-                aq::write_image(out, final_img);
-            }
-            log(tag + "wrote " + out);
+        if (!o.targets_png_dir.empty()) {
+            const std::string dir = numbered ? o.targets_png_dir + "/" + sub : o.targets_png_dir;
+            aq::ensure_directory(dir);
+            for (auto& [name, t] : img.targets.all())
+                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, t));
         }
-    }
-    log("done in " + std::to_string(int(ms_since(t0))) + " ms");
+        const std::string out = frame_path(o.out, img.index);
+        aq::write_image(out, img.final_image());
+        report.progress(img.tag + "wrote " + out);
+    }, report);
+    report.progress("done in " +
+                    std::to_string(int(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count())) +
+                    " ms");
     return 0;
 }
 

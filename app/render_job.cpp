@@ -1,0 +1,194 @@
+// app/render_job.cpp — see render_job.h.
+#include "app/render_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "app/cli_args.h"
+#include "scenes/scene_file.h"
+
+namespace aq::app {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+//! "step.param" -> (step, param); a name without a dot is a step with no parameter (an error
+//! reported by set_param_value with the source named).
+std::pair<std::string, std::string> split_step_param(const std::string& k) {
+    const auto dot = k.find('.');
+    return {k.substr(0, dot), dot == std::string::npos ? "" : k.substr(dot + 1)};
+}
+
+}  // namespace
+
+RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderJob job;
+    job.options = o;
+    scene::LoadOptions load_options;
+    load_options.allow_outside_files = o.allow_outside_files;
+    job.desc = scene::load_scene(o.scene, load_options);
+    scene::SceneDesc& desc = job.desc;
+    for (auto& w : desc.scene.warnings) report.warning(w);
+    report.progress("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
+        std::to_string(int(ms_since(t0))) + " ms");
+
+    raster::RenderSettings& rs = job.settings;
+    rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
+    rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
+    rs.ssaa = o.ssaa;
+    rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
+    rs.exec = o.reference ? Exec::reference() : Exec::fast(o.threads);
+    check_image_size(rs.width, rs.height, "output");
+    check_image_size(rs.width * rs.ssaa, rs.height * rs.ssaa, "supersampled render (--ssaa)");
+    const float aspect = float(rs.width) / float(rs.height);
+    if (desc.camera_auto && aspect != desc.auto_aspect)  // reframe for the size actually rendered
+        desc.camera = scene::frame_bounds(desc.scene.world_bounds(), aspect, desc.auto_view_dir, desc.auto_yfov);
+
+    const std::string style = o.style_given ? o.style : (desc.style.empty() ? "wc18" : desc.style);
+    job.stylize = style != "none";
+    stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
+    if (job.stylize) {
+        pipeline = stylize::load_pipeline(style);
+        if (!o.style_given || o.style == desc.style) {
+            for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);
+            for (auto& [k, v] : desc.style_set) {
+                const auto [step, param] = split_step_param(k);
+                stylize::set_param_value(pipeline, step, param, v,
+                                         "scene file '" + o.scene + "' style value '" + k + "'");
+            }
+        }
+        if (desc.camera_auto) {
+            // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically
+            // framed camera hugs the scene's bounding sphere, so its clip range is the scene's
+            // depth range whatever the model's units: normalise over it instead.
+            for (const auto& step : pipeline.steps)
+                if (step.stage == "adjust") {
+                    const std::string id = step.id.empty() ? step.stage : step.id;
+                    const std::string why = "the automatic depth range of the framed camera";
+                    stylize::set_param_value(pipeline, id, "depth_near", double(desc.camera.znear), why);
+                    stylize::set_param_value(pipeline, id, "depth_far", double(desc.camera.zfar), why);
+                }
+        }
+        for (auto& v : o.variants) stylize::set_variant(pipeline, v);
+        for (auto& s : o.sets) stylize::set_param(pipeline, s);
+        if (!desc.paper.empty()) {
+            pipeline.paper.file = desc.paper;
+            pipeline.has_paper = true;
+        }
+        if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
+        stylize::validate_pipeline(pipeline);
+    } else if (!o.sets.empty() || !o.variants.empty()) {
+        throw cli::UsageError("render: --set/--variant need a style (not --style none)");
+    }
+
+    rs.substrate_color = job.stylize ? pipeline.substrate_color : desc.substrate_color;
+    rs.working_space = o.working_space;
+    if (o.working_space == WorkingSpace::Linear) {
+        // The paper colour is given as a display value; the maths and the G-buffer run in linear.
+        for (int k = 0; k < 3; ++k) rs.substrate_color[k] = srgb_to_linear(rs.substrate_color[k]);
+        if (job.stylize) pipeline.substrate_color = rs.substrate_color;
+    }
+    if (job.stylize) {
+        // WC17 §3.2: pigment turbulence is object-space in a pipeline without the image-space
+        // density stage (wc16, wc17): the material applies eq. 6 from ctrl.pigment.b.
+        bool image_space_density = false;
+        for (const auto& step : pipeline.steps) image_space_density |= step.stage == "pigment_density";
+        if (!image_space_density) rs.turbulence = raster::RenderSettings::Turbulence::ObjectSpace;
+        // Default art-direction (docs/look.md) for primitives without painted control, unless the
+        // scene file has its own rules or --control neutral.
+        if (!o.neutral_control && !desc.control_rules && !pipeline.default_control.empty()) {
+            const auto rules =
+                scene::parse_control_rules(pipeline.default_control, "style '" + pipeline.name + "' default_control");
+            const std::size_t n = scene::apply_default_control(desc.scene, rules);
+            if (n) report.progress("default control of style " + pipeline.name + " on " + std::to_string(n) + " primitive(s)");
+        }
+    }
+
+    // A sweep renders the G-buffer once and reruns the style for each value of one parameter.
+    job.styles = {pipeline};
+    job.sweep_labels = {""};
+    if (!o.sweep.empty()) {
+        if (!job.stylize) throw cli::UsageError("render: --sweep needs a style (not --style none)");
+        job.styles.clear();
+        job.sweep_labels.clear();
+        const auto [step, param] = split_step_param(o.sweep);
+        for (int i = 0; i < o.sweep_count; ++i) {
+            const double t = double(i) / double(o.sweep_count - 1);
+            const double v = o.sweep_from + (o.sweep_to - o.sweep_from) * t;
+            stylize::Pipeline p = pipeline;
+            stylize::set_param_value(p, step, param, v, "--sweep");  // every value checked before rendering
+            char label[256];
+            std::snprintf(label, sizeof label, "%s=%.9g", o.sweep.c_str(), v);
+            job.styles.push_back(std::move(p));
+            job.sweep_labels.push_back(label);
+        }
+    }
+    return job;
+}
+
+void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report) {
+    const RenderOptions& o = job.options;
+    raster::RenderSettings& rs = job.settings;
+    const bool sweeping = job.sweeping();
+    const int nframes = o.frame_last - o.frame_first + 1;
+    for (int f = o.frame_first; f <= o.frame_last; ++f) {
+        const auto tf = std::chrono::steady_clock::now();
+        const std::string prefix =
+            o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
+        rs.frame = f;
+        std::vector<std::string> warnings;
+        Targets gbuffer = raster::render_gbuffer(job.desc.scene, job.desc.camera, rs, &warnings);
+        for (auto& w : warnings) report.warning(w);
+        report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
+            std::to_string(int(ms_since(tf))) + " ms");
+
+        for (std::size_t si = 0; si < job.styles.size(); ++si) {
+            const stylize::Pipeline& style = job.styles[si];
+            const std::string tag = sweeping ? "[sweep " + std::to_string(si + 1) + "/" +
+                                                   std::to_string(job.styles.size()) + " " + job.sweep_labels[si] + "] "
+                                             : prefix;
+            Targets targets = sweeping ? gbuffer : std::move(gbuffer);
+            std::string final_name = target::kColor;
+            if (job.stylize) {
+                const auto ts = std::chrono::steady_clock::now();
+                stylize::RunOptions ro;
+                ro.exec = rs.exec;
+                if (!o.quiet && !o.animation && !sweeping)
+                    ro.progress = [&](int i, int n, const std::string& step) {
+                        report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
+                    };
+                stylize::run_pipeline(style, targets, ro);
+                final_name = style.output;
+                report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
+                    std::to_string(int(ms_since(ts))) + " ms");
+            }
+            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, {}, false};
+            const ImageF& fin = targets.get(final_name);
+            const bool linear = o.working_space == WorkingSpace::Linear;
+            // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
+            // colour (--style none) keeps its coverage alpha for compositing.
+            const bool drop_alpha = job.stylize && fin.channels() == 4;
+            if (linear || drop_alpha) {
+                const int nc = drop_alpha ? 3 : fin.channels();
+                img.converted = ImageF(fin.width(), fin.height(), nc);
+                for (int y = 0; y < fin.height(); ++y)
+                    for (int x = 0; x < fin.width(); ++x)
+                        for (int c = 0; c < nc; ++c) {
+                            const float v = fin.at(x, y, c);
+                            // output transform linear -> sRGB on colour, never on alpha
+                            img.converted.at(x, y, c) =
+                                linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
+                        }
+                img.converted_ = true;
+            }
+            sink(img);
+        }
+    }
+}
+
+}  // namespace aq::app

@@ -1,0 +1,77 @@
+// app/render_job.h — the render job behind `aquarelle render`, apart from option parsing and file
+// output: a scene loaded and a style configured once (prepare_render), then frames x sweep values
+// rendered, each image handed to a sink (run_render). The CLI's sink writes files; the regression
+// goldens (tests/app/golden_test.cpp) hash every target through the same job.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/color.h"
+#include "core/targets.h"
+#include "raster/raster.h"
+#include "scenes/scene_file.h"
+#include "stylize/pipeline.h"
+
+namespace aq::app {
+
+//! What `aquarelle render` was asked (app/main.cpp parses it; docs in its --help).
+struct RenderOptions {
+    std::string scene, out, targets_dir, targets_png_dir, style;
+    bool style_given = false;
+    std::vector<std::string> sets, variants;
+    int width = 0, height = 0, ssaa = 1, threads = 0;
+    int frame_first = 0, frame_last = 0;
+    bool animation = false;
+    double fps = 0;
+    bool reference = false, quiet = false, allow_outside_files = false;
+    bool neutral_control = false;
+    WorkingSpace working_space = WorkingSpace::Display;
+    std::string sweep;  //!< "step.param" swept by --sweep
+    double sweep_from = 0, sweep_to = 0;
+    int sweep_count = 0;
+};
+
+//! A scene and its styles, configured and validated: nothing is rendered before every name and
+//! value has been checked.
+struct RenderJob {
+    RenderOptions options;
+    scene::SceneDesc desc;
+    raster::RenderSettings settings;
+    bool stylize = false;                        //!< false: --style none (G-buffer colour only)
+    std::vector<stylize::Pipeline> styles;       //!< one, or one per sweep value
+    std::vector<std::string> sweep_labels;       //!< "step.param=value" per sweep value, else {""}
+    bool sweeping() const { return styles.size() > 1; }
+};
+
+//! Where a job reports: progress (silenced by --quiet) and warnings (always shown by the CLI).
+struct Reporter {
+    std::function<void(const std::string&)> progress = [](const std::string&) {};
+    std::function<void(const std::string&)> warning = [](const std::string&) {};
+};
+
+//! Loads the scene and configures the style (scene-file values, automatic depth range, --variant,
+//! --set, paper, working space, default art-direction, sweep values). Throws aq::Error.
+RenderJob prepare_render(const RenderOptions& options, const Reporter& report);
+
+//! One rendered image: all targets (G-buffer and every intermediate) and the final image as it
+//! is written (display-encoded; opaque RGB for a stylised image).
+struct RenderedImage {
+    int frame = 0;
+    int index = 0;                //!< the number replacing #### in paths (frame, or sweep index)
+    std::size_t style_index = 0;  //!< into RenderJob::styles
+    std::string tag;              //!< progress prefix, e.g. "[frame 3/24] "
+    Targets& targets;
+    std::string final_target;
+    //! The image `--out` receives: the final target, converted where the output needs it (linear
+    //! working space -> sRGB; a stylised painting written opaque, RGB).
+    const ImageF& final_image() const { return converted_ ? converted : targets.get(final_target); }
+    ImageF converted;
+    bool converted_ = false;
+};
+
+//! Renders every frame x sweep value in order and calls sink for each. Throws aq::Error.
+void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report);
+
+}  // namespace aq::app

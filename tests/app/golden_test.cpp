@@ -1,0 +1,134 @@
+// tests/app/golden_test.cpp — regression goldens for issue 9 ("one stylization toolkit") and any
+// later work that must keep output bytes: the SHA-256 of every target (G-buffer and every
+// pipeline intermediate) and of the final image, for every preset on every shipped scene file and
+// procedural:swatches, rendered through the CLI's own render job (app/render_job.h) at 1, 2 and 8
+// threads.
+//
+// These hashes prove that a refactor changed nothing; they do not prove the images correct (the
+// stage tests, the GLSL twins and docs/look.md do that). They were recorded from the
+// implementation at the commit that added this file (tests/app/record_goldens.sh). A deliberate
+// change of bytes (a bug fix, a format change) re-records them in its own commit, saying which
+// targets changed and why.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "app/render_job.h"
+#include "core/hash.h"
+#include "tests/test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace aq::app {
+namespace {
+
+// Small enough for CI, large enough for partial tiles in both directions; frame 5 so the hand
+// tremor's clock is not at zero.
+constexpr int kWidth = 400, kHeight = 226, kFrame = 5;
+const char* const kPresets[] = {"wc16", "wc17", "wc18", "mnpr"};
+const int kThreadCounts[] = {1, 2, 8};
+
+std::vector<std::string> scenes() {
+    std::vector<std::string> s;
+    for (const auto& e : fs::directory_iterator(test::source_dir() + "/scenes/data"))
+        if (e.path().extension() == ".json") s.push_back(e.path().filename().string());
+    std::sort(s.begin(), s.end());
+    s.push_back("procedural:swatches");
+    return s;
+}
+
+std::string scene_arg(const std::string& scene) {
+    return scene.rfind("procedural:", 0) == 0 ? scene : test::source_dir() + "/scenes/data/" + scene;
+}
+
+//! target name -> hash ("final" = the image --out receives).
+std::map<std::string, std::string> render_hashes(const std::string& scene, const std::string& preset, int threads) {
+    RenderOptions o;
+    o.scene = scene_arg(scene);
+    o.style = preset;
+    o.style_given = true;
+    o.width = kWidth;
+    o.height = kHeight;
+    o.frame_first = o.frame_last = kFrame;
+    o.threads = threads;
+    o.quiet = true;
+    RenderJob job = prepare_render(o, Reporter{});
+    std::map<std::string, std::string> h;
+    run_render(job, [&](RenderedImage& img) {
+        for (const auto& [name, t] : img.targets.all()) h[name] = sha256_hex(t);
+        h["final"] = sha256_hex(img.final_image());
+    }, Reporter{});
+    return h;
+}
+
+using Table = std::map<std::string, std::map<std::string, std::string>>;  // "scene preset" -> target -> hash
+
+Table read_table() {
+    Table t;
+    std::ifstream in(test::source_dir() + "/tests/app/golden_hashes.tsv");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream s(line);
+        std::string scene, preset, target, hash;
+        if (s >> scene >> preset >> target >> hash) t[scene + " " + preset][target] = hash;
+    }
+    return t;
+}
+
+class Golden : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
+
+TEST_P(Golden, EveryTargetMatchesTheRecordedHashAtEveryThreadCount) {
+    const auto& [scene, preset] = GetParam();
+    std::map<int, std::map<std::string, std::string>> by_threads;
+    for (int n : kThreadCounts) by_threads[n] = render_hashes(scene, preset, n);
+    const auto& first = by_threads.begin()->second;
+    ASSERT_GT(first.size(), 5u);
+    for (const auto& [n, h] : by_threads) EXPECT_EQ(h, first) << n << " threads differ from " << kThreadCounts[0];
+
+    if (const char* dir = std::getenv("AQ_GOLDEN_RECORD")) {  // tests/app/record_goldens.sh
+        std::string name = scene + "_" + preset + ".tsv";
+        std::replace(name.begin(), name.end(), ':', '_');
+        std::ofstream out(std::string(dir) + "/" + name);
+        for (const auto& [target, hash] : first) out << scene << "\t" << preset << "\t" << target << "\t" << hash << "\n";
+        return;
+    }
+    const Table table = read_table();
+    const auto it = table.find(scene + " " + preset);
+    ASSERT_NE(it, table.end()) << "no golden hashes for " << scene << " " << preset
+                               << " in tests/app/golden_hashes.tsv (record: tests/app/record_goldens.sh)";
+    std::set<std::string> names;
+    for (const auto& [k, v] : it->second) names.insert(k);
+    for (const auto& [k, v] : first) names.insert(k);
+    for (const std::string& target : names) {
+        const auto rec = it->second.find(target);
+        const auto now = first.find(target);
+        if (rec == it->second.end()) ADD_FAILURE() << target << ": a new target, not in the golden table";
+        else if (now == first.end()) ADD_FAILURE() << target << ": recorded, no longer produced";
+        else EXPECT_EQ(now->second, rec->second) << scene << " " << preset << ": target '" << target << "' changed";
+    }
+}
+
+std::vector<std::tuple<std::string, std::string>> cases() {
+    std::vector<std::tuple<std::string, std::string>> c;
+    for (const std::string& s : scenes())
+        for (const char* p : kPresets) c.emplace_back(s, p);
+    return c;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllScenesAndPresets, Golden, ::testing::ValuesIn(cases()), [](const auto& info) {
+    std::string n = std::get<0>(info.param) + "_" + std::get<1>(info.param);
+    for (char& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return n;
+});
+
+}  // namespace
+}  // namespace aq::app
