@@ -71,13 +71,4 @@ void for_each_tile(const Exec& ex, Roi roi, F&& f) {
     });
 }
 
-//! Per-pixel convenience: f(x, y) for every pixel of roi, with the traversal of ex.
-template <class F>
-void for_each_pixel(const Exec& ex, Roi roi, F&& f) {
-    for_each_tile(ex, roi, [&](Roi r) {
-        for (int y = r.y0; y < r.y1; ++y)
-            for (int x = r.x0; x < r.x1; ++x) f(x, y);
-    });
-}
-
 }  // namespace aq

@@ -21,8 +21,12 @@ inline float smoothstep(float e0, float e1, float x) {
     const float t = sat((x - e0) / (e1 - e0));
     return t * t * (3.0f - 2.0f * t);
 }
-//! Rec. 709 luma weights (MNPR's luminance()).
-inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+//! Rec. ITU-R BT.709 luma weights (MNPR's luminance(), reference/shaders/common.glsl).
+inline constexpr float kLumaR = 0.2126f, kLumaG = 0.7152f, kLumaB = 0.0722f;
+inline float luminance(float r, float g, float b) { return kLumaR * r + kLumaG * g + kLumaB * b; }
+inline float luminance(glm::vec3 c) { return luminance(c.r, c.g, c.b); }
+//! |v| as sqrt(x*x + y*y + z*z) in this order (the GLSL twins' length()).
+inline float length3(glm::vec3 v) { return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
 
 //! Normalised 1-D Gaussian weights for offsets -radius..radius (2*radius+1 taps).
 inline std::vector<float> gaussian_weights(int radius, float sigma) {
@@ -38,7 +42,7 @@ inline std::vector<float> gaussian_weights(int radius, float sigma) {
 
 //! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
 //! texture() with GL_LINEAR), with the given border rule for the four taps. V is any view with
-//! `at(x, y, border)` (View<const T>, the stage planes of stage_b_util.h). Coordinates must be finite.
+//! `at(x, y, border)` (View<const T>, toolkit.h's Plane). Coordinates must be finite.
 template <class V>
 auto sample_bilinear(const V& v, float px, float py, Border b) {
     using T = std::decay_t<decltype(v.at(0, 0, b))>;
@@ -54,11 +58,10 @@ auto sample_bilinear(const V& v, float px, float py, Border b) {
 }
 
 
-// ---- added by stage group A (resolution conventions, exact-endpoint interpolation) ----------
-
 //! GLSL mix(): a*(1-t) + b*t. Exact at both ends (t = 0 gives a, t = 1 gives b for finite values),
 //! unlike lerp(), which is why stages use it where "zero control leaves the colour unchanged".
 inline float mix(float a, float b, float t) { return a * (1.0f - t) + b * t; }
+inline glm::vec3 mix(glm::vec3 a, glm::vec3 b, float t) { return a * (1.0f - t) + b * t; }
 
 //! Side of a half-resolution intermediate (WC17 §3.3): ceil(n / 2).
 inline int half_size(int n) { return (n + 1) / 2; }

@@ -8,7 +8,7 @@
 #include <immintrin.h>
 
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -26,7 +26,7 @@ inline void adjust_pixel(const float* c, float z, float* o, float& zo, const Adj
     const bool finite = std::fabs(z) <= 3.402823466e38f;  // false for +-inf and NaN
     const float zn = (z - p.depth_near) * inv_range;
     zo = finite ? zn : 1.0f;  // no geometry -> far (MNPR: zBuffer == 1 -> depth 1)
-    const float luma = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+    const float luma = luminance(c[0], c[1], c[2]);
     const float k = p.contrast * 0.5f + 0.5f;
     const float b = p.brightness - 1.0f;
     float atm = 0.0f;
@@ -57,7 +57,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     float* cout = color_out.data();
     float* zout = depth_out.data();
     if (kAtmosphere || ex.traversal == Traversal::Reference) {
-        detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
             for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i)
                 adjust_pixel<kAtmosphere>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
         });
@@ -69,13 +69,13 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     const float b = p.brightness - 1.0f;
     const __m256 vsat = _mm256_set1_ps(p.saturation), vk = _mm256_set1_ps(k), vb = _mm256_set1_ps(b);
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
-    const __m256 lr = _mm256_set1_ps(0.2126f), lg = _mm256_set1_ps(0.7152f), lb = _mm256_set1_ps(0.0722f);
+    const __m256 lr = _mm256_set1_ps(kLumaR), lg = _mm256_set1_ps(kLumaG), lb = _mm256_set1_ps(kLumaB);
     const __m256 sub = _mm256_setr_ps(substrate[0], substrate[1], substrate[2], 0.0f, substrate[0], substrate[1],
                                       substrate[2], 0.0f);
     const __m256 vnear = _mm256_set1_ps(p.depth_near), vinv = _mm256_set1_ps(inv_range);
     const __m256 fmax = _mm256_set1_ps(3.402823466e38f);
     const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t i1 = std::size_t(y1) * w;
         std::size_t i = std::size_t(y0) * w;
         for (; i + 2 <= i1; i += 2) {
@@ -116,14 +116,14 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
 
 void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
             glm::vec3 substrate, const AdjustParams& p, const Exec& ex) {
-    detail::check_input(color, 4, "adjust", "color");
-    detail::check_input(depth_linear, 1, "adjust", "depth");
-    detail::check_same_size(depth_linear, color, "adjust", "depth", "color");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "adjust", "color");
+    toolkit::check_input(&depth_linear, 1, toolkit::Channels::Exactly, "adjust", "depth");
+    toolkit::check_same_size(depth_linear, color, "adjust", "depth", "color");
     if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
     if (p.atmosphere && p.atmosphere_end == p.atmosphere_start)
         throw Error("adjust: atmosphere_start == atmosphere_end");
-    detail::ensure_image(color_out, color.width(), color.height(), 4);
-    detail::ensure_image(depth_out, color.width(), color.height(), 1);
+    toolkit::ensure_output(color_out, color.width(), color.height(), 4);
+    toolkit::ensure_output(depth_out, color.width(), color.height(), 1);
     if (p.atmosphere)
         adjust_rows<true>(color_out, depth_out, color, depth_linear, substrate, p, ex);
     else
@@ -152,7 +152,7 @@ void register_adjust(Registry& r) {
     v.outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}};
     v.params = t.descs();
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], detail::globals_of(io).substrate_color, t.from(pv), ex);
+        adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
     };
     r.add(std::move(v));
 }

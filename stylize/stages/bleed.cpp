@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -36,10 +36,10 @@ struct Planes {
     }
 };
 
-using detail::load8;
-using detail::store8;
-using detail::v8f;
-using detail::v8i;
+using toolkit::load8;
+using toolkit::store8;
+using toolkit::v8f;
+using toolkit::v8i;
 
 template <BleedRule R>
 inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope) {
@@ -164,9 +164,9 @@ template <BleedRule R>
 void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
                  const Kernel& k, Border border, const Exec& ex) {
     const int w = in.w, h = in.h, r = k.r;
-    const std::vector<int> xt = detail::border_table(w, r, border);
+    const std::vector<int> xt = toolkit::border_table(w, r, border);
     const int pw = w + 2 * r;
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<float> pad(std::size_t(pw) * 5);
         for (int y = y0; y < y1; ++y) {
             const std::size_t row = std::size_t(y) * w;
@@ -201,11 +201,11 @@ template <BleedRule R>
 void pass_fast_v(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
                  const Kernel& k, Border border, const Exec& ex) {
     const int w = in.w, h = in.h, r = k.r;
-    const std::vector<int> yt = detail::border_table(h, r, border);
+    const std::vector<int> yt = toolkit::border_table(h, r, border);
     std::vector<char> row_pos(std::size_t(h), 0);
     if (R != BleedRule::Naive)
         for (int y = 0; y < h; ++y) row_pos[std::size_t(y)] = any_positive(ctrl.data() + std::size_t(y) * w, w);
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<const float*> d(std::size_t(2 * r + 1) * 4);
         std::vector<const float*> zd(std::size_t(2 * r + 1));
         for (int y = y0; y < y1; ++y) {
@@ -250,12 +250,12 @@ void run_passes(const Planes& src, Planes& tmp, Planes& dst, const Kernel& k, Bo
 void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl, BleedRule rule,
            const BleedParams& p, const Exec& ex) {
     const bool need_depth = rule != BleedRule::Naive;
-    detail::check_input(color, 4, "bleed", "color");
-    detail::check_input(ctrl, 4, "bleed", "control");
-    detail::check_same_size(ctrl, color, "bleed", "control", "color");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "bleed", "color");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "bleed", "control");
+    toolkit::check_same_size(ctrl, color, "bleed", "control", "color");
     if (need_depth || !depth.empty()) {
-        detail::check_input(depth, 1, "bleed", "depth");
-        detail::check_same_size(depth, color, "bleed", "depth", "color");
+        toolkit::check_input(&depth, 1, toolkit::Channels::Exactly, "bleed", "depth");
+        toolkit::check_same_size(depth, color, "bleed", "depth", "color");
     }
     if (p.radius < 1 || p.radius > 40) throw Error("bleed: radius must be in [1, 40]");
     if (!(p.sigma > 0.0f)) throw Error("bleed: sigma must be > 0");
@@ -270,18 +270,18 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     Planes& out = tl_out;
     src.alloc(wr, hr, 5);
     {
-        // Half resolution: resample once (detail::resample, the sample_resampled convention).
+        // Half resolution: resample once (toolkit::resample, the sample_resampled convention).
         ImageF hc, hk, hz;
         if (p.half_res) {
-            hc = detail::resample(color, wr, hr, ex);
-            hk = detail::resample_channel(ctrl, 2, wr, hr, ex);  // bleeding control only
-            if (!depth.empty()) hz = detail::resample(depth, wr, hr, ex);
+            hc = toolkit::resample(color, wr, hr, ex);
+            hk = toolkit::resample_channel(ctrl, 2, wr, hr, ex);  // bleeding control only
+            if (!depth.empty()) hz = toolkit::resample(depth, wr, hr, ex);
         }
         const float* cd = p.half_res ? hc.data() : color.data();
         const float* kd = p.half_res ? hk.data() : ctrl.data() + 2;  // + 2: the B channel
         const std::size_t ks = p.half_res ? 1 : 4;
         const float* zd = depth.empty() ? nullptr : (p.half_res ? hz.data() : depth.data());
-        detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
+        toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
             for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i) {
                 src.p[0][i] = cd[4 * i];
                 src.p[1][i] = cd[4 * i + 1];
@@ -305,9 +305,9 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
         case BleedRule::JointBilateral: run_passes<BleedRule::JointBilateral>(src, tmp, out, k, p.border, ex); break;
         case BleedRule::Mnpr: run_passes<BleedRule::Mnpr>(src, tmp, out, k, p.border, ex); break;
     }
-    detail::ensure_image(dst, wr, hr, 4);
+    toolkit::ensure_output(dst, wr, hr, 4);
     float* o = dst.data();
-    detail::for_each_row_block(ex, hr, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
         for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i)
             for (int c = 0; c < 4; ++c) o[4 * i + c] = out.p[c][i];
     });

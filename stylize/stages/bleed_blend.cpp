@@ -5,13 +5,13 @@
 #include <vector>
 
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
 void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const BleedBlendParams& p, const Exec& ex) {
-    detail::check_input(color, 4, "bleed_blend", "color");
-    detail::check_input(bleed, 4, "bleed_blend", "bleed");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "bleed_blend", "color");
+    toolkit::check_input(&bleed, 4, toolkit::Channels::Exactly, "bleed_blend", "bleed");
     const int w = color.width(), h = color.height();
     const bool full = bleed.same_size(color);
     if (!full && !(bleed.width() == half_size(w) && bleed.height() == half_size(h)))
@@ -19,7 +19,7 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
                     std::to_string(bleed.height()) + ", expected the size of 'color' (" + std::to_string(w) + "x" +
                     std::to_string(h) + ") or half of it (" + std::to_string(half_size(w)) + "x" +
                     std::to_string(half_size(h)) + ")");
-    detail::ensure_image(dst, w, h, 4);
+    toolkit::ensure_output(dst, w, h, 4);
     const float* I = color.data();
     float* o = dst.data();
     const float gain = p.gain;
@@ -36,20 +36,20 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
         }
     };
     if (full) {
-        detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
             const std::size_t i0 = std::size_t(y0) * w;
             blend(bleed.data() + 4 * i0, i0, std::size_t(y1 - y0) * w);
         });
         return;
     }
-    // A half-resolution bleed is upsampled row by row into a buffer (detail::RowResampler: the
+    // A half-resolution bleed is upsampled row by row into a buffer (toolkit::RowResampler: the
     // sample_resampled convention, value for value, each source row resampled horizontally once
     // per row block) and blended at once: no full-size temporary (33 MB at 1080p, written and
     // read back every frame).
-    const detail::ResampleAxis ax(w, bleed.width()), ay(h, bleed.height());
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    const toolkit::ResampleAxis ax(w, bleed.width()), ay(h, bleed.height());
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<float> row(std::size_t(w) * 4);
-        detail::RowResampler<4> up(bleed.data(), bleed.width(), w, ax, ay);
+        toolkit::RowResampler<4> up(bleed.data(), bleed.width(), w, ax, ay);
         for (int y = y0; y < y1; ++y) {
             up.row(y, row.data());
             blend(row.data(), std::size_t(y) * w, std::size_t(w));

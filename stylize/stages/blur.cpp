@@ -1,7 +1,7 @@
 // stylize/stages/blur.cpp — see blur.h.
 #include "stylize/stages/blur.h"
 
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -10,7 +10,7 @@ namespace {
 void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal) {
     const int W = src.width(), H = src.height(), C = src.channels();
     const int r = int(w.size() / 2);
-    detail::ensure_image(dst, W, H, C);
+    toolkit::ensure_output(dst, W, H, C);
     const float* s = src.data();
     float* o = dst.data();
     for (int y = 0; y < H; ++y)
@@ -31,13 +31,13 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
                const Exec& ex) {
     const int W = src.width(), H = src.height(), C = src.channels();
     const int r = int(w.size() / 2);
-    detail::ensure_image(dst, W, H, C);
+    toolkit::ensure_output(dst, W, H, C);
     const float* s = src.data();
     float* o = dst.data();
     const std::size_t n = std::size_t(W) * C;
     if (horizontal) {
-        const std::vector<int> xt = detail::border_table(W, r, b);
-        detail::for_each_row_block(ex, H, [&](int y0, int y1) {
+        const std::vector<int> xt = toolkit::border_table(W, r, b);
+        toolkit::for_each_row_block(ex, H, [&](int y0, int y1) {
             std::vector<float> pad(std::size_t(W + 2 * r) * C);
             std::vector<const float*> dp(w.size());
             for (int y = y0; y < y1; ++y) {
@@ -50,8 +50,8 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
             }
         });
     } else {
-        const std::vector<int> yt = detail::border_table(H, r, b);
-        detail::for_each_row_block(ex, H, [&](int y0, int y1) {
+        const std::vector<int> yt = toolkit::border_table(H, r, b);
+        toolkit::for_each_row_block(ex, H, [&](int y0, int y1) {
             std::vector<const float*> dp(w.size());
             for (int y = y0; y < y1; ++y) {
                 const float* sr = s + std::size_t(y) * n;

@@ -12,7 +12,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -23,10 +23,10 @@ namespace aq::stylize {
 inline void accumulate_taps(float* __restrict o, const float* __restrict s, const float* const* __restrict d, const float* wt, int taps, std::size_t n) {
     std::size_t i = 0;
     for (; i + 8 <= n; i += 8) {
-        const detail::v8f e0 = detail::load8(s + i);
-        detail::v8f acc = e0;
-        for (int a = 0; a < taps; ++a) acc = acc + wt[a] * (detail::load8(d[a] + i) - e0);
-        detail::store8(o + i, acc);
+        const toolkit::v8f e0 = toolkit::load8(s + i);
+        toolkit::v8f acc = e0;
+        for (int a = 0; a < taps; ++a) acc = acc + wt[a] * (toolkit::load8(d[a] + i) - e0);
+        toolkit::store8(o + i, acc);
     }
     for (; i < n; ++i) {
         const float e0 = s[i];

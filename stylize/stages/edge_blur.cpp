@@ -13,7 +13,7 @@
 
 #include "stylize/kernels.h"
 #include "stylize/stages/blur.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -27,10 +27,10 @@ int edge_blur_kernel_size(int width, float ctrl) {
 }
 
 void edge_blur_wc17(ImageF& dst, const ImageF& color, const EdgeBlurWc17Params& p, const Exec& ex) {
-    detail::check_input(color, 4, "edge_blur", "color");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "edge_blur", "color");
     const int w = color.width(), h = color.height();
     ImageF src;
-    if (p.half_res) src = detail::resample(color, half_size(w), half_size(h), ex);
+    if (p.half_res) src = toolkit::resample(color, half_size(w), half_size(h), ex);
     separable_blur(dst, p.half_res ? src : color, gaussian_weights(p.radius, p.sigma), p.border, ex);
 }
 
@@ -57,9 +57,9 @@ std::vector<std::vector<float>> wc18_tables(int kmax) {
 
 void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const EdgeBlurWc18Params& p,
                     const Exec& ex) {
-    detail::check_input(edges, 1, "edge_blur", "edges");
-    detail::check_input(ctrl, 4, "edge_blur", "control");
-    detail::check_same_size(ctrl, edges, "edge_blur", "control", "edges");
+    toolkit::check_input(&edges, 1, toolkit::Channels::Exactly, "edge_blur", "edges");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "edge_blur", "control");
+    toolkit::check_same_size(ctrl, edges, "edge_blur", "control", "edges");
     if (p.width < 1 || p.width > 16) throw Error("edge_blur: width must be in [1, 16]");
     const int w = edges.width(), h = edges.height();
     const int kmax = 4 * p.width;
@@ -71,7 +71,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
         for (std::size_t i = 0; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + 1]);
     };
     ImageF tmp(w, h, 1, kUninitialized);  // pass 0 writes every value
-    detail::ensure_image(dst, w, h, 1);
+    toolkit::ensure_output(dst, w, h, 1);
     const Border b = p.border;
     if (ex.traversal == Traversal::Reference) {
         std::vector<int> K(std::size_t(w) * h);
@@ -99,8 +99,8 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     // a run is a fixed-kernel 1-D convolution whose x loop vectorises. Per pixel the taps and
     // their order are those of the reference loop.
     const int R = kmax - 1;
-    const std::vector<int> xt = detail::border_table(w, R, b);
-    const std::vector<int> yt = detail::border_table(h, R, b);
+    const std::vector<int> xt = toolkit::border_table(w, R, b);
+    const std::vector<int> yt = toolkit::border_table(h, R, b);
     // K per pixel (<= 64) computed from ctrl.edge in pass 0 and kept as bytes (2 MB at 1080p) for
     // pass 1: the 4-channel control (32 MB at 1080p) is streamed once instead of twice.
     static_assert(4 * 16 <= 255);
@@ -108,7 +108,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     for (int pass = 0; pass < 2; ++pass) {
         const float* s = pass == 0 ? edges.data() : tmp.data();
         float* o = pass == 0 ? tmp.data() : dst.data();
-        detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
             std::vector<float> pad(std::size_t(w + 2 * R));
             std::vector<int> krow(static_cast<std::size_t>(w));
             const float* dp[2 * 4 * 16];  // tap rows (pass 1) or shifted pad (pass 0), 2K - 1 <= 127

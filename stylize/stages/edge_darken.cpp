@@ -13,27 +13,27 @@
 
 namespace aq::stylize {
 
-using namespace stage_b;
+using namespace toolkit;
 
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
-                     const EdgeDarkenDogParams& p, Roi roi, const Exec& ex) {
+                     const EdgeDarkenDogParams& p,  const Exec& ex) {
     const std::string st = "edge_darken/dog";
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    check_input(&blurred, 3, st, "blurred");
+    check_input(&blurred, 3, Channels::AtLeast, st, "blurred");
     check_full_or_half(blurred, color, st, "blurred", "color");
-    check_input(&ctrl_edge, 1, st, "ctrl_edge");
+    check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &blurred, st, "blurred");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     if (!(p.smooth_high > p.smooth_low)) throw Error(st + ": smooth_high must exceed smooth_low");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4, roi);
+    ensure_output(dst, w, h, 4);
     // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
     const bool same = blurred.same_size(color);
     const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
-    const Upsampler up = same ? Upsampler() : Upsampler(w, h, blurred.width(), blurred.height());
+    const Resampler up = same ? Resampler() : Resampler(w, h, blurred.width(), blurred.height());
     auto blur_at = [&](int x, int y) -> glm::vec3 {
         if (same) return {br(x, y), bg(x, y), bb(x, y)};
         return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
@@ -43,7 +43,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
     // operations as edge_darken_dog_px, pixel by pixel).
-    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
         for (int xs = x0; xs < x1; xs += kChunk) {
@@ -64,17 +64,17 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
 }
 
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
-                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, Roi roi,
+                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, 
                       const Exec& ex) {
     const std::string st = "edge_darken/rgbd";
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    check_input(&edges, 1, st, "edges");
+    check_input(&edges, 1, Channels::AtLeast, st, "edges");
     check_same_size(edges, color, st, "edges", "color");
-    check_input(&ctrl_edge, 1, st, "ctrl_edge");
+    check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
     if (bleed) {
-        check_input(bleed, 1, st, "bleed");
+        check_input(bleed, 1, Channels::AtLeast, st, "bleed");
         if (bleed->channels() != 1 && bleed->channels() != 4)
             throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
         check_full_or_half(*bleed, color, st, "bleed", "color");
@@ -84,19 +84,19 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4, roi);
+    ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, 0);
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
     const bool bleed_same = !bleed || bleed->same_size(color);
-    const Upsampler up = bleed_same ? Upsampler() : Upsampler(w, h, bm.width, bm.height);
+    const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather the inputs (scalar),
     // the exponents (vectorised, edge_darken_rgbd_exponent), then the powers of only the pixels
     // that darken, packed (vectorised pow_c), and the output. Value for value the operations of
     // edge_darken_rgbd_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
-    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float cr[kChunk], cg[kChunk], cb[kChunk], ev[kChunk], ci[kChunk], bl[kChunk], d[kChunk];
         float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
@@ -156,7 +156,7 @@ void register_edge_darken(Registry& r) {
         v.outputs = {{"color", "color.darkened", 4, false}};
         v.params = td.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), Roi::all(), ex);
+            edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), ex);
         });
         r.add(std::move(v));
     }
@@ -173,7 +173,7 @@ void register_edge_darken(Registry& r) {
         v.params = tr.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
-                             globals_of(io).substrate_color, tr.from(pv), Roi::all(), ex);
+                             globals_of(io).substrate_color, tr.from(pv), ex);
         });
         r.add(std::move(v));
     }

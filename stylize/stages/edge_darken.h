@@ -17,7 +17,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/stage.h"
-#include "stylize/stages/stage_b_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -47,7 +47,7 @@ inline float edge_darken_dog_exponent(glm::vec4 c, glm::vec3 blurred, float ctrl
     const glm::vec3 dog = blurred - glm::vec3(c);
     const float e = std::max(0.0f, std::max(dog.x, std::max(dog.y, dog.z)));
     float t = (e - p.smooth_low) / (p.smooth_high - p.smooth_low);
-    t = stage_b::satf(t);
+    t = sat(t);
     const float em = e * (t * t * (3.0f - 2.0f * t));
     const float k = std::max(0.0f, p.ctrl_bias + ctrl) * p.intensity * em;
     return k > 0.0f ? 1.0f + k : 1.0f;  // no edge (or NaN control): unchanged
@@ -57,7 +57,7 @@ inline float edge_darken_dog_exponent(glm::vec4 c, glm::vec3 blurred, float ctrl
 inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, const EdgeDarkenDogParams& p) {
     const float d = edge_darken_dog_exponent(c, blurred, ctrl, p);
     if (d == 1.0f) return c;
-    return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
+    return {pow_c(c.x, d), pow_c(c.y, d), pow_c(c.z, d), c.w};
 }
 
 //! WC18 §3.1 / MNPR exponent 1 + E_d for one pixel (exactly 1 where nothing darkens). Selects
@@ -67,8 +67,8 @@ inline float edge_darken_rgbd_exponent(float r, float g, float b, float edge, fl
     ci = ci > 0.0f ? ci * kEdgeCtrlPositiveGain : ci;
     float e = edge * p.intensity * (1.0f + ci);
     const float dr = r - substrate.x, dg = g - substrate.y, db = b - substrate.z;
-    e *= stage_b::satf(std::sqrt(dr * dr + dg * dg + db * db) * kEdgeSubstrateFade);
-    e *= stage_b::satf(1.0f - bleed * kEdgeBleedFade);
+    e *= sat(std::sqrt(dr * dr + dg * dg + db * db) * kEdgeSubstrateFade);
+    e *= sat(1.0f - bleed * kEdgeBleedFade);
     return e > 0.0f ? 1.0f + e : 1.0f;  // E_d <= 0 or NaN: C^1 = C
 }
 inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
@@ -81,20 +81,20 @@ inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bl
                                      const EdgeDarkenRgbdParams& p) {
     const float d = edge_darken_rgbd_exponent(c, edge, ci, bleed, substrate, p);
     if (d == 1.0f) return c;
-    return {stage_b::pow_c(c.x, d), stage_b::pow_c(c.y, d), stage_b::pow_c(c.z, d), c.w};
+    return {pow_c(c.x, d), pow_c(c.y, d), pow_c(c.z, d), c.w};
 }
 
 //! WC17 DoG edge darkening. color: 4 ch (I_cb, also the I of the DoG); blurred: >= 3 ch, full or half size
 //! (upsampled to color's size by resample convention, clamp to edge); ctrl_edge: >= 1 ch (R used),
-//! same size as color. dst: (re)allocated to color's size, 4 ch; only roi is written.
+//! same size as color. dst: (re)allocated to color's size, 4 ch.
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
-                     const EdgeDarkenDogParams& p, Roi roi = Roi::all(), const Exec& ex = {});
+                     const EdgeDarkenDogParams& p,  const Exec& ex = {});
 
 //! WC18 RGBD edge darkening. color: 4 ch; edges: >= 1 ch (channel 0 = blurred edges), same size;
 //! ctrl_edge: >= 1 ch (R); bleed: optional, 4 ch (alpha = bleeding mask, as stage "bleed" writes
 //! it) full or half size (resampled like the DoG blur), or 1 ch; absent = no bleeding.
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
-                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, Roi roi = Roi::all(),
+                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, 
                       const Exec& ex = {});
 
 void register_edge_darken(Registry& r);

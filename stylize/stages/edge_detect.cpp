@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -41,11 +41,11 @@ inline float sobel_pixel(const float (*n)[4], float wd) {
 
 void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& depth, const EdgeDetectParams& p,
                             const Exec& ex) {
-    detail::check_input(color, 4, "edge_detect", "color");
-    detail::check_input(depth, 1, "edge_detect", "depth");
-    detail::check_same_size(depth, color, "edge_detect", "depth", "color");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "edge_detect", "color");
+    toolkit::check_input(&depth, 1, toolkit::Channels::Exactly, "edge_detect", "depth");
+    toolkit::check_same_size(depth, color, "edge_detect", "depth", "color");
     const int w = color.width(), h = color.height();
-    detail::ensure_image(edges, w, h, 1);
+    toolkit::ensure_output(edges, w, h, 1);
     const float* cd = color.data();
     const float* zd = depth.data();
     float* out = edges.data();
@@ -72,9 +72,9 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     }
     // Fast: per output row, planar border-resolved copies of the three source rows (R, G, B, depth,
     // each w + 2 wide), then the same expressions as sobel_pixel with the x loop innermost.
-    const std::vector<int> xt = detail::border_table(w, 1, b);
+    const std::vector<int> xt = toolkit::border_table(w, 1, b);
     const float wd = p.depth_weight;
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t pw = std::size_t(w) + 2;
         std::vector<float> buf(pw * 12);
         std::vector<float> hsv(std::size_t(w) * 2);

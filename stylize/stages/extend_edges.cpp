@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "stylize/stages/blur.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -29,13 +29,13 @@ std::vector<float> linear_weights(int width) {
 }
 
 void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, const Exec& ex) {
-    detail::check_input(edges, 1, "extend_edges", "edges");
+    toolkit::check_input(&edges, 1, toolkit::Channels::Exactly, "extend_edges", "edges");
     if (p.width < 1 || p.width > 32) throw Error("extend_edges: width must be in [1, 32]");
     separable_blur(dst, edges, linear_weights(p.width), p.border, ex);
     const float g = 2.0f / float(p.width);
     float* d = dst.data();
     const int w = dst.width();
-    detail::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
         // b > 0: (b^(1/b))^(2/W) = b^((1/b) (2/W)), taken as one power (MNPR takes two; the
         // results differ by rounding only, and where b^(1/b) alone would underflow: values below
         // 1e-30, checked against the two-power GLSL twin by tests/reference); b <= 0 (and NaN) -> 0.

@@ -9,7 +9,7 @@
 
 namespace aq::stylize {
 
-using namespace stage_b;
+using namespace toolkit;
 
 namespace {
 
@@ -17,7 +17,7 @@ struct GoKernel {
     View<const glm::vec4> c;
     Plane e, ctrl, bleed;
     bool bleed_same;
-    const Upsampler* up;
+    const Resampler* up;
     int w, h;
     glm::vec3 substrate;
     GapsOverlapsParams p;
@@ -78,7 +78,7 @@ struct GoKernel {
                 const float ag = -go;
                 for (int i = 1; i <= p.steps; ++i) {
                     if (ag < float(i)) break;
-                    if (stage_b::sample_bilinear(e, cx + float(i) * g.x, cy + float(i) * g.y, b) > 1.0f / m) {
+                    if (sample_bilinear(e, cx + float(i) * g.x, cy + float(i) * g.y, b) > 1.0f / m) {
                         gap = true;
                         break;
                     }
@@ -93,16 +93,16 @@ struct GoKernel {
 }  // namespace
 
 void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, const ImageF& ctrl_edge,
-                   const ImageF* bleed, glm::vec3 substrate, const GapsOverlapsParams& p, Roi roi, const Exec& ex) {
+                   const ImageF* bleed, glm::vec3 substrate, const GapsOverlapsParams& p,  const Exec& ex) {
     const std::string st = "gaps_overlaps/wc18";
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    check_input(&edges_ext, 1, st, "edges");
+    check_input(&edges_ext, 1, Channels::AtLeast, st, "edges");
     check_same_size(edges_ext, color, st, "edges", "color");
-    check_input(&ctrl_edge, 3, st, "ctrl_edge");
+    check_input(&ctrl_edge, 3, Channels::AtLeast, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
     if (bleed) {
-        check_input(bleed, 1, st, "bleed");
+        check_input(bleed, 1, Channels::AtLeast, st, "bleed");
         if (bleed->channels() != 1 && bleed->channels() != 4)
             throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
         check_full_or_half(*bleed, color, st, "bleed", "color");
@@ -113,10 +113,10 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4, roi);
+    ensure_output(dst, w, h, 4);
     static const float kZero = 0.0f;
     const bool bleed_same = !bleed || bleed->same_size(color);
-    const Upsampler up = bleed_same ? Upsampler() : Upsampler(w, h, bleed->width(), bleed->height());
+    const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bleed->width(), bleed->height());
     const GoKernel k{color.view<glm::vec4>(),
                      plane(edges_ext, 0),
                      plane(ctrl_edge, 2),
@@ -129,7 +129,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                      p,
                      border_from(p.border)};
     const View<glm::vec4> o = dst.view<glm::vec4>();
-    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         for (int x = x0; x < x1; ++x) o(x, y) = k(x, y);
     });
 }
@@ -158,7 +158,7 @@ void register_gaps_overlaps(Registry& r) {
     v.params = t.descs();
     v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
-                      globals_of(io).substrate_color, t.from(pv), Roi::all(), ex);
+                      globals_of(io).substrate_color, t.from(pv), ex);
     });
     r.add(std::move(v));
 }

@@ -19,7 +19,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/stage.h"
-#include "stylize/stages/stage_b_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -45,9 +45,9 @@ struct GapsOverlapsParams {
 
 //! color: 4 ch; edges_ext: >= 1 ch (channel 0 = extended edges E_e), same size; ctrl_edge: >= 3 ch
 //! (B = gaps/overlaps), same size; bleed: optional, 1 ch or 4 ch (alpha), full or half size (resampled,
-//! clamp to edge). dst (re)allocated to color's size, 4 ch; roi written.
+//! clamp to edge). dst (re)allocated to color's size, 4 ch.
 void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, const ImageF& ctrl_edge,
-                   const ImageF* bleed, glm::vec3 substrate, const GapsOverlapsParams& p, Roi roi = Roi::all(),
+                   const ImageF* bleed, glm::vec3 substrate, const GapsOverlapsParams& p, 
                    const Exec& ex = {});
 
 void register_gaps_overlaps(Registry& r);

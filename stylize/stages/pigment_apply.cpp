@@ -10,7 +10,7 @@
 
 namespace aq::stylize {
 
-using namespace stage_b;
+using namespace toolkit;
 
 namespace {
 
@@ -21,20 +21,20 @@ struct Inputs {
     Plane ctrl, height;
 };
 
-Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper, Roi roi,
+Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper, 
              const std::string& st) {
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    check_input(&ctrl_pigment, 2, st, "ctrl_pigment");
+    check_input(&ctrl_pigment, 2, Channels::AtLeast, st, "ctrl_pigment");
     check_same_size(ctrl_pigment, color, st, "ctrl_pigment", "color");
     if (paper) {
-        check_input(paper, 3, st, "paper");
+        check_input(paper, 3, Channels::AtLeast, st, "paper");
         check_same_size(*paper, color, st, "paper", "color");
     }
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
     check_not_alias(dst, paper, st, "paper");
-    ensure_output(dst, color.width(), color.height(), 4, roi);
+    ensure_output(dst, color.width(), color.height(), 4);
     return {color.view<glm::vec4>(), plane(ctrl_pigment, 1),
             paper ? plane(*paper, 2) : constant_plane(&kFlatHeight, color.width(), color.height())};
 }
@@ -42,11 +42,11 @@ Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const
 }  // namespace
 
 void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
-                        const PigmentApplyWc17Params& p, Roi roi, const Exec& ex) {
-    const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc17");
+                        const PigmentApplyWc17Params& p,  const Exec& ex) {
+    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc17");
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks as in wc18: the same operations as pigment_apply_wc17_px, pixel by pixel.
-    for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
+    for_each_row(ex, color.width(), color.height(), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         PigmentWc17Prep q[kChunk];
         float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
@@ -71,14 +71,14 @@ void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
 }
 
 void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
-                        glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi, const Exec& ex) {
-    const Inputs in = check(dst, color, ctrl_pigment, paper, roi, "pigment_apply/wc18");
+                        glm::vec3 substrate, const PigmentApplyWc18Params& p,  const Exec& ex) {
+    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks of 64 pixels, each step a simple loop over arrays so GCC vectorises it:
     // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers (for
     // chunks where a pixel granulates), the blend. Value for value the operations of
     // pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
-    for_each_row_segment(ex, roi.clipped(color.width(), color.height()), [&](int y, int x0, int x1) {
+    for_each_row(ex, color.width(), color.height(), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float cr[kChunk], cg[kChunk], cb[kChunk], ca[kChunk], ht[kChunk], av[kChunk];
         float outr[kChunk], outg[kChunk], outb[kChunk], da[kChunk], fade[kChunk];
@@ -96,16 +96,16 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
             for (int i = 0; i < n; ++i) {
                 const float hr = (ht[i] - 0.5f) * p.roughness + 0.5f;  // eq. 1
                 const float dry = hr + av[i];
-                const float t = satf(-dry * p.dry_brush_threshold);   // eq. 2, case 1
+                const float t = sat(-dry * p.dry_brush_threshold);   // eq. 2, case 1
                 const float u = 1.0f - t;
                 outr[i] = cr[i] * u + sr * t, outg[i] = cg[i] * u + sg * t, outb[i] = cb[i] * u + sb * t;
                 float dg = std::fabs(av[i]) + p.granulation_min;      // eq. 3
-                const float l = 0.2126f * cr[i] + 0.7152f * cg[i] + 0.0722f * cb[i];
+                const float l = luminance(cr[i], cg[i], cb[i]);
                 dg = dg * (1.0f - l) + (dg * kGranulationLuminanceGain) * l;
                 const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
                 da[i] = 1.0f + dg * hiv * p.density;                   // eq. 4
                 const float dr = cr[i] - sr, dgr = cg[i] - sg, db = cb[i] - sb;
-                fade[i] = satf(std::sqrt(dr * dr + dgr * dgr + db * db) * kPigmentSubstrateFade);
+                fade[i] = sat(std::sqrt(dr * dr + dgr * dgr + db * db) * kPigmentSubstrateFade);
                 // 0: uncovered (unchanged), 1: dry-brushed, 2: granulates
                 mode[i] = !(ca[i] >= kPigmentAlphaMask) ? 0 : (dry < 0.0f ? 1 : 2);
             }
@@ -158,7 +158,7 @@ void register_pigment_apply(Registry& r) {
         v.params = t18.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             const Globals& g = globals_of(io);
-            pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv), Roi::all(),
+            pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv),
                                ex);
         });
         r.add(std::move(v));
@@ -172,7 +172,7 @@ void register_pigment_apply(Registry& r) {
         v.outputs = {{"color", "color.pigment", 4, false}};
         v.params = t17.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), Roi::all(), ex);
+            pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), ex);
         });
         r.add(std::move(v));
     }

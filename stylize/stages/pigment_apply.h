@@ -25,7 +25,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/stage.h"
-#include "stylize/stages/stage_b_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -84,7 +84,7 @@ inline PigmentWc17Prep pigment_apply_wc17_prepare(glm::vec4 c, float height, flo
 
 //! I_g = sat(I (I - sub) + (1 - I) I^(1 + k)) for one channel, pw = I^(1 + k).
 inline float pigment_apply_wc17_channel(float i, float sub, float pw) {
-    return stage_b::satf(i * (i - sub) + (1.0f - i) * pw);
+    return sat(i * (i - sub) + (1.0f - i) * pw);
 }
 
 //! WC17 eq. 9 for one pixel: c RGBA, height H in [0,1], ctrl = ctrl.pigment.g (negative values
@@ -92,9 +92,9 @@ inline float pigment_apply_wc17_channel(float i, float sub, float pw) {
 inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, const PigmentApplyWc17Params& p) {
     const PigmentWc17Prep q = pigment_apply_wc17_prepare(c, height, ctrl, p);
     if (!q.apply) return c;
-    return {pigment_apply_wc17_channel(c.x, q.sub, stage_b::pow_c(c.x, q.d)),
-            pigment_apply_wc17_channel(c.y, q.sub, stage_b::pow_c(c.y, q.d)),
-            pigment_apply_wc17_channel(c.z, q.sub, stage_b::pow_c(c.z, q.d)), c.w};
+    return {pigment_apply_wc17_channel(c.x, q.sub, pow_c(c.x, q.d)),
+            pigment_apply_wc17_channel(c.y, q.sub, pow_c(c.y, q.d)),
+            pigment_apply_wc17_channel(c.z, q.sub, pow_c(c.z, q.d)), c.w};
 }
 
 //! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c vectorises):
@@ -113,21 +113,21 @@ inline PigmentWc18Prep pigment_apply_wc18_prepare(glm::vec4 c, float height, flo
     const float hr = (height - 0.5f) * p.roughness + 0.5f;  // eq. 1
     const float dry = hr + a;                               // < 0: the paper is below the dry-brush level
     if (dry < 0.0f) {
-        const float t = stage_b::satf(-dry * p.dry_brush_threshold);
-        return {glm::vec4(stage_b::mixv(rgb, substrate, t), c.w)};  // eq. 2, case 1
+        const float t = sat(-dry * p.dry_brush_threshold);
+        return {glm::vec4(mix(rgb, substrate, t), c.w)};  // eq. 2, case 1
     }
     float dg = std::fabs(a) + p.granulation_min;
-    dg = stage_b::mixf(dg, dg * kGranulationLuminanceGain, stage_b::luma709(rgb));  // eq. 3
+    dg = mix(dg, dg * kGranulationLuminanceGain, luminance(rgb));  // eq. 3
     const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
     const float da = 1.0f + dg * hiv * p.density;  // eq. 4
-    const float fade = stage_b::satf(stage_b::length3(rgb - substrate) * kPigmentSubstrateFade);
+    const float fade = sat(length3(rgb - substrate) * kPigmentSubstrateFade);
     return {c, da, fade, true};
 }
 
 //! g = |C|^(d_a) per channel (eq. 2, case 2), blended by the substrate fade.
 inline glm::vec4 pigment_apply_wc18_finish(const PigmentWc18Prep& q, glm::vec3 g) {
     if (!q.granulate) return q.out;
-    return {stage_b::mixv(glm::vec3(q.out), g, q.fade), q.out.w};
+    return {mix(glm::vec3(q.out), g, q.fade), q.out.w};
 }
 
 //! WC18 eq. 1-4 for one pixel: c RGBA, height H, a = ctrl.pigment.g, substrate colour Cs.
@@ -135,16 +135,16 @@ inline glm::vec4 pigment_apply_wc18_px(glm::vec4 c, float height, float a, glm::
                                        const PigmentApplyWc18Params& p) {
     const PigmentWc18Prep q = pigment_apply_wc18_prepare(c, height, a, substrate, p);
     if (!q.granulate) return q.out;
-    return pigment_apply_wc18_finish(q, {stage_b::pow_c(std::fabs(c.x), q.da), stage_b::pow_c(std::fabs(c.y), q.da),
-                                         stage_b::pow_c(std::fabs(c.z), q.da)});
+    return pigment_apply_wc18_finish(q, {pow_c(std::fabs(c.x), q.da), pow_c(std::fabs(c.y), q.da),
+                                         pow_c(std::fabs(c.z), q.da)});
 }
 
 //! color: 4 ch; ctrl_pigment: >= 2 ch (G used), same size; paper: 3 ch (B = height) same size, or
-//! nullptr for the flat paper (height 0.5). dst (re)allocated to color's size; roi written.
+//! nullptr for the flat paper (height 0.5). dst (re)allocated to color's size.
 void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
-                        const PigmentApplyWc17Params& p, Roi roi = Roi::all(), const Exec& ex = {});
+                        const PigmentApplyWc17Params& p,  const Exec& ex = {});
 void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
-                        glm::vec3 substrate, const PigmentApplyWc18Params& p, Roi roi = Roi::all(),
+                        glm::vec3 substrate, const PigmentApplyWc18Params& p, 
                         const Exec& ex = {});
 
 void register_pigment_apply(Registry& r);

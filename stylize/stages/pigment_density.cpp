@@ -10,24 +10,24 @@
 
 #include "stylize/fastmath.h"
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
 void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::vec3 substrate,
                      const PigmentDensityParams& p, const Exec& ex) {
-    detail::check_input(color, 4, "pigment_density", "color");
-    detail::check_input(ctrl, 4, "pigment_density", "control");
-    detail::check_same_size(ctrl, color, "pigment_density", "control", "color");
+    toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "pigment_density", "color");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "pigment_density", "control");
+    toolkit::check_same_size(ctrl, color, "pigment_density", "control", "color");
     const int w = color.width(), h = color.height();
-    detail::ensure_image(dst, w, h, 4);
+    toolkit::ensure_output(dst, w, h, 4);
     const float* c = color.data();
     const float* k = ctrl.data();
     float* o = dst.data();
     // Chunks of a row: the exponents, the powers in one vectorised loop (x^1 == x exactly in
     // pow_c, so a chunk without paint skips them and keeps |c| bit for bit), then the blend:
     // value for value the formula of pigment_density.h.
-    detail::for_each_row_block(ex, h, [&](int y0, int y1) {
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
         float d[kChunk], dexp[3 * kChunk], cp[3 * kChunk];
         const std::size_t end = std::size_t(y1) * w;
@@ -68,7 +68,7 @@ void register_pigment_density(Registry& r) {
     v.outputs = {{"color", "color.density", 4, false}};
     v.params = t.descs();
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        pigment_density(*io.out[0], *io.in[0], *io.in[1], detail::globals_of(io).substrate_color, t.from(pv), ex);
+        pigment_density(*io.out[0], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
     };
     r.add(std::move(v));
 }

@@ -13,23 +13,23 @@
 
 namespace aq::stylize {
 
-using namespace stage_b;
+using namespace toolkit;
 
 namespace {
 const float kFlatNormal = 0.5f;
 }
 
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
-                       const ImageF* paper, const SubstrateDistortParams& p, Roi roi, const Exec& ex) {
+                       const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex) {
     const std::string st = "substrate_distort/mnpr";
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    check_input(&depth, 1, st, "depth");
+    check_input(&depth, 1, Channels::AtLeast, st, "depth");
     check_same_size(depth, color, st, "depth", "color");
-    check_input(&ctrl_substrate, 1, st, "ctrl_substrate");
+    check_input(&ctrl_substrate, 1, Channels::AtLeast, st, "ctrl_substrate");
     check_same_size(ctrl_substrate, color, st, "ctrl_substrate", "color");
     if (paper) {
-        check_input(paper, 3, st, "paper");
+        check_input(paper, 3, Channels::AtLeast, st, "paper");
         check_same_size(*paper, color, st, "paper", "color");
     }
     check_not_alias(dst, &color, st, "color");
@@ -37,7 +37,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     check_not_alias(dst, &ctrl_substrate, st, "ctrl_substrate");
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4, roi);
+    ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, 0);
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
@@ -46,7 +46,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks: offsets and bilinear weights in one vectorisable loop (the same operations
     // as substrate_offset and the scalar taps below, value by value), then the taps.
-    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float tr[kChunk], tg[kChunk], tc[kChunk], ox[kChunk], oy[kChunk], txs[kChunk], tys[kChunk];
         int xas[kChunk], yas[kChunk];
@@ -100,25 +100,25 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
 }
 
 void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
-                     bool squared, Roi roi, const Exec& ex) {
+                     bool squared,  const Exec& ex) {
     const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
-    check_input(&color, 4, st, "color");
+    check_input(&color, 4, Channels::AtLeast, st, "color");
     if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
     if (paper) {
-        check_input(paper, 3, st, "paper");
+        check_input(paper, 3, Channels::AtLeast, st, "paper");
         check_same_size(*paper, color, st, "paper", "color");
     }
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4, roi);
+    ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
     const glm::vec3 l = substrate_light_dir(p);
     const float norm = substrate_light_norm(l, p, squared);
     const View<glm::vec4> o = dst.view<glm::vec4>();
-    for_each_row_segment(ex, roi.clipped(w, h), [&](int y, int x0, int x1) {
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         for (int x = x0; x < x1; ++x) {
             float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
             if (p.normalize) id = id * norm;
@@ -153,8 +153,7 @@ void register_substrate(Registry& r) {
         v.outputs = {{"color", "color.distorted", 4, false}};
         v.params = td.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv),
-                              Roi::all(), ex);
+            substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
         });
         r.add(std::move(v));
     }
@@ -168,7 +167,7 @@ void register_substrate(Registry& r) {
         v.outputs = {{"color", "color.lit", 4, false}};
         v.params = tl.descs();
         v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, Roi::all(), ex);
+            substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);
         });
         r.add(std::move(v));
     }

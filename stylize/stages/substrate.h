@@ -22,7 +22,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/stage.h"
-#include "stylize/stages/stage_b_util.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -90,13 +90,13 @@ inline float substrate_light_factor(float tex_r, float tex_g, glm::vec3 l, float
 }
 
 //! color: 4 ch; depth: 1 ch normalised (stage adjust's "depth"), same size; ctrl_substrate: >= 1 ch
-//! (R); paper: 3 ch same size or nullptr (flat: the identity). dst (re)allocated; roi written.
+//! (R); paper: 3 ch same size or nullptr (flat: the identity). dst (re)allocated.
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
-                       const ImageF* paper, const SubstrateDistortParams& p, Roi roi = Roi::all(), const Exec& ex = {});
+                       const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex = {});
 
 //! color: 4 ch; paper: 3 ch same size or nullptr (flat). squared: MNPR curve instead of eq. 5.
 void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
-                     bool squared, Roi roi = Roi::all(), const Exec& ex = {});
+                     bool squared,  const Exec& ex = {});
 
 void register_substrate(Registry& r);
 

@@ -175,8 +175,8 @@ TEST(GapsOverlaps, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     p.steps = 16;
     p.border = 1;
     ImageF a, b;
-    gaps_overlaps(a, color, edges, ctrl, nullptr, kPaper, p, Roi::all(), Exec::reference());
-    gaps_overlaps(b, color, edges, ctrl, nullptr, kPaper, p, Roi::all(), Exec::fast(2));
+    gaps_overlaps(a, color, edges, ctrl, nullptr, kPaper, p, Exec::reference());
+    gaps_overlaps(b, color, edges, ctrl, nullptr, kPaper, p, Exec::fast(2));
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
 }
 

@@ -128,10 +128,10 @@ TEST(PigmentApply, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     const ImageF ctrl = testb::poison(noise(70, 67, 4, -1.0f, 1.0f, 32), 5);
     const ImageF paper = testb::poison(noise(70, 67, 3, 0.0f, 1.0f, 33), 11);
     ImageF a, b, c, d;
-    pigment_apply_wc18(a, color, ctrl, &paper, kWhite, {}, Roi::all(), Exec::reference());
-    pigment_apply_wc18(b, color, ctrl, &paper, kWhite, {}, Roi::all(), Exec::fast(2));
-    pigment_apply_wc17(c, color, ctrl, &paper, {}, Roi::all(), Exec::reference());
-    pigment_apply_wc17(d, color, ctrl, &paper, {}, Roi::all(), Exec::fast(2));
+    pigment_apply_wc18(a, color, ctrl, &paper, kWhite, {}, Exec::reference());
+    pigment_apply_wc18(b, color, ctrl, &paper, kWhite, {}, Exec::fast(2));
+    pigment_apply_wc17(c, color, ctrl, &paper, {}, Exec::reference());
+    pigment_apply_wc17(d, color, ctrl, &paper, {}, Exec::fast(2));
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
     EXPECT_EQ(0, std::memcmp(c.data(), d.data(), c.num_values() * sizeof(float)));
 }

@@ -1,4 +1,4 @@
-// tests/stylize/resample_test.cpp — the half-resolution convention: detail::resample (tables, used
+// tests/stylize/resample_test.cpp — the half-resolution convention: toolkit::resample (tables, used
 // by the stages) equals kernels.h sample_resampled value for value; the even-size downsample is
 // the 2x2 box average; constants survive up- and down-sampling exactly.
 #include <cstring>
@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "stylize/kernels.h"
-#include "stylize/stages/stage_util.h"
+#include "stylize/stages/toolkit.h"
 #include "tests/stylize/synthetic_gbuffer.h"
 
 namespace aq::stylize {
@@ -15,7 +15,7 @@ namespace {
 TEST(Resample, TablesMatchSampleResampledBitForBit) {
     const ImageF src = test::synthetic_target("color", 4, 37, 23, 5);
     for (auto [w, h] : {std::pair{19, 12}, {74, 46}, {37, 23}, {10, 31}}) {
-        const ImageF r = detail::resample(src, w, h, Exec::fast(2));
+        const ImageF r = toolkit::resample(src, w, h, Exec::fast(2));
         const auto v = src.view<glm::vec4>();
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -32,7 +32,7 @@ TEST(Resample, EvenDownsampleIsTheBoxAverageAndConstantsSurvive) {
     ImageF src(8, 6, 1);
     for (int y = 0; y < 6; ++y)
         for (int x = 0; x < 8; ++x) src.at(x, y, 0) = float(x * 10 + y);
-    const ImageF d = detail::resample(src, half_size(8), half_size(6), Exec::reference());
+    const ImageF d = toolkit::resample(src, half_size(8), half_size(6), Exec::reference());
     for (int y = 0; y < 3; ++y)
         for (int x = 0; x < 4; ++x) {
             const float box = (src.at(2 * x, 2 * y, 0) + src.at(2 * x + 1, 2 * y, 0) + src.at(2 * x, 2 * y + 1, 0) +
@@ -40,7 +40,7 @@ TEST(Resample, EvenDownsampleIsTheBoxAverageAndConstantsSurvive) {
             EXPECT_FLOAT_EQ(d.at(x, y, 0), box);
         }
     const ImageF k(5, 3, 2, 0.3f);
-    const ImageF up = detail::resample(k, 9, 6, Exec::reference());
+    const ImageF up = toolkit::resample(k, 9, 6, Exec::reference());
     for (std::size_t i = 0; i < up.num_values(); ++i) EXPECT_EQ(up.data()[i], 0.3f);
 }
 
@@ -55,17 +55,17 @@ namespace {
 TEST(Resample, RowResamplerEqualsResampleRow) {
     const ImageF src = test::synthetic_target("color", 4, 37, 23, 9);
     for (auto [w, h] : {std::pair{74, 46}, {73, 45}, {19, 12}, {37, 23}, {100, 7}}) {
-        const detail::ResampleAxis ax(w, src.width()), ay(h, src.height());
+        const toolkit::ResampleAxis ax(w, src.width()), ay(h, src.height());
         std::vector<float> want(std::size_t(w) * 4), got(std::size_t(w) * 4), want1(static_cast<std::size_t>(w)), got1(static_cast<std::size_t>(w));
         for (int y0 : {0, 1, h / 2, h - 1}) {
-            detail::RowResampler<4> up(src.data(), src.width(), w, ax, ay);
-            detail::RowResampler<1, 4> up1(src.data() + 3, src.width(), w, ax, ay);
+            toolkit::RowResampler<4> up(src.data(), src.width(), w, ax, ay);
+            toolkit::RowResampler<1, 4> up1(src.data() + 3, src.width(), w, ax, ay);
             for (int y = y0; y < h; ++y) {
-                detail::resample_row<4>(src.data(), src.width(), want.data(), w, ax, ay, y);
+                toolkit::resample_row<4>(src.data(), src.width(), want.data(), w, ax, ay, y);
                 up.row(y, got.data());
                 ASSERT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(float)), 0)
                     << w << "x" << h << " row " << y << " (block from " << y0 << ")";
-                detail::resample_row<1, 4>(src.data() + 3, src.width(), want1.data(), w, ax, ay, y);
+                toolkit::resample_row<1, 4>(src.data() + 3, src.width(), want1.data(), w, ax, ay, y);
                 up1.row(y, got1.data());
                 ASSERT_EQ(std::memcmp(want1.data(), got1.data(), want1.size() * sizeof(float)), 0)
                     << w << "x" << h << " alpha row " << y;

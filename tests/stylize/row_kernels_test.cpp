@@ -56,11 +56,11 @@ TEST(RowKernels, EdgeDarkenRgbdEqualsPixelFunction) {
         for (float intensity : {1.0f, 3.5f}) {
             const EdgeDarkenRgbdParams p{intensity};
             ImageF out, out_half, out_none;
-            edge_darken_rgbd(out, color, edges, ctrl, &bleed_full, sub, p, Roi::all(), Exec::fast(2));
-            edge_darken_rgbd(out_half, color, edges, ctrl, &bleed_half, sub, p, Roi::all(), Exec::fast(2));
-            edge_darken_rgbd(out_none, color, edges, ctrl, nullptr, sub, p, Roi::all(), Exec::reference());
-            const stage_b::Plane bh = stage_b::plane(bleed_half, 3);
-            const stage_b::Upsampler up(kW, kH, bleed_half.width(), bleed_half.height());
+            edge_darken_rgbd(out, color, edges, ctrl, &bleed_full, sub, p, Exec::fast(2));
+            edge_darken_rgbd(out_half, color, edges, ctrl, &bleed_half, sub, p, Exec::fast(2));
+            edge_darken_rgbd(out_none, color, edges, ctrl, nullptr, sub, p, Exec::reference());
+            const toolkit::Plane bh = toolkit::plane(bleed_half, 3);
+            const toolkit::Resampler up(kW, kH, bleed_half.width(), bleed_half.height());
             for (int y = 0; y < kH; ++y)
                 for (int x = 0; x < kW; ++x) {
                     const glm::vec4 c = px4(color, x, y);
@@ -86,8 +86,8 @@ TEST(RowKernels, PigmentApplyWc18EqualsPixelFunction) {
         for (const PigmentApplyWc18Params& p :
              {PigmentApplyWc18Params{}, PigmentApplyWc18Params{12.0f, 40.0f, 2.5f, 0.6f}}) {
             ImageF out, out_flat;
-            pigment_apply_wc18(out, color, ctrl, &paper, sub, p, Roi::all(), Exec::fast(2));
-            pigment_apply_wc18(out_flat, color, ctrl, nullptr, sub, p, Roi::all(), Exec::reference());
+            pigment_apply_wc18(out, color, ctrl, &paper, sub, p, Exec::fast(2));
+            pigment_apply_wc18(out_flat, color, ctrl, nullptr, sub, p, Exec::reference());
             for (int y = 0; y < kH; ++y)
                 for (int x = 0; x < kW; ++x) {
                     const glm::vec4 c = px4(color, x, y);

@@ -146,10 +146,10 @@ TEST(Substrate, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     p.distortion = 10.0f;
     p.border = 1;
     ImageF a, b, c, d;
-    substrate_distort(a, color, depth, ctrl, &paper, p, Roi::all(), Exec::reference());
-    substrate_distort(b, color, depth, ctrl, &paper, p, Roi::all(), Exec::fast(2));
-    substrate_light(c, color, &paper, {}, false, Roi::all(), Exec::reference());
-    substrate_light(d, color, &paper, {}, false, Roi::all(), Exec::fast(2));
+    substrate_distort(a, color, depth, ctrl, &paper, p, Exec::reference());
+    substrate_distort(b, color, depth, ctrl, &paper, p, Exec::fast(2));
+    substrate_light(c, color, &paper, {}, false, Exec::reference());
+    substrate_light(d, color, &paper, {}, false, Exec::fast(2));
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
     EXPECT_EQ(0, std::memcmp(c.data(), d.data(), c.num_values() * sizeof(float)));
 }
