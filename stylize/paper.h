@@ -8,6 +8,11 @@
 
 namespace aq::stylize {
 
+//! The flat paper's texel values (MNPR layout): normal x, y encoded 0.5 (normal (0, 0, 1)) and
+//! height 0.5. Stages read these constants where no paper is bound.
+inline constexpr float kFlatPaperNormal = 0.5f;
+inline constexpr float kFlatPaperHeight = 0.5f;
+
 struct PaperSpec {
     std::string file;          //!< image path; MNPR layout, or a height/displacement map (see layout)
     std::string layout = "mnpr";  //!< "mnpr": RG normal, B height. "height": normals derived from height

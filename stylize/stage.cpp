@@ -116,8 +116,7 @@ ParamValues Registry::resolve_params(const StageVariant& v, const std::map<std::
 const Registry& builtin_registry() {
     static const Registry r = [] {
         Registry reg;
-        register_stages_a(reg);
-        register_stages_b(reg);
+        register_builtin_stages(reg);
         return reg;
     }();
     return r;

@@ -140,7 +140,6 @@ private:
 const Registry& builtin_registry();
 
 // Registration entry points, one per source group (see stylize/stages/).
-void register_stages_a(Registry& r);  // adjust, edges, pigment density, blurs, bleeding blend
-void register_stages_b(Registry& r);  // edge darkening, gaps & overlaps, pigment application, substrate
+void register_builtin_stages(Registry& r);  // stylize/stages/register.cpp, in pipeline order
 
 }  // namespace aq::stylize

@@ -5,6 +5,7 @@
 // reassociation, no FMA, no reciprocal approximations). See docs/stylize_b.md "Speed".
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/pigment_apply.h"
+#include "stylize/paper.h"
 
 #include <algorithm>
 
@@ -14,7 +15,6 @@ using namespace toolkit;
 
 namespace {
 
-const float kFlatHeight = 0.5f;
 
 struct Inputs {
     View<const glm::vec4> c;
@@ -36,7 +36,7 @@ Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const
     check_not_alias(dst, paper, st, "paper");
     ensure_output(dst, color.width(), color.height(), 4);
     return {color.view<glm::vec4>(), plane(ctrl_pigment, 1),
-            paper ? plane(*paper, 2) : constant_plane(&kFlatHeight, color.width(), color.height())};
+            paper ? plane(*paper, 2) : constant_plane(&kFlatPaperHeight, color.width(), color.height())};
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // tests/stylize/substrate_test.cpp — paper distortion (WC17 §3.3 / MNPR) and substrate lighting
 // (WC18 eq. 5).
-#include "stylize/stages/substrate.h"
+#include "stylize/stages/substrate_distort.h"
+#include "stylize/stages/substrate_light.h"
 
 #include <cmath>
 #include <cstring>

@@ -1,23 +1,21 @@
-// stylize/stages/substrate.cpp — paper distortion (WC17 §3.3 / MNPR) and substrate lighting
-// (WC18 eq. 5). Each output pixel reads a bounded neighbourhood of its inputs only (offsets are at
-// most 5*distortion pixels), so reference and fast traversals are bit-exact.
+// stylize/stages/substrate_distort.cpp — paper distortion (WC17 §3.3 / MNPR). Each output pixel
+// reads a bounded neighbourhood of its inputs only (offsets are at most 5*distortion pixels), so
+// reference and fast traversals are bit-exact.
 // -fno-trapping-math (FP exception flags only, no value changes) lets GCC vectorise the selects,
 // as in edge_darken.cpp.
 #pragma GCC optimize("no-trapping-math")
-#include "stylize/stages/substrate.h"
+#include "stylize/stages/substrate_distort.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "stylize/kernels.h"
+#include "stylize/paper.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
 using namespace toolkit;
-
-namespace {
-const float kFlatNormal = 0.5f;
-}
 
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
                        const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex) {
@@ -40,8 +38,8 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, 0);
-    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
-    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
+    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatPaperNormal, w, h);
+    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatPaperNormal, w, h);
     const Border b = border_from(p.border);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     // Rows in chunks: offsets and bilinear weights in one vectorisable loop (the same operations
@@ -99,49 +97,13 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     });
 }
 
-void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
-                     bool squared,  const Exec& ex) {
-    const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
-    if (paper) {
-        check_input(paper, 3, Channels::AtLeast, st, "paper");
-        check_same_size(*paper, color, st, "paper", "color");
-    }
-    check_not_alias(dst, &color, st, "color");
-    check_not_alias(dst, paper, st, "paper");
-    const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
-    const View<const glm::vec4> c = color.view<glm::vec4>();
-    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatNormal, w, h);
-    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatNormal, w, h);
-    const glm::vec3 l = substrate_light_dir(p);
-    const float norm = substrate_light_norm(l, p, squared);
-    const View<glm::vec4> o = dst.view<glm::vec4>();
-    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
-            if (p.normalize) id = id * norm;
-            const glm::vec4 v = c(x, y);
-            o(x, y) = {v.x * id, v.y * id, v.z * id, v.w};
-        }
-    });
-}
-
-void register_substrate(Registry& r) {
+void register_substrate_distort(Registry& r) {
     using D = SubstrateDistortParams;
-    using L = SubstrateLightParams;
     static const ParamTable<D> td = ParamTable<D>()
         .f("distortion", &D::distortion, 0, 10, "global paper distortion: 5 px per unit at full control (MNPR 1)")
         .f("depth_threshold", &D::depth_threshold, 0, 1, "no sampling across this normalised depth step (MNPR 0.01)")
         .b("both_sides", &D::both_sides, "also refuse destinations behind the pixel (MNPR: only in front)")
         .i("border", &D::border, 0, 1, "taps outside the image: 0 clamp, 1 mirror");
-    static const ParamTable<L> tl = ParamTable<L>()
-        .f("direction", &L::direction, 0, 360, "light direction in degrees (MNPR 180)")
-        .f("tilt", &L::tilt, 0, 89, "light tilt in degrees, L.z = tilt/89 (MNPR 45)")
-        .f("shading", &L::shading, 0, 1, "diffuse shading contribution ds (MNPR 0.5)")
-        .f("roughness", &L::roughness, 0, 5, "r: relief scale of the paper normal")
-        .b("normalize", &L::normalize, "divide by the flat paper's Id: flat paper keeps the substrate colour (0 = eq. 5 as printed)");
     {
         StageVariant v;
         v.stage = "substrate_distort";
@@ -154,20 +116,6 @@ void register_substrate(Registry& r) {
         v.params = td.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
-        });
-        r.add(std::move(v));
-    }
-    for (bool squared : {false, true}) {
-        StageVariant v;
-        v.stage = "substrate_light";
-        v.variant = squared ? "mnpr" : "wc18";
-        v.doc = squared ? "MNPR substrate lighting: C * (1 - (1 - N.L)^2 ds)"
-                        : "WC18 eq. 5: C * (1 - (1 - L.(rN)) ds), MNPR light (180 deg, tilt 45, ds 0.5)";
-        v.inputs = {{"color", target::kColor, 4, false}};
-        v.outputs = {{"color", "color.lit", 4, false}};
-        v.params = tl.descs();
-        v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);
         });
         r.add(std::move(v));
     }
