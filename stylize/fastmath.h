@@ -3,7 +3,7 @@
 // vectorises loops over arrays of values and the scalar and vector forms perform the same IEEE
 // operations: the same bits on every machine and in both traversals (our flags forbid FMA
 // contraction, docs/determinism.md). Loops that should vectorise them need -fno-trapping-math in
-// their translation unit (see docs/stylize_b.md "Speed").
+// their translation unit (see docs/stylize.md "Speed").
 #pragma once
 
 #include <bit>

@@ -24,7 +24,7 @@ namespace {
 //! Strength k of the height gradient when deriving normals from a displacement map (height in
 //! [0,1] units per texel). Measured on MNPR's own paper, whose B channel is its height: by least
 //! squares R - 0.5 = -1.04 dh/dx (corr. 0.76) and G - 0.5 = +1.36 dh/drow (corr. 0.91), i.e. n.xy
-//! is about 2..2.7 times the height gradient; we take k = 2 (docs/stylize_b.md).
+//! is about 2..2.7 times the height gradient; we take k = 2 (docs/stylize.md "Paper preparation").
 constexpr float kHeightNormalStrength = 2.0f;
 
 //! Wrapped index into [0, n).

@@ -3,7 +3,7 @@
 // fast traversals evaluate the same function on the same pixels: bit-exact.
 // The power loops vectorise only when GCC may evaluate both sides of a select; that needs
 // -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
-// reassociation, no FMA, no reciprocal approximations). See docs/stylize_b.md "Speed".
+// reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/edge_darken.h"
 

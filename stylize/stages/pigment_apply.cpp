@@ -2,7 +2,7 @@
 // granulation. Pointwise: reference and fast traversals are bit-exact.
 // The power loops vectorise only when GCC may evaluate both sides of a select; that needs
 // -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
-// reassociation, no FMA, no reciprocal approximations). See docs/stylize_b.md "Speed".
+// reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/pigment_apply.h"
 #include "stylize/paper.h"

@@ -33,7 +33,7 @@ std::string error_of(const std::function<void()>& f) {
             EXPECT_NE(msg_.find(s_), std::string::npos) << "'" << s_ << "' not in: " << msg_; \
     } while (0)
 
-//! A pipeline of group A stages only (independent of the other stage group).
+//! A pipeline of the stages from adjust to bleed_blend only (none of the later stages).
 const char* kGroupA = R"({
   "name": "group_a", "output": "color.bled",
   "steps": [

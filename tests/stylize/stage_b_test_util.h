@@ -1,4 +1,5 @@
-// tests/stylize/stage_b_test_util.h — small synthetic images for the stage group B tests.
+// tests/stylize/stage_b_test_util.h — small synthetic images for the tests of edge_darken,
+// gaps_overlaps, pigment_apply, the substrate stages and the row kernels.
 #pragma once
 
 #include <cmath>
