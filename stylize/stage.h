@@ -111,7 +111,14 @@ struct StageVariant {
     std::vector<Port> outputs;
     std::vector<ParamDesc> params;
     RunFn run;
-    bool exact_fast = true;  //!< fast traversal equals reference bit for bit (else: ulp bound documented)
+    //! What Traversal::Reference runs (docs/stylize.md "Algorithm and schedule"). The fast
+    //! schedule equals it bit for bit in every case (tests/stylize/registry_traversal_test.cpp).
+    enum class Reference {
+        PlainLoop,    //!< an independent plain loop over the per-pixel (per-tap) maths
+        SharedMaths,  //!< the fast schedule calls the per-pixel function itself (nothing restated)
+        SameKernel,   //!< the fast row kernel on one thread: not independent (listed as pending)
+    };
+    Reference reference = Reference::SameKernel;
     std::string key() const { return stage + "/" + variant; }
 };
 

@@ -154,6 +154,7 @@ void register_adjust(Registry& r) {
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
     };
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 

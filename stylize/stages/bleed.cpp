@@ -9,7 +9,7 @@
 // padded row copies (H) or row pointers (V), the x loop innermost so it vectorises, oneTBB row
 // blocks, and rows whose tap window holds no positive control are written as s + 0 (what the full
 // sum yields bit for bit when every delta is zero: it only turns -0 into +0). Hence fast == reference
-// bit for bit (exact_fast).
+// bit for bit.
 #include "stylize/stages/bleed.h"
 
 #include <algorithm>
@@ -353,6 +353,7 @@ void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_defau
         const bool naive = rule == BleedRule::Naive;
         bleed(*io.out[0], *io.in[0], naive ? kNoDepth : *io.in[1], *io.in[naive ? 1 : 2], rule, p, ex);
     };
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 }  // namespace

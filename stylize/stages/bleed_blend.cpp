@@ -35,6 +35,19 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
             oi[4 * i + 3] = Ii[4 * i + 3];
         }
     };
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 7 pixel by pixel
+        const View<const glm::vec4> c = color.view<glm::vec4>();
+        const View<glm::vec4> ov = dst.view<glm::vec4>();
+        const toolkit::Plane bp[4] = {toolkit::plane(bleed, 0), toolkit::plane(bleed, 1), toolkit::plane(bleed, 2),
+                                      toolkit::plane(bleed, 3)};
+        toolkit::plain_loop(w, h, [&](int x, int y) {
+            glm::vec4 b;
+            for (int ch = 0; ch < 4; ++ch)
+                b[ch] = full ? bp[ch](x, y) : toolkit::sample_resampled_plane(bp[ch], x, y, w, h);
+            ov(x, y) = bleed_blend_px(c(x, y), b, gain);
+        });
+        return;
+    }
     if (full) {
         toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
             const std::size_t i0 = std::size_t(y0) * w;
@@ -70,6 +83,7 @@ void register_bleed_blend(Registry& r) {
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         bleed_blend(*io.out[0], *io.in[0], *io.in[1], t.from(pv), ex);
     };
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 

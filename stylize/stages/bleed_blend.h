@@ -4,8 +4,11 @@
 // published, gain = 5 is MNPR's blendFromAlpha (k = sat(5 bleed.a)) (spec §4.5).
 #pragma once
 
+#include <glm/glm.hpp>
+
 #include "core/exec.h"
 #include "core/image.h"
+#include "stylize/kernels.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize {
@@ -16,6 +19,12 @@ inline constexpr float kBleedBlendGainMnpr = 5.0f;
 struct BleedBlendParams {
     float gain = kBleedBlendGainWc17;  //!< k = sat(gain * mask) [0, 100]
 };
+
+//! Eq. 7 for one pixel: c = I (RGBA), b = the bleed at this pixel (rgb = B, a = mask).
+inline glm::vec4 bleed_blend_px(glm::vec4 c, glm::vec4 b, float gain) {
+    const float k = sat(gain * b.w);
+    return {k * (b.x - c.x) + c.x, k * (b.y - c.y) + c.y, k * (b.z - c.z) + c.z, c.w};
+}
 
 //! color: 4 channels; bleed: 4 channels (rgb = B, a = mask), either the size of color or its half
 //! resolution (ceil(w/2) x ceil(h/2)), then upsampled bilinearly (kernels.h sample_resampled: pixel

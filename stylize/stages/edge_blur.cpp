@@ -183,6 +183,7 @@ void register_edge_blur(Registry& r) {
             p.border = tp.border ? Border::Mirror : Border::Clamp;
             edge_blur_wc17(*io.out[0], *io.in[0], p, ex);
         };
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
     {
@@ -203,6 +204,7 @@ void register_edge_blur(Registry& r) {
             p.border = tp.border ? Border::Mirror : Border::Clamp;
             edge_blur_wc18(*io.out[0], *io.in[0], *io.in[1], p, ex);
         };
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
 }

@@ -41,6 +41,16 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane ctrl = plane(ctrl_edge, 0);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 8 pixel by pixel
+        plain_loop(w, h, [&](int x, int y) {
+            const glm::vec3 b = same ? glm::vec3(br(x, y), bg(x, y), bb(x, y))
+                                     : glm::vec3(sample_resampled_plane(br, x, y, w, h),
+                                                 sample_resampled_plane(bg, x, y, w, h),
+                                                 sample_resampled_plane(bb, x, y, w, h));
+            o(x, y) = edge_darken_dog_px(c(x, y), b, ctrl(x, y), p);
+        });
+        return;
+    }
     // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
     // operations as edge_darken_dog_px, pixel by pixel).
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
@@ -92,6 +102,13 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     const bool bleed_same = !bleed || bleed->same_size(color);
     const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: §3.1 pixel by pixel
+        plain_loop(w, h, [&](int x, int y) {
+            const float b = bleed_same ? bm(x, y) : sample_resampled_plane(bm, x, y, w, h);
+            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, substrate, p);
+        });
+        return;
+    }
     // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather the inputs (scalar),
     // the exponents (vectorised, edge_darken_rgbd_exponent), then the powers of only the pixels
     // that darken, packed (vectorised pow_c), and the output. Value for value the operations of
@@ -158,6 +175,7 @@ void register_edge_darken(Registry& r) {
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), ex);
         });
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
     {
@@ -175,6 +193,7 @@ void register_edge_darken(Registry& r) {
             edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
                              globals_of(io).substrate_color, tr.from(pv), ex);
         });
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
 }

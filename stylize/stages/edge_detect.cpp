@@ -165,6 +165,7 @@ void register_edge_detect(Registry& r) {
         p.border = tp.border ? Border::Mirror : Border::Clamp;
         edge_detect_rgbd_sobel(*io.out[0], *io.in[0], *io.in[1], p, ex);
     };
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 

@@ -86,6 +86,7 @@ void register_extend_edges(Registry& r) {
         p.border = tp.border ? Border::Mirror : Border::Clamp;
         extend_edges(*io.out[0], *io.in[0], p, ex);
     };
+    v.reference = StageVariant::Reference::SameKernel;
     r.add(std::move(v));
 }
 

@@ -160,6 +160,7 @@ void register_gaps_overlaps(Registry& r) {
         gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
                       globals_of(io).substrate_color, t.from(pv), ex);
     });
+    v.reference = StageVariant::Reference::SharedMaths;
     r.add(std::move(v));
 }
 

@@ -45,6 +45,11 @@ void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                         const PigmentApplyWc17Params& p,  const Exec& ex) {
     const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc17");
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 9 pixel by pixel
+        plain_loop(color.width(), color.height(),
+                   [&](int x, int y) { o(x, y) = pigment_apply_wc17_px(in.c(x, y), in.height(x, y), in.ctrl(x, y), p); });
+        return;
+    }
     // Rows in chunks as in wc18: the same operations as pigment_apply_wc17_px, pixel by pixel.
     for_each_row(ex, color.width(), color.height(), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
@@ -74,6 +79,12 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                         glm::vec3 substrate, const PigmentApplyWc18Params& p,  const Exec& ex) {
     const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 1-4 pixel by pixel
+        plain_loop(color.width(), color.height(), [&](int x, int y) {
+            o(x, y) = pigment_apply_wc18_px(in.c(x, y), in.height(x, y), in.ctrl(x, y), substrate, p);
+        });
+        return;
+    }
     // Rows in chunks of 64 pixels, each step a simple loop over arrays so GCC vectorises it:
     // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers (for
     // chunks where a pixel granulates), the blend. Value for value the operations of
@@ -161,6 +172,7 @@ void register_pigment_apply(Registry& r) {
             pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv),
                                ex);
         });
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
     {
@@ -174,6 +186,7 @@ void register_pigment_apply(Registry& r) {
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), ex);
         });
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
 }

@@ -24,6 +24,12 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     const float* c = color.data();
     const float* k = ctrl.data();
     float* o = dst.data();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: the formula pixel by pixel
+        const View<const glm::vec4> cv = color.view<glm::vec4>(), kv = ctrl.view<glm::vec4>();
+        const View<glm::vec4> ov = dst.view<glm::vec4>();
+        toolkit::plain_loop(w, h, [&](int x, int y) { ov(x, y) = pigment_density_px(cv(x, y), kv(x, y).z, substrate, p); });
+        return;
+    }
     // Chunks of a row: the exponents, the powers in one vectorised loop (x^1 == x exactly in
     // pow_c, so a chunk without paint skips them and keeps |c| bit for bit), then the blend:
     // value for value the formula of pigment_density.h.
@@ -70,6 +76,7 @@ void register_pigment_density(Registry& r) {
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         pigment_density(*io.out[0], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
     };
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 

@@ -14,6 +14,9 @@ struct PigmentDensityParams {
     float strength = 1.0f;  //!< multiplies ctrl.pigment.b (1 = MNPR) [0, 5]
 };
 
+//! The maths of one pixel (defined below): the formula that follows.
+inline glm::vec4 pigment_density_px(glm::vec4 c, float ctrl_b, glm::vec3 substrate, const PigmentDensityParams& p);
+
 //! d = 1 + strength * ctrl.pigment.b;  c' = |c|^d;  out.rgb = mix(substrate, c', sat(d));
 //! alpha kept. With zero control, d = 1 and the colour is returned unchanged (|c| for negative
 //! inputs). color, ctrl: 4 channels, same size.
@@ -21,5 +24,21 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigmen
                      const PigmentDensityParams& p, const Exec& ex = {});
 
 void register_pigment_density(Registry& r);
+
+}  // namespace aq::stylize
+
+#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
+
+namespace aq::stylize {
+
+inline glm::vec4 pigment_density_px(glm::vec4 c, float ctrl_b, glm::vec3 substrate, const PigmentDensityParams& p) {
+    const float d = 1.0f + p.strength * ctrl_b;
+    const float t = sat(d);
+    glm::vec4 o;
+    for (int ch = 0; ch < 3; ++ch) o[ch] = mix(substrate[ch], pow_c(std::fabs(c[ch]), d), t);
+    o.w = c.w;
+    return o;
+}
 
 }  // namespace aq::stylize

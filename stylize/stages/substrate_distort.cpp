@@ -117,6 +117,7 @@ void register_substrate_distort(Registry& r) {
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
         });
+        v.reference = StageVariant::Reference::SameKernel;
         r.add(std::move(v));
     }
 }

@@ -33,12 +33,7 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     const float norm = substrate_light_norm(l, p, squared);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            float id = substrate_light_factor(nr(x, y), ng(x, y), l, p.roughness, p.shading, squared);
-            if (p.normalize) id = id * norm;
-            const glm::vec4 v = c(x, y);
-            o(x, y) = {v.x * id, v.y * id, v.z * id, v.w};
-        }
+        for (int x = x0; x < x1; ++x) o(x, y) = substrate_light_px(c(x, y), nr(x, y), ng(x, y), l, norm, p, squared);
     });
 }
 
@@ -62,6 +57,7 @@ void register_substrate_light(Registry& r) {
         v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);
         });
+        v.reference = StageVariant::Reference::SharedMaths;
         r.add(std::move(v));
     }
 }

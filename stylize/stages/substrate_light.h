@@ -58,6 +58,15 @@ inline float substrate_light_factor(float tex_r, float tex_g, glm::vec3 l, float
     return 1.0f - (squared ? u * u : u) * shading;
 }
 
+//! Eq. 5 (or MNPR's curve) for one pixel: c RGBA, tex_r/tex_g the paper's encoded normal, l the
+//! light (substrate_light_dir), norm = substrate_light_norm(l, p, squared).
+inline glm::vec4 substrate_light_px(glm::vec4 c, float tex_r, float tex_g, glm::vec3 l, float norm,
+                                    const SubstrateLightParams& p, bool squared) {
+    float id = substrate_light_factor(tex_r, tex_g, l, p.roughness, p.shading, squared);
+    if (p.normalize) id = id * norm;
+    return {c.x * id, c.y * id, c.z * id, c.w};
+}
+
 //! color: 4 ch; paper: 3 ch same size or nullptr (flat). squared: MNPR curve instead of eq. 5.
 void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
                      bool squared,  const Exec& ex = {});

@@ -145,6 +145,17 @@ void for_each_row(const Exec& ex, int w, int h, F&& row) {
     });
 }
 
+//! The plain reference schedule (docs/stylize.md "Algorithm and schedule"): px(x, y) for every
+//! pixel, row-major, on the calling thread. A stage whose fast schedule restates its per-pixel
+//! function in row kernels (chunks, packing, vector code) runs this loop over the per-pixel
+//! function itself for Traversal::Reference, so the registry-wide test
+//! (tests/stylize/registry_traversal_test.cpp) compares two independent computations.
+template <class F>
+void plain_loop(int w, int h, F&& px) {
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) px(x, y);
+}
+
 // ---- registers -------------------------------------------------------------------------------
 
 //! Eight floats / ints as a GCC vector (one AVX2 register with -mavx2, two SSE ones without):
@@ -178,6 +189,13 @@ inline Plane plane(const ImageF& img, int channel) {
 }
 
 inline Plane constant_plane(const float* value, int w, int h) { return {value, 0, 0, w, h}; }
+
+//! Value at output pixel (x, y) of a w x h image of plane p resampled by the convention of
+//! kernels.h (texel_coord + sample_bilinear, clamp to edge), computed directly: the plain
+//! counterpart of Resampler::sample.
+inline float sample_resampled_plane(const Plane& p, int x, int y, int w, int h) {
+    return sample_bilinear(p, texel_coord(x, w, p.width), texel_coord(y, h, p.height), Border::Clamp);
+}
 
 // ---- resampling between resolutions (docs/stylize.md "Resolution conventions") --------------
 

@@ -132,8 +132,8 @@ TEST(PigmentApply, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     pigment_apply_wc18(b, color, ctrl, &paper, kWhite, {}, Exec::fast(2));
     pigment_apply_wc17(c, color, ctrl, &paper, {}, Exec::reference());
     pigment_apply_wc17(d, color, ctrl, &paper, {}, Exec::fast(2));
-    EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
-    EXPECT_EQ(0, std::memcmp(c.data(), d.data(), c.num_values() * sizeof(float)));
+    EXPECT_TRUE(testb::same_values(a, b));  // the plain reference loop vs the row kernel
+    EXPECT_TRUE(testb::same_values(c, d));
 }
 
 TEST(PigmentApply, ChecksInputs) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,14 @@ bool bit_equal(const ImageF& a, const ImageF& b) {
     return true;
 }
 
+const char* reference_kind(const StageVariant& v) {
+    switch (v.reference) {
+        case StageVariant::Reference::PlainLoop: return "plain loop over the per-pixel maths";
+        case StageVariant::Reference::SharedMaths: return "the per-pixel function the fast schedule calls";
+        default: return "the fast kernel on one thread";
+    }
+}
+
 class EveryVariant : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryVariant, FastEqualsReference) {
@@ -93,15 +102,10 @@ TEST_P(EveryVariant, FastEqualsReference) {
             for (std::size_t k = 0; k < ref.size(); ++k) {
                 ASSERT_EQ(ref[k].channels(), v.outputs[k].channels) << v.outputs[k].name;
                 ASSERT_TRUE(ref[k].same_size(fast[k]));
-                if (v.exact_fast) {
-                    EXPECT_TRUE(bit_equal(ref[k], fast[k]))
-                        << v.key() << " output '" << v.outputs[k].name << "' threads " << threads
-                        << ": fast traversal differs from reference (" << sha256_hex(ref[k]) << " vs "
-                        << sha256_hex(fast[k]) << ")";
-                } else {
-                    for (std::size_t i = 0; i < ref[k].num_values(); ++i)
-                        ASSERT_NEAR(ref[k].data()[i], fast[k].data()[i], 1e-5f) << v.key() << " value " << i;
-                }
+                EXPECT_TRUE(bit_equal(ref[k], fast[k]))
+                    << v.key() << " output '" << v.outputs[k].name << "' threads " << threads
+                    << ": fast schedule differs from the reference (" << reference_kind(v) << ") ("
+                    << sha256_hex(ref[k]) << " vs " << sha256_hex(fast[k]) << ")";
             }
         }
     }
@@ -116,9 +120,7 @@ TEST_P(EveryVariant, NanAndInfInputsNeverCrash) {
         for (std::size_t k = 0; k < ref.size(); ++k) {
             EXPECT_FALSE(ref[k].empty());
             EXPECT_TRUE(ref[k].same_size(fast[k]));
-            if (v.exact_fast) {
-                EXPECT_TRUE(bit_equal(ref[k], fast[k])) << v.key() << " on poisoned input";
-            }
+            EXPECT_TRUE(bit_equal(ref[k], fast[k])) << v.key() << " on poisoned input (" << reference_kind(v) << ")";
         }
     }
 }
@@ -157,11 +159,27 @@ INSTANTIATE_TEST_SUITE_P(Registry, EveryVariant, ::testing::ValuesIn(variant_key
                              return s;
                          });
 
-TEST(Registry, GroupAStagesAndVariantsAreRegistered) {
+// Issue 9 "algorithm plus schedule": for every variant, Traversal::Reference is an independent
+// plain loop over the per-pixel maths, or the fast schedule calls that maths itself. The variants
+// still pending (their reference is the fast row kernel run on one thread, which proves thread
+// independence, not correctness; docs/stylize.md "Algorithm and schedule") are listed here: a new
+// stage cannot join the list silently, and a stage given a plain loop must leave it.
+TEST(Registry, ReferenceIsIndependentOfTheFastKernelExceptThePendingVariants) {
+    const std::set<std::string> pending = {"extend_edges/mnpr", "substrate_distort/mnpr"};
+    std::set<std::string> same_kernel;
+    for (auto* v : builtin_registry().all())
+        if (v->reference == StageVariant::Reference::SameKernel) same_kernel.insert(v->key());
+    EXPECT_EQ(same_kernel, pending);
+}
+
+TEST(Registry, EveryStageAndVariantIsRegistered) {
     const Registry& r = builtin_registry();
     for (auto [s, v] : {std::pair{"adjust", "mnpr"}, {"edge_detect", "rgbd_sobel"}, {"pigment_density", "mnpr"},
                         {"bleed", "naive"}, {"bleed", "joint_bilateral"}, {"bleed", "mnpr"}, {"edge_blur", "wc17"},
-                        {"edge_blur", "wc18"}, {"extend_edges", "mnpr"}, {"bleed_blend", "eq7"}})
+                        {"edge_blur", "wc18"}, {"extend_edges", "mnpr"}, {"bleed_blend", "eq7"}, {"edge_darken", "dog"},
+                        {"edge_darken", "rgbd"}, {"gaps_overlaps", "wc18"}, {"pigment_apply", "wc17"},
+                        {"pigment_apply", "wc18"}, {"substrate_distort", "mnpr"}, {"substrate_light", "wc18"},
+                        {"substrate_light", "mnpr"}})
         EXPECT_TRUE(r.has(s, v)) << s << "/" << v;
     for (auto* v : r.all()) {
         EXPECT_FALSE(v->doc.empty()) << v->key();

@@ -55,7 +55,7 @@ TEST(StageBRegistry, RunsOnSyntheticTargetsWithBothTraversals) {
                 for (std::size_t k = 0; k < ref.size(); ++k) {
                     ASSERT_EQ(ref[k].width(), w) << v->key();
                     ASSERT_EQ(ref[k].channels(), v->outputs[k].channels) << v->key();
-                    EXPECT_EQ(0, std::memcmp(ref[k].data(), fast[k].data(), ref[k].num_values() * sizeof(float)))
+                    EXPECT_TRUE(testb::same_values(ref[k], fast[k]))
                         << v->key() << (poisoned ? " (NaN/Inf inputs)" : "");
                 }
             }

@@ -3,6 +3,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
+
+#include <cmath>
 #include <cstdint>
 
 #include <glm/glm.hpp>
@@ -37,6 +40,19 @@ inline ImageF noise(int w, int h, int c, float lo, float hi, std::uint32_t seed)
 }
 
 //! Copies img, setting every k-th value to NaN, +Inf or -Inf in turn.
+//! Same shape and bit-identical values, except that any NaN equals any NaN: IEEE leaves the sign
+//! and payload of a NaN result unspecified (a negation, a swapped commutative operand), so two
+//! independent computations (a plain reference loop and a vectorised row kernel) may differ there.
+inline bool same_values(const ImageF& a, const ImageF& b) {
+    if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) return false;
+    for (std::size_t i = 0; i < a.num_values(); ++i) {
+        const float x = a.data()[i], y = b.data()[i];
+        if (std::isnan(x) && std::isnan(y)) continue;
+        if (std::memcmp(&x, &y, sizeof(float)) != 0) return false;
+    }
+    return true;
+}
+
 inline ImageF poison(const ImageF& img, int k = 7) {
     ImageF out = img;
     const float bad[3] = {std::nanf(""), INFINITY, -INFINITY};
