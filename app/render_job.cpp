@@ -12,15 +12,10 @@ namespace aq::app {
 
 namespace {
 
+using stylize::split_step_param;
+
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-//! "step.param" -> (step, param); a name without a dot is a step with no parameter (an error
-//! reported by set_param_value with the source named).
-std::pair<std::string, std::string> split_step_param(const std::string& k) {
-    const auto dot = k.find('.');
-    return {k.substr(0, dot), dot == std::string::npos ? "" : k.substr(dot + 1)};
 }
 
 }  // namespace
@@ -81,7 +76,6 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             pipeline.has_paper = true;
         }
         if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
-        stylize::validate_pipeline(pipeline);
     } else if (!o.sets.empty() || !o.variants.empty()) {
         throw cli::UsageError("render: --set/--variant need a style (not --style none)");
     }
@@ -128,6 +122,10 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             job.sweep_labels.push_back(label);
         }
     }
+    // Compiled once per run (every name, value and binding resolved and checked); each frame then
+    // only checks the G-buffer it is given.
+    for (const stylize::Pipeline& p : job.styles)
+        if (job.stylize) job.compiled.push_back(stylize::compile_pipeline(p));
     return job;
 }
 
@@ -162,7 +160,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
                     };
-                stylize::run_pipeline(style, targets, ro);
+                stylize::run_pipeline(job.compiled[si], targets, ro);
                 final_name = style.output;
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
                     std::to_string(int(ms_since(ts))) + " ms");

@@ -41,6 +41,7 @@ struct RenderJob {
     raster::RenderSettings settings;
     bool stylize = false;                        //!< false: --style none (G-buffer colour only)
     std::vector<stylize::Pipeline> styles;       //!< one, or one per sweep value
+    std::vector<stylize::CompiledPipeline> compiled;  //!< styles compiled (empty for --style none)
     std::vector<std::string> sweep_labels;       //!< "step.param=value" per sweep value, else {""}
     bool sweeping() const { return styles.size() > 1; }
 };

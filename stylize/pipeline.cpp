@@ -241,12 +241,17 @@ const StageVariant& variant_of(const PipelineStep& s) {
 
 }  // namespace
 
+std::pair<std::string, std::string> split_step_param(const std::string& k) {
+    const auto dot = k.find('.');
+    return {k.substr(0, dot), dot == std::string::npos ? "" : k.substr(dot + 1)};
+}
+
 void set_param(Pipeline& p, const std::string& a) {
     const auto eq = a.find('=');
-    const auto dot = a.find('.');
-    if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+    if (eq == std::string::npos || a.substr(0, eq).find('.') == std::string::npos)
         throw Error("--set '" + a + "': expected stage.param=value");
-    const std::string step = a.substr(0, dot), param = a.substr(dot + 1, eq - dot - 1), val = a.substr(eq + 1);
+    const auto [step, param] = split_step_param(a.substr(0, eq));
+    const std::string val = a.substr(eq + 1);
     double v = 0;
     if (val == "true") v = 1;
     else if (val == "false") v = 0;
@@ -311,6 +316,8 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
         auto it = s.out.find(port.name);
         r.outputs.push_back(it != s.out.end() ? it->second : port.default_target);
     }
+    r.label = s.id + " (" + r.variant->key() + ")";
+    r.where = key + " (" + r.variant->key() + ")";
     return r;
 }
 
@@ -318,38 +325,39 @@ namespace {
 constexpr const char* kPaperTarget = "paper";
 }
 
-void validate_pipeline(const Pipeline& p, const Targets* gbuffer) {
+CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
+    CompiledPipeline c;
+    c.name = p.name;
+    c.source = p.source;
+    c.output = p.output;
+    c.substrate_color = p.substrate_color;
+    c.paper = p.paper;
+    c.has_paper = p.has_paper;
     std::map<std::string, int> produced;  // target -> channels
     std::map<std::string, std::string> producer;
-    const ImageF* first_g = nullptr;
-    std::string first_g_name;
+    std::map<std::string, std::size_t> external_index;
     for (std::size_t i = 0; i < p.steps.size(); ++i) {
-        const ResolvedStep r = resolve_step(p, i);
-        const std::string key = p.source + ": " + idx("steps", i) + " (" + r.variant->key() + ")";
+        CompiledStep r = resolve_step(p, i);
+        const std::string& key = r.where;
         for (std::size_t k = 0; k < r.inputs.size(); ++k) {
             const Port& port = r.variant->inputs[k];
             const std::string& t = r.inputs[k];
+            c.last_read[t] = i;
             int ch = -1;
             if (auto it = produced.find(t); it != produced.end()) {
                 ch = it->second;
-            } else if (t == kPaperTarget && !(gbuffer && gbuffer->has(t))) {
+            } else if (t == kPaperTarget) {
                 ch = 3;
-            } else if (gbuffer) {
-                if (!gbuffer->has(t)) {
-                    if (port.optional) continue;
-                    throw Error(key + ": input '" + port.name + "' reads target '" + t +
-                                "', which no earlier step writes and the G-buffer does not have");
-                }
-                const ImageF& img = gbuffer->get(t);
-                ch = img.channels();
-                if (!first_g) {
-                    first_g = &img;
-                    first_g_name = t;
-                } else if (!img.same_size(*first_g)) {
-                    throw Error(key + ": G-buffer target '" + t + "' is " + std::to_string(img.width()) + "x" +
-                                std::to_string(img.height()) + " but '" + first_g_name + "' is " +
-                                std::to_string(first_g->width()) + "x" + std::to_string(first_g->height()));
-                }
+            } else if (auto e = external_index.find(t); e != external_index.end()) {
+                ExternalInput& x = c.external[e->second];
+                x.optional = x.optional && port.optional;
+                if (port.channels != x.channels)
+                    throw Error(key + ": input '" + port.name + "' needs " + std::to_string(port.channels) +
+                                " channels but target '" + t + "' is read with " + std::to_string(x.channels) +
+                                " by " + x.reader);
+            } else {
+                external_index[t] = c.external.size();
+                c.external.push_back({t, port.channels, port.optional, key, port.name});
             }
             if (ch >= 0 && ch != port.channels)
                 throw Error(key + ": input '" + port.name + "' needs " + std::to_string(port.channels) +
@@ -362,50 +370,85 @@ void validate_pipeline(const Pipeline& p, const Targets* gbuffer) {
             if (produced.count(t))
                 throw Error(key + ": output '" + r.variant->outputs[k].name + "' writes target '" + t +
                             "', already written by " + producer[t]);
-            if ((gbuffer && gbuffer->has(t)) || t == kPaperTarget)
+            if (t == kPaperTarget || external_index.count(t))
                 throw Error(key + ": output '" + r.variant->outputs[k].name + "' would overwrite input target '" + t + "'");
             for (std::size_t m = 0; m < k; ++m)
                 if (r.outputs[m] == t) throw Error(key + ": two outputs write target '" + t + "'");
             produced[t] = r.variant->outputs[k].channels;
             producer[t] = idx("steps", i);
+            c.produced.push_back(t);
         }
+        c.steps.push_back(std::move(r));
     }
-    if (!produced.count(p.output) && !(gbuffer && gbuffer->has(p.output)))
-        throw Error(p.source + ": output: target '" + p.output + "' is not written by any step");
+    if (!produced.count(p.output) && !external_index.count(p.output))
+        c.external.push_back({p.output, 0, false, p.source + ": output", ""});
+    if (gbuffer) check_gbuffer(c, *gbuffer);
+    return c;
 }
 
+void check_gbuffer(const CompiledPipeline& c, const Targets& gbuffer) {
+    const ImageF* first = nullptr;
+    std::string first_name;
+    for (const ExternalInput& x : c.external) {
+        if (!gbuffer.has(x.target)) {
+            if (x.optional) continue;
+            if (x.port.empty()) throw Error(x.reader + ": target '" + x.target + "' is not written by any step");
+            throw Error(x.reader + ": input '" + x.port + "' reads target '" + x.target +
+                        "', which no earlier step writes and the G-buffer does not have");
+        }
+        const ImageF& img = gbuffer.get(x.target);
+        if (x.port.empty()) continue;  // the output, taken from the G-buffer as it is
+        if (img.channels() != x.channels)
+            throw Error(x.reader + ": input '" + x.port + "' needs " + std::to_string(x.channels) +
+                        " channels but target '" + x.target + "' has " + std::to_string(img.channels()));
+        if (!first) {
+            first = &img;
+            first_name = x.target;
+        } else if (!img.same_size(*first)) {
+            throw Error(x.reader + ": G-buffer target '" + x.target + "' is " + std::to_string(img.width()) + "x" +
+                        std::to_string(img.height()) + " but '" + first_name + "' is " +
+                        std::to_string(first->width()) + "x" + std::to_string(first->height()));
+        }
+    }
+    for (const std::string& t : c.produced)
+        if (gbuffer.has(t))
+            throw Error(c.source + ": target '" + t + "' is written by a step but already present (a G-buffer target "
+                        "cannot be overwritten; a frame loop passes RunOptions::reuse_outputs)");
+}
+
+void validate_pipeline(const Pipeline& p, const Targets* gbuffer) { (void)compile_pipeline(p, gbuffer); }
+
 void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
+    run_pipeline(compile_pipeline(p), targets, opt);
+}
+
+void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
     std::map<std::string, ImageF> recycled;
     if (opt.reuse_outputs)
-        for (std::size_t i = 0; i < p.steps.size(); ++i)
-            for (const std::string& t : resolve_step(p, i).outputs)
-                if (targets.has(t) && !recycled.count(t)) {
-                    recycled[t] = std::move(targets.get_mut(t));
-                    targets.erase(t);
-                }
-    validate_pipeline(p, &targets);
-    // Image size: the first G-buffer target a step reads (validate checked they agree).
-    int w = 0, h = 0;
-    for (std::size_t i = 0; i < p.steps.size() && w == 0; ++i) {
-        const ResolvedStep r = resolve_step(p, i);
-        for (auto& t : r.inputs)
-            if (!t.empty() && targets.has(t) && t != kPaperTarget) {
-                w = targets.get(t).width();
-                h = targets.get(t).height();
-                break;
+        for (const std::string& t : c.produced)
+            if (targets.has(t)) {
+                recycled[t] = std::move(targets.get_mut(t));
+                targets.erase(t);
             }
-    }
-    if (w == 0) throw Error(p.source + ": no step reads a G-buffer target");
+    check_gbuffer(c, targets);
+    // Image size: the first G-buffer target read (check_gbuffer checked they agree).
+    int w = 0, h = 0;
+    for (const ExternalInput& x : c.external)
+        if (!x.port.empty() && targets.has(x.target)) {
+            w = targets.get(x.target).width();
+            h = targets.get(x.target).height();
+            break;
+        }
+    if (w == 0) throw Error(c.source + ": no step reads a G-buffer target");
     if (!targets.has(kPaperTarget))
-        targets.set(kPaperTarget, p.has_paper ? prepare_paper(p.paper, w, h) : flat_paper(w, h));
+        targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h) : flat_paper(w, h));
     Globals g;
-    g.substrate_color = p.substrate_color;
+    g.substrate_color = c.substrate_color;
     g.paper = &targets.get(kPaperTarget);
-    const int n = int(p.steps.size());
+    const int n = int(c.steps.size());
     for (int i = 0; i < n; ++i) {
-        const ResolvedStep r = resolve_step(p, std::size_t(i));
-        const std::string key = p.source + ": " + idx("steps", std::size_t(i)) + " (" + r.variant->key() + ")";
-        if (opt.progress) opt.progress(i, n, p.steps[std::size_t(i)].id + " (" + r.variant->key() + ")");
+        const CompiledStep& r = c.steps[std::size_t(i)];
+        if (opt.progress) opt.progress(i, n, r.label);
         StageIO io;
         io.globals = &g;
         for (std::size_t k = 0; k < r.inputs.size(); ++k)
@@ -417,11 +460,11 @@ void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
         try {
             r.variant->run(io, r.params, opt.exec);
         } catch (const Error& e) {
-            throw Error(key + ": " + e.what());
+            throw Error(r.where + ": " + e.what());
         }
         for (std::size_t k = 0; k < outs.size(); ++k) {
             if (outs[k].empty() || outs[k].channels() != r.variant->outputs[k].channels)
-                throw Error(key + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
+                throw Error(r.where + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
                             std::to_string(r.variant->outputs[k].channels) + " channels");
             targets.set(r.outputs[k], std::move(outs[k]));
         }

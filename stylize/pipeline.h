@@ -54,6 +54,10 @@ std::vector<std::string> preset_names();
 //! The preset folder in use ($AQ_PRESET_DIR or the compiled-in one).
 std::string preset_dir();
 
+//! "step.param" -> {step, param} (param empty when there is no dot): the one parser of the name
+//! part of --set, --sweep and scene-file style values.
+std::pair<std::string, std::string> split_step_param(const std::string& step_dot_param);
+
 //! "step.param=value" where step is a step id or stage name (ambiguous names are an error);
 //! values: numbers, true/false. Throws aq::Error on unknown step/param or out-of-range values.
 void set_param(Pipeline& p, const std::string& assignment);
@@ -73,24 +77,64 @@ struct RunOptions {
     bool reuse_outputs = false;
 };
 
-//! Validates (validate_pipeline with the given targets as G-buffer), then runs each step in order,
-//! adding its outputs to `targets`. The paper texture is added as target "paper" (flat paper when
-//! the pipeline has none). Throws aq::Error naming the step on any failure.
-void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt = {});
-
-//! Checks everything that can be checked without running: stage/variant/param names and ranges,
-//! port names, every input produced by an earlier step or present in the G-buffer (when given),
-//! channel counts, no step writing its own input, a G-buffer target or a target written before,
-//! equal sizes of the G-buffer inputs, and that `output` is produced. Throws aq::Error.
-void validate_pipeline(const Pipeline& p, const Targets* gbuffer = nullptr);
-
-//! Resolved view of a step: the variant, full parameter values and port -> target bindings.
-struct ResolvedStep {
+//! One step of a compiled pipeline: the variant resolved, every parameter value checked and
+//! complete, every port bound to a target name.
+struct CompiledStep {
     const StageVariant* variant = nullptr;
     ParamValues params;
-    std::vector<std::string> inputs;   //!< per variant input port ("" = optional and unbound)
+    std::vector<std::string> inputs;   //!< per variant input port
     std::vector<std::string> outputs;  //!< per variant output port
+    std::string label;                 //!< "id (stage/variant)", for progress
+    std::string where;                 //!< "FILE: steps[i] (stage/variant)", for errors
 };
+using ResolvedStep = CompiledStep;
+
+//! A target the pipeline reads but no step writes: it must come from the G-buffer.
+struct ExternalInput {
+    std::string target;
+    int channels = 0;       //!< what the first reader needs
+    bool optional = false;  //!< every reader's port is optional
+    std::string reader;     //!< "FILE: steps[i] (stage/variant)" of the first reader
+    std::string port;       //!< the first reader's port name
+};
+
+//! A pipeline validated and resolved once (compile_pipeline); running it resolves nothing again.
+struct CompiledPipeline {
+    std::string name, source, output;
+    glm::vec3 substrate_color{1.0f};
+    PaperSpec paper;
+    bool has_paper = false;
+    std::vector<CompiledStep> steps;
+    std::vector<ExternalInput> external;  //!< G-buffer targets read (and the output, if no step writes it)
+    std::vector<std::string> produced;    //!< targets the steps write, in order
+    //! Liveness: target -> index of the last step that reads it (intermediates are dead after it).
+    std::map<std::string, std::size_t> last_read;
+};
+
+//! Checks everything that can be checked without running — stage/variant/param names and ranges,
+//! port names, every input produced by an earlier step or external, no step writing its own
+//! input, the paper target or a target written before, and that `output` is produced or external
+//! — and returns the resolved plan. With a G-buffer, also check_gbuffer. Throws aq::Error naming
+//! the file, the step and the key.
+CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer = nullptr);
+
+//! The G-buffer side of validation, cheap enough for every frame: every non-optional external
+//! input present with its channel count, all external inputs of equal size, no step output
+//! overwriting a G-buffer target. Throws aq::Error.
+void check_gbuffer(const CompiledPipeline& c, const Targets& gbuffer);
+
+//! Runs a compiled pipeline on `targets` (the G-buffer): check_gbuffer, then each step in order,
+//! adding its outputs to `targets`. The paper texture is added as target "paper" (flat paper when
+//! the pipeline has none). Throws aq::Error naming the step on any failure.
+void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt = {});
+
+//! compile_pipeline(p, &targets) then run_pipeline: for callers that run a pipeline once.
+void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt = {});
+
+//! compile_pipeline without keeping the plan.
+void validate_pipeline(const Pipeline& p, const Targets* gbuffer = nullptr);
+
+//! One step resolved (as compile_pipeline does for each).
 ResolvedStep resolve_step(const Pipeline& p, std::size_t index);
 
 }  // namespace aq::stylize

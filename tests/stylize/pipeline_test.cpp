@@ -254,3 +254,49 @@ TEST(Pipeline, PresetDirCanBeOverriddenByEnvironment) {
 
 }  // namespace
 }  // namespace aq::stylize
+
+namespace aq::stylize {
+namespace {
+
+// Issue 9 item 3: a pipeline is compiled once (variants, parameters, bindings resolved and
+// checked); running the plan twice gives what running the description gives, and the plan knows
+// which targets come from the G-buffer and when each intermediate is read for the last time.
+TEST(CompiledPipeline, RunsAsTheDescriptionAndKnowsItsInputsAndLiveness) {
+    const Pipeline p = load_pipeline("wc18");
+    const CompiledPipeline c = compile_pipeline(p);
+    ASSERT_EQ(c.steps.size(), p.steps.size());
+    for (std::size_t i = 0; i < c.steps.size(); ++i) {
+        EXPECT_EQ(c.steps[i].variant->stage, p.steps[i].stage);
+        EXPECT_EQ(c.steps[i].params.size(), c.steps[i].variant->params.size()) << "every parameter resolved";
+    }
+    std::set<std::string> external;
+    for (const ExternalInput& x : c.external) external.insert(x.target);
+    EXPECT_TRUE(external.count(target::kColor));
+    EXPECT_TRUE(external.count(target::kDepthLinear));
+    for (const std::string& t : c.produced) EXPECT_FALSE(external.count(t)) << t << " is written by a step";
+    // Liveness: every read target's last reader is the last step whose inputs name it.
+    for (const auto& [t, last] : c.last_read) {
+        for (std::size_t i = last + 1; i < c.steps.size(); ++i)
+            for (const std::string& in : c.steps[i].inputs) EXPECT_NE(in, t) << "step " << i << " reads " << t;
+        bool read_there = false;
+        for (const std::string& in : c.steps[last].inputs) read_there |= in == t;
+        EXPECT_TRUE(read_there) << t;
+    }
+    Targets a = test::synthetic_gbuffer(61, 37), b = test::synthetic_gbuffer(61, 37);
+    run_pipeline(p, a, RunOptions{Exec::fast(2), {}});
+    RunOptions reuse{Exec::fast(2), {}};
+    reuse.reuse_outputs = true;
+    run_pipeline(c, b, reuse);
+    run_pipeline(c, b, reuse);  // a second frame into the same targets
+    for (const std::string& t : c.produced) EXPECT_EQ(sha256_hex(a.get(t)), sha256_hex(b.get(t))) << t;
+}
+
+TEST(CompiledPipeline, TheGBufferIsCheckedAtEveryRun) {
+    const CompiledPipeline c = compile_pipeline(load_pipeline("wc18"));
+    Targets t = test::synthetic_gbuffer(16, 12);
+    t.erase(target::kDepthLinear);
+    EXPECT_ERROR_MENTIONS(run_pipeline(c, t), "wc18.json", target::kDepthLinear);
+}
+
+}  // namespace
+}  // namespace aq::stylize
