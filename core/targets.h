@@ -23,7 +23,62 @@ inline constexpr const char* kNormal = "normal";
 inline constexpr const char* kObjectId = "object_id";
 inline constexpr const char* kDiffuse = "diffuse";
 inline constexpr const char* kSpecular = "specular";
+
+//! The G-buffer the rasterizer writes, named once (used by the rasterizer's allocation and reuse,
+//! the synthetic G-buffers of tests, benchmarks and the reference, and the GL twin's check):
+//! target, channels, value where nothing is drawn. docs/raster.md "G-buffer".
+struct GBufferTarget {
+    const char* name;
+    int channels;
+    bool far_background;  //!< true: the camera's far distance where nothing is drawn; else 0
+};
+inline constexpr GBufferTarget kGBufferLayout[] = {
+    {kColor, 4, false},        {kCtrlPigment, 4, false}, {kCtrlSubstrate, 4, false}, {kCtrlEdge, 4, false},
+    {kCtrlAbstraction, 4, false}, {kDepthLinear, 1, true}, {kNormal, 3, false},        {kObjectId, 1, false},
+    {kDiffuse, 1, false},      {kSpecular, 1, false},
+};
+//! Channels of a G-buffer target (0 if `name` is not one).
+inline int gbuffer_channels(const char* name) {
+    for (const GBufferTarget& t : kGBufferLayout)
+        if (std::string(t.name) == name) return t.channels;
+    return 0;
+}
 }  // namespace target
+
+//! The WC18/MNPR control layout (spec §1 table), named once: four RGBA control targets whose R, G,
+//! B channels carry the painted effect parameters below (alpha unused). The scene side (control
+//! rules, materials) writes by these names; the stages read the same constants.
+namespace control {
+inline constexpr int kNumTargets = 4;
+inline constexpr const char* kTargets[kNumTargets] = {target::kCtrlPigment, target::kCtrlSubstrate,
+                                                      target::kCtrlEdge, target::kCtrlAbstraction};
+//! Short names used in scene files ("edge.intensity").
+inline constexpr const char* kShortNames[kNumTargets] = {"pigment", "substrate", "edge", "abstraction"};
+//! Channel aliases per target (R, G, B), as in scene files.
+inline constexpr const char* kChannelNames[kNumTargets][3] = {
+    {"variation", "application", "density"},
+    {"distortion", "u_incline", "v_incline"},
+    {"intensity", "width", "transition"},
+    {"detail", "shape", "bleeding"},
+};
+//! One control value: target index into kTargets and channel.
+struct Channel {
+    int target;
+    int channel;
+};
+inline constexpr Channel kPigmentVariation{0, 0};     //!< pigment variation (WC18)
+inline constexpr Channel kPigmentApplication{0, 1};   //!< granulation / dry brush (pigment_apply)
+inline constexpr Channel kPigmentDensity{0, 2};       //!< pigment turbulence (pigment_density)
+inline constexpr Channel kSubstrateDistortion{1, 0};  //!< paper distortion (substrate_distort)
+inline constexpr Channel kSubstrateUIncline{1, 1};
+inline constexpr Channel kSubstrateVIncline{1, 2};
+inline constexpr Channel kEdgeIntensity{2, 0};        //!< edge darkening (edge_darken)
+inline constexpr Channel kEdgeWidth{2, 1};            //!< edge width (edge_blur/wc18)
+inline constexpr Channel kEdgeTransition{2, 2};       //!< gaps & overlaps (gaps_overlaps)
+inline constexpr Channel kAbstractionDetail{3, 0};
+inline constexpr Channel kAbstractionShape{3, 1};
+inline constexpr Channel kAbstractionBleeding{3, 2};  //!< colour bleeding (bleed)
+}  // namespace control
 
 class Targets {
 public:

@@ -9,13 +9,7 @@ namespace aq::scene::detail {
 using nlohmann::json;
 
 const char* control_target_name(int target) {
-    switch (target) {
-        case kCtrlPigment: return "pigment";
-        case kCtrlSubstrate: return "substrate";
-        case kCtrlEdge: return "edge";
-        case kCtrlAbstraction: return "abstraction";
-        default: return "?";
-    }
+    return target >= 0 && target < control::kNumTargets ? control::kShortNames[target] : "?";
 }
 
 int parse_control_target(const std::string& s0) {

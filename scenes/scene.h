@@ -6,6 +6,8 @@
 // onto the four WC18/MNPR control targets (spec §1). The rasterizer only transforms and shades.
 #pragma once
 
+#include "core/targets.h"
+
 #include <array>
 #include <cstdint>
 #include <map>
@@ -46,7 +48,8 @@ struct TextureRef {
 enum class AlphaMode { Opaque, Mask, Blend };
 
 //! Number of control targets in the WC18/MNPR layout (spec §1 table).
-inline constexpr int kNumControlTargets = 4;
+inline constexpr int kNumControlTargets = control::kNumTargets;
+//! Indices into core/targets.h control::kTargets.
 enum ControlTarget { kCtrlPigment = 0, kCtrlSubstrate = 1, kCtrlEdge = 2, kCtrlAbstraction = 3 };
 
 //! MNPR's reflectance defaults (the authors' Maya material; WC17 Fig. 7 uses dA = 1): kept for

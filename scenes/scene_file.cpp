@@ -96,14 +96,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 // --- control targets ---------------------------------------------------------------------------
 
-// Channel aliases of the spec §1 table.
-const char* const kChannelNames[kNumControlTargets][3] = {
-    {"variation", "application", "density"},
-    {"distortion", "u_incline", "v_incline"},
-    {"intensity", "width", "transition"},
-    {"detail", "shape", "bleeding"},
-};
-
 bool parse_wc18_target(const std::string& s, int* target, int* channel) {
     const auto dot = s.find('.');
     if (dot == std::string::npos) return false;
@@ -116,7 +108,7 @@ bool parse_wc18_target(const std::string& s, int* target, int* channel) {
     else if (c == "b") ch = 2;
     else
         for (int k = 0; k < 3; ++k)
-            if (c == kChannelNames[t][k]) ch = k;
+            if (c == control::kChannelNames[t][k]) ch = k;
     if (ch < 0) return false;
     *target = t;
     *channel = ch;

@@ -274,11 +274,11 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
         ImageF hc, hk, hz;
         if (p.half_res) {
             hc = toolkit::resample(color, wr, hr, ex);
-            hk = toolkit::resample_channel(ctrl, 2, wr, hr, ex);  // bleeding control only
+            hk = toolkit::resample_channel(ctrl, control::kAbstractionBleeding.channel, wr, hr, ex);  // bleeding only
             if (!depth.empty()) hz = toolkit::resample(depth, wr, hr, ex);
         }
         const float* cd = p.half_res ? hc.data() : color.data();
-        const float* kd = p.half_res ? hk.data() : ctrl.data() + 2;  // + 2: the B channel
+        const float* kd = p.half_res ? hk.data() : ctrl.data() + control::kAbstractionBleeding.channel;
         const std::size_t ks = p.half_res ? 1 : 4;
         const float* zd = depth.empty() ? nullptr : (p.half_res ? hz.data() : depth.data());
         toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {

@@ -68,7 +68,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     // than a full-size table (8 MB at 1080p, faulted in and filled every frame).
     auto kernel_sizes = [&](std::size_t i0, std::size_t n, int* k) {
         const float* c = ctrl.data() + 4 * i0;
-        for (std::size_t i = 0; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + 1]);
+        for (std::size_t i = 0; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + control::kEdgeWidth.channel]);
     };
     ImageF tmp(w, h, 1, kUninitialized);  // pass 0 writes every value
     toolkit::ensure_output(dst, w, h, 1);

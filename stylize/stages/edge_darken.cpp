@@ -39,7 +39,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
         return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
     };
     const View<const glm::vec4> c = color.view<glm::vec4>();
-    const Plane ctrl = plane(ctrl_edge, 0);
+    const Plane ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 8 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
@@ -96,7 +96,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
-    const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, 0);
+    const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
     const bool bleed_same = !bleed || bleed->same_size(color);

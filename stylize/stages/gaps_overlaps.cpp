@@ -119,7 +119,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bleed->width(), bleed->height());
     const GoKernel k{color.view<glm::vec4>(),
                      plane(edges_ext, 0),
-                     plane(ctrl_edge, 2),
+                     plane(ctrl_edge, control::kEdgeTransition.channel),
                      bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h),
                      bleed_same,
                      &up,

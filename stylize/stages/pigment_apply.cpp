@@ -35,7 +35,7 @@ Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const
     check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
     check_not_alias(dst, paper, st, "paper");
     ensure_output(dst, color.width(), color.height(), 4);
-    return {color.view<glm::vec4>(), plane(ctrl_pigment, 1),
+    return {color.view<glm::vec4>(), plane(ctrl_pigment, control::kPigmentApplication.channel),
             paper ? plane(*paper, 2) : constant_plane(&kFlatPaperHeight, color.width(), color.height())};
 }
 

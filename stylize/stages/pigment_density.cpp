@@ -27,7 +27,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     if (ex.traversal == Traversal::Reference) {  // the plain reference: the formula pixel by pixel
         const View<const glm::vec4> cv = color.view<glm::vec4>(), kv = ctrl.view<glm::vec4>();
         const View<glm::vec4> ov = dst.view<glm::vec4>();
-        toolkit::plain_loop(w, h, [&](int x, int y) { ov(x, y) = pigment_density_px(cv(x, y), kv(x, y).z, substrate, p); });
+        toolkit::plain_loop(w, h, [&](int x, int y) { ov(x, y) = pigment_density_px(cv(x, y), kv(x, y)[control::kPigmentDensity.channel], substrate, p); });
         return;
     }
     // Chunks of a row: the exponents, the powers in one vectorised loop (x^1 == x exactly in
@@ -42,7 +42,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             const float* ci = c + 4 * i0;
             const float* ki = k + 4 * i0;
             float* oi = o + 4 * i0;
-            for (std::size_t j = 0; j < n; ++j) d[j] = 1.0f + p.strength * ki[4 * j + 2];
+            for (std::size_t j = 0; j < n; ++j) d[j] = 1.0f + p.strength * ki[4 * j + control::kPigmentDensity.channel];
             for (std::size_t j = 0; j < n; ++j)
                 for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = std::fabs(ci[4 * j + ch]);
             // Painted regions are contiguous: a chunk is usually all painted or all unpainted, so

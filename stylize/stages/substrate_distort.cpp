@@ -37,7 +37,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
-    const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, 0);
+    const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, control::kSubstrateDistortion.channel);
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatPaperNormal, w, h);
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatPaperNormal, w, h);
     const Border b = border_from(p.border);

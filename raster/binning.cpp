@@ -1,0 +1,157 @@
+// raster/binning.cpp — vertex stage, chunked triangle setup and binning (docs/raster.md "Tiles, traversal, determinism"): setups are produced per chunk of consecutive triangles and bins list them per chunk, so a tile visits triangles in submission order.
+#include "raster/raster_internal.h"
+
+namespace aq::raster::detail {
+
+const scene::Material& default_material() {
+    static const scene::Material m;
+    return m;
+}
+
+// Vertex stage and chunked setup (+ binning on the fast path).
+void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
+             std::vector<std::string>* warnings, PhaseTimer& timer) {
+    const glm::mat4 view = cam.view;
+    std::size_t bad_material = 0, bad_mesh = 0, missing_tangents = 0;
+    // fr.draws / fr.chunks may hold the previous frame's scratch (FrameScratch): their buffers
+    // are reused (every element is rewritten before it is read), only the objects are reset.
+    std::vector<DrawVertices> old_draws = std::move(fr.draws);
+    std::vector<Chunk> old_chunks = std::move(fr.chunks);
+    fr.draws.clear();
+    fr.chunks.clear();
+    std::size_t next_draw = 0, next_chunk = 0;
+    for (const scene::Instance& inst : sc.instances) {
+        if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) {
+            ++bad_mesh;
+            continue;
+        }
+        for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
+            if (p.positions.empty() || p.indices.size() < 3) continue;
+            DrawVertices dv = next_draw < old_draws.size() ? std::move(old_draws[next_draw++]) : DrawVertices{};
+            dv.prim = &p;
+            if (p.material >= 0 && p.material < int(sc.materials.size())) {
+                dv.mat = &sc.materials[p.material];
+            } else {
+                dv.mat = &default_material();
+                ++bad_material;
+            }
+            dv.object_id = inst.object_id;
+            const std::size_t n = p.positions.size();
+            dv.clip.resize(n);
+            dv.view.resize(n);
+            dv.snap.resize(n);
+            dv.view_tangent.clear();
+            if (p.tangents.size() == n) dv.view_tangent.resize(n);
+            else if (dv.mat->normal_texture.texture >= 0) ++missing_tangents;
+            fr.draws.push_back(std::move(dv));
+        }
+    }
+    if (bad_mesh) warnings->push_back(std::to_string(bad_mesh) + " instance(s) reference a missing mesh: skipped");
+    if (bad_material)
+        warnings->push_back(std::to_string(bad_material) + " primitive(s) reference a missing material: default material used");
+    if (missing_tangents)
+        warnings->push_back(std::to_string(missing_tangents) + " primitive(s) with a normal map have no tangents: normal map ignored");
+
+    // Per-draw matrices (float, computed once; docs/raster.md).
+    struct Job { std::uint32_t draw; std::size_t begin, end; };
+    std::vector<Job> jobs;
+    std::vector<glm::mat4> mv(fr.draws.size());
+    std::vector<glm::mat3> nm(fr.draws.size());
+    {
+        std::size_t d = 0;
+        for (const scene::Instance& inst : sc.instances) {
+            if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+            for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
+                if (p.positions.empty() || p.indices.size() < 3) continue;
+                mv[d] = view * inst.world;
+                nm[d] = glm::transpose(glm::inverse(glm::mat3(mv[d])));
+                for (std::size_t b = 0; b < p.positions.size(); b += kVertexGrain)
+                    jobs.push_back({std::uint32_t(d), b, std::min(p.positions.size(), b + kVertexGrain)});
+                ++d;
+            }
+        }
+    }
+    run_for(parallel, jobs.size(), [&](std::size_t j) {
+        const Job& jb = jobs[j];
+        transform_vertices(fr.fp, mv[jb.draw], nm[jb.draw], fr.draws[jb.draw], jb.begin, jb.end);
+    });
+    timer.lap("vertex");
+
+    for (std::uint32_t d = 0; d < fr.draws.size(); ++d) {
+        const std::uint32_t ntri = std::uint32_t(fr.draws[d].prim->indices.size() / 3);
+        for (std::uint32_t b = 0; b < ntri;) {
+            if (fr.chunks.empty() || fr.chunks.back().size == kChunkTris) {
+                if (next_chunk < old_chunks.size()) {
+                    Chunk& r = fr.chunks.emplace_back(std::move(old_chunks[next_chunk++]));
+                    r.segments.clear();
+                    r.size = 0;
+                    r.tris.clear();
+                    r.clips.clear();
+                    r.bin_offsets.clear();
+                    r.bin_items.clear();
+                    r.counters = SetupCounters{};
+                } else {
+                    fr.chunks.emplace_back();
+                }
+            }
+            Chunk& c = fr.chunks.back();
+            const std::uint32_t e = std::min(ntri, b + (kChunkTris - c.size));
+            c.segments.push_back({d, b, e});
+            c.size += e - b;
+            b = e;
+        }
+    }
+    const int ntiles = fr.tiles_x * fr.tiles_y;
+    run_for(parallel, fr.chunks.size(), [&](std::size_t ci) {
+        Chunk& c = fr.chunks[ci];
+        c.tris.reserve(c.size);
+        if (!bin) {
+            for (const Chunk::Segment& sg : c.segments)
+                for (std::uint32_t t = sg.begin; t < sg.end; ++t)
+                    setup_triangle(fr.draws[sg.draw], sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+            return;
+        }
+        // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
+        // (stable, so each tile's list stays in submission order). The 120-byte setups are
+        // written once and not re-read here.
+        std::vector<std::uint64_t> pairs;
+        pairs.reserve(c.size);
+        c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
+        for (const Chunk::Segment& sg : c.segments) {
+            const DrawVertices& dv = fr.draws[sg.draw];
+            for (std::uint32_t t = sg.begin; t < sg.end; ++t) {
+                std::size_t k = c.tris.size();
+                setup_triangle(dv, sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+                for (; k < c.tris.size(); ++k) {
+                    const TriSetup& st = c.tris[k];
+                    for (int ty = st.y0 / kTile; ty <= st.y1 / kTile; ++ty)
+                        for (int tx = st.x0 / kTile; tx <= st.x1 / kTile; ++tx) {
+                            const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
+                            ++c.bin_offsets[tile + 1];
+                            pairs.push_back(std::uint64_t(tile) << 32 | k);
+                        }
+                }
+            }
+        }
+        for (int i = 0; i < ntiles; ++i) c.bin_offsets[i + 1] += c.bin_offsets[i];
+        c.bin_items.resize(pairs.size());
+        std::vector<std::uint32_t> fill(c.bin_offsets.begin(), c.bin_offsets.end() - 1);
+        for (const std::uint64_t p : pairs) c.bin_items[fill[p >> 32]++] = std::uint32_t(p);
+    });
+    SetupCounters total;
+    std::size_t nsetup = 0, nbinned = 0;
+    for (const Chunk& c : fr.chunks) {
+        total.add(c.counters);
+        nsetup += c.tris.size();
+        nbinned += c.bin_items.size();
+    }
+    if (timer.on) std::fprintf(stderr, "  raster triangles set up %zu, bin entries %zu\n", nsetup, nbinned);
+    if (total.non_finite)
+        warnings->push_back(std::to_string(total.non_finite) + " triangle(s) with non-finite vertex positions dropped");
+    if (total.bad_index)
+        warnings->push_back(std::to_string(total.bad_index) + " triangle(s) with out-of-range indices dropped");
+    if (total.clip_unstable)
+        warnings->push_back(std::to_string(total.clip_unstable) + " triangle(s) dropped: clipping produced non-finite or out-of-range vertices");
+}
+
+}  // namespace aq::raster::detail

@@ -1,0 +1,121 @@
+// raster/raster_internal.h — what the parts of the rasterizer share (raster/raster.cpp drives a
+// frame; binning.cpp: vertex stage, triangle setup and binning; tile.cpp: the reference and the
+// tiled traversal; resolve.cpp: SSAA resolve; gbuffer.cpp: the G-buffer targets). Not a public
+// API: include only from raster/*.cpp.
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "raster/material.h"
+#include "raster/raster.h"
+#include "raster/setup.h"
+#include "raster/vertex.h"
+
+namespace aq::raster::detail {
+
+constexpr std::uint32_t kChunkTris = 32768;  // triangles per setup chunk (schedule only)
+constexpr std::size_t kVertexGrain = 4096;
+constexpr int kTile = 64;                   // tile side in pixels (binning and raster)
+constexpr std::uint32_t kNoChunk = 0xffffffffu;
+
+// AQ_RASTER_PROFILE=1 prints per-phase wall times to stderr (profiling aid, docs/performance.md).
+struct PhaseTimer {
+    bool on = std::getenv("AQ_RASTER_PROFILE") != nullptr;
+    std::chrono::steady_clock::time_point t = std::chrono::steady_clock::now();
+    double cpu = cpu_ms();
+    static double cpu_ms() {
+        timespec ts;
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+        return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+    }
+    void lap(const char* what) {
+        if (!on) return;
+        const auto n = std::chrono::steady_clock::now();
+        const double c = cpu_ms();
+        std::fprintf(stderr, "  raster %-10s wall %8.2f ms  cpu %8.2f ms\n", what,
+                     std::chrono::duration<double, std::milli>(n - t).count(), c - cpu);
+        t = n;
+        cpu = c;
+    }
+};
+
+struct Chunk {
+    //! Consecutive triangles of the submission sequence, possibly spanning several draws (so the
+    //! number of chunks, and of per-chunk bin tables, is bounded by triangles / kChunkTris + 1
+    //! however many small draws the scene has).
+    struct Segment {
+        std::uint32_t draw, begin, end;
+    };
+    std::vector<Segment> segments;
+    std::uint32_t size = 0;
+    std::vector<TriSetup> tris;
+    std::vector<ClipVerts> clips;
+    std::vector<std::uint32_t> bin_offsets;  // per tile, CSR into bin_items (fast path only)
+    std::vector<std::uint32_t> bin_items;
+    SetupCounters counters;
+};
+
+struct TargetPtrs {
+    float* color;
+    float* ctrl[scene::kNumControlTargets];
+    float* depth;
+    float* normal;
+    float* id;
+    float* diffuse;
+    float* specular;
+    int width;
+};
+
+struct Frame {
+    FrameParams fp;
+    SetupOptions sopt;
+    ShadeContext ctx;
+    std::vector<DrawVertices> draws;
+    std::vector<Chunk> chunks;
+    int tiles_x = 0, tiles_y = 0;
+    float background_depth = 0;
+};
+
+template <class F>
+void run_for(bool parallel, std::size_t n, F&& f) {
+    if (!parallel) {
+        for (std::size_t i = 0; i < n; ++i) f(i);
+        return;
+    }
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { f(i); });
+}
+
+// binning.cpp
+//! The material of primitives whose material index is out of range.
+const scene::Material& default_material();
+//! Vertex stage and chunked triangle setup (+ binning into kTile tiles when `bin`).
+void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
+             std::vector<std::string>* warnings, PhaseTimer& timer);
+
+// tile.cpp
+//! The plain reference: per triangle in submission order, bounding box, whole image.
+void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float* count);
+//! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear);
+//! Writes the background values of pixel i into every target.
+void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);
+
+// gbuffer.cpp
+//! The targets of target::kGBufferLayout at W x H (allocated in parallel when `parallel`).
+Targets allocate_targets(int W, int H, float bg_depth, bool parallel = false);
+TargetPtrs pointers(Targets& tg);
+//! `t` holds exactly the G-buffer layout at W x H (its storage can be reused for a new frame).
+bool reusable(const Targets& t, int W, int H);
+
+// resolve.cpp
+//! SSAA resolve of the K-times supersampled `hi` to W x H (docs/raster.md "Supersampling").
+Targets resolve(const Targets& hi, int K, int W, int H, float bg_depth, const Exec& ex);
+
+}  // namespace aq::raster::detail

@@ -1,0 +1,271 @@
+// raster/tile.cpp — the two traversals: the plain reference rasterizer (forward, per triangle) and the tiled one (one task per tile: visibility resolved first, depth test "less", then each pixel's winner shaded once, the same fragment the reference writes last).
+#include "raster/raster_internal.h"
+
+#include <immintrin.h>
+
+namespace aq::raster::detail {
+
+// Interpolates the vertex data of the fragment with setup weights b (shared by both traversals).
+FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    float o[3];
+    if (t.clip < 0) {
+        o[0] = b.b[0];
+        o[1] = t.perm ? b.b[2] : b.b[1];
+        o[2] = t.perm ? b.b[1] : b.b[2];
+    } else {
+        const ClipVerts& cv = ch.clips[t.clip];
+        for (int k = 0; k < 3; ++k) o[k] = (b.b[0] * cv.beta[0][k] + b.b[1] * cv.beta[1][k]) + b.b[2] * cv.beta[2][k];
+    }
+    const DrawVertices& dv = fr.draws[t.draw];
+    const scene::Primitive& p = *dv.prim;
+    const std::size_t base = 3 * std::size_t(t.tri);
+    const std::uint32_t i0 = p.indices[base], i1 = p.indices[base + 1], i2 = p.indices[base + 2];
+    auto lerp3 = [&](const auto& a0, const auto& a1, const auto& a2) {
+        return a0 + (a1 - a0) * o[1] + (a2 - a0) * o[2];
+    };
+    FragmentInput in;
+    const DrawVertices::Shading& v0 = dv.view[i0];
+    const DrawVertices::Shading& v1 = dv.view[i1];
+    const DrawVertices::Shading& v2 = dv.view[i2];
+    in.view_pos = lerp3(v0.pos, v1.pos, v2.pos);
+    in.normal = lerp3(v0.normal, v1.normal, v2.normal);
+    if (!dv.view_tangent.empty()) {
+        in.tangent = lerp3(dv.view_tangent[i0], dv.view_tangent[i1], dv.view_tangent[i2]);
+        in.has_tangent = true;
+    }
+    if (p.uv0.size() == p.positions.size()) {
+        in.uv = lerp3(p.uv0[i0], p.uv0[i1], p.uv0[i2]);
+        in.has_uv = true;
+    }
+    if (p.colors.size() == p.positions.size()) in.color = lerp3(p.colors[i0], p.colors[i1], p.colors[i2]);
+    for (int k = 0; k < scene::kNumControlTargets; ++k) {
+        const auto& c = p.control[k];
+        if (c.size() == p.positions.size())
+            in.ctrl[k] = lerp3(glm::vec3(c[i0]), glm::vec3(c[i1]), glm::vec3(c[i2]));
+    }
+    in.back = t.back != 0;
+    return in;
+}
+
+inline bool needs_alpha_test(const Frame& fr, const TriSetup& t) {
+    return fr.draws[t.draw].mat->alpha_mode == scene::AlphaMode::Mask;
+}
+
+bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    const scene::Material& m = *fr.draws[t.draw].mat;
+    return material_alpha(fr.ctx, m, interpolate(fr, ch, t, b)) >= m.alpha_cutoff;
+}
+
+void shade_and_write(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b,
+                     const TargetPtrs& tp, int x, int y) {
+    const DrawVertices& dv = fr.draws[t.draw];
+    const FragmentOutput o = shade_fragment(fr.ctx, *dv.mat, interpolate(fr, ch, t, b));
+    const std::size_t i = std::size_t(y) * tp.width + x;
+    float* c = tp.color + 4 * i;
+    c[0] = o.color.x; c[1] = o.color.y; c[2] = o.color.z; c[3] = o.color.w;
+    for (int k = 0; k < scene::kNumControlTargets; ++k) {
+        float* q = tp.ctrl[k] + 4 * i;
+        q[0] = o.ctrl[k].x; q[1] = o.ctrl[k].y; q[2] = o.ctrl[k].z; q[3] = 1.0f;
+    }
+    tp.depth[i] = b.depth;
+    float* n = tp.normal + 3 * i;
+    n[0] = o.normal.x; n[1] = o.normal.y; n[2] = o.normal.z;
+    tp.id[i] = float(dv.object_id);
+    tp.diffuse[i] = o.diffuse;
+    tp.specular[i] = o.specular;
+}
+
+// ---- Reference traversal: per triangle in submission order, bounding box, whole image --------
+
+void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float* count) {
+    std::vector<float> zbuf(count ? 0 : std::size_t(W) * H, std::numeric_limits<float>::infinity());
+    for (const Chunk& ch : fr.chunks)
+        for (const TriSetup& t : ch.tris)
+            for (int y = t.y0; y <= t.y1; ++y)
+                for (int x = t.x0; x <= t.x1; ++x) {
+                    std::int64_t e[3];
+                    edge_values(t, x, y, e);
+                    if (!inside(t, e)) continue;
+                    if (count) {
+                        count[std::size_t(y) * W + x] += 1.0f;
+                        continue;
+                    }
+                    const Bary b = perspective_bary(t, e);
+                    float& z = zbuf[std::size_t(y) * W + x];
+                    if (!(b.depth < z)) continue;
+                    if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) continue;
+                    z = b.depth;
+                    shade_and_write(fr, ch, t, b, tp, x, y);
+                }
+}
+
+// ---- Tiled traversal: one task per tile, visibility then deferred shading ---------------------
+
+// Prefetch hints for the shading gathers of a triangle (no effect on results).
+inline void prefetch_indices(const Frame& fr, const TriSetup& t) {
+    __builtin_prefetch(fr.draws[t.draw].prim->indices.data() + 3 * std::size_t(t.tri));
+}
+inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
+    const DrawVertices& dv = fr.draws[t.draw];
+    const std::uint32_t* idx = dv.prim->indices.data() + 3 * std::size_t(t.tri);
+    for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[idx[j]]);  // indices checked in setup
+}
+
+// Streams n floats to dst: 32-byte aligned runs with non-temporal stores, the ends plain.
+inline void stream_floats(float* dst, const float* src, std::size_t n) {
+    std::size_t i = 0;
+    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 31) != 0; ++i) dst[i] = src[i];
+    for (; i + 8 <= n; i += 8) _mm256_stream_ps(dst + i, _mm256_loadu_ps(src + i));
+    for (; i < n; ++i) dst[i] = src[i];
+}
+
+// One tile row of all ten targets (kTile pixels), written by shade_and_write at (x, 0).
+struct RowBuffer {
+    float color[4 * kTile], ctrl[scene::kNumControlTargets][4 * kTile], depth[kTile],
+        normal[3 * kTile], id[kTile], diffuse[kTile], specular[kTile];
+    TargetPtrs pointers() {
+        TargetPtrs p;
+        p.color = color;
+        for (int k = 0; k < scene::kNumControlTargets; ++k) p.ctrl[k] = ctrl[k];
+        p.depth = depth;
+        p.normal = normal;
+        p.id = id;
+        p.diffuse = diffuse;
+        p.specular = specular;
+        p.width = kTile;
+        return p;
+    }
+    void background(int n, float bg_depth) {  // the values write_background stores
+        std::fill_n(color, 4 * n, 0.0f);
+        for (auto& c : ctrl) std::fill_n(c, 4 * n, 0.0f);
+        std::fill_n(depth, n, bg_depth);
+        std::fill_n(normal, 3 * n, 0.0f);
+        std::fill_n(id, n, 0.0f);
+        std::fill_n(diffuse, n, 0.0f);
+        std::fill_n(specular, n, 0.0f);
+    }
+    void stream_row(const TargetPtrs& tp, int x0, int y, int n) const {
+        const std::size_t i = std::size_t(y) * tp.width + x0;
+        stream_floats(tp.color + 4 * i, color, 4 * std::size_t(n));
+        for (int k = 0; k < scene::kNumControlTargets; ++k) stream_floats(tp.ctrl[k] + 4 * i, ctrl[k], 4 * std::size_t(n));
+        stream_floats(tp.depth + i, depth, std::size_t(n));
+        stream_floats(tp.normal + 3 * i, normal, 3 * std::size_t(n));
+        stream_floats(tp.id + i, id, std::size_t(n));
+        stream_floats(tp.diffuse + i, diffuse, std::size_t(n));
+        stream_floats(tp.specular + i, specular, std::size_t(n));
+    }
+};
+
+struct TileRef {
+    std::uint32_t chunk, tri;
+};
+
+void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
+    for (int c = 0; c < 4; ++c) tp.color[4 * i + c] = 0.0f;
+    for (int k = 0; k < scene::kNumControlTargets; ++k)
+        for (int c = 0; c < 4; ++c) tp.ctrl[k][4 * i + c] = 0.0f;
+    tp.depth[i] = bg_depth;
+    for (int c = 0; c < 3; ++c) tp.normal[3 * i + c] = 0.0f;
+    tp.id[i] = 0.0f;
+    tp.diffuse[i] = 0.0f;
+    tp.specular[i] = 0.0f;
+}
+
+// clear: the targets hold a previous frame (render_gbuffer_into), so background pixels are
+// written too; otherwise they already hold the background from the allocation.
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear) {
+    const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
+    const int X0 = tx * kTile, Y0 = ty * kTile;
+    const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+    const int tw = X1 - X0 + 1;
+    float zbuf[kTile * kTile];
+    TileRef ids[kTile * kTile];
+    for (int i = 0; i < kTile * kTile; ++i) {
+        zbuf[i] = std::numeric_limits<float>::infinity();
+        ids[i].chunk = kNoChunk;
+    }
+    const std::int64_t step = kSubpixelOne;
+    for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
+        const Chunk& ch = fr.chunks[ci];
+        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+            const std::uint32_t ti = ch.bin_items[k];
+            // The setups of one tile are scattered over the chunk: fetch ahead (latency-bound).
+            if (k + 6 < ch.bin_offsets[tile + 1]) {
+                const char* ahead = reinterpret_cast<const char*>(&ch.tris[ch.bin_items[k + 6]]);
+                __builtin_prefetch(ahead);
+                __builtin_prefetch(ahead + 64);
+            }
+            const TriSetup& t = ch.tris[ti];
+            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+            std::int64_t row[3];
+            edge_values(t, x0, y0, row);
+            const std::int64_t sx[3] = {t.A[0] * step, t.A[1] * step, t.A[2] * step};
+            const std::int64_t sy[3] = {t.B[0] * step, t.B[1] * step, t.B[2] * step};
+            const bool atest = needs_alpha_test(fr, t);
+            for (int y = y0; y <= y1; ++y) {
+                std::int64_t e[3] = {row[0], row[1], row[2]};
+                for (int x = x0; x <= x1; ++x) {
+                    if (inside(t, e)) {
+                        const int li = (y - Y0) * kTile + (x - X0);
+                        if (count) {
+                            count[std::size_t(y) * W + x] += 1.0f;
+                        } else {
+                            const Bary b = perspective_bary(t, e);
+                            if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
+                                zbuf[li] = b.depth;
+                                ids[li] = {ci, ti};
+                            }
+                        }
+                    }
+                    e[0] += sx[0]; e[1] += sx[1]; e[2] += sx[2];
+                }
+                row[0] += sy[0]; row[1] += sy[1]; row[2] += sy[2];
+            }
+        }
+    }
+    if (count) return;
+    // Deferred shading of the covered pixels, row-major. Each pixel gathers its setup, then the
+    // triangle's indices, then its vertices (dependent cache misses: one small triangle per pixel
+    // on dense meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
+    std::uint16_t covered[kTile * kTile];
+    int nc = 0;
+    for (int li = 0; li < kTile * kTile; ++li)
+        if (ids[li].chunk != kNoChunk) covered[nc++] = std::uint16_t(li);
+    auto setup_at = [&](int k) -> const TriSetup& {
+        const TileRef r = ids[covered[k]];
+        return fr.chunks[r.chunk].tris[r.tri];
+    };
+    // Each row is composed in a small buffer (background, then its shaded pixels) and streamed
+    // to the targets: every byte of the 108 B/px G-buffer is written once, with non-temporal
+    // stores (no read-for-ownership of lines that are overwritten whole). Without `clear` the
+    // targets already hold the background and rows with no covered pixel are skipped.
+    RowBuffer rb;
+    const TargetPtrs rp = rb.pointers();
+    int k = 0;
+    for (int y = Y0; y <= Y1; ++y) {
+        const int ly = y - Y0;
+        if (!clear && !(k < nc && covered[k] / kTile == ly)) continue;
+        rb.background(tw, fr.background_depth);
+        for (; k < nc && covered[k] / kTile == ly; ++k) {
+            if (k + 12 < nc) {
+                const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
+                __builtin_prefetch(a);
+                __builtin_prefetch(a + 64);
+            }
+            if (k + 8 < nc) prefetch_indices(fr, setup_at(k + 8));
+            if (k + 4 < nc) prefetch_vertices(fr, setup_at(k + 4));
+            const int lx = covered[k] % kTile;
+            const TileRef r = ids[covered[k]];
+            const Chunk& ch = fr.chunks[r.chunk];
+            const TriSetup& t = ch.tris[r.tri];
+            std::int64_t e[3];
+            edge_values(t, X0 + lx, y, e);
+            shade_and_write(fr, ch, t, perspective_bary(t, e), rp, lx, 0);
+        }
+        rb.stream_row(tp, X0, y, tw);
+    }
+    _mm_sfence();  // order the non-temporal stores before the task completes
+}
+
+}  // namespace aq::raster::detail
