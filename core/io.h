@@ -24,6 +24,10 @@
 namespace aq {
 
 inline constexpr int kMaxImageChannels = 64;  //!< more channels than this is not an image we read
+//! The densest encoding we read: deflate's 1032:1 on 1-bit PNG rows is 8256 pixels per byte, a
+//! CCITT G4 TIFF of a blank page ~14,000; twice that leaves room. An image whose header announces
+//! more pixels than file bytes x this is refused before decoding (docs/limits.md).
+inline constexpr long kMaxPixelsPerEncodedByte = 32768;
 
 //! Raised when a decode would exceed its DecodeBudget (a hard error, not a missing texture).
 struct BudgetError : Error {
