@@ -12,6 +12,7 @@
 
 #include "core/hash.h"
 #include "stylize/stage.h"
+#include "tests/stylize/stage_b_test_util.h"
 #include "tests/stylize/synthetic_gbuffer.h"
 
 namespace aq::stylize {
@@ -69,17 +70,8 @@ std::vector<ParamValues> param_sets(const StageVariant& v) {
     return {d, alt};
 }
 
-//! Bit-identical values; NaNs count as equal to NaNs (their payload/sign may differ when the
-//! vectoriser swaps the operands of a commutative add, which IEEE leaves unspecified).
-bool bit_equal(const ImageF& a, const ImageF& b) {
-    if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) return false;
-    for (std::size_t i = 0; i < a.num_values(); ++i) {
-        const float x = a.data()[i], y = b.data()[i];
-        if (std::isnan(x) && std::isnan(y)) continue;
-        if (std::memcmp(&x, &y, sizeof(float)) != 0) return false;
-    }
-    return true;
-}
+//! Bit-identical values, NaN equal to NaN (tests/stylize/stage_b_test_util.h).
+using testb::same_values;
 
 const char* reference_kind(const StageVariant& v) {
     switch (v.reference) {
@@ -102,7 +94,7 @@ TEST_P(EveryVariant, FastEqualsReference) {
             for (std::size_t k = 0; k < ref.size(); ++k) {
                 ASSERT_EQ(ref[k].channels(), v.outputs[k].channels) << v.outputs[k].name;
                 ASSERT_TRUE(ref[k].same_size(fast[k]));
-                EXPECT_TRUE(bit_equal(ref[k], fast[k]))
+                EXPECT_TRUE(same_values(ref[k], fast[k]))
                     << v.key() << " output '" << v.outputs[k].name << "' threads " << threads
                     << ": fast schedule differs from the reference (" << reference_kind(v) << ") ("
                     << sha256_hex(ref[k]) << " vs " << sha256_hex(fast[k]) << ")";
@@ -120,7 +112,7 @@ TEST_P(EveryVariant, NanAndInfInputsNeverCrash) {
         for (std::size_t k = 0; k < ref.size(); ++k) {
             EXPECT_FALSE(ref[k].empty());
             EXPECT_TRUE(ref[k].same_size(fast[k]));
-            EXPECT_TRUE(bit_equal(ref[k], fast[k])) << v.key() << " on poisoned input (" << reference_kind(v) << ")";
+            EXPECT_TRUE(same_values(ref[k], fast[k])) << v.key() << " on poisoned input (" << reference_kind(v) << ")";
         }
     }
 }
