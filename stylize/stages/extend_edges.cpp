@@ -1,6 +1,6 @@
 // stylize/stages/extend_edges.cpp — see extend_edges.h. The separable part is blur.h (bit-exact
-// reference/fast); the pointwise gamma runs on the same values in both traversals, with the
-// deterministic pow_c of stylize/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
+// reference/fast); the pointwise gamma is extend_edges_gamma, pixel by pixel in the reference and
+// packed by chunks in the fast schedule, with the deterministic pow_c of stylize/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
 // flags only, no value changes).
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/extend_edges.h"
@@ -35,6 +35,13 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
     const float g = 2.0f / float(p.width);
     float* d = dst.data();
     const int w = dst.width();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: the gamma pixel by pixel
+        toolkit::plain_loop(w, dst.height(), [&](int x, int y) {
+            float& v = d[std::size_t(y) * w + x];
+            v = extend_edges_gamma(v, g);
+        });
+        return;
+    }
     toolkit::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
         // b > 0: (b^(1/b))^(2/W) = b^((1/b) (2/W)), taken as one power (MNPR takes two; the
         // results differ by rounding only, and where b^(1/b) alone would underflow: values below
@@ -86,7 +93,7 @@ void register_extend_edges(Registry& r) {
         p.border = tp.border ? Border::Mirror : Border::Clamp;
         extend_edges(*io.out[0], *io.in[0], p, ex);
     };
-    v.reference = StageVariant::Reference::SameKernel;
+    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 

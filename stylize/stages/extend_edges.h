@@ -3,8 +3,11 @@
 // GRADIENT"; spec §4.4).
 #pragma once
 
+#include <vector>
+
 #include "core/exec.h"
 #include "core/image.h"
+#include "stylize/fastmath.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize {
@@ -17,6 +20,12 @@ struct ExtendEdgesParams {
     int width = kGapsOverlapsWidthMnpr;  //!< W [1, 32]: taps |l| < W, weights 1 - |l|/W, normalised
     Border border = Border::Clamp;
 };
+
+//! The gamma of one blurred edge value b (MNPR's two powers as one): b^((1/b)(2/W)) for b > 0,
+//! else 0 (b <= 0 or NaN).
+inline float extend_edges_gamma(float b, float two_over_w) {
+    return b > 0.0f ? pow_c(b, (1.0f / b) * two_over_w) : 0.0f;
+}
 
 //! b = V(H(edges)) with the linear kernel, then (MNPR) b = b^(1/b) ("get rid of weak gradients")
 //! and b = b^(2/W) ("adjust gamma depending on kernel size"), evaluated as the single power

@@ -42,6 +42,20 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatPaperNormal, w, h);
     const Border b = border_from(p.border);
     const View<glm::vec4> o = dst.view<glm::vec4>();
+    if (ex.traversal == Traversal::Reference) {  // the plain reference: WC17 §3.3 pixel by pixel
+        plain_loop(w, h, [&](int x, int y) {
+            const glm::vec2 off = substrate_offset(nr(x, y), ng(x, y), ctrl(x, y), p);
+            if (off.x == 0.0f && off.y == 0.0f) {
+                o(x, y) = c(x, y);
+                return;
+            }
+            const float px = float(x) + 0.5f + off.x, py = (float(y) + 0.5f) + off.y;
+            const float dz = z(x, y) - sample_bilinear(z, px, py, b);
+            const bool blocked = p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
+            o(x, y) = blocked ? c(x, y) : sample_bilinear(c, px, py, b);
+        });
+        return;
+    }
     // Rows in chunks: offsets and bilinear weights in one vectorisable loop (the same operations
     // as substrate_offset and the scalar taps below, value by value), then the taps.
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
@@ -117,7 +131,7 @@ void register_substrate_distort(Registry& r) {
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
         });
-        v.reference = StageVariant::Reference::SameKernel;
+        v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
     }
 }
