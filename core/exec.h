@@ -2,7 +2,8 @@
 //
 // Algorithms never depend on the policy: a stage's per-pixel maths is a pure function, and the
 // traversal only decides the order in which independent output pixels are computed (one writer
-// per pixel/tile), so the bytes cannot depend on the thread count.
+// per pixel: stages run blocks of whole rows, the rasterizer tiles), so the bytes cannot depend
+// on the thread count.
 #pragma once
 
 #include <memory>
@@ -19,13 +20,13 @@ namespace aq {
 
 enum class Traversal {
     Reference,  //!< plain single-threaded row-major loop: obviously correct, the oracle
-    Fast,       //!< tiled, oneTBB-parallel, vectorisable
+    Fast,       //!< oneTBB-parallel (stages: blocks of rows; rasterizer: tiles), vectorisable
 };
 
 struct Exec {
     int threads = 0;                        //!< 0 = all hardware threads; >= 1 caps the arena
     Traversal traversal = Traversal::Fast;  //!< Reference forces one thread, row-major
-    int tile = 64;                          //!< tile side for the fast traversal
+    int tile = 64;                          //!< for_each_tile's tile side; stages run tile / 8 rows per task
 
     static Exec reference() { return {1, Traversal::Reference, 64}; }
     static Exec fast(int threads = 0) { return {threads, Traversal::Fast, 64}; }

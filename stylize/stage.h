@@ -74,7 +74,7 @@ private:
 };
 
 // ---------------------------------------------------------------------------------------------
-// Pipeline-wide values every stage may read (paper colour, paper texture, depth range).
+// Pipeline-wide values every stage may read (paper colour, paper texture).
 
 struct Globals {
     glm::vec3 substrate_color{1.0f, 1.0f, 1.0f};  //!< paper colour Cp (spec: default white)
@@ -146,7 +146,6 @@ private:
 //! The registry holding every built-in stage variant (built once, thread-safe).
 const Registry& builtin_registry();
 
-// Registration entry points, one per source group (see stylize/stages/).
 void register_builtin_stages(Registry& r);  // stylize/stages/register.cpp, in pipeline order
 
 }  // namespace aq::stylize

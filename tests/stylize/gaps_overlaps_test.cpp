@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "stylize/ryb.h"
-#include "tests/stylize/stage_b_test_util.h"
+#include "tests/stylize/stage_test_util.h"
 
 namespace aq::stylize {
 namespace {

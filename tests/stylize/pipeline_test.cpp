@@ -34,8 +34,8 @@ std::string error_of(const std::function<void()>& f) {
     } while (0)
 
 //! A pipeline of the stages from adjust to bleed_blend only (none of the later stages).
-const char* kGroupA = R"({
-  "name": "group_a", "output": "color.bled",
+const char* kBleedPipeline = R"({
+  "name": "bleed_chain", "output": "color.bled",
   "steps": [
     {"stage": "adjust", "variant": "mnpr", "in": {"color": "color", "depth": "depth.linear"},
      "out": {"color": "color.adjusted", "depth": "depth"}},
@@ -110,8 +110,8 @@ TEST(Pipeline, PresetPapersResolveToTheSharedAssetsAndRun) {
     EXPECT_TRUE(t.has(p.output));
 }
 
-TEST(Pipeline, GroupAPipelineRunsAndMatchesTheReferenceTraversal) {
-    const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
+TEST(Pipeline, BleedChainRunsAndMatchesTheReferenceTraversal) {
+    const Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
     Targets ref = test::synthetic_gbuffer(53, 41), fast = test::synthetic_gbuffer(53, 41);
     run_pipeline(p, ref, RunOptions{Exec::reference(), {}});
     run_pipeline(p, fast, RunOptions{Exec{2, Traversal::Fast, 16}, {}});
@@ -124,7 +124,7 @@ TEST(Pipeline, GroupAPipelineRunsAndMatchesTheReferenceTraversal) {
 }
 
 TEST(Pipeline, FrameLoopReusesOutputsAndGivesTheSameBytes) {
-    const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
+    const Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
     Targets t = test::synthetic_gbuffer(41, 29);
     RunOptions o;
     o.exec = Exec::fast(2);
@@ -139,7 +139,7 @@ TEST(Pipeline, FrameLoopReusesOutputsAndGivesTheSameBytes) {
 }
 
 TEST(Pipeline, SetParamAndSetVariant) {
-    Pipeline p = parse_pipeline(kGroupA, "group_a.json");
+    Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
     set_param(p, "extend_edges.width=7");
     EXPECT_EQ(p.steps[6].params["width"], 7.0);
     set_param(p, "bleed.half_res=false");
@@ -220,8 +220,8 @@ TEST(Pipeline, ValidationCatchesWiringErrorsBeforeRunning) {
     // G-buffer size mismatch, reported before any stage runs
     Targets bad = test::synthetic_gbuffer(20, 10);
     bad.set(target::kDepthLinear, ImageF(19, 10, 1));
-    const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
-    EXPECT_ERROR_MENTIONS(run_pipeline(p, bad), "group_a.json", "depth.linear");
+    const Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
+    EXPECT_ERROR_MENTIONS(run_pipeline(p, bad), "bleed_chain.json", "depth.linear");
     EXPECT_FALSE(bad.has("color.adjusted")) << "nothing may run when validation fails";
     // missing G-buffer target
     Targets none;
@@ -230,7 +230,7 @@ TEST(Pipeline, ValidationCatchesWiringErrorsBeforeRunning) {
 }
 
 TEST(Pipeline, NanInTheGBufferDoesNotCrash) {
-    const Pipeline p = parse_pipeline(kGroupA, "group_a.json");
+    const Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
     Targets t = test::synthetic_gbuffer(33, 21);
     for (const char* name : {target::kColor, target::kDepthLinear, target::kCtrlAbstraction, target::kCtrlEdge})
         for (std::size_t i = 0; i < t.get(name).num_values(); i += 5)
@@ -243,13 +243,13 @@ TEST(Pipeline, NanInTheGBufferDoesNotCrash) {
 TEST(Pipeline, PresetDirCanBeOverriddenByEnvironment) {
     const std::string dir = test::output_dir() + "/presets_override";
     std::filesystem::create_directories(dir);
-    std::ofstream(dir + "/mine.json") << kGroupA;
+    std::ofstream(dir + "/mine.json") << kBleedPipeline;
     ::setenv("AQ_PRESET_DIR", dir.c_str(), 1);
     const auto names = preset_names();
     const Pipeline p = load_pipeline("mine");
     ::unsetenv("AQ_PRESET_DIR");
     EXPECT_EQ(names, std::vector<std::string>{"mine"});
-    EXPECT_EQ(p.name, "group_a");
+    EXPECT_EQ(p.name, "bleed_chain");
 }
 
 }  // namespace

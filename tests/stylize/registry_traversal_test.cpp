@@ -1,5 +1,5 @@
-// tests/stylize/registry_traversal_test.cpp — every registered stage variant (both groups, and
-// any added later: the test iterates builtin_registry()) against its reference traversal, with
+// tests/stylize/registry_traversal_test.cpp — every registered stage variant (any added later
+// too: the test iterates builtin_registry()) against its reference traversal, with
 // default and alternative parameters, on NaN/Inf-poisoned inputs, and with bad inputs.
 #include <cmath>
 #include <cstring>
@@ -12,7 +12,7 @@
 
 #include "core/hash.h"
 #include "stylize/stage.h"
-#include "tests/stylize/stage_b_test_util.h"
+#include "tests/stylize/stage_test_util.h"
 #include "tests/stylize/synthetic_gbuffer.h"
 
 namespace aq::stylize {
@@ -70,7 +70,7 @@ std::vector<ParamValues> param_sets(const StageVariant& v) {
     return {d, alt};
 }
 
-//! Bit-identical values, NaN equal to NaN (tests/stylize/stage_b_test_util.h).
+//! Bit-identical values, NaN equal to NaN (tests/stylize/stage_test_util.h).
 using testb::same_values;
 
 const char* reference_kind(const StageVariant& v) {
@@ -160,6 +160,24 @@ TEST(Registry, ReferenceIsIndependentOfTheFastKernel) {
         EXPECT_NE(v->reference, StageVariant::Reference::SameKernel) << v->key();
 }
 
+TEST(Registry, OptionalBleedInputMayBeAbsent) {
+    const Registry& r = builtin_registry();
+    for (auto [s, var] : {std::pair{"edge_darken", "rgbd"}, {"gaps_overlaps", "wc18"}}) {
+        const StageVariant& v = r.get(s, var);
+        ASSERT_TRUE(v.inputs.back().optional);
+        std::vector<ImageF> ins;
+        for (std::size_t k = 0; k + 1 < v.inputs.size(); ++k)
+            ins.push_back(testb::noise(20, 10, v.inputs[k].channels, 0.0f, 1.0f, 200 + unsigned(k)));
+        ImageF out;
+        StageIO io;
+        for (auto& i : ins) io.in.push_back(&i);
+        io.in.push_back(nullptr);
+        io.out.push_back(&out);
+        v.run(io, Registry::resolve_params(v, {}, "test"), Exec::reference());
+        EXPECT_EQ(out.width(), 20);
+    }
+}
+
 TEST(Registry, EveryStageAndVariantIsRegistered) {
     const Registry& r = builtin_registry();
     for (auto [s, v] : {std::pair{"adjust", "mnpr"}, {"edge_detect", "rgbd_sobel"}, {"pigment_density", "mnpr"},
@@ -169,6 +187,8 @@ TEST(Registry, EveryStageAndVariantIsRegistered) {
                         {"pigment_apply", "wc18"}, {"substrate_distort", "mnpr"}, {"substrate_light", "wc18"},
                         {"substrate_light", "mnpr"}})
         EXPECT_TRUE(r.has(s, v)) << s << "/" << v;
+    EXPECT_EQ(r.default_variant("pigment_apply").variant, "wc18");
+    EXPECT_EQ(r.default_variant("substrate_light").variant, "wc18");
     for (auto* v : r.all()) {
         EXPECT_FALSE(v->doc.empty()) << v->key();
         EXPECT_TRUE(bool(v->run)) << v->key();

@@ -13,7 +13,7 @@
 #include "stylize/stages/edge_darken.h"
 #include "stylize/stages/pigment_apply.h"
 #include "stylize/stages/pigment_density.h"
-#include "tests/stylize/stage_b_test_util.h"
+#include "tests/stylize/stage_test_util.h"
 
 namespace aq::stylize {
 namespace {

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "stylize/paper.h"
-#include "tests/stylize/stage_b_test_util.h"
+#include "tests/stylize/stage_test_util.h"
 #include "tests/test_support.h"
 
 namespace aq::stylize {

@@ -1,5 +1,4 @@
-// tests/stylize/stage_b_test_util.h — small synthetic images for the tests of edge_darken,
-// gaps_overlaps, pigment_apply, the substrate stages and the row kernels.
+// tests/stylize/stage_test_util.h — small synthetic images for the stage tests.
 #pragma once
 
 #include <cmath>
