@@ -1,6 +1,7 @@
 // core/json_file.cpp
 #include "core/json_file.h"
 
+#include <cmath>
 #include <vector>
 
 #include "core/image.h"  // aq::Error
@@ -73,6 +74,64 @@ json parse_json(const std::string& text, const std::string& where) {
 
 json read_json_file(const std::string& path, const std::string& what) {
     return parse_json(read_input_text(path, kMaxJsonFileBytes, what), what + " '" + path + "'");
+}
+
+std::string JsonReader::message(const std::string& key, const std::string& what) const {
+    return where + ": key '" + key + "': " + what;
+}
+
+void JsonReader::bad(const std::string& key, const std::string& what) const { throw Error(message(key, what)); }
+
+void JsonReader::check_keys(const json& j, const std::string& key, std::initializer_list<const char*> allowed) const {
+    if (!j.is_object()) bad(key, std::string("expected an object, got ") + j.type_name());
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        bool ok = false;
+        for (const char* a : allowed) ok = ok || it.key() == a;
+        if (!ok) {
+            std::string list;
+            for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+            bad(key.empty() ? it.key() : key + "." + it.key(), "unknown key (allowed: " + list + ")");
+        }
+    }
+}
+
+double JsonReader::number(const json& j, const std::string& key, double lo, double hi) const {
+    if (!j.is_number()) bad(key, std::string("expected a number, got ") + j.type_name());
+    const double d = j.get<double>();
+    if (!std::isfinite(d) || d < lo || d > hi)
+        bad(key, "value " + std::to_string(d) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return d;
+}
+
+double JsonReader::number_or_flag(const json& j, const std::string& key) const {
+    if (j.is_boolean()) return j.get<bool>() ? 1.0 : 0.0;
+    if (!j.is_number()) bad(key, std::string("expected a number or true/false, got ") + j.type_name());
+    const double d = j.get<double>();
+    if (!std::isfinite(d)) bad(key, "not a finite number");
+    return d;
+}
+
+int JsonReader::integer(const json& j, const std::string& key, long long lo, long long hi) const {
+    if (!j.is_number_integer()) bad(key, std::string("expected an integer, got ") + j.type_name());
+    const long long v = j.get<long long>();
+    if (v < lo || v > hi) bad(key, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(v);
+}
+
+std::string JsonReader::string(const json& j, const std::string& key) const {
+    if (!j.is_string()) bad(key, std::string("expected a string, got ") + j.type_name());
+    return j.get<std::string>();
+}
+
+bool JsonReader::boolean(const json& j, const std::string& key) const {
+    if (!j.is_boolean()) bad(key, std::string("expected a boolean, got ") + j.type_name());
+    return j.get<bool>();
+}
+
+glm::vec3 JsonReader::vec3(const json& j, const std::string& key, double lo, double hi) const {
+    if (!j.is_array() || j.size() != 3) bad(key, "expected an array of 3 numbers");
+    return {float(number(j[0], key + "[0]", lo, hi)), float(number(j[1], key + "[1]", lo, hi)),
+            float(number(j[2], key + "[2]", lo, hi))};
 }
 
 }  // namespace aq

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <cstddef>
+#include <initializer_list>
 #include <string>
+
+#include <glm/glm.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -22,5 +25,29 @@ nlohmann::json parse_json(const std::string& text, const std::string& where);
 //! read_input_text(path, kMaxJsonFileBytes, what) + parse_json; `what` names the kind of file
 //! ("scene file", "style file").
 nlohmann::json read_json_file(const std::string& path, const std::string& what);
+
+//! Strict typed access to parsed JSON with key paths in every error (scene files, style/pipeline
+//! files): each accessor checks the type (and range) and throws aq::Error
+//! "WHERE: key 'a.b[2]': what" otherwise. The one reader of the project's JSON formats; glTF
+//! `extras` use a lenient form of the same messages (scenes/material_params.cpp: warnings instead
+//! of errors, because third-party models must still load).
+struct JsonReader {
+    std::string where;  //!< e.g. "scene file 'x.json'" or a style file's path
+
+    //! "WHERE: key 'KEY': WHAT", the form of every error (and lenient warning) about a JSON value.
+    std::string message(const std::string& key, const std::string& what) const;
+    [[noreturn]] void bad(const std::string& key, const std::string& what) const;
+    //! j must be an object whose keys are all in `allowed`.
+    void check_keys(const nlohmann::json& j, const std::string& key, std::initializer_list<const char*> allowed) const;
+    //! A finite number in [lo, hi].
+    double number(const nlohmann::json& j, const std::string& key, double lo, double hi) const;
+    //! A number or true/false (as 1/0), finite, unranged (the caller checks its own range).
+    double number_or_flag(const nlohmann::json& j, const std::string& key) const;
+    int integer(const nlohmann::json& j, const std::string& key, long long lo, long long hi) const;
+    std::string string(const nlohmann::json& j, const std::string& key) const;
+    bool boolean(const nlohmann::json& j, const std::string& key) const;
+    //! An array of 3 numbers, each in [lo, hi].
+    glm::vec3 vec3(const nlohmann::json& j, const std::string& key, double lo = -1e9, double hi = 1e9) const;
+};
 
 }  // namespace aq

@@ -1,6 +1,8 @@
 // scenes/material_params.cpp — watercolor material parameters from JSON (see the header).
 #include "scenes/material_params.h"
 
+#include "core/json_file.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -52,8 +54,9 @@ struct Reporter {
     void bad(const std::string& key, const std::string& what) const {
         std::string path = prefix + key;
         if (!path.empty() && path.back() == '.') path.pop_back();
-        const std::string msg = where + ": key '" + path + "': " + what;
-        if (strict) throw Error(msg);
+        const JsonReader reader{where};
+        if (strict) reader.bad(path, what);
+        const std::string msg = reader.message(path, what);
         if (warnings) warnings->push_back(msg + " (ignored)");
     }
 };

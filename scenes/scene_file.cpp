@@ -27,51 +27,9 @@ constexpr const char* kProceduralPrefix = "procedural:";
 
 // --- strict JSON access with key paths -----------------------------------------------------------
 
-struct Ctx {
-    std::string where;  //!< "scene file 'path'"
-    fs::path base;      //!< folder of the scene file
+struct Ctx : JsonReader {
+    fs::path base;  //!< folder of the scene file
 
-    [[noreturn]] void bad(const std::string& key, const std::string& what) const {
-        throw Error(where + ": key '" + key + "': " + what);
-    }
-    void check_keys(const json& j, const std::string& key, std::initializer_list<const char*> allowed) const {
-        if (!j.is_object()) bad(key, std::string("expected an object, got ") + j.type_name());
-        for (auto it = j.begin(); it != j.end(); ++it) {
-            bool ok = false;
-            for (const char* a : allowed) ok = ok || it.key() == a;
-            if (!ok) {
-                std::string list;
-                for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-                bad(key.empty() ? it.key() : key + "." + it.key(), "unknown key (allowed: " + list + ")");
-            }
-        }
-    }
-    double number(const json& j, const std::string& key, double lo, double hi) const {
-        if (!j.is_number()) bad(key, std::string("expected a number, got ") + j.type_name());
-        const double d = j.get<double>();
-        if (!std::isfinite(d) || d < lo || d > hi)
-            bad(key, "value " + std::to_string(d) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return d;
-    }
-    int integer(const json& j, const std::string& key, long long lo, long long hi) const {
-        if (!j.is_number_integer()) bad(key, std::string("expected an integer, got ") + j.type_name());
-        const long long v = j.get<long long>();
-        if (v < lo || v > hi) bad(key, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return int(v);
-    }
-    std::string string(const json& j, const std::string& key) const {
-        if (!j.is_string()) bad(key, std::string("expected a string, got ") + j.type_name());
-        return j.get<std::string>();
-    }
-    bool boolean(const json& j, const std::string& key) const {
-        if (!j.is_boolean()) bad(key, std::string("expected a boolean, got ") + j.type_name());
-        return j.get<bool>();
-    }
-    glm::vec3 vec3(const json& j, const std::string& key, double lo = -1e9, double hi = 1e9) const {
-        if (!j.is_array() || j.size() != 3) bad(key, "expected an array of 3 numbers");
-        return {float(number(j[0], key + "[0]", lo, hi)), float(number(j[1], key + "[1]", lo, hi)),
-                float(number(j[2], key + "[2]", lo, hi))};
-    }
     //! Path relative to the scene file; must exist.
     std::string file(const json& j, const std::string& key) const {
         const std::string rel = string(j, key);
@@ -470,7 +428,7 @@ std::vector<int> match_materials(const Ctx& ctx, const Scene& s, const std::stri
 }
 
 SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
-    Ctx ctx{"scene file '" + path + "'", fs::path(path).parent_path()};
+    Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
     const json j = read_json_file(path, "scene file");
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
                            "materials", "style", "width", "height", "fps", "paper", "substrate_color"});
@@ -628,7 +586,7 @@ std::vector<ControlRule> parse_control_rules(const std::string& text, const std:
     } catch (const json::exception& e) {
         throw Error(where + ": malformed JSON (" + e.what() + ")");
     }
-    Ctx ctx{where, fs::path()};
+    Ctx ctx{{where}, fs::path()};
     if (!j.is_array()) ctx.bad("", "expected an array of control rules");
     std::vector<ControlRule> rules;
     for (std::size_t i = 0; i < j.size(); ++i) {

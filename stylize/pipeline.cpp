@@ -28,28 +28,21 @@ namespace {
 
 std::string idx(const std::string& key, std::size_t i) { return key + "[" + std::to_string(i) + "]"; }
 
+// The project's one JSON reader (core/json_file.h JsonReader), with the pipeline file as `where`.
 [[noreturn]] void fail(const std::string& src, const std::string& key, const std::string& msg) {
-    throw Error(src + ": " + (key.empty() ? "" : key + ": ") + msg);
+    JsonReader{src}.bad(key, msg);
 }
 
-void check_keys(const json& j, const std::set<std::string>& allowed, const std::string& src, const std::string& key) {
-    for (auto it = j.begin(); it != j.end(); ++it)
-        if (!allowed.count(it.key())) {
-            std::string have;
-            for (auto& a : allowed) have += (have.empty() ? "" : ", ") + a;
-            fail(src, key.empty() ? it.key() : key + "." + it.key(), "unknown key (expected one of: " + have + ")");
-        }
+void check_keys(const json& j, std::initializer_list<const char*> allowed, const std::string& src, const std::string& key) {
+    JsonReader{src}.check_keys(j, key, allowed);
 }
 
 std::string get_string(const json& j, const std::string& src, const std::string& key) {
-    if (!j.is_string()) fail(src, key, "expected a string");
-    return j.get<std::string>();
+    return JsonReader{src}.string(j, key);
 }
 
 double get_number(const json& j, const std::string& src, const std::string& key) {
-    if (j.is_boolean()) return j.get<bool>() ? 1.0 : 0.0;
-    if (!j.is_number()) fail(src, key, "expected a number or true/false");
-    return j.get<double>();
+    return JsonReader{src}.number_or_flag(j, key);
 }
 
 const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
