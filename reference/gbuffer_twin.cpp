@@ -246,6 +246,11 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
     out.set(target::kObjectId, std::move(id));
     out.set(target::kDiffuse, std::move(diff));
     out.set(target::kSpecular, std::move(spec));
+    // The twin produces exactly the rasterizer's layout (core/targets.h kGBufferLayout).
+    for (const target::GBufferTarget& g : target::kGBufferLayout)
+        if (!out.has(g.name) || out.get(g.name).channels() != g.channels)
+            throw Error(std::string("gbuffer twin: target '") + g.name + "' missing or not " +
+                        std::to_string(g.channels) + " channels");
     return out;
 }
 

@@ -44,14 +44,16 @@ ImageF synthetic_pattern(int w, int h, int channels, std::uint32_t seed) {
 
 Targets synthetic_gbuffer(int w, int h, std::uint32_t seed) {
     Targets t;
-    ImageF& color = t.create(target::kColor, w, h, 4);
-    ImageF& depth = t.create(target::kDepthLinear, w, h, 1);
-    ImageF& normal = t.create(target::kNormal, w, h, 3);
-    ImageF& oid = t.create(target::kObjectId, w, h, 1);
-    ImageF& diffuse = t.create(target::kDiffuse, w, h, 1);
-    ImageF& specular = t.create(target::kSpecular, w, h, 1);
-    ImageF* ctrl[4] = {&t.create(target::kCtrlPigment, w, h, 4), &t.create(target::kCtrlSubstrate, w, h, 4),
-                       &t.create(target::kCtrlEdge, w, h, 4), &t.create(target::kCtrlAbstraction, w, h, 4)};
+    // Every target of the rasterizer's layout (core/targets.h kGBufferLayout), with its channels.
+    for (const target::GBufferTarget& g : target::kGBufferLayout) t.create(g.name, w, h, g.channels);
+    ImageF& color = t.get_mut(target::kColor);
+    ImageF& depth = t.get_mut(target::kDepthLinear);
+    ImageF& normal = t.get_mut(target::kNormal);
+    ImageF& oid = t.get_mut(target::kObjectId);
+    ImageF& diffuse = t.get_mut(target::kDiffuse);
+    ImageF& specular = t.get_mut(target::kSpecular);
+    ImageF* ctrl[control::kNumTargets];
+    for (int k = 0; k < control::kNumTargets; ++k) ctrl[k] = &t.get_mut(control::kTargets[k]);
     const float inf = std::numeric_limits<float>::infinity();
     const float m = float(std::min(w, h));
     // Three overlapping spheres (disks with sphere normals and curved depth) in front of a slanted

@@ -81,11 +81,11 @@ inline ImageF synthetic_target(const std::string& name, int channels, int w, int
 //! default target (intermediates), all at w x h.
 inline Targets synthetic_gbuffer(int w, int h, std::uint32_t seed = 1) {
     Targets t;
-    t.set(target::kColor, synthetic_target(target::kColor, 4, w, h, seed));
-    t.set(target::kDepthLinear, synthetic_target(target::kDepthLinear, 1, w, h, seed));
-    for (const char* c : {target::kCtrlPigment, target::kCtrlSubstrate, target::kCtrlEdge, target::kCtrlAbstraction})
-        t.set(c, synthetic_target(c, 4, w, h, seed + 7));
-    t.set(target::kNormal, synthetic_target(target::kNormal, 3, w, h, seed));
+    auto ch = [](const char* name) { return target::gbuffer_channels(name); };  // core/targets.h layout
+    t.set(target::kColor, synthetic_target(target::kColor, ch(target::kColor), w, h, seed));
+    t.set(target::kDepthLinear, synthetic_target(target::kDepthLinear, ch(target::kDepthLinear), w, h, seed));
+    for (const char* c : control::kTargets) t.set(c, synthetic_target(c, ch(c), w, h, seed + 7));
+    t.set(target::kNormal, synthetic_target(target::kNormal, ch(target::kNormal), w, h, seed));
     return t;
 }
 
