@@ -153,7 +153,9 @@ ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
 
 ImageF flat_paper(int width, int height) {
     check_image_size(width, height, "flat paper");
-    return ImageF(width, height, 3, 0.5f);
+    // MNPR layout: normal x, normal y, height; the flat paper's values are named in paper.h.
+    static_assert(kFlatPaperNormal == kFlatPaperHeight, "one fill value serves all three channels");
+    return ImageF(width, height, 3, kFlatPaperNormal);
 }
 
 }  // namespace aq::stylize

@@ -14,11 +14,7 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
     toolkit::check_input(&bleed, 4, toolkit::Channels::Exactly, "bleed_blend", "bleed");
     const int w = color.width(), h = color.height();
     const bool full = bleed.same_size(color);
-    if (!full && !(bleed.width() == half_size(w) && bleed.height() == half_size(h)))
-        throw Error("bleed_blend: input 'bleed' is " + std::to_string(bleed.width()) + "x" +
-                    std::to_string(bleed.height()) + ", expected the size of 'color' (" + std::to_string(w) + "x" +
-                    std::to_string(h) + ") or half of it (" + std::to_string(half_size(w)) + "x" +
-                    std::to_string(half_size(h)) + ")");
+    toolkit::check_full_or_half(bleed, color, "bleed_blend", "bleed", "color");
     toolkit::ensure_output(dst, w, h, 4);
     const float* I = color.data();
     float* o = dst.data();
