@@ -18,8 +18,7 @@ using namespace toolkit;
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
                      const EdgeDarkenDogParams& p,  const Exec& ex) {
     const std::string st = "edge_darken/dog";
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&blurred, 3, Channels::AtLeast, st, "blurred");
     check_full_or_half(blurred, color, st, "blurred", "color");
     check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");
@@ -77,8 +76,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                       const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, 
                       const Exec& ex) {
     const std::string st = "edge_darken/rgbd";
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&edges, 1, Channels::AtLeast, st, "edges");
     check_same_size(edges, color, st, "edges", "color");
     check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");

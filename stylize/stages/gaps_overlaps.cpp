@@ -95,8 +95,7 @@ struct GoKernel {
 void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, const ImageF& ctrl_edge,
                    const ImageF* bleed, glm::vec3 substrate, const GapsOverlapsParams& p,  const Exec& ex) {
     const std::string st = "gaps_overlaps/wc18";
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&edges_ext, 1, Channels::AtLeast, st, "edges");
     check_same_size(edges_ext, color, st, "edges", "color");
     check_input(&ctrl_edge, 3, Channels::AtLeast, st, "ctrl_edge");

@@ -23,14 +23,10 @@ struct Inputs {
 
 Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper, 
              const std::string& st) {
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&ctrl_pigment, 2, Channels::AtLeast, st, "ctrl_pigment");
     check_same_size(ctrl_pigment, color, st, "ctrl_pigment", "color");
-    if (paper) {
-        check_input(paper, 3, Channels::AtLeast, st, "paper");
-        check_same_size(*paper, color, st, "paper", "color");
-    }
+    check_paper(paper, color, st, "color");
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
     check_not_alias(dst, paper, st, "paper");

@@ -20,16 +20,12 @@ using namespace toolkit;
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
                        const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex) {
     const std::string st = "substrate_distort/mnpr";
-    check_input(&color, 4, Channels::AtLeast, st, "color");
-    if (color.channels() != 4) throw Error(st + ": input 'color' must have 4 channels");
+    check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&depth, 1, Channels::AtLeast, st, "depth");
     check_same_size(depth, color, st, "depth", "color");
     check_input(&ctrl_substrate, 1, Channels::AtLeast, st, "ctrl_substrate");
     check_same_size(ctrl_substrate, color, st, "ctrl_substrate", "color");
-    if (paper) {
-        check_input(paper, 3, Channels::AtLeast, st, "paper");
-        check_same_size(*paper, color, st, "paper", "color");
-    }
+    check_paper(paper, color, st, "color");
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &depth, st, "depth");
     check_not_alias(dst, &ctrl_substrate, st, "ctrl_substrate");

@@ -18,10 +18,7 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
                      bool squared,  const Exec& ex) {
     const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
     check_input(&color, 4, Channels::Exactly, st, "color");
-    if (paper) {
-        check_input(paper, 3, Channels::AtLeast, st, "paper");
-        check_same_size(*paper, color, st, "paper", "color");
-    }
+    check_paper(paper, color, st, "color");
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();

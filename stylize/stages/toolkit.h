@@ -60,6 +60,14 @@ inline void check_full_or_half(const ImageF& img, const ImageF& like, const std:
                     std::to_string(half_size(h)) + ")");
 }
 
+//! The paper texture of Globals::paper, when bound: >= 3 channels (MNPR layout), the size of `like`.
+//! nullptr (the flat paper) passes.
+inline void check_paper(const ImageF* paper, const ImageF& like, const std::string& stage, const std::string& like_port) {
+    if (!paper) return;
+    check_input(paper, 3, Channels::AtLeast, stage, "paper");
+    check_same_size(*paper, like, stage, "paper", like_port);
+}
+
 //! The output must not be one of the inputs (no stage writes its own input).
 inline void check_not_alias(const ImageF& dst, const ImageF* in, const std::string& stage, const std::string& port) {
     if (in && &dst == in) throw Error(stage + ": output aliases input '" + port + "'");

@@ -2,12 +2,12 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
-#include <cmath>
-#include <cstdint>
-
 #include <glm/glm.hpp>
+
+#include "core/hash.h"
 
 #include "core/image.h"
 
@@ -22,14 +22,7 @@ inline ImageF constant(int w, int h, glm::vec4 v) {
 }
 
 //! Deterministic pseudo-random values in [lo, hi) (hash of the index, no global state).
-inline float hash01(std::uint32_t i) {
-    i ^= i >> 16;
-    i *= 0x7feb352du;
-    i ^= i >> 15;
-    i *= 0x846ca68bu;
-    i ^= i >> 16;
-    return float(i >> 8) / float(1u << 24);
-}
+inline float hash01(std::uint32_t i) { return float(hash32(i) >> 8) / float(1u << 24); }
 
 inline ImageF noise(int w, int h, int c, float lo, float hi, std::uint32_t seed) {
     ImageF img(w, h, c);

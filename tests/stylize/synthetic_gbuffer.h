@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/image.h"
+#include "core/hash.h"
 #include "core/targets.h"
 #include "stylize/stage.h"
 
@@ -18,12 +19,7 @@ namespace aq::test {
 inline float hash01(int x, int y, int c, std::uint32_t seed) {
     std::uint32_t h = std::uint32_t(x) * 0x8da6b343u ^ std::uint32_t(y) * 0xd8163841u ^ std::uint32_t(c) * 0xcb1ab31fu ^
                       seed * 0x9e3779b9u;
-    h ^= h >> 16;
-    h *= 0x7feb352du;
-    h ^= h >> 15;
-    h *= 0x846ca68bu;
-    h ^= h >> 16;
-    return float(h >> 8) / float(1u << 24);
+    return float(hash32(h) >> 8) / float(1u << 24);
 }
 
 //! Which object covers (x, y): 0 background, 1 disc (front), 2 bar (middle).
