@@ -6,9 +6,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <new>
@@ -78,6 +80,30 @@ std::string format_extension_for(const unsigned char* b, std::size_t n, const st
     return ext.empty() ? std::string(".png") : ext;
 }
 
+//! OpenImageIO's in-memory reader with every read bounded by the buffer, for any offset and size.
+//! OpenImageIO 2.4's IOMemReader::pread checks `size + size_t(offset) > buffer size`, which a
+//! negative offset (a BMP whose rows lie before its header) or a huge size wraps around, and then
+//! copies from outside the buffer: a heap-buffer-overflow found by the CI fuzz run (fuzz/README.md
+//! finding 6, fuzz/regressions/image/bmp-*). Here the offset is checked first and the length is
+//! clamped to what is left, without an addition that can overflow. It stays an IOMemReader
+//! (proxytype "memreader"): OpenImageIO's JPEG reader accepts only that type and reads its buffer()
+//! directly, bounded by the buffer's size.
+class BoundedMemReader final : public OIIO::Filesystem::IOMemReader {
+public:
+    BoundedMemReader(const unsigned char* bytes, std::size_t size) : IOMemReader(bytes, size) {}
+    std::size_t read(void* buf, std::size_t n) override {
+        const std::size_t got = pread(buf, n, m_pos);
+        m_pos += int64_t(got);
+        return got;
+    }
+    std::size_t pread(void* buf, std::size_t n, int64_t offset) override {
+        if (offset < 0 || std::uint64_t(offset) >= m_buf.size() || n == 0) return 0;
+        const std::size_t got = std::min(n, std::size_t(m_buf.size()) - std::size_t(offset));
+        std::memcpy(buf, m_buf.data() + offset, got);
+        return got;
+    }
+};
+
 //! Refuses what we do not decode, from the header alone (before any pixel is read).
 void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const std::string& where,
                 DecodeBudget* budget) {
@@ -130,7 +156,7 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
         throw Error(where + ": the '" + ext.substr(1) +
                     "' format is not read (PNG, JPEG, OpenEXR, TIFF, Radiance HDR, TGA and BMP are; docs/limits.md)");
     const std::string fake = "memory" + ext;
-    OIIO::Filesystem::IOMemReader mem(bytes, size);
+    BoundedMemReader mem(bytes, size);
     // create() is given the bare format name: for a file name, OpenImageIO 2.4 first asks that
     // format's reader whether the bytes are valid and, if not, tries every reader it has (DICOM,
     // FITS, ...), so an allow-listed extension would not keep the other decoders away (found by

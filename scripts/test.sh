@@ -6,7 +6,8 @@
 #   2. the same unit and CLI tests built with clang, AddressSanitizer + UBSan (scripts/sanitize.sh,
 #      build-fuzz/);
 #   3. a smoke run of every libFuzzer target on its seed corpus and regression inputs, from the same
-#      instrumented build (scripts/fuzz.sh --seconds $AQ_FUZZ_SECONDS, default 30).
+#      instrumented build (scripts/fuzz.sh --smoke: a fixed number of inputs per target from a
+#      fixed seed, the same on every run; $AQ_FUZZ_SECONDS caps each target, default 120).
 # Usage: scripts/test.sh                 everything (what .ci/run runs)
 #        scripts/test.sh CTEST_ARGS...   only step 1, with extra ctest args (e.g. -L reference, -R raster)
 # AQ_SKIP_SANITIZERS=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 for a quick local run.
@@ -24,6 +25,6 @@ if [ "${AQ_SKIP_SANITIZERS:-0}" != 1 ]; then
 fi
 if [ "${AQ_SKIP_FUZZ:-0}" != 1 ]; then
   start=$SECONDS
-  bash scripts/fuzz.sh --seconds "${AQ_FUZZ_SECONDS:-30}"
+  bash scripts/fuzz.sh --smoke --seconds "${AQ_FUZZ_SECONDS:-120}"
   echo "test.sh: fuzz smoke run in $((SECONDS - start)) s"
 fi

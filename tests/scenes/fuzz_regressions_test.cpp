@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <memory>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -77,6 +79,29 @@ TEST(FuzzRegressions, GifScreenIsCheckedBeforeOpenImageIOAllocatesIt) {
     } catch (const aq::Error& e) {
         EXPECT_NE(std::string(e.what()).find("the 'gif' format is not read"), std::string::npos) << e.what();
     }
+}
+
+// A 70-byte BMP whose pixel data offset is -2 (the bfOffBits field is signed in OpenImageIO):
+// its BMP reader seeks there and reads a 4-byte row, and OpenImageIO 2.4's in-memory reader let
+// the negative offset through its bounds check (`size + size_t(offset)` wraps), copying from two
+// bytes before the buffer: heap-buffer-overflow under ASan (CI's fuzz smoke run, fuzz/README.md
+// finding 6). core/io.cpp now reads memory through its own bounded proxy, so the read fails and
+// the image is refused; with the old proxy it decoded (silently, from outside the buffer).
+TEST(FuzzRegressions, BmpWithPixelsBeforeItsHeaderIsRefusedNotReadOutOfBounds) {
+    const fs::path in = regressions("image") / "bmp-pixel-offset-minus-2.bmp";
+    const std::vector<unsigned char> b = bytes_of(in);
+    ASSERT_EQ(b.size(), 70u);
+    ASSERT_EQ(b[10], 0xFE);  // bfOffBits = -2
+    // A heap copy of exactly the file's bytes, so ASan sees any read outside them.
+    const std::unique_ptr<unsigned char[]> heap(new unsigned char[b.size()]);
+    std::copy(b.begin(), b.end(), heap.get());
+    try {
+        (void)decode_image_bytes(heap.get(), b.size(), "texture.bmp");
+        ADD_FAILURE() << "decoded a BMP whose rows start before the file";
+    } catch (const aq::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("image 'texture.bmp': "), std::string::npos) << e.what();
+    }
+    EXPECT_THROW((void)aq::read_image(copy_to_output(in, "paper.bmp")), aq::Error);
 }
 
 TEST(FuzzRegressions, EveryImageInputIsReadOrRefused) {
