@@ -9,7 +9,7 @@
 // benchmark absorbs program compilation and LLVM JIT (~110 ms per shader), so the result does not
 // depend on Mesa's shader cache (MESA_SHADER_CACHE_DISABLE is not needed and not set).
 // llvmpipe uses LP_NUM_THREADS rasterizer threads (default: all cores, 2 here).
-// Inputs are exactly those of the paired C++ benchmarks (tests/stylize/synthetic_gbuffer.h: the same
+// Inputs are exactly those of the paired C++ benchmarks (tests/synthetic_gbuffer.h: the same
 // per-port synthetic targets and seeds, the flat paper for single stages; the preset's paper for
 // pipelines), so both sides process the same data. Results: docs/performance.md
 // "## C++ vs GLSL on llvmpipe".
@@ -27,7 +27,7 @@
 #include "reference/stage_twin.h"
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
-#include "tests/stylize/synthetic_gbuffer.h"
+#include "tests/synthetic_gbuffer.h"
 
 namespace aq::ref {
 namespace {

@@ -2,8 +2,9 @@
 // registered stage variant (found by iterating builtin_registry(), so every group's stages are
 // covered) at 1920x1080 and 640x360, reference and fast traversal, 1 and 2 threads, items =
 // output pixels; and every preset pipeline end to end (fast, 1 and 2 threads).
-// Inputs are the synthetic G-buffer of the tests (tests/stylize/synthetic_gbuffer.h): a disc and
-// a bar at different depths with painted control on the objects and none on the background.
+// Inputs are the one synthetic G-buffer of tests, benchmarks and reference (tests/synthetic_gbuffer.h:
+// three spheres over a slanted ground plane, painted control over the signed range on the objects
+// and none on the background; intermediates get a smooth-plus-edges pattern).
 // Results: docs/performance.md "## Stylization".
 #include <chrono>
 #include <cstdio>
@@ -18,7 +19,7 @@
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
 #include "stylize/stage.h"
-#include "tests/stylize/synthetic_gbuffer.h"
+#include "tests/synthetic_gbuffer.h"
 
 namespace aq::stylize {
 namespace {

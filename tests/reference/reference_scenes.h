@@ -1,6 +1,6 @@
 // tests/reference/reference_scenes.h — the G-buffers the reference checks run on: scenes rendered
 // by raster/ from the real models in ../shared/assets (through the scene files in scenes/data),
-// the procedural swatches, and the synthetic G-buffer of reference/synthetic.h.
+// the procedural swatches, and the synthetic G-buffer of tests/synthetic_gbuffer.h.
 #pragma once
 
 #include <string>
@@ -8,7 +8,8 @@
 
 #include "core/targets.h"
 #include "raster/raster.h"
-#include "reference/synthetic.h"
+#include "reference/stage_inputs.h"
+#include "tests/synthetic_gbuffer.h"
 #include "scenes/scene_file.h"
 #include "stylize/paper.h"
 #include "tests/test_support.h"
@@ -44,7 +45,7 @@ inline ReferenceScene make_reference_scene(const std::string& name, int w, int h
     ReferenceScene r;
     r.name = name;
     if (name == "synthetic") {
-        r.gbuffer = synthetic_gbuffer(w, h, 11);
+        r.gbuffer = aq::test::synthetic_gbuffer(w, h, 11);
         r.substrate_color = {0.98f, 0.96f, 0.9f};
         r.paper.file = test::asset("paper/mnpr/rough_default_2k.jpg");
         r.has_paper = true;

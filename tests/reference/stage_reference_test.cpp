@@ -13,7 +13,8 @@
 #include "core/compare.h"
 #include "core/io.h"
 #include "reference/stage_twin.h"
-#include "reference/synthetic.h"
+#include "reference/stage_inputs.h"
+#include "tests/synthetic_gbuffer.h"
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
 #include "tests/reference/reference_scenes.h"
@@ -82,7 +83,7 @@ struct Scene {
 Scene make_synthetic(int w, int h, std::uint32_t seed) {
     Scene s;
     s.name = "synthetic_" + std::to_string(w) + "x" + std::to_string(h);
-    s.targets = synthetic_gbuffer(w, h, seed);
+    s.targets = aq::test::synthetic_gbuffer(w, h, seed);
     stylize::PaperSpec ps;
     ps.file = test::asset("paper/mnpr/rough_default_2k.jpg");
     s.paper = stylize::prepare_paper(ps, w, h);

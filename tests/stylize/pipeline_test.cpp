@@ -11,7 +11,7 @@
 
 #include "core/hash.h"
 #include "stylize/pipeline.h"
-#include "tests/stylize/synthetic_gbuffer.h"
+#include "tests/synthetic_gbuffer.h"
 #include "tests/test_support.h"
 
 namespace aq::stylize {

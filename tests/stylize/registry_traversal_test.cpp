@@ -13,7 +13,7 @@
 #include "core/hash.h"
 #include "stylize/stage.h"
 #include "tests/stylize/stage_test_util.h"
-#include "tests/stylize/synthetic_gbuffer.h"
+#include "tests/synthetic_gbuffer.h"
 
 namespace aq::stylize {
 namespace {

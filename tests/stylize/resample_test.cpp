@@ -7,7 +7,7 @@
 
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
-#include "tests/stylize/synthetic_gbuffer.h"
+#include "tests/synthetic_gbuffer.h"
 
 namespace aq::stylize {
 namespace {

@@ -1,48 +1,41 @@
-// reference/synthetic.cpp — synthetic G-buffer and producer-driven input resolution.
-#include "reference/synthetic.h"
+// tests/synthetic_gbuffer.h — the one synthetic G-buffer generator, for the unit tests, the
+// benchmarks (bench/) and the GPU-equivalent reference checks (tests/reference/, bench/reference_bench):
+// every target of the rasterizer's layout (core/targets.h kGBufferLayout) with render-like content,
+// and an input image for any other port a stage declares (intermediates), so registry-wide tests
+// also cover stages added later. Deterministic in (size, seed); no thread or clock is consulted.
+#pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include <glm/glm.hpp>
 
 #include "core/hash.h"
-#include <limits>
+#include "core/image.h"
+#include "core/targets.h"
 
-namespace aq::ref {
+namespace aq::test {
 
-namespace {
-
-using aq::hash32;  // core/hash.h: lowbias32
-float hash01(std::uint32_t a, std::uint32_t b, std::uint32_t seed) {
+namespace synthetic_detail {
+//! Value noise in [0, 1) keyed by two integers and the seed (core/hash.h lowbias32).
+inline float hash01(std::uint32_t a, std::uint32_t b, std::uint32_t seed) {
     return float(hash32(a * 0x9E3779B1U ^ hash32(b + 0x85EBCA77U * seed))) * (1.0f / 4294967296.0f);
 }
-
-float smooth01(float t) {
-    t = std::clamp(t, 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
-
 struct Disk {
     float cx, cy, r, z;
 };
+}  // namespace synthetic_detail
 
-}  // namespace
-
-ImageF synthetic_pattern(int w, int h, int channels, std::uint32_t seed) {
-    ImageF img(w, h, channels);
-    const float s = float(seed % 7) + 1.0f;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
-            const bool inside = std::abs(u - 0.5f) < 0.3f && std::abs(v - 0.45f) < 0.25f;
-            for (int c = 0; c < channels; ++c) {
-                float val = 0.5f + 0.5f * std::sin(6.2831853f * (u * (c + 1) + v * s * 0.5f) + c);
-                if (inside) val = 0.25f * val + (c % 2 ? 0.7f : 0.1f);
-                img.at(x, y, c) = std::clamp(val, 0.0f, 1.0f);
-            }
-        }
-    return img;
-}
-
-Targets synthetic_gbuffer(int w, int h, std::uint32_t seed) {
+//! Every G-buffer target of spec §1 at w x h: `color` (smooth gradients, hard object edges,
+//! coverage in alpha, background alpha 0), the four `ctrl.*` targets (painted patches, soft and
+//! hard, values over the whole signed range [-1, 1]), `depth.linear` (slanted planes, steps, +inf
+//! background), `normal` (view space, spheres and planes), `object_id`, `diffuse`, `specular`.
+inline Targets synthetic_gbuffer(int w, int h, std::uint32_t seed = 1) {
+    using synthetic_detail::Disk;
+    using synthetic_detail::hash01;
     Targets t;
     // Every target of the rasterizer's layout (core/targets.h kGBufferLayout), with its channels.
     for (const target::GBufferTarget& g : target::kGBufferLayout) t.create(g.name, w, h, g.channels);
@@ -116,42 +109,34 @@ Targets synthetic_gbuffer(int w, int h, std::uint32_t seed) {
                     val = std::clamp(val, -1.0f, 1.0f);
                     ctrl[k]->at(x, y, ch) = a > 0.0f ? val : 0.0f;
                 }
-            (void)smooth01;
         }
     return t;
 }
 
-std::vector<ImageF> run_cpp_stage(const stylize::StageVariant& v, const Targets& t, const stylize::ParamValues& p,
-                                  const stylize::Globals& globals, const Exec& ex) {
-    stylize::StageIO io;
-    io.globals = &globals;
-    for (auto& port : v.inputs) io.in.push_back(t.has(port.default_target) ? &t.get(port.default_target) : nullptr);
-    std::vector<ImageF> outs(v.outputs.size());
-    for (auto& o : outs) io.out.push_back(&o);
-    v.run(io, p, ex);
-    return outs;
-}
-
-bool resolve_target(Targets& t, const std::string& name, const stylize::Globals& globals) {
-    if (t.has(name)) return true;
-    const auto& reg = stylize::builtin_registry();
-    const stylize::StageVariant* producer = nullptr;
-    for (auto& stage : reg.stages()) {
-        for (auto* v : reg.variants(stage)) {
-            for (auto& o : v->outputs)
-                if (o.default_target == name && !producer) producer = v;
+//! A smooth-plus-edges pattern in [0, 1] with `channels` channels, for inputs nothing in the
+//! G-buffer provides (intermediates such as `edges`, `bleed`, `paper`).
+inline ImageF synthetic_pattern(int w, int h, int channels, std::uint32_t seed) {
+    ImageF img(w, h, channels);
+    const float s = float(seed % 7) + 1.0f;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
+            const bool inside = std::abs(u - 0.5f) < 0.3f && std::abs(v - 0.45f) < 0.25f;
+            for (int c = 0; c < channels; ++c) {
+                float val = 0.5f + 0.5f * std::sin(6.2831853f * (u * (c + 1) + v * s * 0.5f) + c);
+                if (inside) val = 0.25f * val + (c % 2 ? 0.7f : 0.1f);
+                img.at(x, y, c) = std::clamp(val, 0.0f, 1.0f);
+            }
         }
-    }
-    if (!producer) return false;
-    for (auto& in : producer->inputs) {
-        if (in.default_target == name) continue;  // a stage never reads its own output
-        if (!resolve_target(t, in.default_target, globals) && !in.optional) return false;
-    }
-    auto params = stylize::Registry::resolve_params(*producer, {}, "resolve_target");
-    auto outs = run_cpp_stage(*producer, t, params, globals);
-    for (std::size_t k = 0; k < outs.size(); ++k)
-        if (!t.has(producer->outputs[k].default_target)) t.set(producer->outputs[k].default_target, std::move(outs[k]));
-    return true;
+    return img;
 }
 
-}  // namespace aq::ref
+//! The input image of a port: the G-buffer target of that name when `channels` matches its layout
+//! (from synthetic_gbuffer, so every caller sees the same G-buffer content), else
+//! synthetic_pattern.
+inline ImageF synthetic_target(const std::string& name, int channels, int w, int h, std::uint32_t seed = 1) {
+    if (target::gbuffer_channels(name.c_str()) == channels) return synthetic_gbuffer(w, h, seed).get(name);
+    return synthetic_pattern(w, h, channels, seed);
+}
+
+}  // namespace aq::test
