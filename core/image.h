@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <utility>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -118,8 +119,22 @@ public:
     ImageF(int w, int h, int channels, Uninitialized);
     ImageF(const ImageF& o);
     ImageF& operator=(const ImageF& o);
-    ImageF(ImageF&&) noexcept = default;
-    ImageF& operator=(ImageF&&) noexcept = default;
+    //! A moved-from image is empty (0 x 0 x 0): with the defaulted moves it kept its shape without
+    //! storage, so ensure_output() on it wrote through a null pointer (found when the render job
+    //! started handing a frame's converted image to the writer; tests/core/image_test.cpp).
+    ImageF(ImageF&& o) noexcept
+        : w_(std::exchange(o.w_, 0)), h_(std::exchange(o.h_, 0)), c_(std::exchange(o.c_, 0)),
+          n_(std::exchange(o.n_, 0)), pixels_(std::move(o.pixels_)) {}
+    ImageF& operator=(ImageF&& o) noexcept {
+        if (this != &o) {
+            w_ = std::exchange(o.w_, 0);
+            h_ = std::exchange(o.h_, 0);
+            c_ = std::exchange(o.c_, 0);
+            n_ = std::exchange(o.n_, 0);
+            pixels_ = std::move(o.pixels_);
+        }
+        return *this;
+    }
 
     int width() const { return w_; }
     int height() const { return h_; }
@@ -155,5 +170,12 @@ private:
     std::size_t n_ = 0;
     std::unique_ptr<float[], Free> pixels_;
 };
+
+//! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller
+//! running every frame then writes into the same pages). Contents are unspecified: a new image is
+//! not filled, so the caller must write every value (stage outputs, the CLI's converted image).
+inline void ensure_output(ImageF& img, int w, int h, int c) {
+    if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c, kUninitialized);
+}
 
 }  // namespace aq

@@ -98,12 +98,9 @@ inline const Globals& globals_of(const StageIO& io) {
 
 // ---- outputs ---------------------------------------------------------------------------------
 
-//! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller
-//! running a stage every frame then writes into the same pages). Contents are unspecified: a new
-//! image is not filled, because every stage writes every value of its output.
-inline void ensure_output(ImageF& img, int w, int h, int c) {
-    if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c, kUninitialized);
-}
+//! core/image.h: reuses an output's storage when it already has the shape (every stage writes
+//! every value of its output).
+using aq::ensure_output;
 
 // ---- borders ---------------------------------------------------------------------------------
 

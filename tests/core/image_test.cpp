@@ -30,6 +30,27 @@ TEST(ImageF, RefusesAbsurdSizesBeforeAllocating) {
     EXPECT_NO_THROW(ImageF(4, 4, 1));
 }
 
+// A moved-from image is empty, so ensure_output() allocates instead of writing into it: with the
+// defaulted moves it kept its 200 x 120 x 3 shape without storage and the CLI's animation path
+// crashed (SIGSEGV) writing frame 2's converted image.
+TEST(ImageF, MovedFromImageIsEmptyAndEnsureOutputAllocatesAgain) {
+    ImageF a(20, 12, 3, 0.5f);
+    ImageF b(std::move(a));
+    EXPECT_TRUE(a.empty());  // NOLINT(bugprone-use-after-move): the moved-from state is the point
+    EXPECT_EQ(a.width(), 0);
+    EXPECT_EQ(a.channels(), 0);
+    EXPECT_EQ(a.data(), nullptr);
+    ensure_output(a, 20, 12, 3);
+    ASSERT_NE(a.data(), nullptr);
+    a.at(19, 11, 2) = 1.0f;
+    ImageF c;
+    c = std::move(b);
+    EXPECT_TRUE(b.empty());  // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(b.height(), 0);
+    EXPECT_EQ(c.width(), 20);
+    EXPECT_FLOAT_EQ(c.at(19, 11, 2), 0.5f);
+}
+
 TEST(ImageF, ViewChannelCountIsChecked) {
     ImageF img(3, 2, 4, 0.5f);
     EXPECT_NO_THROW(img.view<glm::vec4>());
