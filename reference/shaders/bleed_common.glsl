@@ -8,7 +8,7 @@
 #ifdef PASS_src
 void main() {
     vec4 c = u_half_res ? resample(s_color) : fetch(s_color, pixel());
-    vec4 k = u_half_res ? resample(s_control) : fetch(s_control, pixel());
+    vec4 k = u_half_res ? resample(s_ctrl_abstraction) : fetch(s_ctrl_abstraction, pixel());
     o_color = vec4(c.rgb, k.b);   // ctrl.abstraction.b = bleeding
 }
 #endif

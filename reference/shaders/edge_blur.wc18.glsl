@@ -1,8 +1,8 @@
 // edge_blur/wc18 — WC18 §3.1 / MNPR edgeBlur: Gaussian blur of the Sobel edges with a per-pixel
 // kernel size from the painted edge width ctrl.edge.g: K = max(1, int(W + lerp(0, 3W, ctrl))),
 // sigma = K / 2, taps |o| < K, weights normalised; K taken at the output pixel in both passes.
-//@pass h out=1 in=edges,control
-//@pass v out=1 in=h,control
+//@pass h out=1 in=edges,ctrl_edge
+//@pass v out=1 in=h,ctrl_edge
 //@output blurred=v
 
 #ifdef PASS_h
@@ -21,7 +21,7 @@ int kernel_size(float ctrl) {
 }
 
 void main() {
-    int k = kernel_size(fetch(s_control, pixel()).g);
+    int k = kernel_size(fetch(s_ctrl_edge, pixel()).g);
     float sigma = float(k) / 2.0;
     float sum = 0.0, norm = 0.0;
     for (int o = -k + 1; o < k; ++o) {

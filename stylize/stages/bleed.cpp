@@ -251,8 +251,8 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
            const BleedParams& p, const Exec& ex) {
     const bool need_depth = rule != BleedRule::Naive;
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "bleed", "color");
-    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "bleed", "control");
-    toolkit::check_same_size(ctrl, color, "bleed", "control", "color");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "bleed", "ctrl_abstraction");
+    toolkit::check_same_size(ctrl, color, "bleed", "ctrl_abstraction", "color");
     if (need_depth || !depth.empty()) {
         toolkit::check_input(&depth, 1, toolkit::Channels::Exactly, "bleed", "depth");
         toolkit::check_same_size(depth, color, "bleed", "depth", "color");
@@ -336,7 +336,7 @@ void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_defau
     v.doc = doc;
     v.inputs = {{"color", "color.density", 4, false}};
     if (rule != BleedRule::Naive) v.inputs.push_back({"depth", "depth", 1, false});
-    v.inputs.push_back({"control", target::kCtrlAbstraction, 4, false});
+    v.inputs.push_back({"ctrl_abstraction", target::kCtrlAbstraction, 4, false});
     v.outputs = {{"bleed", "bleed", 4, false}};
     v.params = t->descs();
     for (auto& d : v.params)

@@ -58,8 +58,8 @@ std::vector<std::vector<float>> wc18_tables(int kmax) {
 void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const EdgeBlurWc18Params& p,
                     const Exec& ex) {
     toolkit::check_input(&edges, 1, toolkit::Channels::Exactly, "edge_blur", "edges");
-    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "edge_blur", "control");
-    toolkit::check_same_size(ctrl, edges, "edge_blur", "control", "edges");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "edge_blur", "ctrl_edge");
+    toolkit::check_same_size(ctrl, edges, "edge_blur", "ctrl_edge", "edges");
     if (p.width < 1 || p.width > 16) throw Error("edge_blur: width must be in [1, 16]");
     const int w = edges.width(), h = edges.height();
     const int kmax = 4 * p.width;
@@ -194,7 +194,7 @@ void register_edge_blur(Registry& r) {
         v.stage = "edge_blur";
         v.variant = "wc18";
         v.doc = "WC18 3.1: Gaussian blur of the Sobel edges, per-pixel width from ctrl.edge.g, sigma = K/2, |o| < K";
-        v.inputs = {{"edges", "edges", 1, false}, {"control", target::kCtrlEdge, 4, false}};
+        v.inputs = {{"edges", "edges", 1, false}, {"ctrl_edge", target::kCtrlEdge, 4, false}};
         v.outputs = {{"blurred", "edges.blurred", 1, false}};
         v.params = t.descs();
         v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {

@@ -17,8 +17,8 @@ namespace aq::stylize {
 void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::vec3 substrate,
                      const PigmentDensityParams& p, const Exec& ex) {
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "pigment_density", "color");
-    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "pigment_density", "control");
-    toolkit::check_same_size(ctrl, color, "pigment_density", "control", "color");
+    toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "pigment_density", "ctrl_pigment");
+    toolkit::check_same_size(ctrl, color, "pigment_density", "ctrl_pigment", "color");
     const int w = color.width(), h = color.height();
     toolkit::ensure_output(dst, w, h, 4);
     const float* c = color.data();
@@ -70,7 +70,7 @@ void register_pigment_density(Registry& r) {
     v.stage = "pigment_density";
     v.variant = "mnpr";
     v.doc = "WC18/MNPR image-space turbulence: d = 1 + ctrl.pigment.b, c' = |c|^d, mix(substrate, c', sat(d))";
-    v.inputs = {{"color", "color.adjusted", 4, false}, {"control", target::kCtrlPigment, 4, false}};
+    v.inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
     v.outputs = {{"color", "color.density", 4, false}};
     v.params = t.descs();
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
