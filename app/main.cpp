@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "app/cli_args.h"
+#include "app/render_files.h"
 #include "app/render_job.h"
-#include "app/visualize.h"
 #include "core/color.h"
 #include "core/compare.h"
 #include "core/io.h"
@@ -88,14 +88,6 @@ images could be compared (whatever the difference), 1 on error.
 )";
 
 using aq::app::RenderOptions;
-
-std::string frame_path(const std::string& pattern, int frame) {
-    auto pos = pattern.find("####");
-    if (pos == std::string::npos) return pattern;
-    char num[32];
-    std::snprintf(num, sizeof num, "%04d", frame);
-    return pattern.substr(0, pos) + num + pattern.substr(pos + 4);
-}
 
 void check_output_path(const std::string& path, const std::string& opt) {
     const fs::path p(path);
@@ -209,27 +201,7 @@ int cmd_render(Args& a) {
     if (!o.targets_dir.empty()) aq::ensure_directory(o.targets_dir);
     if (!o.targets_png_dir.empty()) aq::ensure_directory(o.targets_png_dir);
 
-    aq::app::run_render(job, [&](aq::app::RenderedImage& img) {
-        // Intermediates first, the display image last: a listener waiting for --out sees a
-        // complete set.
-        const bool numbered = o.animation || job.sweeping();
-        const std::string sub = frame_path(job.sweeping() ? "sweep####" : "frame####", img.index);
-        if (!o.targets_dir.empty()) {
-            const std::string dir = numbered ? o.targets_dir + "/" + sub : o.targets_dir;
-            aq::ensure_directory(dir);
-            for (auto& [name, t] : img.targets.all())
-                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".exr", t);
-        }
-        if (!o.targets_png_dir.empty()) {
-            const std::string dir = numbered ? o.targets_png_dir + "/" + sub : o.targets_png_dir;
-            aq::ensure_directory(dir);
-            for (auto& [name, t] : img.targets.all())
-                aq::write_image(dir + "/" + aq::safe_file_name(name) + ".png", aq::app::visualize_target(name, t));
-        }
-        const std::string out = frame_path(o.out, img.index);
-        aq::write_image(out, img.final_image());
-        report.progress(img.tag + "wrote " + out);
-    }, report);
+    aq::app::render_to_files(job, report);
     report.progress("done in " +
                     std::to_string(int(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count())) +
                     " ms");

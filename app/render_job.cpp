@@ -129,18 +129,55 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     return job;
 }
 
+namespace {
+
+//! The image --out receives: the final target, converted where the output needs it.
+void convert_final(RenderedImage& img, const ImageF& fin, bool linear, bool drop_alpha) {
+    if (!linear && !drop_alpha) return;
+    const int nc = drop_alpha ? 3 : fin.channels();
+    ensure_output(img.converted, fin.width(), fin.height(), nc);
+    for (int y = 0; y < fin.height(); ++y)
+        for (int x = 0; x < fin.width(); ++x)
+            for (int c = 0; c < nc; ++c) {
+                const float v = fin.at(x, y, c);
+                // output transform linear -> sRGB on colour, never on alpha
+                img.converted.at(x, y, c) = linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
+            }
+    img.converted_ = true;
+}
+
+//! Moves the G-buffer targets between the rasterizer's set (reused by render_gbuffer_into when it
+//! holds exactly them) and the frame's set (G-buffer + paper + intermediates, reused by
+//! run_pipeline with reuse_outputs). Moves, not copies.
+void move_gbuffer(Targets& from, Targets& to) {
+    for (const target::GBufferTarget& g : target::kGBufferLayout)
+        if (from.has(g.name)) {
+            to.set(g.name, std::move(from.get_mut(g.name)));
+            from.erase(g.name);
+        }
+}
+
+}  // namespace
+
 void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report) {
     const RenderOptions& o = job.options;
     raster::RenderSettings& rs = job.settings;
     const bool sweeping = job.sweeping();
     const int nframes = o.frame_last - o.frame_first + 1;
+    // Kept from frame to frame (issue 13): the G-buffer's memory (render_gbuffer_into), and for one
+    // style the paper, every intermediate and the converted final image (run_pipeline with
+    // reuse_outputs), so a frame neither allocates nor first-touches ~0.5 GB at 1080p, nor prepares
+    // the paper again. Every pixel of every target is written again each frame: the bytes are those
+    // of a fresh render (tests/app/golden_test.cpp AnimationFramesEqualSingleFrames).
+    Targets gbuffer, frame_targets;
+    ImageF converted;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
         const auto tf = std::chrono::steady_clock::now();
         const std::string prefix =
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
         rs.frame = f;
         std::vector<std::string> warnings;
-        Targets gbuffer = raster::render_gbuffer(job.desc.scene, job.desc.camera, rs, &warnings);
+        raster::render_gbuffer_into(gbuffer, job.desc.scene, job.desc.camera, rs, &warnings);
         for (auto& w : warnings) report.warning(w);
         report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
             std::to_string(int(ms_since(tf))) + " ms");
@@ -150,12 +187,18 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             const std::string tag = sweeping ? "[sweep " + std::to_string(si + 1) + "/" +
                                                    std::to_string(job.styles.size()) + " " + job.sweep_labels[si] + "] "
                                              : prefix;
-            Targets targets = sweeping ? gbuffer : std::move(gbuffer);
+            // A sweep runs several styles on one G-buffer: each gets a copy. One style takes the
+            // G-buffer's images into the frame's set and gives them back after the sink.
+            Targets sweep_targets;
+            if (sweeping) sweep_targets = gbuffer;
+            else move_gbuffer(gbuffer, frame_targets);
+            Targets& targets = sweeping ? sweep_targets : frame_targets;
             std::string final_name = target::kColor;
             if (job.stylize) {
                 const auto ts = std::chrono::steady_clock::now();
                 stylize::RunOptions ro;
                 ro.exec = rs.exec;
+                ro.reuse_outputs = !sweeping;
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
@@ -165,26 +208,14 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
                     std::to_string(int(ms_since(ts))) + " ms");
             }
-            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, {}, false};
+            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, std::move(converted), false};
             const ImageF& fin = targets.get(final_name);
-            const bool linear = o.working_space == WorkingSpace::Linear;
             // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
             // colour (--style none) keeps its coverage alpha for compositing.
-            const bool drop_alpha = job.stylize && fin.channels() == 4;
-            if (linear || drop_alpha) {
-                const int nc = drop_alpha ? 3 : fin.channels();
-                img.converted = ImageF(fin.width(), fin.height(), nc);
-                for (int y = 0; y < fin.height(); ++y)
-                    for (int x = 0; x < fin.width(); ++x)
-                        for (int c = 0; c < nc; ++c) {
-                            const float v = fin.at(x, y, c);
-                            // output transform linear -> sRGB on colour, never on alpha
-                            img.converted.at(x, y, c) =
-                                linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
-                        }
-                img.converted_ = true;
-            }
+            convert_final(img, fin, o.working_space == WorkingSpace::Linear, job.stylize && fin.channels() == 4);
             sink(img);
+            converted = std::move(img.converted);
+            if (!sweeping) move_gbuffer(frame_targets, gbuffer);
         }
     }
 }

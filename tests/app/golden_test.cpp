@@ -48,24 +48,50 @@ std::string scene_arg(const std::string& scene) {
     return scene.rfind("procedural:", 0) == 0 ? scene : test::source_dir() + "/scenes/data/" + scene;
 }
 
-//! target name -> hash ("final" = the image --out receives).
-std::map<std::string, std::string> render_hashes(const std::string& scene, const std::string& preset, int threads) {
+using Hashes = std::map<std::string, std::string>;  // target name -> hash ("final" = the image --out receives)
+
+//! Frame number -> hashes of every image the render job hands its sink for frames first..last.
+std::map<int, Hashes> render_frames(const std::string& scene, const std::string& preset, int threads, int first,
+                                    int last) {
     RenderOptions o;
     o.scene = scene_arg(scene);
     o.style = preset;
     o.style_given = true;
     o.width = kWidth;
     o.height = kHeight;
-    o.frame_first = o.frame_last = kFrame;
+    o.frame_first = first;
+    o.frame_last = last;
+    o.animation = first != last;
     o.threads = threads;
     o.quiet = true;
     RenderJob job = prepare_render(o, Reporter{});
-    std::map<std::string, std::string> h;
+    std::map<int, Hashes> h;
     run_render(job, [&](RenderedImage& img) {
-        for (const auto& [name, t] : img.targets.all()) h[name] = sha256_hex(t);
-        h["final"] = sha256_hex(img.final_image());
+        for (const auto& [name, t] : img.targets.all()) h[img.frame][name] = sha256_hex(t);
+        h[img.frame]["final"] = sha256_hex(img.final_image());
     }, Reporter{});
     return h;
+}
+
+Hashes render_hashes(const std::string& scene, const std::string& preset, int threads) {
+    return render_frames(scene, preset, threads, kFrame, kFrame).at(kFrame);
+}
+
+// The render job keeps its buffers from frame to frame (the G-buffer's memory, the paper, every
+// intermediate; issue 13). Every frame of an animation must still be exactly the frame rendered
+// alone by a fresh job: nothing of frame N may leak into frame N+1. The hand tremor's clock runs
+// with the frame number, so consecutive frames differ; every preset, 2 threads.
+TEST(GoldenAnimation, EveryFrameEqualsTheSameFrameRenderedAlone) {
+    for (const char* preset : kPresets) {
+        SCOPED_TRACE(preset);
+        const std::map<int, Hashes> anim = render_frames("suzanne.json", preset, 2, 3, 6);
+        ASSERT_EQ(anim.size(), 4u);
+        EXPECT_NE(anim.at(3).at("final"), anim.at(4).at("final")) << "consecutive frames should differ";
+        for (const auto& [f, hashes] : anim) {
+            const Hashes alone = render_frames("suzanne.json", preset, 2, f, f).at(f);
+            EXPECT_EQ(hashes, alone) << "frame " << f << " of the animation differs from frame " << f << " alone";
+        }
+    }
 }
 
 using Table = std::map<std::string, std::map<std::string, std::string>>;  // "scene preset" -> target -> hash
@@ -87,7 +113,7 @@ class Golden : public ::testing::TestWithParam<std::tuple<std::string, std::stri
 
 TEST_P(Golden, EveryTargetMatchesTheRecordedHashAtEveryThreadCount) {
     const auto& [scene, preset] = GetParam();
-    std::map<int, std::map<std::string, std::string>> by_threads;
+    std::map<int, Hashes> by_threads;
     for (int n : kThreadCounts) by_threads[n] = render_hashes(scene, preset, n);
     const auto& first = by_threads.begin()->second;
     ASSERT_GT(first.size(), 5u);

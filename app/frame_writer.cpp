@@ -1,0 +1,64 @@
+// app/frame_writer.cpp — see frame_writer.h.
+#include "app/frame_writer.h"
+
+#include "core/io.h"
+
+namespace aq::app {
+
+FrameWriter::FrameWriter(std::size_t max_in_flight, std::function<void(const std::string&)> report)
+    : max_in_flight_(max_in_flight < 1 ? 1 : max_in_flight), report_(std::move(report)), thread_([this] { run(); }) {}
+
+FrameWriter::~FrameWriter() {
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+}
+
+void FrameWriter::submit(Frame frame) {
+    std::unique_lock<std::mutex> lock(m_);
+    cv_.wait(lock, [&] { return error_ || queue_.size() < max_in_flight_; });
+    if (error_) std::rethrow_exception(error_);
+    queue_.push_back(std::move(frame));
+    cv_.notify_all();
+}
+
+void FrameWriter::finish() {
+    std::unique_lock<std::mutex> lock(m_);
+    cv_.wait(lock, [&] { return error_ || (queue_.empty() && !busy_); });
+    if (error_) std::rethrow_exception(error_);
+}
+
+void FrameWriter::run() {
+    for (;;) {
+        Frame f;
+        {
+            std::unique_lock<std::mutex> lock(m_);
+            cv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+            if (queue_.empty()) return;  // stop_ and nothing left
+            f = std::move(queue_.front());
+            queue_.pop_front();
+            busy_ = true;
+        }
+        std::exception_ptr err;
+        try {
+            for (auto& [path, img] : f.files) write_image(path, img);
+            if (report_ && !f.done_message.empty()) report_(f.done_message);
+        } catch (...) {
+            err = std::current_exception();
+        }
+        {
+            std::lock_guard<std::mutex> lock(m_);
+            busy_ = false;
+            if (err && !error_) {
+                error_ = err;
+                queue_.clear();  // nothing is written after a failure
+            }
+        }
+        cv_.notify_all();
+    }
+}
+
+}  // namespace aq::app

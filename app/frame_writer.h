@@ -1,0 +1,60 @@
+// app/frame_writer.h — writes finished frames while the next one renders (issue 13).
+//
+// A render job hands each finished frame's files (targets when asked, then the display image) to
+// one background thread that encodes and writes them through core/io.h, so every write keeps its
+// guarantees (encoded in memory, flushed and checked, renamed into place). At most
+// `max_in_flight` frames wait: memory stays bounded, and a slow disk holds the renderer back
+// instead of piling up frames. Files are written in submission order; the bytes do not depend on
+// the overlap. The first failure stops the job: submit() and finish() rethrow it, and nothing is
+// written after it.
+#pragma once
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "core/image.h"
+
+namespace aq::app {
+
+class FrameWriter {
+public:
+    struct Frame {
+        std::vector<std::pair<std::string, ImageF>> files;  //!< path -> image, written in order
+        std::string done_message;                          //!< reported once every file is written
+    };
+
+    //! max_in_flight >= 1 frames may wait; `report` is called from the writer thread.
+    FrameWriter(std::size_t max_in_flight, std::function<void(const std::string&)> report);
+    //! Writes what is queued (complete frames of a job that then failed elsewhere are kept, as
+    //! when frames were written in line), then stops. Errors are only reported by finish().
+    ~FrameWriter();
+    FrameWriter(const FrameWriter&) = delete;
+    FrameWriter& operator=(const FrameWriter&) = delete;
+
+    //! Queues a frame; blocks while max_in_flight frames wait. Rethrows an earlier write failure.
+    void submit(Frame frame);
+    //! Waits until every queued frame is written; rethrows the first failure.
+    void finish();
+
+private:
+    void run();
+
+    std::size_t max_in_flight_;
+    std::function<void(const std::string&)> report_;
+    std::mutex m_;
+    std::condition_variable cv_;
+    std::deque<Frame> queue_;
+    bool busy_ = false, stop_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;  // last: started after every other member exists
+};
+
+}  // namespace aq::app

@@ -1,0 +1,98 @@
+// bench/cli_bench.cpp — what users run (issue 13): the `aquarelle` binary itself, started as a new
+// process each iteration (posix_spawn) and rendering into a temporary folder, so process start,
+// scene loading, thread-pool start, first-touch allocation, encoding and writing are all counted,
+// exactly as a user waits for them. Beside the in-memory kernel benchmarks (BM_RasterFrame,
+// pipeline/*, profile/*), docs/performance.md gives the ratio end-to-end / in-memory.
+//
+//   cli/animation/<scene>/1920x1080/wc18/<png|exr>: --frames 0-11; counters frames/s and s/frame
+//   cli/oneshot/<model>/1920x1080/wc18/png: one frame of a bare model (the default style)
+//
+// Scenes from scenes/data and the shared assets (../shared). Wall time (UseRealTime).
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+extern char** environ;
+
+namespace {
+namespace fs = std::filesystem;
+
+//! A fresh folder under $TMPDIR (or /tmp) for one benchmark's files.
+std::string make_temp_dir() {
+    const char* t = std::getenv("TMPDIR");
+    std::string tmpl = std::string(t && *t ? t : "/tmp") + "/aq-cli-bench-XXXXXX";
+    std::vector<char> buf(tmpl.begin(), tmpl.end());
+    buf.push_back('\0');
+    return ::mkdtemp(buf.data()) ? std::string(buf.data()) : std::string();
+}
+
+//! Runs `aquarelle args...`; returns its exit status (or -1 when it could not be started).
+int run_cli(const std::vector<std::string>& args) {
+    std::vector<char*> argv;
+    std::string exe = AQ_CLI_PATH;
+    argv.push_back(exe.data());
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    if (posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
+    int status = 0;
+    if (waitpid(pid, &status, 0) != pid) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
+    const std::string dir = make_temp_dir();
+    if (dir.empty()) {
+        st.SkipWithError("cannot create a temporary folder");
+        return;
+    }
+    for (auto& a : args)
+        if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+    for (auto _ : st) {
+        if (run_cli(args) != 0) {
+            st.SkipWithError("aquarelle failed (run the command by hand to see why)");
+            break;
+        }
+    }
+    st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * frames, benchmark::Counter::kIsRate);
+    st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * frames,
+                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
+constexpr int kAnimationFrames = 12;
+
+std::vector<std::string> animation(const std::string& scene, const std::string& ext) {
+    return {"render", std::string(AQ_SOURCE_DIR) + "/scenes/data/" + scene, "--frames", "0-" + std::to_string(kAnimationFrames - 1),
+            "--width", "1920", "--height", "1080", "--style", "wc18", "--out", "{out}/f_####." + ext, "--quiet"};
+}
+
+std::vector<std::string> oneshot(const std::string& model) {
+    return {"render", std::string(AQ_SHARED_DIR) + "/assets/meshes/stanford_dragon/" + model, "--width", "1920",
+            "--height", "1080", "--style", "wc18", "--out", "{out}/one.png", "--quiet"};
+}
+
+void register_all() {
+    for (const char* ext : {"png", "exr"})
+        benchmark::RegisterBenchmark(("cli/animation/suzanne/1920x1080/wc18/" + std::string(ext)).c_str(), bm_cli,
+                                     animation("suzanne.json", ext), kAnimationFrames)
+            ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    benchmark::RegisterBenchmark("cli/animation/dragon_202k/1920x1080/wc18/png", bm_cli,
+                                 animation("dragon_202k.json", "png"), kAnimationFrames)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    benchmark::RegisterBenchmark("cli/oneshot/dragon_871k/1920x1080/wc18/png", bm_cli, oneshot("dragon_871k.glb"), 1)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+}
+
+const int registered = (register_all(), 0);
+
+}  // namespace
