@@ -185,6 +185,7 @@ RenderOptions parse_render(Args& a) {
     if (!o.sweep.empty() && o.out.find("####") == std::string::npos)
         throw UsageError("render: with --sweep, --out must contain #### for the sweep index");
     check_output_path(o.out, "--out");
+    o.keep_intermediates = !o.targets_dir.empty() || !o.targets_png_dir.empty();
     return o;
 }
 

@@ -199,6 +199,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 stylize::RunOptions ro;
                 ro.exec = rs.exec;
                 ro.reuse_outputs = !sweeping;
+                ro.release_dead = !o.keep_intermediates;
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);

@@ -27,6 +27,9 @@ struct RenderOptions {
     double fps = 0;
     bool reference = false, quiet = false, allow_outside_files = false;
     bool neutral_control = false;
+    //! Hand the sink every intermediate (--targets, --targets-png, the regression goldens); else
+    //! intermediates are released after their last reader (stylize::RunOptions::release_dead).
+    bool keep_intermediates = false;
     WorkingSpace working_space = WorkingSpace::Display;
     std::string sweep;  //!< "step.param" swept by --sweep
     double sweep_from = 0, sweep_to = 0;

@@ -461,6 +461,15 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                             std::to_string(r.variant->outputs[k].channels) + " channels");
             targets.set(r.outputs[k], std::move(outs[k]));
         }
+        if (opt.release_dead) {
+            for (const std::string& t : c.produced) {
+                if (t == c.output || !targets.has(t)) continue;
+                const auto last = c.last_read.find(t);
+                const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
+                                                            : last->second == std::size_t(i);
+                if (dead) targets.erase(t);
+            }
+        }
     }
 }
 

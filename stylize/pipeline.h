@@ -75,6 +75,12 @@ struct RunOptions {
     //! as the previous frame's outputs — removed before validation and their storage handed back
     //! to the stages (no re-allocation and page faults per frame). Off: such targets are an error.
     bool reuse_outputs = false;
+    //! One-shot renders that write only the output: an intermediate is dropped from `targets` after
+    //! the last step that reads it (CompiledPipeline::last_read), so its buffer goes back to the
+    //! image pool (core/image.h) and the next output of that size reuses its pages instead of
+    //! first-touching new ones. The output, the G-buffer and the paper are kept. Off: every
+    //! intermediate stays in `targets` (--targets, tests).
+    bool release_dead = false;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and
