@@ -12,6 +12,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "core/json_file.h"
 #include "scenes/gltf_loader.h"
@@ -20,6 +22,8 @@
 
 namespace aq::scene {
 namespace {
+
+constexpr std::size_t kVerticesPerTask = 4096;  //!< grain of the per-vertex control rules
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -203,19 +207,25 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
                 }
                 std::vector<float>& acc = sums[dest];
                 acc.resize(n, 0.0f);
-                for (std::size_t i = 0; i < n; ++i) {
-                    float v = 0.0f;
-                    switch (r.source) {
-                        case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
-                        case ControlRule::Source::Noise:
-                            v = noise_field(r.noise, r.noise.bounds_relative ? p.positions[i] * inv_diag : p.positions[i]) *
-                                    r.scale + r.bias;
-                            break;
-                        case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
-                        case ControlRule::Source::Texture: break;
+                // Each vertex on its own (rules stay in order per vertex): the same bytes for any
+                // thread count. Parallel because noise rules on large meshes cost ~170 ms on one
+                // core for 871k triangles (docs/performance.md, one-shot profile).
+                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, n, kVerticesPerTask),
+                                          [&](const oneapi::tbb::blocked_range<std::size_t>& range) {
+                    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        float v = 0.0f;
+                        switch (r.source) {
+                            case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
+                            case ControlRule::Source::Noise:
+                                v = noise_field(r.noise, r.noise.bounds_relative ? p.positions[i] * inv_diag : p.positions[i]) *
+                                        r.scale + r.bias;
+                                break;
+                            case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
+                            case ControlRule::Source::Texture: break;
+                        }
+                        acc[i] += std::isfinite(v) ? v : 0.0f;
                     }
-                    acc[i] += std::isfinite(v) ? v : 0.0f;
-                }
+                });
             }
             if (sums.empty()) continue;
             auto ensure = [&](int t) {
