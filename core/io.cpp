@@ -83,6 +83,56 @@ std::string format_extension_for(const unsigned char* b, std::size_t n, const st
     return ext.empty() ? std::string(".png") : ext;
 }
 
+//! The size limits and the decompression-bomb rule, for a header's width and height.
+void check_dimensions(int width, int height, std::size_t encoded_bytes, const std::string& where) {
+    check_image_size(width, height, where);
+    // No format we read stores more than kMaxPixelsPerEncodedByte pixels per byte (docs/limits.md):
+    // a header announcing more is a decompression bomb that would cost its full size in memory
+    // before the reader reached the end of the data (a 21-byte TGA announcing 2835 x 11775 took
+    // 0.97 s and 651 MB; found by fuzzing).
+    const double pixels = double(width) * double(height);
+    if (pixels > double(encoded_bytes) * double(kMaxPixelsPerEncodedByte))
+        throw Error(where + ": " + std::to_string(width) + "x" + std::to_string(height) + " pixels in " +
+                    std::to_string(encoded_bytes) + " bytes is more than any supported format can hold (" +
+                    std::to_string(kMaxPixelsPerEncodedByte) + " pixels per byte; docs/limits.md)");
+}
+
+//! Width and height from a JPEG's frame header (SOFn), found by walking the marker segments
+//! before the first scan; false when there is none (OpenImageIO then reports the damage).
+//! OpenImageIO 2.4's JPEG reader allocates libjpeg's whole-image buffers inside open(), before its
+//! spec can be checked: a 408-byte progressive JPEG announcing 37318 x 11143 cost 2.5 GB and 3 s
+//! before being refused (fuzz/README.md finding 8). So the frame size is checked from the bytes.
+bool jpeg_frame_size(const unsigned char* b, std::size_t n, int* width, int* height) {
+    std::size_t i = 2;  // after SOI
+    while (i + 4 <= n) {
+        if (b[i] != 0xFF) {  // libjpeg skips extraneous bytes up to the next marker; so do we
+            ++i;
+            continue;
+        }
+        const unsigned char m = b[i + 1];
+        if (m == 0xFF) {  // fill byte
+            ++i;
+            continue;
+        }
+        if (m == 0x01 || (m >= 0xD0 && m <= 0xD8)) {  // TEM, RSTn, SOI: no length
+            i += 2;
+            continue;
+        }
+        if (m == 0xD9 || m == 0xDA) return false;  // EOI or a scan before any frame header
+        const std::size_t len = (std::size_t(b[i + 2]) << 8) | b[i + 3];
+        const bool sof = m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC;
+        if (sof) {
+            if (i + 9 > n) return false;
+            *height = (int(b[i + 5]) << 8) | b[i + 6];
+            *width = (int(b[i + 7]) << 8) | b[i + 8];
+            return true;
+        }
+        if (len < 2) return false;
+        i += 2 + len;
+    }
+    return false;
+}
+
 //! Refuses what we do not decode, from the header alone (before any pixel is read).
 void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const std::string& where,
                 DecodeBudget* budget) {
@@ -92,16 +142,7 @@ void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const st
     if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
         throw Error(where + ": " + std::to_string(spec.nchannels) + " channels (1.." + std::to_string(kMaxImageChannels) +
                     " are read)");
-    check_image_size(spec.width, spec.height, where);
-    // No format we read stores more than kMaxPixelsPerEncodedByte pixels per byte (docs/limits.md):
-    // a header announcing more is a decompression bomb that would cost its full size in memory
-    // before the reader reached the end of the data (a 21-byte TGA announcing 2835 x 11775 took
-    // 0.97 s and 651 MB; found by fuzzing).
-    const double pixels = double(spec.width) * double(spec.height);
-    if (pixels > double(encoded_bytes) * double(kMaxPixelsPerEncodedByte))
-        throw Error(where + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels in " +
-                    std::to_string(encoded_bytes) + " bytes is more than any supported format can hold (" +
-                    std::to_string(kMaxPixelsPerEncodedByte) + " pixels per byte; docs/limits.md)");
+    check_dimensions(spec.width, spec.height, encoded_bytes, where);
     if (budget) {
         const std::size_t need = std::size_t(spec.width) * std::size_t(spec.height) * 4 * sizeof(float);
         if (need > budget->bytes_left)
@@ -134,6 +175,10 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
     if (!format)
         throw Error(where + ": the '" + ext.substr(1) +
                     "' format is not read (PNG, JPEG, OpenEXR, TIFF, Radiance HDR and TGA are; docs/limits.md)");
+    if (std::string(format->oiio_format) == "jpeg") {
+        int w = 0, h = 0;
+        if (jpeg_frame_size(bytes, size, &w, &h)) check_dimensions(w, h, size, where + " (JPEG frame header)");
+    }
     const std::string fake = "memory" + ext;
     detail::BoundedMemReader mem(bytes, size);
     // create() is given the bare format name: for a file name, OpenImageIO 2.4 first asks that
