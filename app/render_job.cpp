@@ -168,7 +168,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     // style the paper, every intermediate and the converted final image (run_pipeline with
     // reuse_outputs), so a frame neither allocates nor first-touches ~0.5 GB at 1080p, nor prepares
     // the paper again. Every pixel of every target is written again each frame: the bytes are those
-    // of a fresh render (tests/app/golden_test.cpp AnimationFramesEqualSingleFrames).
+    // of a fresh render (tests/app/golden_test.cpp GoldenAnimation.*).
     Targets gbuffer, frame_targets;
     ImageF converted;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {

@@ -47,6 +47,20 @@ void expect_clean(const std::string& what, Fn&& fn) {
     }
 }
 
+//! The aq::Error message of decoding `bytes` from a heap copy of exactly their size (so ASan sees
+//! any read outside them); a failure, and "", when the bytes decode.
+std::string decode_error(const std::vector<unsigned char>& bytes, const std::string& name) {
+    const std::unique_ptr<unsigned char[]> heap(new unsigned char[bytes.size()]);
+    std::copy(bytes.begin(), bytes.end(), heap.get());
+    try {
+        (void)decode_image_bytes(heap.get(), bytes.size(), name);
+    } catch (const aq::Error& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << name << ": decoded";
+    return "";
+}
+
 // OpenImageIO 2.4's GIF reader throws std::length_error from ImageInput::open for a 13-byte GIF
 // whose logical screen is 12298 x 26234; decode_image let it escape (not an aq::Error), so a glTF
 // texture in that state failed the whole model instead of being "treated as absent".
@@ -54,14 +68,10 @@ TEST(FuzzRegressions, GifWithHugeScreenIsAnImageError) {
     const fs::path in = regressions("image") / "gif-screen-size-length-error.gif";
     const std::vector<unsigned char> b = bytes_of(in);
     ASSERT_EQ(b.size(), 13u);
-    try {
-        (void)decode_image_bytes(b.data(), b.size(), "texture.gif");
-        ADD_FAILURE() << "decoded";
-    } catch (const aq::Error& e) {
-        // GIF is no longer read at all (the format allow-list in core/io.cpp); decode_image also
-        // turns any exception of a reader into aq::Error.
-        EXPECT_NE(std::string(e.what()).find("image 'texture.gif': "), std::string::npos) << e.what();
-    }
+    // GIF is no longer read at all (the format allow-list in core/io.cpp); decode_image also turns
+    // any exception of a reader into aq::Error.
+    const std::string e = decode_error(b, "texture.gif");
+    EXPECT_NE(e.find("image 'texture.gif': "), std::string::npos) << e;
     const std::string path = copy_to_output(in, "paper.gif");
     EXPECT_THROW((void)aq::read_image(path), aq::Error);
 }
@@ -73,12 +83,8 @@ TEST(FuzzRegressions, GifWithHugeScreenIsAnImageError) {
 TEST(FuzzRegressions, GifScreenIsCheckedBeforeOpenImageIOAllocatesIt) {
     const std::vector<unsigned char> b = bytes_of(regressions("image") / "gif-screen-16383x16383.gif");
     ASSERT_EQ(b.size(), 14u);
-    try {
-        (void)decode_image_bytes(b.data(), b.size(), "bomb.gif");
-        ADD_FAILURE() << "decoded";
-    } catch (const aq::Error& e) {
-        EXPECT_NE(std::string(e.what()).find("the 'gif' format is not read"), std::string::npos) << e.what();
-    }
+    const std::string e = decode_error(b, "bomb.gif");
+    EXPECT_NE(e.find("the 'gif' format is not read"), std::string::npos) << e;
 }
 
 // Two BMPs on which OpenImageIO 2.4's BMP reader failed under ASan in CI's fuzz smoke runs:
@@ -94,15 +100,8 @@ TEST(FuzzRegressions, BmpFilesAreRefusedBeforeTheBmpReaderRuns) {
         const std::vector<unsigned char> b = bytes_of(in);
         ASSERT_GE(b.size(), 54u);
         ASSERT_EQ(b[0], 'B');
-        // A heap copy of exactly the file's bytes, so ASan sees any read outside them.
-        const std::unique_ptr<unsigned char[]> heap(new unsigned char[b.size()]);
-        std::copy(b.begin(), b.end(), heap.get());
-        try {
-            (void)decode_image_bytes(heap.get(), b.size(), "texture.png");  // the magic bytes win over the name
-            ADD_FAILURE() << "decoded";
-        } catch (const aq::Error& e) {
-            EXPECT_NE(std::string(e.what()).find("the 'bmp' format is not read"), std::string::npos) << e.what();
-        }
+        const std::string e = decode_error(b, "texture.png");  // the magic bytes win over the name
+        EXPECT_NE(e.find("the 'bmp' format is not read"), std::string::npos) << e;
         EXPECT_THROW((void)aq::read_image(copy_to_output(in, "paper.bmp")), aq::Error);
     }
 }
@@ -115,13 +114,9 @@ TEST(FuzzRegressions, JpegFrameSizeIsCheckedBeforeOpenImageIOAllocates) {
     const fs::path in = regressions("image") / "jpeg-progressive-37318x11143-in-408-bytes.jpg";
     const std::vector<unsigned char> b = bytes_of(in);
     ASSERT_EQ(b.size(), 408u);
-    try {
-        (void)decode_image_bytes(b.data(), b.size(), "texture.jpg");
-        ADD_FAILURE() << "decoded";
-    } catch (const aq::Error& e) {
-        EXPECT_NE(std::string(e.what()).find("(JPEG frame header)"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("37318x11143"), std::string::npos) << e.what();
-    }
+    const std::string e = decode_error(b, "texture.jpg");
+    EXPECT_NE(e.find("(JPEG frame header)"), std::string::npos) << e;
+    EXPECT_NE(e.find("37318x11143"), std::string::npos) << e;
 }
 
 TEST(FuzzRegressions, EveryImageInputIsReadOrRefused) {
