@@ -10,7 +10,7 @@ const scene::Material& default_material() {
 
 // Vertex stage and chunked setup (+ binning on the fast path).
 void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
-             std::vector<std::string>* warnings, PhaseTimer& timer) {
+             std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter) {
     const glm::mat4 view = cam.view;
     std::size_t bad_material = 0, bad_mesh = 0, missing_tangents = 0;
     // fr.draws / fr.chunks may hold the previous frame's scratch (FrameScratch): their buffers
@@ -27,6 +27,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         }
         for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
             if (p.positions.empty() || p.indices.size() < 3) continue;
+            if (filter && !(*filter)(inst, p)) continue;
             DrawVertices dv = next_draw < old_draws.size() ? std::move(old_draws[next_draw++]) : DrawVertices{};
             dv.prim = &p;
             if (p.material >= 0 && p.material < int(sc.materials.size())) {
@@ -63,6 +64,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
             for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
                 if (p.positions.empty() || p.indices.size() < 3) continue;
+                if (filter && !(*filter)(inst, p)) continue;
                 mv[d] = view * inst.world;
                 nm[d] = glm::transpose(glm::inverse(glm::mat3(mv[d])));
                 for (std::size_t b = 0; b < p.positions.size(); b += kVertexGrain)

@@ -76,8 +76,10 @@ struct FrameScratch {
     std::vector<Chunk> chunks;
 };
 
+}  // namespace
+
 // Builds the frame constants for a raster grid of W x H (supersampled).
-Frame make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s, int W, int H) {
+Frame detail::make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s, int W, int H) {
     Frame fr;
     fr.fp.proj = projection_matrix(cam, float(s.width) / float(s.height));
     fr.fp.perspective = !cam.orthographic;
@@ -109,6 +111,8 @@ Frame make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderS
     fr.background_depth = cam.zfar;
     return fr;
 }
+
+namespace {
 
 enum class Mode { GBuffer, Count };
 

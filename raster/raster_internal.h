@@ -5,6 +5,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -92,14 +93,27 @@ void run_for(bool parallel, std::size_t n, F&& f) {
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { f(i); });
 }
 
+// raster.cpp
+//! The frame constants for a raster grid of W x H (supersampled) of settings `s` (kept by pointer).
+Frame make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s, int W, int H);
+
 // binning.cpp
 //! The material of primitives whose material index is out of range.
 const scene::Material& default_material();
+//! Which (instance, primitive) pairs a frame draws (raster passes draw subsets).
+using DrawFilter = std::function<bool(const scene::Instance&, const scene::Primitive&)>;
 //! Vertex stage and chunked triangle setup (+ binning into kTile tiles when `bin`).
 void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
-             std::vector<std::string>* warnings, PhaseTimer& timer);
+             std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter = nullptr);
 
 // tile.cpp
+//! The fragment's interpolated vertex data (both traversals and the raster passes).
+FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b);
+//! The material's alpha test (alpha-masked materials only; see needs_alpha_test).
+bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b);
+inline bool needs_alpha_test(const Frame& fr, const TriSetup& t) {
+    return fr.draws[t.draw].mat->alpha_mode == scene::AlphaMode::Mask;
+}
 //! The plain reference: per triangle in submission order, bounding box, whole image.
 void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float* count);
 //! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.

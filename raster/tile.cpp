@@ -47,10 +47,6 @@ FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, c
     return in;
 }
 
-inline bool needs_alpha_test(const Frame& fr, const TriSetup& t) {
-    return fr.draws[t.draw].mat->alpha_mode == scene::AlphaMode::Mask;
-}
-
 bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
     const scene::Material& m = *fr.draws[t.draw].mat;
     return material_alpha(fr.ctx, m, interpolate(fr, ch, t, b)) >= m.alpha_cutoff;

@@ -1,6 +1,7 @@
 // scenes/scene.cpp — scene-wide queries.
 #include "scenes/scene.h"
 
+#include <cctype>
 #include <cmath>
 
 namespace aq::scene {
@@ -32,6 +33,22 @@ std::size_t Scene::triangle_count() const {
         if (inst.mesh >= 0 && inst.mesh < int(meshes.size()))
             for (const Primitive& p : meshes[inst.mesh].primitives) n += p.indices.size() / 3;
     return n;
+}
+
+namespace {
+bool names_foliage(std::string n) {
+    for (char& c : n) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* w : {"foliage", "leaf", "leaves"})
+        if (n.find(w) != std::string::npos) return true;
+    return false;
+}
+}  // namespace
+
+bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim) {
+    const Material* m = prim.material >= 0 && prim.material < int(sc.materials.size()) ? &sc.materials[prim.material] : nullptr;
+    if (m && (m->alpha_mode == AlphaMode::Mask || names_foliage(m->name))) return true;
+    if (inst.mesh >= 0 && inst.mesh < int(sc.meshes.size()) && names_foliage(sc.meshes[inst.mesh].name)) return true;
+    return names_foliage(inst.name);
 }
 
 }  // namespace aq::scene

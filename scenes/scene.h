@@ -175,4 +175,9 @@ struct Scene {
     std::size_t triangle_count() const;
 };
 
+//! LD06 foliage (../shared/spec/ld06.md §5) for scenes that select none: alpha-masked materials,
+//! and primitives whose material, mesh or instance name contains "foliage", "leaf" or "leaves"
+//! (case-insensitive). docs/ld06.md "Foliage".
+bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim);
+
 }  // namespace aq::scene

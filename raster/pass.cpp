@@ -1,0 +1,286 @@
+// raster/pass.cpp — LD06 raster passes (see pass.h): views fitted to the scene, the blurred
+// depth test (LD06 eq. 1-4), blend modes, and the two traversals (plain per-triangle reference,
+// tiled oneTBB), both calling the one per-fragment function `fragment`.
+#include "raster/pass.h"
+
+#include <cmath>
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "raster/raster_internal.h"
+#include "stylize/kernels.h"
+
+namespace aq::raster {
+
+using namespace detail;
+
+float ld06_step(float l, float u, float v) {
+    if (!(u > l)) return v >= l ? 1.0f : 0.0f;
+    return stylize::smoothstep(l, u, v);
+}
+
+float blurred_visibility(float D, float fd, float delta, float beta) {
+    return ld06_step(-delta, delta, (D - fd) + beta);
+}
+
+// LD06 eq. 3: scale 4 and bias (0, -1, -2, -3) per channel; 8-bit unsigned normalised storage
+// rounds to the nearest of 255 steps (GL's float -> UNORM8 conversion); eq. 4 decodes the sum / 4.
+namespace {
+constexpr float kRgba8Scale = 4.0f;
+constexpr float kUnorm8 = 255.0f;
+}  // namespace
+
+float quantize_depth_rgba8(float d) {
+    d = stylize::sat(d);
+    float sum = 0.0f;
+    for (int k = 0; k < 4; ++k) sum += std::nearbyint(stylize::sat(kRgba8Scale * d - float(k)) * kUnorm8) / kUnorm8;
+    return sum / kRgba8Scale;
+}
+
+PassScene make_pass_scene(const scene::Scene& sc, const scene::Camera& cam, int width, int height) {
+    check_image_size(width, height, "raster pass output");
+    PassScene ps;
+    ps.scene = &sc;
+    ps.camera = cam;
+    ps.width = width;
+    ps.height = height;
+    ps.bounds = sc.world_bounds();
+    if (!ps.bounds.valid) throw Error("raster pass: the scene has no finite geometry");
+    glm::vec3 d;
+    if (!sc.lights.empty()) {
+        d = sc.lights.front().direction;
+    } else {
+        // The G-buffer's key light is fixed in view space (raster/material.cpp); the same light.
+        d = glm::transpose(glm::mat3(cam.view)) * default_view_light().dir;
+    }
+    const float len = glm::length(d);
+    if (!(std::isfinite(len) && len > 0.0f)) throw Error("raster pass: the light direction is zero or not finite");
+    ps.light_dir = d / len;
+    return ps;
+}
+
+PassViewSetup pass_view(const PassScene& ps, PassView view, float scale) {
+    if (!(scale >= 0.05f && scale <= 4.0f)) throw Error("raster pass: scale must be in [0.05, 4]");
+    PassViewSetup v;
+    const glm::vec3 lo = ps.bounds.min, hi = ps.bounds.max;
+    if (view == PassView::Camera) {
+        v.camera = ps.camera;
+        // Every camera pass projects with the output's aspect, whatever its rounded size.
+        if (!v.camera.aspect) v.camera.aspect = float(ps.width) / float(ps.height);
+        v.width = std::max(1, int(std::lround(double(scale) * ps.width)));
+        v.height = std::max(1, int(std::lround(double(scale) * ps.height)));
+        float dmin = std::numeric_limits<float>::infinity(), dmax = -dmin;
+        for (int k = 0; k < 8; ++k) {
+            const glm::vec3 c((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+            const float e = -(v.camera.view * glm::vec4(c, 1.0f)).z;
+            dmin = std::min(dmin, e);
+            dmax = std::max(dmax, e);
+        }
+        dmin = std::max(dmin, v.camera.znear);
+        dmax = std::min(dmax, v.camera.zfar);
+        if (!(dmax > dmin)) {
+            dmin = v.camera.znear;
+            dmax = v.camera.zfar;
+        }
+        v.depth_near = dmin;
+        v.depth_far = dmax;
+    } else {
+        const glm::vec3 c = (lo + hi) * 0.5f;
+        const float R = glm::length(hi - lo) * 0.5f;
+        if (!(std::isfinite(R) && R > 0.0f) || !std::isfinite(c.x + c.y + c.z))
+            throw Error("raster pass: zero-area light frustum (the scene has no extent)");
+        const glm::vec3 d = ps.light_dir;
+        const glm::vec3 up = std::abs(d.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+        scene::Camera cam;
+        cam.name = "light";
+        cam.view = glm::lookAt(c + d * (2.0f * R), c, up);
+        cam.orthographic = true;
+        cam.xmag = cam.ymag = R;
+        cam.znear = R;
+        cam.zfar = 3.0f * R;
+        cam.aspect = 1.0f;
+        v.camera = cam;
+        v.width = v.height = std::max(1, int(std::lround(double(scale) * std::max(ps.width, ps.height))));
+        v.depth_near = R;
+        v.depth_far = 3.0f * R;
+    }
+    check_image_size(v.width, v.height, "raster pass");
+    return v;
+}
+
+LightSample light_space(const PassViewSetup& light, glm::vec3 world, int map_w, int map_h) {
+    const glm::vec4 p = light.camera.view * glm::vec4(world, 1.0f);
+    const float nx = p.x / light.camera.xmag, ny = p.y / light.camera.ymag;
+    // The rasterizer's NDC -> pixel mapping (raster/vertex.cpp snap_into), y down.
+    return {(nx + 1.0f) * (0.5f * float(map_w)), (1.0f - ny) * (0.5f * float(map_h)), light.normalized(-p.z)};
+}
+
+namespace {
+
+// Everything the per-fragment function reads, fixed for one pass.
+struct PassContext {
+    const TrianglePass* p = nullptr;
+    PassViewSetup view;
+    glm::vec3 light_view{0, 0, 1};  // unit light direction in the pass view's space
+    glm::mat4 view_to_world{1.0f};
+    PassViewSetup light;            // Shadow value: the light view the shadow map was rendered from
+    View<const float> depth_map, shadow_map;
+    float background = 0.0f;
+};
+
+float sample_map(const View<const float>& m, float px, float py) {
+    return stylize::sample_bilinear(m, px, py, Border::Clamp);
+}
+
+// The one per-fragment function (both traversals): test, value, blend into *dst; z is the
+// pixel's depth-buffer entry (Binary test only).
+inline void fragment(const PassContext& cx, const Frame& fr, const Chunk& ch, const TriSetup& t,
+                     const std::int64_t e[3], int x, int y, float* dst, float* z) {
+    const TrianglePass& p = *cx.p;
+    const Bary b = perspective_bary(t, e);
+    float fv = 1.0f;
+    if (p.test == DepthTest::Binary) {
+        if (!(b.depth < *z)) return;
+        if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) return;
+        *z = b.depth;
+    } else {
+        if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) return;
+        float D = sample_map(cx.depth_map, stylize::texel_coord(x, cx.view.width, cx.depth_map.width),
+                             stylize::texel_coord(y, cx.view.height, cx.depth_map.height));
+        if (p.test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
+        fv = blurred_visibility(D, cx.view.normalized(b.depth), p.delta, p.beta);
+    }
+    float v = 1.0f;
+    switch (p.value) {
+        case PassValue::Depth: v = stylize::sat(cx.view.normalized(b.depth)); break;
+        case PassValue::Coverage: v = 1.0f; break;
+        case PassValue::Lighting: {
+            const FragmentInput in = interpolate(fr, ch, t, b);
+            glm::vec3 n = in.normal;
+            const float l2 = glm::dot(n, n);
+            n = l2 > 0.0f ? n * (1.0f / std::sqrt(l2)) : glm::vec3(0, 0, 1);
+            if (in.back) n = -n;  // two-sided lighting, as gl_FrontFacing
+            v = stylize::sat((1.0f + glm::dot(n, cx.light_view)) * 0.5f);
+            break;
+        }
+        case PassValue::Shadow: {
+            const FragmentInput in = interpolate(fr, ch, t, b);
+            const glm::vec3 w = glm::vec3(cx.view_to_world * glm::vec4(in.view_pos, 1.0f));
+            const LightSample ls = light_space(cx.light, w, cx.shadow_map.width, cx.shadow_map.height);
+            float D = sample_map(cx.shadow_map, ls.x, ls.y);
+            if (p.shadow_test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
+            const float delta = p.shadow_test == DepthTest::Binary ? 0.0f : p.shadow_delta;
+            v = 1.0f - blurred_visibility(D, ls.depth, delta, p.shadow_beta);
+            break;
+        }
+    }
+    switch (p.blend) {
+        case Blend::Replace: *dst = fv * v; break;
+        case Blend::Add: *dst = stylize::sat(*dst + fv * v); break;
+        case Blend::Over: {
+            const float a = fv * p.alpha;
+            *dst = v * a + *dst * (1.0f - a);
+            break;
+        }
+    }
+}
+
+void check_pass(const TrianglePass& p) {
+    auto finite_in = [](float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    if (!finite_in(p.delta, 0, 1) || !finite_in(p.shadow_delta, 0, 1))
+        throw Error("raster pass: delta must be in [0, 1]");
+    if (!finite_in(p.beta, -1, 1) || !finite_in(p.shadow_beta, -1, 1))
+        throw Error("raster pass: beta must be in [-1, 1]");
+    if (!finite_in(p.alpha, 0, 1)) throw Error("raster pass: alpha must be in [0, 1]");
+    if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
+        throw Error("raster pass: the blurred depth test needs a 1-channel depth map");
+    if (p.value == PassValue::Shadow && (!p.shadow_map || p.shadow_map->empty() || p.shadow_map->channels() != 1))
+        throw Error("raster pass: the shadow value needs a 1-channel light-view depth map");
+}
+
+}  // namespace
+
+void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& p, const Exec& ex,
+                          std::vector<std::string>* warnings) {
+    if (!ps.scene) throw Error("raster pass: no scene");
+    check_pass(p);
+    std::vector<std::string> local;
+    if (!warnings) warnings = &local;
+    PassContext cx;
+    cx.p = &p;
+    cx.view = pass_view(ps, p.view, p.scale);
+    const int W = cx.view.width, H = cx.view.height;
+    cx.light_view = glm::normalize(glm::mat3(cx.view.camera.view) * ps.light_dir);
+    cx.view_to_world = glm::inverse(cx.view.camera.view);
+    if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) cx.depth_map = p.depth_map->view<float>();
+    if (p.value == PassValue::Shadow) {
+        cx.light = pass_view(ps, PassView::Light, 1.0f);
+        cx.shadow_map = p.shadow_map->view<float>();
+    }
+    cx.background = p.value == PassValue::Depth ? 1.0f : 0.0f;
+
+    // Passes draw without tremor or bleeding displacement (LD06 has neither) and without culling.
+    RenderSettings rs;
+    rs.width = W;
+    rs.height = H;
+    rs.exec = ex;
+    rs.tremor.enabled = false;
+    rs.bleed_displacement = false;
+    const scene::Scene& sc = *ps.scene;
+    const DrawFilter filter = [&](const scene::Instance& inst, const scene::Primitive& prim) {
+        if (p.draw == DrawSet::All) return true;
+        return scene::is_foliage(sc, inst, prim) == (p.draw == DrawSet::Foliage);
+    };
+    Frame fr = make_frame(sc, cx.view.camera, rs, W, H);
+    const bool fast = ex.traversal == Traversal::Fast;
+    if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, cx.background);
+    else std::fill(out.data(), out.data() + std::size_t(W) * H, cx.background);
+    float* const img = out.data();
+    PhaseTimer timer;
+    auto body = [&] {
+        prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
+        if (!fast) {
+            std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());
+            for (const Chunk& ch : fr.chunks)
+                for (const TriSetup& t : ch.tris)
+                    for (int y = t.y0; y <= t.y1; ++y)
+                        for (int x = t.x0; x <= t.x1; ++x) {
+                            std::int64_t e[3];
+                            edge_values(t, x, y, e);
+                            if (!inside(t, e)) continue;
+                            const std::size_t i = std::size_t(y) * W + x;
+                            fragment(cx, fr, ch, t, e, x, y, img + i, &zbuf[i]);
+                        }
+            return;
+        }
+        tbb::parallel_for(0, fr.tiles_x * fr.tiles_y, [&](int tile) {
+            const int X0 = (tile % fr.tiles_x) * kTile, Y0 = (tile / fr.tiles_x) * kTile;
+            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+            float zbuf[kTile * kTile];
+            std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
+            for (const Chunk& ch : fr.chunks)
+                for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+                    const TriSetup& t = ch.tris[ch.bin_items[k]];
+                    const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+                    const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+                    for (int y = y0; y <= y1; ++y)
+                        for (int x = x0; x <= x1; ++x) {
+                            std::int64_t e[3];
+                            edge_values(t, x, y, e);
+                            if (!inside(t, e)) continue;
+                            fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x,
+                                     &zbuf[(y - Y0) * kTile + (x - X0)]);
+                        }
+                }
+        });
+    };
+    if (fast) with_arena(ex, body);
+    else body();
+    if (fr.draws.empty())
+        warnings->push_back(std::string("raster pass draws nothing: no ") +
+                            (p.draw == DrawSet::Foliage ? "foliage" : p.draw == DrawSet::NonFoliage ? "non-foliage geometry" : "geometry") +
+                            " in the scene (docs/ld06.md \"Foliage\")");
+}
+
+}  // namespace aq::raster
