@@ -10,6 +10,7 @@
 #include "stylize/stages/edge_detect.h"
 #include "stylize/stages/extend_edges.h"
 #include "stylize/stages/gaps_overlaps.h"
+#include "stylize/stages/gaussian_blur.h"
 #include "stylize/stages/pigment_apply.h"
 #include "stylize/stages/pigment_density.h"
 #include "stylize/stages/substrate_distort.h"
@@ -30,6 +31,7 @@ void register_builtin_stages(Registry& r) {
     register_pigment_apply(r);
     register_substrate_distort(r);
     register_substrate_light(r);
+    register_gaussian_blur(r);  // LD06 (docs/ld06.md)
 }
 
 }  // namespace aq::stylize

@@ -84,6 +84,13 @@ Scene make_synthetic(int w, int h, std::uint32_t seed) {
     Scene s;
     s.name = "synthetic_" + std::to_string(w) + "x" + std::to_string(h);
     s.targets = aq::test::synthetic_gbuffer(w, h, seed);
+    // Raster-pass outputs (LD06 depth, lighting, shadow and intensity maps) play the G-buffer's part
+    // for the stages that read them: synthetic maps in [0, 1] of the same size.
+    const auto& passes = stylize::builtin_pass_registry();
+    for (const StageVariant* v : passes.all())
+        for (const stylize::Port& o : v->outputs)
+            if (!s.targets.has(o.default_target))
+                s.targets.set(o.default_target, aq::test::synthetic_target(o.default_target, o.channels, w, h, seed));
     stylize::PaperSpec ps;
     ps.file = test::asset("paper/mnpr/rough_default_2k.jpg");
     s.paper = stylize::prepare_paper(ps, w, h);
