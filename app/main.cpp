@@ -221,26 +221,29 @@ int cmd_stages(Args& a) {
     if (!a.done()) {
         std::string arg = a.next();
         if (arg == "--help" || arg == "-h") {
-            std::cout << "usage: aquarelle stages\n\nLists every registered stage variant: ports "
+            std::cout << "usage: aquarelle stages\n\nLists every registered stage variant and raster pass: ports "
                          "(port -> default target, channels), parameters (default, range).\n";
             return 0;
         }
         throw UsageError("stages: unexpected argument '" + arg + "'");
     }
-    const auto& reg = aq::stylize::builtin_registry();
-    for (const std::string& stage : reg.stages()) {
-        std::cout << stage << "\n";
-        for (const auto* v : reg.variants(stage)) {
-            std::cout << "  " << v->variant << " — " << v->doc << "\n";
-            for (auto& p : v->inputs)
-                std::cout << "      in  " << p.name << " <- " << p.default_target << " (" << p.channels << " ch"
-                          << (p.optional ? ", optional" : "") << ")\n";
-            for (auto& p : v->outputs)
-                std::cout << "      out " << p.name << " -> " << p.default_target << " (" << p.channels << " ch)\n";
-            for (auto& p : v->params) {
-                std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), kind_name(p.kind),
-                            p.def, p.lo, p.hi, p.doc.c_str());
-                std::fflush(stdout);
+    for (const auto* reg : {&aq::stylize::builtin_registry(), &aq::stylize::builtin_pass_registry()}) {
+        if (reg == &aq::stylize::builtin_pass_registry())
+            std::cout << "\nraster passes (LD06; pipeline files name them with \"pass\" instead of \"stage\")\n";
+        for (const std::string& stage : reg->stages()) {
+            std::cout << stage << "\n";
+            for (const auto* v : reg->variants(stage)) {
+                std::cout << "  " << v->variant << " — " << v->doc << "\n";
+                for (auto& p : v->inputs)
+                    std::cout << "      in  " << p.name << " <- " << p.default_target << " (" << p.channels << " ch"
+                              << (p.optional ? ", optional" : "") << ")\n";
+                for (auto& p : v->outputs)
+                    std::cout << "      out " << p.name << " -> " << p.default_target << " (" << p.channels << " ch)\n";
+                for (auto& p : v->params) {
+                    std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), kind_name(p.kind),
+                                p.def, p.lo, p.hi, p.doc.c_str());
+                    std::fflush(stdout);
+                }
             }
         }
     }

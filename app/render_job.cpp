@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 
 #include "app/cli_args.h"
 #include "scenes/scene_file.h"
@@ -198,6 +199,14 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 const auto ts = std::chrono::steady_clock::now();
                 stylize::RunOptions ro;
                 ro.exec = rs.exec;
+                // Raster passes (LD06) draw the scene themselves, at the output size's scales.
+                std::optional<raster::PassScene> pass_scene;
+                std::vector<std::string> step_warnings;
+                if (job.compiled[si].has_passes) {
+                    pass_scene = raster::make_pass_scene(job.desc.scene, job.desc.camera, rs.width, rs.height);
+                    ro.scene = &*pass_scene;
+                }
+                ro.warnings = &step_warnings;
                 ro.reuse_outputs = !sweeping;
                 ro.release_dead = !o.keep_intermediates;
                 if (!o.quiet && !o.animation && !sweeping)
@@ -205,6 +214,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
                     };
                 stylize::run_pipeline(job.compiled[si], targets, ro);
+                for (auto& w : step_warnings) report.warning(w);
                 final_name = style.output;
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
                     std::to_string(int(ms_since(ts))) + " ms");

@@ -57,14 +57,16 @@ std::string port_list(const std::vector<Port>& ports) {
     return s.empty() ? "none" : s;
 }
 
+const Registry& registry_of(const PipelineStep& s) { return s.pass ? builtin_pass_registry() : builtin_registry(); }
+
 //! Checks one step against the registry; `key` is "steps[i]".
 void check_step(const PipelineStep& s, const std::string& src, const std::string& key) {
-    const Registry& reg = builtin_registry();
+    const Registry& reg = registry_of(s);
     const StageVariant* v = nullptr;
     try {
         v = s.variant.empty() ? &reg.default_variant(s.stage) : &reg.get(s.stage, s.variant);
     } catch (const Error& e) {
-        fail(src, key + (s.variant.empty() || reg.variants(s.stage).empty() ? ".stage" : ".variant"), e.what());
+        fail(src, key + (s.variant.empty() || reg.variants(s.stage).empty() ? (s.pass ? ".pass" : ".stage") : ".variant"), e.what());
     }
     for (auto& [name, value] : s.params) {
         Registry::resolve_params(*v, {{name, value}}, src + ": " + key + ".params." + name);
@@ -165,10 +167,13 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
         const std::string key = idx("steps", i);
         const json& sj = steps[i];
         if (!sj.is_object()) fail(src, key, "expected an object");
-        check_keys(sj, {"stage", "variant", "params", "in", "out", "id", "doc"}, src, key);
+        check_keys(sj, {"stage", "pass", "variant", "params", "in", "out", "id", "doc"}, src, key);
         PipelineStep s;
-        if (!sj.contains("stage")) fail(src, key + ".stage", "missing");
-        s.stage = get_string(sj["stage"], src, key + ".stage");
+        if (sj.contains("stage") == sj.contains("pass"))
+            fail(src, key, "a step names either a \"stage\" (image stage) or a \"pass\" (raster pass)");
+        s.pass = sj.contains("pass");
+        const char* kind = s.pass ? "pass" : "stage";
+        s.stage = get_string(sj[kind], src, key + "." + kind);
         if (sj.contains("variant")) s.variant = get_string(sj["variant"], src, key + ".variant");
         s.id = sj.contains("id") ? get_string(sj["id"], src, key + ".id") : s.stage;
         if (sj.contains("params")) {
@@ -228,7 +233,7 @@ std::size_t find_one_step(const Pipeline& p, const std::string& name, const std:
 }
 
 const StageVariant& variant_of(const PipelineStep& s) {
-    const Registry& reg = builtin_registry();
+    const Registry& reg = registry_of(s);
     return s.variant.empty() ? reg.default_variant(s.stage) : reg.get(s.stage, s.variant);
 }
 
@@ -270,7 +275,7 @@ void set_variant(Pipeline& p, const std::string& a) {
     PipelineStep& s = p.steps[i];
     const StageVariant* v = nullptr;
     try {
-        v = &builtin_registry().get(s.stage, variant);
+        v = &registry_of(s).get(s.stage, variant);
     } catch (const Error& e) {
         throw Error("--variant '" + a + "': " + e.what());
     }
@@ -309,6 +314,7 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
         auto it = s.out.find(port.name);
         r.outputs.push_back(it != s.out.end() ? it->second : port.default_target);
     }
+    r.pass = s.pass;
     r.label = s.id + " (" + r.variant->key() + ")";
     r.where = key + " (" + r.variant->key() + ")";
     return r;
@@ -371,6 +377,7 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
             producer[t] = idx("steps", i);
             c.produced.push_back(t);
         }
+        c.has_passes = c.has_passes || r.pass;
         c.steps.push_back(std::move(r));
     }
     if (!produced.count(p.output) && !external_index.count(p.output))
@@ -432,12 +439,20 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
             h = targets.get(x.target).height();
             break;
         }
+    if (w == 0 && opt.scene) {
+        w = opt.scene->width;
+        h = opt.scene->height;
+    }
+    if (c.has_passes && !opt.scene)
+        throw Error(c.source + ": the pipeline has raster passes, which need a scene (aquarelle render)");
     if (w == 0) throw Error(c.source + ": no step reads a G-buffer target");
     if (!targets.has(kPaperTarget))
         targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h) : flat_paper(w, h));
     Globals g;
     g.substrate_color = c.substrate_color;
     g.paper = &targets.get(kPaperTarget);
+    g.scene = opt.scene;
+    g.warnings = opt.warnings;
     const int n = int(c.steps.size());
     for (int i = 0; i < n; ++i) {
         const CompiledStep& r = c.steps[std::size_t(i)];

@@ -20,6 +20,7 @@ namespace aq::stylize {
 
 struct PipelineStep {
     std::string stage, variant;                  //!< registry names; variant "" = the stage's default
+    bool pass = false;                           //!< a raster pass (builtin_pass_registry; "pass" in files)
     std::map<std::string, double> params;        //!< overrides of the variant's defaults
     std::map<std::string, std::string> in, out;  //!< port -> target; unbound ports use the defaults
     std::string id;                              //!< name used by set_param/set_variant (default: stage)
@@ -81,12 +82,18 @@ struct RunOptions {
     //! first-touching new ones. The output, the G-buffer and the paper are kept. Off: every
     //! intermediate stays in `targets` (--targets, tests).
     bool release_dead = false;
+    //! The scene raster passes draw (pipelines with "pass" steps); its output size is the image
+    //! size when the pipeline reads no G-buffer target.
+    const raster::PassScene* scene = nullptr;
+    //! Non-fatal problems reported by steps (may be null).
+    std::vector<std::string>* warnings = nullptr;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and
 //! complete, every port bound to a target name.
 struct CompiledStep {
     const StageVariant* variant = nullptr;
+    bool pass = false;  //!< a raster pass (needs RunOptions::scene)
     ParamValues params;
     std::vector<std::string> inputs;   //!< per variant input port
     std::vector<std::string> outputs;  //!< per variant output port
@@ -115,6 +122,7 @@ struct CompiledPipeline {
     std::vector<std::string> produced;    //!< targets the steps write, in order
     //! Liveness: target -> index of the last step that reads it (intermediates are dead after it).
     std::map<std::string, std::size_t> last_read;
+    bool has_passes = false;  //!< some step is a raster pass
 };
 
 //! Checks everything that can be checked without running — stage/variant/param names and ranges,

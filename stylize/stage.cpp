@@ -122,4 +122,13 @@ const Registry& builtin_registry() {
     return r;
 }
 
+const Registry& builtin_pass_registry() {
+    static const Registry r = [] {
+        Registry reg;
+        register_builtin_passes(reg);
+        return reg;
+    }();
+    return r;
+}
+
 }  // namespace aq::stylize

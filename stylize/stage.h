@@ -16,6 +16,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "core/targets.h"
+#include "raster/pass.h"
 
 namespace aq::stylize {
 
@@ -81,6 +82,11 @@ struct Globals {
     //! Paper texture prepared for this image size: RGB = (normal.x, normal.y) in [0,1] 0.5-centred,
     //! height in B (MNPR layout), tiled one texel per pixel at scale 1. Empty when no paper is set.
     const ImageF* paper = nullptr;
+    //! The scene for raster passes (builtin_pass_registry); null when a pipeline runs on images
+    //! alone (a pass then refuses to run).
+    const raster::PassScene* scene = nullptr;
+    //! Non-fatal problems a step reports (a pass that draws nothing); may be null.
+    std::vector<std::string>* warnings = nullptr;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -147,5 +153,12 @@ private:
 const Registry& builtin_registry();
 
 void register_builtin_stages(Registry& r);  // stylize/stages/register.cpp, in pipeline order
+
+//! The registry of raster passes (LD06: ../shared/spec/ld06.md): steps that draw the scene
+//! (StageIO::globals->scene) instead of reading images only. Same variant, port and parameter
+//! machinery as the stages; pipeline files name them with "pass" instead of "stage".
+const Registry& builtin_pass_registry();
+
+void register_builtin_passes(Registry& r);  // stylize/passes/register.cpp
 
 }  // namespace aq::stylize

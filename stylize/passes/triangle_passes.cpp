@@ -1,0 +1,188 @@
+// stylize/passes/triangle_passes.cpp — registry entries of the triangle raster passes: each adapts
+// its parameter table to raster::TrianglePass and calls raster::render_triangle_pass (the maths
+// and both traversals live there). LD06 = Luft & Deussen 2006; values marked "ours" are the
+// project's (docs/ld06.md "Parameters").
+#include "stylize/passes/triangle_passes.h"
+
+namespace aq::stylize {
+
+namespace {
+
+using raster::Blend;
+using raster::DepthTest;
+using raster::DrawSet;
+using raster::PassValue;
+using raster::PassView;
+using raster::TrianglePass;
+
+// Ours: LD06 gives no values for δ and β. δ = 0.05 of the fitted depth range keeps the band of
+// semi-visible fragments narrow; β = δ keeps an object just in front fully visible (LD06 §2).
+constexpr float kDefaultDelta = 0.05f;
+// Ours: LD06 §3.3 gives no values. A lit surface tested against its own (blurred) light depth
+// has D - f_d near 0, so it is fully lit only when β >= δ; β a little above δ absorbs the blur of
+// foliage depth (on the dense oak, β = 0.01 left most lit leaves in shadow; 0.05 does not).
+constexpr float kDefaultShadowDelta = 0.04f;
+constexpr float kDefaultShadowBeta = 0.05f;
+
+constexpr const char* kViewDoc = "0 = camera, 1 = the light's orthographic view fitted to the scene";
+constexpr const char* kDrawDoc = "0 = all, 1 = foliage only, 2 = everything but foliage (docs/ld06.md \"Foliage\")";
+constexpr const char* kScaleDoc = "raster size as a scale of the output size (LD06: 520/720 = 0.722)";
+constexpr double kMinScale = 0.05, kMaxScale = 4;
+
+const raster::PassScene& scene_of(const StageIO& io) {
+    if (!io.globals || !io.globals->scene) throw Error("a raster pass needs a scene (run it through aquarelle render)");
+    return *io.globals->scene;
+}
+
+void run(StageIO& io, const TrianglePass& p, const Exec& ex) {
+    raster::render_triangle_pass(*io.out[0], scene_of(io), p, ex, io.globals ? io.globals->warnings : nullptr);
+}
+
+struct DepthTable {
+    int view = 0, draw = 0;
+    float scale = 1.0f;
+};
+struct LightingTable {
+    int draw = 0;
+    float scale = 1.0f;
+};
+struct ShadowTable {
+    int draw = 0;
+    float scale = 1.0f;
+    float delta = kDefaultShadowDelta, beta = kDefaultShadowBeta;
+};
+struct IntensityTable {
+    int view = 0, draw = 0;
+    float scale = 1.0f;
+    float delta = kDefaultDelta, beta = kDefaultDelta;
+    int blend = 0;
+    float alpha = 1.0f;
+};
+
+struct TestVariant {
+    const char* name;
+    DepthTest test;
+    const char* doc;
+};
+constexpr TestVariant kTests[] = {
+    {"binary", DepthTest::Binary, "the binary depth test (LD06 Fig. 2, red)"},
+    {"blurred", DepthTest::Blurred, "the blurred depth test, LD06 eq. 1-2, float depth"},
+    {"blurred_rgba8", DepthTest::BlurredRgba8, "the blurred depth test with the paper's RGBA8 depth coding, LD06 eq. 3-4"},
+};
+
+}  // namespace
+
+void register_triangle_passes(Registry& r) {
+    {
+        static const ParamTable<DepthTable> t = ParamTable<DepthTable>()
+            .i("view", &DepthTable::view, 0, 1, kViewDoc)
+            .i("draw", &DepthTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &DepthTable::scale, kMinScale, kMaxScale, kScaleDoc);
+        StageVariant v;
+        v.stage = "depth";
+        v.variant = "linear";
+        v.doc = "LD06 §2: linear depth, 0 at the near and 1 at the far end of the scene's depth range in this view "
+                "(background 1); binary depth test";
+        v.outputs = {{"depth", "ld06.depth", 1, false}};
+        v.params = t.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.view = PassView(tp.view);
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = PassValue::Depth;
+            run(io, p, ex);
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+    {
+        static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
+            .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
+        StageVariant v;
+        v.stage = "lighting";
+        v.variant = "gooch";
+        v.doc = "LD06 §3.2: lighting map (1 + n.l) / 2 (Gooch's t; two-sided) of the front-most surface, background 0";
+        v.outputs = {{"lighting", "ld06.lighting", 1, false}};
+        v.params = t.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = PassValue::Lighting;
+            run(io, p, ex);
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+    // The shadow pass: blurred is its default (LD06 §3.3), so it is registered first.
+    for (int k : {1, 2, 0}) {
+        const TestVariant& tv = kTests[k];
+        static const ParamTable<ShadowTable> t = ParamTable<ShadowTable>()
+            .i("draw", &ShadowTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &ShadowTable::scale, kMinScale, kMaxScale, kScaleDoc)
+            .f("delta", &ShadowTable::delta, 0, 1, "δ of LD06 eq. 5: shadow softness (ours; unused by binary)")
+            .f("beta", &ShadowTable::beta, -1, 1, "β of LD06 eq. 5: shift against self-shadowing (ours)");
+        StageVariant v;
+        v.stage = "shadow";
+        v.variant = tv.name;
+        v.doc = std::string("LD06 §3.3 eq. 5: shadow intensity 1 - f_s of the front-most surface against the "
+                            "light-view depth map; ") + tv.doc;
+        v.inputs = {{"shadow_map", "ld06.light_depth.blurred", 1, false}};
+        v.outputs = {{"shadow", "ld06.shadow", 1, false}};
+        v.params = t.descs();
+        v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = PassValue::Shadow;
+            p.shadow_map = io.in[0];
+            p.shadow_test = test;
+            p.shadow_delta = tp.delta;
+            p.shadow_beta = tp.beta;
+            run(io, p, ex);
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+    for (const TestVariant& tv : kTests) {
+        static const ParamTable<IntensityTable> t = ParamTable<IntensityTable>()
+            .i("view", &IntensityTable::view, 0, 1, kViewDoc)
+            .i("draw", &IntensityTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &IntensityTable::scale, kMinScale, kMaxScale, kScaleDoc)
+            .f("delta", &IntensityTable::delta, 0, 1, "δ of LD06 eq. 2 (blurred tests; ours)")
+            .f("beta", &IntensityTable::beta, -1, 1, "β of LD06 eq. 2 (blurred tests; β = δ keeps near objects visible)")
+            .i("blend", &IntensityTable::blend, 0, 2, "0 = replace, 1 = add with clamp (LD06 eq. 12), 2 = alpha over")
+            .f("alpha", &IntensityTable::alpha, 0, 1, "fragment alpha for blend 2 (times f_v)");
+        StageVariant v;
+        v.stage = "intensity";
+        v.variant = tv.name;
+        v.doc = std::string("LD06 §3.1: intensity mask (coverage 1 weighted by f_v) of the drawn geometry; ") + tv.doc;
+        if (tv.test != DepthTest::Binary) v.inputs = {{"depth_map", "ld06.depth.blurred", 1, false}};
+        v.outputs = {{"intensity", "ld06.intensity", 1, false}};
+        v.params = t.descs();
+        v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.view = PassView(tp.view);
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = PassValue::Coverage;
+            p.test = test;
+            p.delta = tp.delta;
+            p.beta = tp.beta;
+            p.blend = Blend(tp.blend);
+            p.alpha = tp.alpha;
+            if (test != DepthTest::Binary) p.depth_map = io.in[0];
+            run(io, p, ex);
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize
