@@ -127,6 +127,22 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     // only checks the G-buffer it is given.
     for (const stylize::Pipeline& p : job.styles)
         if (job.stylize) job.compiled.push_back(stylize::compile_pipeline(p));
+    // The scene the raster passes draw: built once (the implicit surface is view-independent).
+    for (const stylize::CompiledPipeline& c : job.compiled) {
+        if (!c.has_passes) {
+            job.pass_scenes.emplace_back();
+            continue;
+        }
+        raster::FoliageParams fp = c.foliage;
+        fp.abstract = c.has_foliage && c.foliage.abstract;
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::string> warnings;
+        job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));
+        for (auto& w : warnings) report.warning(w);
+        if (const auto& a = job.pass_scenes.back(); a->abstracted)
+            report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
+                            std::to_string(a->surface.indices.size() / 3) + " in " + std::to_string(int(ms_since(t0))) + " ms");
+    }
     return job;
 }
 
@@ -203,7 +219,12 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 std::optional<raster::PassScene> pass_scene;
                 std::vector<std::string> step_warnings;
                 if (job.compiled[si].has_passes) {
-                    pass_scene = raster::make_pass_scene(job.desc.scene, job.desc.camera, rs.width, rs.height);
+                    const raster::AbstractedScene& a = *job.pass_scenes[si];
+                    pass_scene = raster::make_pass_scene(a.scene, job.desc.camera, rs.width, rs.height);
+                    if (a.abstracted) {
+                        pass_scene->foliage_surface = &a.surface;
+                        pass_scene->plant_height = a.height;
+                    }
                     ro.scene = &*pass_scene;
                 }
                 ro.warnings = &step_warnings;

@@ -5,11 +5,13 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/color.h"
 #include "core/targets.h"
+#include "raster/foliage.h"
 #include "raster/raster.h"
 #include "scenes/scene_file.h"
 #include "stylize/pipeline.h"
@@ -46,6 +48,9 @@ struct RenderJob {
     std::vector<stylize::Pipeline> styles;       //!< one, or one per sweep value
     std::vector<stylize::CompiledPipeline> compiled;  //!< styles compiled (empty for --style none)
     std::vector<std::string> sweep_labels;       //!< "step.param=value" per sweep value, else {""}
+    //! Per style with raster passes: the scene they draw (the foliage abstracted once per run when
+    //! the style asks for it, LD06 §4.1), else null.
+    std::vector<std::shared_ptr<const raster::AbstractedScene>> pass_scenes;
     bool sweeping() const { return styles.size() > 1; }
 };
 

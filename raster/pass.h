@@ -18,6 +18,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
+#include "raster/implicit_surface.h"
 #include "scenes/scene.h"
 
 namespace aq::raster {
@@ -57,6 +58,10 @@ struct PassScene {
     int width = 0, height = 0;  //!< output image size; pass sizes are scales of it
     scene::Bounds bounds;       //!< world bounds (make_pass_scene)
     glm::vec3 light_dir{0, 0, 1};  //!< world, unit, towards the light (first scene light, else the key light)
+    //! The foliage's implicit surface when the scene was abstracted (raster/foliage.h; particles
+    //! are placed on it), else null; plant_height is its tree height h.
+    const ImplicitSurface* foliage_surface = nullptr;
+    float plant_height = 0;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.

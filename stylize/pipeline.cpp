@@ -5,6 +5,7 @@
 #include "core/json_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -117,7 +118,8 @@ std::vector<std::string> preset_names() {
 Pipeline parse_pipeline(const std::string& text, const std::string& src, const std::string& base_dir) {
     const json j = parse_json(text, src);
     if (!j.is_object()) fail(src, "", "expected a JSON object at the top level");
-    check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "default_control", "$schema", "comment"},
+    check_keys(j, {"name", "doc", "substrate_color", "paper", "steps", "output", "default_control", "foliage", "$schema",
+                   "comment"},
                src, "");
     Pipeline p;
     p.source = src;
@@ -159,6 +161,31 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
             p.paper.roughness = float(v);
         }
         p.has_paper = true;
+    }
+    if (j.contains("foliage")) {
+        const json& fj = j["foliage"];
+        if (!fj.is_object()) fail(src, "foliage", "expected an object {abstract, T, radius, relative, cells_per_radius}");
+        check_keys(fj, {"abstract", "T", "radius", "relative", "cells_per_radius", "comment"}, src, "foliage");
+        raster::FoliageParams& f = p.foliage;
+        auto number = [&](const char* k, double lo, double hi) {
+            const double v = get_number(fj[k], src, std::string("foliage.") + k);
+            if (!(v >= lo && v <= hi)) {
+                std::ostringstream m;
+                m << "must be in [" << lo << ", " << hi << "]";
+                fail(src, std::string("foliage.") + k, m.str());
+            }
+            return v;
+        };
+        if (fj.contains("abstract")) f.abstract = number("abstract", 0, 1) != 0;
+        if (fj.contains("T")) f.threshold = float(number("T", 1e-6, 1e6));
+        if (fj.contains("radius")) f.radius = float(number("radius", 1e-6, 1e6));
+        if (fj.contains("relative")) f.relative = number("relative", 0, 1) != 0;
+        if (fj.contains("cells_per_radius")) {
+            const double c = number("cells_per_radius", 1, 16);
+            if (c != std::floor(c)) fail(src, "foliage.cells_per_radius", "must be an integer");
+            f.cells_per_radius = int(c);
+        }
+        p.has_foliage = true;
     }
     if (!j.contains("steps")) fail(src, "steps", "missing");
     const json& steps = j["steps"];
@@ -332,6 +359,8 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     c.substrate_color = p.substrate_color;
     c.paper = p.paper;
     c.has_paper = p.has_paper;
+    c.foliage = p.foliage;
+    c.has_foliage = p.has_foliage;
     std::map<std::string, int> produced;  // target -> channels
     std::map<std::string, std::string> producer;
     std::map<std::string, std::size_t> external_index;

@@ -13,6 +13,7 @@
 
 #include "core/exec.h"
 #include "core/targets.h"
+#include "raster/foliage.h"
 #include "stylize/paper.h"
 #include "stylize/stage.h"
 
@@ -38,6 +39,10 @@ struct Pipeline {
     //! applied by the CLI to primitives without painted control. Empty = none. Kept as text:
     //! the rules are parsed and checked by aq::scene::parse_control_rules.
     std::string default_control;
+    //! LD06 §4.1: the raster passes draw the foliage as its implicit surface ("foliage" block;
+    //! docs/ld06.md "Implicit surface"). Off unless the file has the block.
+    raster::FoliageParams foliage;
+    bool has_foliage = false;
 };
 
 //! A preset name ("wc18", looked up in $AQ_PRESET_DIR, else the compiled-in preset folder) or a
@@ -123,6 +128,8 @@ struct CompiledPipeline {
     //! Liveness: target -> index of the last step that reads it (intermediates are dead after it).
     std::map<std::string, std::size_t> last_read;
     bool has_passes = false;  //!< some step is a raster pass
+    raster::FoliageParams foliage;  //!< see Pipeline::foliage
+    bool has_foliage = false;
 };
 
 //! Checks everything that can be checked without running — stage/variant/param names and ranges,

@@ -169,7 +169,9 @@ TEST(RasterPass, ConstantDepthMapGivesTheVisibilityOfEachFragmentAndAddSaturates
         float want = 0;
         for (int k = 0; k < copies; ++k) want = std::min(std::max(want + fv, 0.0f), 1.0f);
         EXPECT_EQ(acc.at(x, y, 0), want) << copies << " copies";
-        if (copies >= 5) EXPECT_EQ(acc.at(x, y, 0), 1.0f) << "saturates at 1";
+        if (copies >= 5) {
+            EXPECT_EQ(acc.at(x, y, 0), 1.0f) << "saturates at 1";
+        }
     }
 }
 

@@ -1,0 +1,184 @@
+// raster/particles.cpp — see particles.h. Sprites are binned into 64 x 64 tiles in particle order;
+// each tile is written by one task, visiting its particles in order, so the order-dependent
+// additive clamp gives the same bytes for any thread count. The reference traversal loops over the
+// particles and their blocks on the whole image and calls the same per-fragment function.
+#include "raster/particles.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "raster/vertex.h"
+#include "stylize/kernels.h"
+
+namespace aq::raster {
+
+namespace {
+
+constexpr int kTile = 64;
+
+// Integer hash (lowbias32), for seeded choices keyed by particle index, never by thread.
+inline std::uint32_t hash32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+inline float unit01(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
+
+// A uniformly distributed unit vector from two hashes (z uniform in [-1, 1], angle uniform).
+glm::vec3 random_unit(std::uint32_t h1, std::uint32_t h2) {
+    const float z = 2.0f * unit01(h1) - 1.0f;
+    const float a = 6.28318530718f * unit01(h2);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    return {r * std::cos(a), r * std::sin(a), z};
+}
+
+struct Sprite {
+    float cx, cy;  // centre, pixels
+    float size;    // pixels
+    float depth;   // normalised depth of the particle
+    int x0, y0, x1, y1;  // covered pixel range (inclusive), clamped to the raster
+    int cls;
+};
+
+}  // namespace
+
+std::vector<Particle> place_particles(const ImplicitSurface& s, float plant_height, glm::vec3 light_dir,
+                                      const ParticleParams& p) {
+    if (!(std::isfinite(p.quantity) && p.quantity >= 0.0f) || !(std::isfinite(p.height) && p.height > 0.0f) ||
+        !(std::isfinite(p.spread) && p.spread >= 0.0f))
+        throw Error("particles: quantity, spread and height must be finite (height > 0)");
+    if (!(p.t0 <= p.t1)) throw Error("particles: t0 must not exceed t1");
+    const double n = double(p.quantity) * double(p.height) * double(p.height);  // eq. 8
+    if (!(n <= double(kMaxParticles)))
+        throw Error("particles: quantity x height² = " + std::to_string(std::llround(std::min(n, 1e18))) +
+                    " particles exceeds the limit of " + std::to_string(kMaxParticles));
+    std::vector<Particle> out;
+    if (s.positions.empty()) return out;
+    const std::size_t N = std::size_t(std::llround(n));
+    // Eq. 9 in world units: the offset ω_spread·√h is in units of the height h, scaled to the plant.
+    const float offset = p.spread * std::sqrt(p.height) * (plant_height / p.height);
+    const glm::vec3 l = glm::normalize(light_dir);
+    out.reserve(N);
+    const std::uint32_t V = std::uint32_t(s.positions.size());
+    for (std::size_t i = 0; i < N; ++i) {
+        const std::uint32_t k = std::uint32_t(i) * 3u + p.seed * 0x9E3779B9u;
+        const std::uint32_t v = hash32(k) % V;
+        Particle q;
+        q.position = s.positions[v] + random_unit(hash32(k + 1u), hash32(k + 2u)) * offset;
+        q.normal = s.normals[v];
+        const float d = glm::dot(q.normal, l);  // eq. 11
+        q.cls = d <= p.t0 ? 0 : (d <= p.t1 ? 1 : 2);
+        out.push_back(q);
+    }
+    return out;
+}
+
+float particle_size_px(float d, float size_scale, float size_bias, int raster_w) {
+    return ((1.0f - d) * size_scale + size_bias) * (float(raster_w) / float(kLd06SizeReference));
+}
+
+float particle_shape(float u, float v) {
+    const float du = u - 0.5f, dv = v - 0.5f;
+    const float r = std::sqrt(du * du + dv * dv);
+    return 1.0f - stylize::smoothstep(0.4f, 0.5f, r);
+}
+
+void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassScene& ps,
+                      const std::vector<Particle>& particles, const ParticleParams& p, const Exec& ex) {
+    auto finite_in = [](float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    if (!finite_in(p.delta, 0, 1) || !finite_in(p.beta, -1, 1)) throw Error("particles: delta in [0, 1], beta in [-1, 1]");
+    if (!finite_in(p.size_scale, 0, 1000) || !finite_in(p.size_bias, 0, 200))
+        throw Error("particles: size scale must be in [0, 1000] and bias in [0, 200] pixels");
+    if (p.shape != 0 && p.shape != 1) throw Error("particles: shape must be 0 (round) or 1 (square)");
+    if (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1)
+        throw Error("particles: the depth test needs a 1-channel depth map");
+    const PassViewSetup view = pass_view(ps, PassView::Camera, p.scale);
+    const int W = view.width, H = view.height;
+    const float smax = particle_size_px(0.0f, p.size_scale, p.size_bias, W);
+    if (double(particles.size()) * double(smax) * double(smax) > kMaxParticleFragments)
+        throw Error("particles: " + std::to_string(particles.size()) + " sprites of up to " + std::to_string(int(smax)) +
+                    " px would exceed the work bound of the pass (docs/ld06.md \"Limits\")");
+    for (ImageF* m : {&dark, &medium, &bright}) {
+        if (m->width() != W || m->height() != H || m->channels() != 1) *m = ImageF(W, H, 1, 0.0f);
+        else std::fill(m->data(), m->data() + std::size_t(W) * H, 0.0f);
+    }
+    float* maps[3] = {dark.data(), medium.data(), bright.data()};
+    // Project every particle (pure per particle).
+    const glm::mat4 proj = projection_matrix(view.camera, float(ps.width) / float(ps.height));
+    const glm::mat4 pv = proj * view.camera.view;
+    std::vector<Sprite> sprites;
+    sprites.reserve(particles.size());
+    for (const Particle& q : particles) {
+        const glm::vec4 c = pv * glm::vec4(q.position, 1.0f);
+        const float eye = -(view.camera.view * glm::vec4(q.position, 1.0f)).z;
+        if (!(c.w > 0.0f) || !std::isfinite(c.x + c.y + c.w) || eye < view.camera.znear || eye > view.camera.zfar) continue;
+        Sprite s;
+        // Centre and size snapped to the rasterizer's 1/256 px, so a size of s pixels covers exactly
+        // s x s pixels whatever float rounding eq. 10 met.
+        auto snap = [](double v) { return float(std::nearbyint(v * kSubpixelOne) / kSubpixelOne); };
+        s.cx = snap((double(c.x) / c.w + 1.0) * 0.5 * W);
+        s.cy = snap((1.0 - double(c.y) / c.w) * 0.5 * H);
+        s.depth = view.normalized(eye);
+        s.size = snap(particle_size_px(stylize::sat(s.depth), p.size_scale, p.size_bias, W));
+        // Pixels with centre x + 0.5 in [cx - s/2, cx + s/2): x in [ceil(cx - s/2 - 0.5), ceil(cx + s/2 - 0.5) - 1].
+        const double x0 = std::ceil(double(s.cx) - 0.5 * s.size - 0.5), x1 = std::ceil(double(s.cx) + 0.5 * s.size - 0.5) - 1;
+        const double y0 = std::ceil(double(s.cy) - 0.5 * s.size - 0.5), y1 = std::ceil(double(s.cy) + 0.5 * s.size - 0.5) - 1;
+        if (x1 < 0 || y1 < 0 || x0 > W - 1 || y0 > H - 1 || x1 < x0 || y1 < y0) continue;
+        s.x0 = int(std::max(0.0, x0));
+        s.y0 = int(std::max(0.0, y0));
+        s.x1 = int(std::min(double(W - 1), x1));
+        s.y1 = int(std::min(double(H - 1), y1));
+        s.cls = q.cls;
+        sprites.push_back(s);
+    }
+    const View<const float> D = p.depth_map->view<float>();
+    // The one per-fragment function: blurred test of the sprite's depth (eq. 2), shape, eq. 12.
+    auto fragment = [&](const Sprite& s, int x, int y) {
+        float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
+                                            Border::Clamp);
+        if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
+        const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
+        const float fv = blurred_visibility(Dv, s.depth, delta, p.beta);
+        const float u = ((float(x) + 0.5f) - (s.cx - 0.5f * s.size)) / s.size;
+        const float v = ((float(y) + 0.5f) - (s.cy - 0.5f * s.size)) / s.size;
+        float& b = maps[s.cls][std::size_t(y) * W + x];
+        b = stylize::sat(fv * (p.shape == 1 ? 1.0f : particle_shape(u, v)) + b);
+    };
+    if (ex.traversal == Traversal::Reference) {
+        for (const Sprite& s : sprites)
+            for (int y = s.y0; y <= s.y1; ++y)
+                for (int x = s.x0; x <= s.x1; ++x) fragment(s, x, y);
+        return;
+    }
+    // Bin sprites into tiles, in particle order (counting sort: stable).
+    const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile, nt = tx * ty;
+    std::vector<std::uint32_t> offsets(std::size_t(nt) + 1, 0);
+    for (const Sprite& s : sprites)
+        for (int j = s.y0 / kTile; j <= s.y1 / kTile; ++j)
+            for (int i = s.x0 / kTile; i <= s.x1 / kTile; ++i) ++offsets[std::size_t(j * tx + i) + 1];
+    for (int t = 0; t < nt; ++t) offsets[std::size_t(t) + 1] += offsets[std::size_t(t)];
+    std::vector<std::uint32_t> items(offsets.back()), fill(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t k = 0; k < sprites.size(); ++k) {
+        const Sprite& s = sprites[k];
+        for (int j = s.y0 / kTile; j <= s.y1 / kTile; ++j)
+            for (int i = s.x0 / kTile; i <= s.x1 / kTile; ++i) items[fill[std::size_t(j * tx + i)]++] = k;
+    }
+    with_arena(ex, [&] {
+        tbb::parallel_for(0, nt, [&](int t) {
+            const int X0 = (t % tx) * kTile, Y0 = (t / tx) * kTile;
+            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+            for (std::uint32_t k = offsets[std::size_t(t)]; k < offsets[std::size_t(t) + 1]; ++k) {
+                const Sprite& s = sprites[items[k]];
+                for (int y = std::max(s.y0, Y0); y <= std::min(s.y1, Y1); ++y)
+                    for (int x = std::max(s.x0, X0); x <= std::min(s.x1, X1); ++x) fragment(s, x, y);
+            }
+        });
+    });
+}
+
+}  // namespace aq::raster

@@ -1,0 +1,94 @@
+// stylize/passes/particle_pass.cpp — pass "particles": LD06 §4.2 eq. 8-12, one pass writing the
+// dark, medium and bright intensity maps. Variants are the depth tests (blurred first: the
+// default; binary for the paper's Fig. 9 comparison).
+#include "stylize/passes/particle_pass.h"
+
+#include "raster/particles.h"
+
+namespace aq::stylize {
+
+namespace {
+
+struct Table {
+    float quantity = raster::kLd06Quantity, spread = raster::kLd06Spread, height = raster::kLd06TreeHeight;
+    int seed = 1;
+    float t0 = raster::kLd06T0, t1 = raster::kLd06T1;
+    float size_scale = raster::kParticleSizeScale, size_bias = raster::kParticleSizeBias;
+    int shape = 0;
+    float scale = 1.0f;
+    float delta = 0.05f, beta = 0.05f;
+};
+
+struct TestVariant {
+    const char* name;
+    raster::DepthTest test;
+    const char* doc;
+};
+constexpr TestVariant kTests[] = {
+    {"blurred", raster::DepthTest::Blurred, "blurred depth test (LD06 eq. 2, Fig. 9b)"},
+    {"blurred_rgba8", raster::DepthTest::BlurredRgba8, "blurred depth test through the paper's RGBA8 depth coding (eq. 3-4)"},
+    {"binary", raster::DepthTest::Binary, "binary depth test against the depth map (LD06 Fig. 9a)"},
+};
+
+}  // namespace
+
+void register_particle_pass(Registry& r) {
+    static const ParamTable<Table> t = ParamTable<Table>()
+        .f("quantity", &Table::quantity, 0, 10000, "ω_quantity of eq. 8: N = quantity x height² (LD06: 30)")
+        .f("spread", &Table::spread, 0, 10, "ω_spread of eq. 9: offset spread x sqrt(height), in height units (LD06: 0.07)")
+        .f("height", &Table::height, 0.01, 10000,
+           "h of eq. 8-9: the plant's height in the equations' units (23.8 = the paper's Fig. 8 tree, whatever the model's units)")
+        .i("seed", &Table::seed, 0, 1000000, "seed of the particle placement (eq. 9's random directions)")
+        .f("t0", &Table::t0, -1, 1, "eq. 11 dark/medium threshold on n.l (LD06: -0.5)")
+        .f("t1", &Table::t1, -1, 1, "eq. 11 medium/bright threshold on n.l (LD06: 0.1)")
+        .f("size_scale", &Table::size_scale, 0, 1000, "ω_scale of eq. 10, pixels at 720 px (LD06: 200; ours 20, docs/ld06.md)")
+        .f("size_bias", &Table::size_bias, 0, 200, "ω_bias of eq. 10, pixels at 720 px (LD06: 5; ours 4)")
+        .i("shape", &Table::shape, 0, 1, "0 = round blotch, 1 = square sprite")
+        .f("scale", &Table::scale, 0.05, 4, "raster size as a scale of the output size (LD06: 520/720 = 0.722)")
+        .f("delta", &Table::delta, 0, 1, "δ of eq. 2 (ours: 0.05; unused by binary)")
+        .f("beta", &Table::beta, -1, 1, "β of eq. 2 (LD06: β = δ)");
+    for (const TestVariant& tv : kTests) {
+        StageVariant v;
+        v.stage = "particles";
+        v.variant = tv.name;
+        v.doc = std::string("LD06 §4.2 eq. 8-12: particles around the implicit foliage surface, classed by n.l, additive "
+                            "sprites into dark / medium / bright maps; ") + tv.doc;
+        v.inputs = {{"depth_map", "ld06.depth.blurred", 1, false}};
+        v.outputs = {{"dark", "ld06.particles.dark", 1, false},
+                     {"medium", "ld06.particles.medium", 1, false},
+                     {"bright", "ld06.particles.bright", 1, false}};
+        v.params = t.descs();
+        v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            if (!io.globals || !io.globals->scene) throw Error("a raster pass needs a scene (run it through aquarelle render)");
+            const raster::PassScene& ps = *io.globals->scene;
+            const auto tp = t.from(pv);
+            raster::ParticleParams p;
+            p.quantity = tp.quantity;
+            p.spread = tp.spread;
+            p.height = tp.height;
+            p.seed = std::uint32_t(tp.seed);
+            p.t0 = tp.t0;
+            p.t1 = tp.t1;
+            p.size_scale = tp.size_scale;
+            p.size_bias = tp.size_bias;
+            p.shape = tp.shape;
+            p.scale = tp.scale;
+            p.test = test;
+            p.delta = tp.delta;
+            p.beta = tp.beta;
+            p.depth_map = io.in[0];
+            std::vector<raster::Particle> particles;
+            if (ps.foliage_surface) {
+                particles = raster::place_particles(*ps.foliage_surface, ps.plant_height, ps.light_dir, p);
+            } else if (io.globals->warnings) {
+                io.globals->warnings->push_back("particles: no implicit foliage surface (no foliage, or the style has no "
+                                                "\"foliage\" block): the particle maps are empty (docs/ld06.md \"Particles\")");
+            }
+            raster::render_particles(*io.out[0], *io.out[1], *io.out[2], ps, particles, p, ex);
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize
