@@ -54,13 +54,20 @@ std::string lower_extension(const std::string& path) {
 //! extension that selects OpenImageIO's reader, with the reader's format_name(). BMP was read
 //! until CI's fuzz runs found two memory errors in OpenImageIO 2.4's BMP reader within minutes
 //! (fuzz/README.md findings 6 and 7); BMP files are refused like GIF (BMP output is still written).
+//! max_pixels_per_byte: the densest the format's own coding can be (docs/limits.md). TGA's only
+//! compression is run-length packets of at most 128 pixels in 1 + bytes-per-pixel >= 2 bytes, so no
+//! valid TGA holds more than 64 pixels per byte; a header announcing more is refused before a
+//! reader allocates the image (a 1,433-byte TGA announcing 2835 x 11653 cost 1.06 s and 647 MB:
+//! fuzz/README.md finding 9). The others use kMaxPixelsPerEncodedByte.
 struct ReadableFormat {
     const char* extension;
     const char* oiio_format;
+    long max_pixels_per_byte = kMaxPixelsPerEncodedByte;
 };
+constexpr long kTgaMaxPixelsPerByte = 64;
 constexpr ReadableFormat kReadableFormats[] = {
     {".png", "png"},   {".jpg", "jpeg"},  {".jpeg", "jpeg"}, {".exr", "openexr"}, {".tif", "tiff"},
-    {".tiff", "tiff"}, {".hdr", "hdr"},   {".tga", "targa"},
+    {".tiff", "tiff"}, {".hdr", "hdr"},   {".tga", "targa", kTgaMaxPixelsPerByte},
 };
 
 const ReadableFormat* readable_format(const std::string& extension) {
@@ -84,17 +91,18 @@ std::string format_extension_for(const unsigned char* b, std::size_t n, const st
 }
 
 //! The size limits and the decompression-bomb rule, for a header's width and height.
-void check_dimensions(int width, int height, std::size_t encoded_bytes, const std::string& where) {
+void check_dimensions(int width, int height, std::size_t encoded_bytes, const std::string& where,
+                      long max_pixels_per_byte = kMaxPixelsPerEncodedByte) {
     check_image_size(width, height, where);
     // No format we read stores more than kMaxPixelsPerEncodedByte pixels per byte (docs/limits.md):
     // a header announcing more is a decompression bomb that would cost its full size in memory
     // before the reader reached the end of the data (a 21-byte TGA announcing 2835 x 11775 took
     // 0.97 s and 651 MB; found by fuzzing).
     const double pixels = double(width) * double(height);
-    if (pixels > double(encoded_bytes) * double(kMaxPixelsPerEncodedByte))
+    if (pixels > double(encoded_bytes) * double(max_pixels_per_byte))
         throw Error(where + ": " + std::to_string(width) + "x" + std::to_string(height) + " pixels in " +
-                    std::to_string(encoded_bytes) + " bytes is more than any supported format can hold (" +
-                    std::to_string(kMaxPixelsPerEncodedByte) + " pixels per byte; docs/limits.md)");
+                    std::to_string(encoded_bytes) + " bytes is more than the format can hold (" +
+                    std::to_string(max_pixels_per_byte) + " pixels per byte; docs/limits.md)");
 }
 
 //! Width and height from a JPEG's frame header (SOFn), found by walking the marker segments
@@ -135,14 +143,14 @@ bool jpeg_frame_size(const unsigned char* b, std::size_t n, int* width, int* hei
 
 //! Refuses what we do not decode, from the header alone (before any pixel is read).
 void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const std::string& where,
-                DecodeBudget* budget) {
+                DecodeBudget* budget, long max_pixels_per_byte) {
     if (spec.depth > 1)
         throw Error(where + ": a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
     if (spec.deep) throw Error(where + ": deep image data is not supported");
     if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
         throw Error(where + ": " + std::to_string(spec.nchannels) + " channels (1.." + std::to_string(kMaxImageChannels) +
                     " are read)");
-    check_dimensions(spec.width, spec.height, encoded_bytes, where);
+    check_dimensions(spec.width, spec.height, encoded_bytes, where, max_pixels_per_byte);
     if (budget) {
         const std::size_t need = std::size_t(spec.width) * std::size_t(spec.height) * 4 * sizeof(float);
         if (need > budget->bytes_left)
@@ -153,9 +161,10 @@ void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const st
     }
 }
 
-ImageF read_opened(OIIO::ImageInput& in, std::size_t encoded_bytes, const std::string& where, DecodeBudget* budget) {
+ImageF read_opened(OIIO::ImageInput& in, std::size_t encoded_bytes, const std::string& where, DecodeBudget* budget,
+                   long max_pixels_per_byte) {
     const OIIO::ImageSpec spec = in.spec();
-    check_spec(spec, encoded_bytes, where, budget);
+    check_spec(spec, encoded_bytes, where, budget, max_pixels_per_byte);
     const int c = std::min(spec.nchannels, 4);
     ImageF img(spec.width, spec.height, c);
     if (!in.read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, img.data())) throw Error(where + ": " + in.geterror());
@@ -200,7 +209,7 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
         std::string e = in->geterror();
         throw Error(where + ": cannot be decoded" + (e.empty() ? std::string() : ": " + e));
     }
-    return read_opened(*in, size, where, budget);
+    return read_opened(*in, size, where, budget, format->max_pixels_per_byte);
 }
 
 ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name, DecodeBudget* budget) {

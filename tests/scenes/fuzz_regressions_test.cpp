@@ -119,6 +119,28 @@ TEST(FuzzRegressions, JpegFrameSizeIsCheckedBeforeOpenImageIOAllocates) {
     EXPECT_NE(e.find("37318x11143"), std::string::npos) << e;
 }
 
+// A 1,433-byte run-length TGA announcing 2835 x 11653 (within the pixel limit and the general
+// 32,768 pixels-per-byte rule) made us allocate the image, 647 MB and 1.06 s in the release CLI,
+// before the reader hit the end of the data (fuzz/README.md finding 9, a timeout under ASan). TGA
+// packs at most 128 pixels in two bytes, so it is refused from its header; a real, maximally
+// compressed TGA (one run-length packet per 128 pixels) still reads.
+TEST(FuzzRegressions, TgaDensityIsBoundedByItsRunLengthCoding) {
+    const fs::path in = regressions("image") / "tga-rle-2835x11653-in-1433-bytes.tga";
+    const std::vector<unsigned char> b = bytes_of(in);
+    ASSERT_EQ(b.size(), 1433u);
+    const std::string e = decode_error(b, "texture.tga");
+    EXPECT_NE(e.find("2835x11653"), std::string::npos) << e;
+    EXPECT_NE(e.find("64 pixels per byte"), std::string::npos) << e;
+
+    // 256 x 256 8-bit grey, every row two full run-length packets of value 200: 62.9 pixels/byte.
+    std::vector<unsigned char> tga = {0, 0, 11, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 8, 0};
+    for (int k = 0; k < 512; ++k) tga.insert(tga.end(), {0xFF, 200});
+    const ImageF img = decode_image_bytes(tga.data(), tga.size(), "dense.tga");
+    ASSERT_EQ(img.width(), 256);
+    ASSERT_EQ(img.height(), 256);
+    EXPECT_FLOAT_EQ(img.at(17, 201, 0), 200.0f / 255.0f);
+}
+
 TEST(FuzzRegressions, EveryImageInputIsReadOrRefused) {
     for (const auto& e : fs::directory_iterator(regressions("image"))) {
         SCOPED_TRACE(e.path().string());
