@@ -51,6 +51,8 @@ enum class DrawSet { All = 0, Foliage = 1, NonFoliage = 2 };
 //! Shadow: 1 − f_s, the shadow intensity of eq. 5 from a blurred light-view depth map.
 enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3 };
 
+struct Stroke;  // raster/strokes.h
+
 //! The scene as every pass of one frame sees it.
 struct PassScene {
     const scene::Scene* scene = nullptr;
@@ -62,6 +64,9 @@ struct PassScene {
     //! are placed on it), else null; plant_height is its tree height h.
     const ImplicitSurface* foliage_surface = nullptr;
     float plant_height = 0;
+    //! Hand-made strokes of the scene (LD06 §4.4; raster/strokes.h), drawn before the automatic
+    //! contours; null = none.
+    const std::vector<Stroke>* strokes = nullptr;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.

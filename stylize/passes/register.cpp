@@ -2,6 +2,7 @@
 // in the order an LD06 frame runs them (../shared/spec/ld06.md). The first variant a pass
 // registers is its default.
 #include "stylize/passes/particle_pass.h"
+#include "stylize/passes/stroke_pass.h"
 #include "stylize/passes/triangle_passes.h"
 #include "stylize/stage.h"
 
@@ -10,6 +11,7 @@ namespace aq::stylize {
 void register_builtin_passes(Registry& r) {
     register_triangle_passes(r);
     register_particle_pass(r);
+    register_stroke_pass(r);
 }
 
 }  // namespace aq::stylize

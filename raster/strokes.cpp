@@ -1,0 +1,320 @@
+// raster/strokes.cpp — see strokes.h. Each stroke covers the union of its segments' capsules
+// (pixel centre within width/2 of a projected segment); the nearest segment (first in order on a
+// tie) gives the depth and normal at the pixel. Strokes are binned into 64 x 64 tiles in creation
+// order and each tile is written by one task, so the "over" compositing gives the same bytes for
+// any thread count; the reference traversal visits each stroke's whole bounding box on the whole
+// image with the same distance and shading functions.
+#include "raster/strokes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include <tbb/parallel_for.h>
+
+#include "raster/vertex.h"
+#include "stylize/kernels.h"
+
+namespace aq::raster {
+
+namespace {
+
+constexpr int kTile = 64;
+
+// One projected segment: screen end points (pixels), view-space end points and normals.
+struct Seg {
+    float x0, y0, x1, y1;
+    glm::vec3 pa, pb;   // view space
+    glm::vec3 na, nb;   // view space, unit (zero: no normal)
+    bool has_normal;
+};
+
+struct PStroke {
+    std::uint32_t first, count;  // into segs
+    int bx0, by0, bx1, by1;      // covered pixel bounds (inclusive)
+    bool light_dependent;
+};
+
+// Squared distance from pixel centre (px, py) to the segment and the screen parameter of the
+// nearest point (the one distance function of both traversals).
+inline float seg_dist2(const Seg& s, float px, float py, float* t) {
+    const float dx = s.x1 - s.x0, dy = s.y1 - s.y0;
+    const float len2 = dx * dx + dy * dy;
+    float u = len2 > 0.0f ? ((px - s.x0) * dx + (py - s.y0) * dy) / len2 : 0.0f;
+    u = u < 0.0f ? 0.0f : (u > 1.0f ? 1.0f : u);
+    const float ex = s.x0 + dx * u - px, ey = s.y0 + dy * u - py;
+    *t = u;
+    return ex * ex + ey * ey;
+}
+
+}  // namespace
+
+std::vector<Stroke> contour_strokes(const PassScene& ps) {
+    std::vector<Stroke> out;
+    const scene::Scene& sc = *ps.scene;
+    const glm::mat4 inv_view = glm::inverse(ps.camera.view);
+    const glm::vec3 eye(inv_view[3]);
+    const glm::vec3 fwd = -glm::vec3(inv_view[2]);
+    for (const scene::Instance& inst : sc.instances) {
+        if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+        for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
+            if (scene::is_foliage(sc, inst, prim)) continue;
+            const std::size_t nv = prim.positions.size();
+            // Weld by exact position, first occurrence wins.
+            std::map<std::tuple<float, float, float>, std::uint32_t> first;
+            std::vector<std::uint32_t> weld(nv);
+            for (std::uint32_t i = 0; i < nv; ++i) {
+                const glm::vec3 q = prim.positions[i];
+                weld[i] = first.emplace(std::make_tuple(q.x, q.y, q.z), i).first->second;
+            }
+            std::vector<glm::vec3> world(nv);
+            for (std::size_t i = 0; i < nv; ++i) world[i] = glm::vec3(inst.world * glm::vec4(prim.positions[i], 1.0f));
+            // Facing per triangle; edges keyed by welded vertex pair, in triangle order.
+            std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, int>> edges;  // -> (front count, back count)
+            std::vector<std::pair<std::uint32_t, std::uint32_t>> order;
+            for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+                const std::uint32_t i[3] = {prim.indices[t], prim.indices[t + 1], prim.indices[t + 2]};
+                if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
+                const glm::vec3 n = glm::cross(world[i[1]] - world[i[0]], world[i[2]] - world[i[0]]);
+                const glm::vec3 to_eye = ps.camera.orthographic ? -fwd : eye - world[i[0]];
+                const float f = glm::dot(n, to_eye);
+                if (!std::isfinite(f) || f == 0.0f) continue;
+                for (int e = 0; e < 3; ++e) {
+                    std::uint32_t a = weld[i[e]], b = weld[i[(e + 1) % 3]];
+                    if (a == b) continue;
+                    if (a > b) std::swap(a, b);
+                    auto [it, fresh] = edges.try_emplace({a, b}, 0, 0);
+                    if (fresh) order.push_back({a, b});
+                    (f > 0.0f ? it->second.first : it->second.second) += 1;
+                }
+            }
+            // Silhouette edges, then chains through vertices of degree 2.
+            std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
+            for (const auto& e : order) {
+                const auto& c = edges[e];
+                if (c.first > 0 && c.second > 0) sil.push_back(e);
+            }
+            std::map<std::uint32_t, std::vector<std::size_t>> adj;
+            for (std::size_t k = 0; k < sil.size(); ++k) {
+                adj[sil[k].first].push_back(k);
+                adj[sil[k].second].push_back(k);
+            }
+            std::vector<char> used(sil.size(), 0);
+            auto extend = [&](std::vector<std::uint32_t>& chain) {
+                for (;;) {
+                    const std::uint32_t v = chain.back();
+                    const auto& a = adj[v];
+                    if (a.size() != 2) return;
+                    std::size_t next = sil.size();
+                    for (std::size_t k : a)
+                        if (!used[k]) next = std::min(next, k);
+                    if (next == sil.size()) return;
+                    used[next] = 1;
+                    chain.push_back(sil[next].first == v ? sil[next].second : sil[next].first);
+                }
+            };
+            for (std::size_t k = 0; k < sil.size(); ++k) {
+                if (used[k]) continue;
+                used[k] = 1;
+                std::vector<std::uint32_t> fwd_chain = {sil[k].first, sil[k].second};
+                extend(fwd_chain);
+                std::vector<std::uint32_t> back_chain = {sil[k].first};
+                extend(back_chain);
+                Stroke s;
+                for (std::size_t m = back_chain.size(); m-- > 1;) s.points.push_back(world[back_chain[m]]);
+                for (std::uint32_t v : fwd_chain) s.points.push_back(world[v]);
+                out.push_back(std::move(s));
+            }
+        }
+    }
+    return out;
+}
+
+void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>& strokes, const StrokeParams& p,
+                    const Exec& ex, std::size_t* dropped) {
+    auto finite_in = [](float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    if (!(std::isfinite(p.width_px) && p.width_px > 0.0f && p.width_px <= kMaxStrokeWidthPx))
+        throw Error("strokes: width must be in (0, 64] pixels");
+    if (!finite_in(p.delta, 0, 1) || !finite_in(p.beta, -1, 1) || !finite_in(p.alpha, 0, 1))
+        throw Error("strokes: delta in [0, 1], beta in [-1, 1], alpha in [0, 1]");
+    for (float v : {p.fade_near, p.fade_far, p.nv_lo, p.nv_hi})
+        if (!finite_in(v, 0, 1)) throw Error("strokes: fades must be in [0, 1]");
+    if (!finite_in(p.nl_lo, -1, 1) || !finite_in(p.nl_hi, -1, 1)) throw Error("strokes: n.l fades must be in [-1, 1]");
+    if (strokes.size() > kMaxStrokes) throw Error("strokes: " + std::to_string(strokes.size()) + " strokes exceed the limit");
+    std::size_t total = 0;
+    for (const Stroke& s : strokes) total += s.points.size();
+    if (total > kMaxStrokeVertices)
+        throw Error("strokes: " + std::to_string(total) + " stroke vertices exceed the limit of " + std::to_string(kMaxStrokeVertices));
+    if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
+        throw Error("strokes: the blurred depth test needs a 1-channel depth map");
+    const PassViewSetup view = pass_view(ps, PassView::Camera, p.scale);
+    const int W = view.width, H = view.height;
+    if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, 0.0f);
+    else std::fill(out.data(), out.data() + std::size_t(W) * H, 0.0f);
+    const float half = 0.5f * p.width_px * float(W) / float(kLd06SizeReferenceStrokes);
+    const float r2 = half * half;
+    const glm::mat4 proj = projection_matrix(view.camera, float(ps.width) / float(ps.height));
+    const glm::mat3 vrot(view.camera.view);
+    const glm::vec3 light_view = glm::normalize(vrot * ps.light_dir);
+    const float znear = view.camera.znear;
+    std::size_t drop = 0;
+
+    // Project (clip at the near plane in view space).
+    std::vector<Seg> segs;
+    std::vector<PStroke> ps_strokes;
+    auto to_px = [&](glm::vec3 v, float* x, float* y) {
+        const glm::vec4 c = proj * glm::vec4(v, 1.0f);
+        *x = (c.x / c.w + 1.0f) * 0.5f * float(W);
+        *y = (1.0f - c.y / c.w) * 0.5f * float(H);
+    };
+    for (const Stroke& s : strokes) {
+        PStroke q{std::uint32_t(segs.size()), 0, 1 << 30, 1 << 30, -1, -1, s.light_dependent};
+        const bool normals = s.normals.size() == s.points.size();
+        for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+            glm::vec3 a = glm::vec3(view.camera.view * glm::vec4(s.points[i], 1.0f));
+            glm::vec3 b = glm::vec3(view.camera.view * glm::vec4(s.points[i + 1], 1.0f));
+            glm::vec3 na = normals ? vrot * s.normals[i] : glm::vec3(0), nb = normals ? vrot * s.normals[i + 1] : glm::vec3(0);
+            if (!std::isfinite(a.x + a.y + a.z + b.x + b.y + b.z + na.x + na.y + na.z + nb.x + nb.y + nb.z)) {
+                ++drop;
+                continue;
+            }
+            if (!view.camera.orthographic) {
+                const float da = -a.z, db = -b.z;
+                if (da < znear && db < znear) continue;
+                if (da < znear || db < znear) {  // clip to the near plane
+                    const float t = (znear - da) / (db - da);
+                    const glm::vec3 c = a + (b - a) * t;
+                    const glm::vec3 nc = na + (nb - na) * t;
+                    if (da < znear) a = c, na = nc;
+                    else b = c, nb = nc;
+                }
+            }
+            Seg g;
+            to_px(a, &g.x0, &g.y0);
+            to_px(b, &g.x1, &g.y1);
+            if (!std::isfinite(g.x0 + g.y0 + g.x1 + g.y1) || std::abs(g.x0) > 1e7f || std::abs(g.y0) > 1e7f ||
+                std::abs(g.x1) > 1e7f || std::abs(g.y1) > 1e7f) {
+                ++drop;
+                continue;
+            }
+            g.pa = a;
+            g.pb = b;
+            const float la = glm::length(na), lb = glm::length(nb);
+            g.has_normal = normals && la > 0.0f && lb > 0.0f;
+            g.na = g.has_normal ? na / la : glm::vec3(0);
+            g.nb = g.has_normal ? nb / lb : glm::vec3(0);
+            q.bx0 = std::min(q.bx0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
+            q.by0 = std::min(q.by0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
+            q.bx1 = std::max(q.bx1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
+            q.by1 = std::max(q.by1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
+            segs.push_back(g);
+        }
+        q.count = std::uint32_t(segs.size()) - q.first;
+        q.bx0 = std::max(q.bx0, 0);
+        q.by0 = std::max(q.by0, 0);
+        q.bx1 = std::min(q.bx1, W - 1);
+        q.by1 = std::min(q.by1, H - 1);
+        if (q.count > 0 && q.bx0 <= q.bx1 && q.by0 <= q.by1) ps_strokes.push_back(q);
+    }
+    if (dropped) *dropped = drop;
+    View<const float> D;
+    if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) D = p.depth_map->view<float>();
+
+    // The pixel's value once its nearest segment is known: eq. 2 visibility and the §4.4 fades.
+    auto shade = [&](const PStroke& st, const Seg& g, float ts, int x, int y, float* dst) {
+        // Screen parameter -> view-space parameter (perspective-correct through the depths).
+        float t = ts;
+        if (!view.camera.orthographic) {
+            const float za = -g.pa.z, zb = -g.pb.z;
+            t = (ts / zb) / ((1.0f - ts) / za + ts / zb);
+        }
+        const glm::vec3 pv = g.pa + (g.pb - g.pa) * t;
+        const float fd = view.normalized(-pv.z);
+        float fv = 1.0f;
+        if (D.data) {
+            float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
+                                                Border::Clamp);
+            if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
+            fv = blurred_visibility(Dv, fd, p.test == DepthTest::Binary ? 0.0f : p.delta, p.beta);
+        }
+        float a = p.alpha * fv * (1.0f - stylize::smoothstep(p.fade_near, p.fade_far, fd));
+        if (g.has_normal) {
+            glm::vec3 n = g.na + (g.nb - g.na) * t;
+            const float ln = glm::length(n);
+            n = ln > 0.0f ? n / ln : n;
+            const glm::vec3 v = view.camera.orthographic ? glm::vec3(0, 0, 1) : glm::normalize(-pv);
+            a *= stylize::smoothstep(p.nv_lo, p.nv_hi, std::abs(glm::dot(n, v)));
+            if (st.light_dependent) a *= 1.0f - stylize::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
+        }
+        *dst = a + *dst * (1.0f - a);
+    };
+    float* img = out.data();
+    if (ex.traversal == Traversal::Reference) {
+        for (const PStroke& st : ps_strokes)
+            for (int y = st.by0; y <= st.by1; ++y)
+                for (int x = st.bx0; x <= st.bx1; ++x) {
+                    const float px = float(x) + 0.5f, py = float(y) + 0.5f;
+                    float best = std::numeric_limits<float>::infinity(), bt = 0;
+                    std::uint32_t bs = 0;
+                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                        float t;
+                        const float d2 = seg_dist2(segs[k], px, py, &t);
+                        if (d2 < best) best = d2, bt = t, bs = k;
+                    }
+                    if (best <= r2) shade(st, segs[bs], bt, x, y, img + std::size_t(y) * W + x);
+                }
+        return;
+    }
+    const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile, nt = tx * ty;
+    std::vector<std::uint32_t> offsets(std::size_t(nt) + 1, 0);
+    for (const PStroke& st : ps_strokes)
+        for (int j = st.by0 / kTile; j <= st.by1 / kTile; ++j)
+            for (int i = st.bx0 / kTile; i <= st.bx1 / kTile; ++i) ++offsets[std::size_t(j * tx + i) + 1];
+    for (int t = 0; t < nt; ++t) offsets[std::size_t(t) + 1] += offsets[std::size_t(t)];
+    std::vector<std::uint32_t> items(offsets.back()), fill(offsets.begin(), offsets.end() - 1);
+    for (std::uint32_t k = 0; k < ps_strokes.size(); ++k) {
+        const PStroke& st = ps_strokes[k];
+        for (int j = st.by0 / kTile; j <= st.by1 / kTile; ++j)
+            for (int i = st.bx0 / kTile; i <= st.bx1 / kTile; ++i) items[fill[std::size_t(j * tx + i)]++] = k;
+    }
+    with_arena(ex, [&] {
+        tbb::parallel_for(0, nt, [&](int tile) {
+            const int X0 = (tile % tx) * kTile, Y0 = (tile / tx) * kTile;
+            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+            float best[kTile * kTile], bt[kTile * kTile];
+            std::uint32_t bs[kTile * kTile];
+            for (std::uint32_t it = offsets[std::size_t(tile)]; it < offsets[std::size_t(tile) + 1]; ++it) {
+                const PStroke& st = ps_strokes[items[it]];
+                const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
+                const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
+                for (int y = y0; y <= y1; ++y)
+                    for (int x = x0; x <= x1; ++x) best[(y - Y0) * kTile + (x - X0)] = std::numeric_limits<float>::infinity();
+                // Segments in order, each over its own capsule bounds: the same minimum (first on
+                // a tie) as the reference's loop over all segments per pixel.
+                for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                    const Seg& g = segs[k];
+                    const int sx0 = std::max(x0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
+                    const int sx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
+                    const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
+                    const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
+                    for (int y = sy0; y <= sy1; ++y)
+                        for (int x = sx0; x <= sx1; ++x) {
+                            float t;
+                            const float d2 = seg_dist2(g, float(x) + 0.5f, float(y) + 0.5f, &t);
+                            const int li = (y - Y0) * kTile + (x - X0);
+                            if (d2 < best[li]) best[li] = d2, bt[li] = t, bs[li] = k;
+                        }
+                }
+                for (int y = y0; y <= y1; ++y)
+                    for (int x = x0; x <= x1; ++x) {
+                        const int li = (y - Y0) * kTile + (x - X0);
+                        if (best[li] <= r2) shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
+                    }
+            }
+        });
+    });
+}
+
+}  // namespace aq::raster

@@ -1,0 +1,59 @@
+// raster/strokes.h — LD06 §4.4 line strokes (Luft & Deussen 2006): 3D polylines drawn last, in
+// creation order (painter's algorithm), with the blurred depth test's f_v as transparency, faded
+// with distance, by n·v of the surface they belong to and, for hatching strokes, by n·l.
+// Automatic contour strokes: the silhouette edges of non-foliage meshes chained into polylines.
+// docs/ld06.md "Strokes".
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "raster/pass.h"
+
+namespace aq::raster {
+
+//! Bounds of one strokes pass (refused before drawing): polylines, vertices in all, width.
+inline constexpr std::size_t kMaxStrokes = 1'000'000;
+inline constexpr std::size_t kMaxStrokeVertices = 4'000'000;
+inline constexpr float kMaxStrokeWidthPx = 64.0f;
+//! Stroke widths are given in pixels at a 720-pixel-wide raster (LD06's output) and scaled.
+inline constexpr int kLd06SizeReferenceStrokes = 720;
+
+struct Stroke {
+    std::vector<glm::vec3> points;   //!< world space, >= 2
+    std::vector<glm::vec3> normals;  //!< per point, the associated surface's normal; empty = no n·v fade
+    bool light_dependent = false;    //!< hatching: also faded by n·l
+};
+
+struct StrokeParams {
+    float width_px = 2.0f;      //!< line width in pixels at 720 px (scaled with the raster width), (0, 64]
+    float scale = 1.0f;         //!< raster size as a scale of the output size
+    DepthTest test = DepthTest::Blurred;
+    float delta = 0.02f, beta = 0.02f;  //!< eq. 2 (ours: a narrow band; β = δ keeps strokes on their surface)
+    float fade_near = 0.6f, fade_far = 1.0f;  //!< distance fade over normalised depth: 1 before near, 0 at far
+    float nv_lo = 0.05f, nv_hi = 0.3f;        //!< n·v fade: 0 at |n·v| <= lo, 1 at >= hi
+    float nl_lo = -0.2f, nl_hi = 0.4f;        //!< hatching: 1 at n·l <= lo, 0 at >= hi (lit side fades)
+    float alpha = 1.0f;         //!< stroke opacity
+    const ImageF* depth_map = nullptr;  //!< the camera's (blurred) depth; required unless test is Binary with none
+};
+
+//! Silhouette edges of the non-foliage meshes of ps.scene seen from ps.camera — edges between a
+//! triangle facing the camera and one facing away, vertices welded by exact position (UV seams
+//! split vertices) — chained into polylines in a deterministic order (instance, primitive,
+//! triangle). Open boundary edges are not contours. Contour strokes carry no normals (no n·v fade:
+//! a silhouette's n·v is 0 by definition).
+std::vector<Stroke> contour_strokes(const PassScene& ps);
+
+//! Draws `strokes` in order into `out` (1 channel at the pass size, background 0): per stroke, every
+//! covered pixel once, a = alpha·f_v·fades, dst = a + dst·(1 - a) (an ink-coverage map, "over").
+//! Non-finite points split a stroke (dropped segments counted in *dropped). Throws aq::Error for
+//! invalid parameters or counts beyond the documented limits.
+void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>& strokes, const StrokeParams& p,
+                    const Exec& ex = {}, std::size_t* dropped = nullptr);
+
+}  // namespace aq::raster

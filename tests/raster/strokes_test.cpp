@@ -1,0 +1,185 @@
+// tests/raster/strokes_test.cpp — LD06 §4.4 strokes (raster/strokes.h): coverage along a polyline
+// is the union of the segments' capsules (no gap and no double hit at joints), fades follow their
+// definitions, contours of a sphere ring its silhouette, bad input is dropped or refused, and the
+// same bytes come out of every traversal and thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/hash.h"
+#include "raster/foliage.h"
+#include "raster/strokes.h"
+#include "raster/vertex.h"
+#include "scenes/gltf_loader.h"
+#include "tests/raster/raster_test_util.h"
+#include "tests/test_support.h"
+
+namespace aq::raster {
+namespace {
+
+struct Fixture {
+    scene::Scene sc = test::scene_of({test::make_prim({{-2, -2, -1}, {2, -2, -1}, {0, 2, -1}}, {0, 1, 2})});
+    scene::Camera cam = test::look_at({0, 0, 6}, {0, 0, 0});
+    PassScene ps = make_pass_scene(sc, cam, 160, 120);
+    glm::vec2 px(glm::vec3 w) const {
+        const PassViewSetup v = pass_view(ps, PassView::Camera, 1.0f);
+        const glm::vec4 c = projection_matrix(v.camera, 160.0f / 120.0f) * v.camera.view * glm::vec4(w, 1.0f);
+        return {(c.x / c.w + 1.0f) * 80.0f, (1.0f - c.y / c.w) * 60.0f};
+    }
+};
+
+// GLSL smoothstep, written out.
+float stylize_smoothstep_for_test(float a, float b, float x) {
+    const float t = std::clamp((x - a) / (b - a), 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+// Distance from point p to segment ab, in double (written independently of the implementation).
+double dist(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+    const glm::dvec2 d = b - a;
+    const double t = std::clamp(glm::dot(p - a, d) / glm::dot(d, d), 0.0, 1.0);
+    return glm::length(a + d * t - p);
+}
+
+TEST(Strokes, CoverageIsTheUnionOfCapsulesWithoutGapsOrDoubleHitsAtJoints) {
+    Fixture f;
+    // A zig-zag with a sharp joint and a shallow one, in the plane z = 0 facing the camera.
+    const std::vector<glm::vec3> pts = {{-1.5f, -0.5f, 0}, {0.0f, 0.8f, 0}, {0.2f, -0.9f, 0}, {1.4f, -0.6f, 0}};
+    StrokeParams p;
+    p.test = DepthTest::Binary;  // no depth map: f_v = 1
+    p.width_px = 5.0f * 720.0f / 160.0f;  // 5 px wide at 160 px
+    p.alpha = 0.5f;
+    p.fade_near = p.fade_far = 1.0f;
+    ImageF out;
+    render_strokes(out, f.ps, {Stroke{pts, {}, false}}, p, Exec::reference());
+    std::vector<glm::dvec2> s;
+    for (const glm::vec3& q : pts) s.push_back(glm::dvec2(f.px(q)));
+    int covered = 0, mismatches = 0;
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x) {
+            const glm::dvec2 c(x + 0.5, y + 0.5);
+            double d = 1e9;
+            for (std::size_t k = 0; k + 1 < s.size(); ++k) d = std::min(d, dist(c, s[k], s[k + 1]));
+            const float v = out.at(x, y, 0);
+            ASSERT_TRUE(v == 0.0f || v == 0.5f) << "pixel " << x << "," << y << " hit twice or partly: " << v;
+            if (std::abs(d - 2.5) < 1e-3) continue;  // on the capsule border: float rounding may go either way
+            mismatches += (d <= 2.5) != (v == 0.5f);
+            covered += v == 0.5f;
+        }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(covered, 300);
+}
+
+TEST(Strokes, FadesFollowTheirDefinitions) {
+    Fixture f;
+    StrokeParams p;
+    p.test = DepthTest::Binary;
+    p.width_px = 20.0f;
+    p.fade_near = p.fade_far = 1.0f;
+    const std::vector<glm::vec3> pts = {{-1, 0, 0}, {1, 0, 0}};
+    auto centre = [&](const Stroke& s, const StrokeParams& q) {
+        ImageF out;
+        render_strokes(out, f.ps, {s}, q, Exec::reference());
+        const glm::vec2 c = f.px({0, 0, 0});
+        return out.at(int(c.x), int(c.y), 0);
+    };
+    // n.v: facing the camera -> full; edge-on -> invisible; in between -> the smoothstep.
+    EXPECT_EQ(centre({pts, {{0, 0, 1}, {0, 0, 1}}, false}, p), 1.0f);
+    EXPECT_EQ(centre({pts, {{0, 1, 0}, {0, 1, 0}}, false}, p), 0.0f);
+    const glm::vec3 n = glm::normalize(glm::vec3(0, 1, 0.2f));
+    const float nv = glm::dot(n, glm::normalize(glm::vec3(0, 0, 6)));
+    EXPECT_NEAR(centre({pts, {n, n}, false}, p), stylize_smoothstep_for_test(p.nv_lo, p.nv_hi, nv), 1e-5f);
+    // Hatching strokes fade on the lit side (n.l >= nl_hi), stay on the dark side.
+    scene::Scene lit = f.sc;
+    lit.lights.push_back({glm::vec3(0, 0, 1), glm::vec3(1), 1.0f});
+    Fixture g;
+    g.ps = make_pass_scene(lit, f.cam, 160, 120);
+    ImageF out;
+    render_strokes(out, g.ps, {Stroke{pts, {{0, 0, 1}, {0, 0, 1}}, true}}, p, Exec::reference());
+    const glm::vec2 c = f.px({0, 0, 0});
+    EXPECT_EQ(out.at(int(c.x), int(c.y), 0), 0.0f) << "n.l = 1: a hatching stroke on the lit side fades out";
+    // Distance fade: 1 before fade_near, 0 from fade_far on.
+    p.fade_near = 0.0f;
+    p.fade_far = 0.01f;
+    EXPECT_EQ(centre({pts, {}, false}, p), 0.0f);
+}
+
+TEST(Strokes, ContoursOfASphereRingItsSilhouette) {
+    scene::Scene sc = test::scene_of({test::uv_sphere(48, 24, 1.0f)});
+    const scene::Camera cam = test::look_at({0, 0, 5}, {0, 0, 0});
+    const PassScene ps = make_pass_scene(sc, cam, 200, 200);
+    const std::vector<Stroke> c = contour_strokes(ps);
+    ASSERT_FALSE(c.empty());
+    std::size_t points = 0;
+    for (const Stroke& s : c) {
+        points += s.points.size();
+        for (const glm::vec3& q : s.points) {
+            // Silhouette of a unit sphere seen from distance 5: where the view ray is tangent,
+            // q.z = 1/5; the polygonal sphere's silhouette edges lie near that circle.
+            EXPECT_NEAR(q.z, 0.2f, 0.15f);
+            EXPECT_NEAR(glm::length(q), 1.0f, 0.02f);
+        }
+    }
+    EXPECT_GE(points, 48u);
+    EXPECT_LE(c.size(), 4u) << "the silhouette is chained into a few polylines, not loose edges";
+}
+
+TEST(Strokes, BadInputIsDroppedOrRefused) {
+    Fixture f;
+    StrokeParams p;
+    p.test = DepthTest::Binary;
+    ImageF out;
+    std::size_t dropped = 0;
+    render_strokes(out, f.ps, {Stroke{{{0, 0, 0}, {NAN, 0, 0}, {1, 1, 0}, {1, 0, 0}}, {}, false}}, p, Exec::fast(2), &dropped);
+    EXPECT_EQ(dropped, 2u) << "both segments touching the NaN point";
+    p.width_px = 0;
+    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error);
+    p.width_px = 1000;
+    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error);
+    p = {};
+    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error) << "blurred test without a depth map";
+    p.test = DepthTest::Binary;
+    std::vector<Stroke> many(kMaxStrokes + 1);
+    EXPECT_THROW(render_strokes(out, f.ps, many, p), Error);
+    // A stroke crossing the camera's near plane is clipped, not dropped.
+    render_strokes(out, f.ps, {Stroke{{{0, 0, 0}, {0, 0, 10}}, {}, false}}, p, Exec::reference(), &dropped);
+    EXPECT_EQ(dropped, 0u);
+}
+
+TEST(Strokes, SameBytesForEveryTraversalAndThreadCount) {
+    const scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
+    const auto a = abstract_foliage(bush, [] { FoliageParams fp; fp.threshold = 4.0f; return fp; }());
+    const scene::Camera cam = test::frame_scene(a->scene);
+    const PassScene ps = make_pass_scene(a->scene, cam, 220, 180);
+    TrianglePass dp;
+    dp.value = PassValue::Depth;
+    ImageF depth;
+    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    std::vector<Stroke> strokes = contour_strokes(ps);
+    ASSERT_GT(strokes.size(), 3u);
+    // Plus a hatching stroke with normals.
+    strokes.push_back({a->surface.positions.size() > 10
+                           ? std::vector<glm::vec3>(a->surface.positions.begin(), a->surface.positions.begin() + 10)
+                           : std::vector<glm::vec3>{},
+                       {}, true});
+    for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8, DepthTest::Binary}) {
+        StrokeParams p;
+        p.depth_map = &depth;
+        p.test = t;
+        p.width_px = 3;
+        ImageF ref;
+        render_strokes(ref, ps, strokes, p, Exec::reference());
+        float sum = 0;
+        for (int y = 0; y < ref.height(); ++y)
+            for (int x = 0; x < ref.width(); ++x) sum += ref.at(x, y, 0);
+        EXPECT_GT(sum, 20.0f) << "drew nothing";
+        for (int threads : {1, 2, 8}) {
+            ImageF fast;
+            render_strokes(fast, ps, strokes, p, Exec::fast(threads));
+            EXPECT_EQ(sha256_hex(fast), sha256_hex(ref)) << int(t) << " " << threads;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::raster
