@@ -136,17 +136,33 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
         s.cls = q.cls;
         sprites.push_back(s);
     }
+    // D at every pixel of the pass, once (a pure function of the pixel; every fragment of the
+    // pixel used to sample it again): the map resampled to the pass size, then quantised (eq. 3-4).
     const View<const float> D = p.depth_map->view<float>();
+    std::vector<float> dpix(std::size_t(W) * H);
+    auto sample_row = [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
+                                                Border::Clamp);
+            if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
+            dpix[std::size_t(y) * W + x] = Dv;
+        }
+    };
+    if (ex.traversal == Traversal::Reference) {
+        for (int y = 0; y < H; ++y) sample_row(y);
+    } else {
+        with_arena(ex, [&] { tbb::parallel_for(0, H, sample_row); });
+    }
+    const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
     // The one per-fragment function: blurred test of the sprite's depth (eq. 2), shape, eq. 12.
+    // A saturated pixel stays 1 (every contribution is >= 0), so it is skipped: exact.
     auto fragment = [&](const Sprite& s, int x, int y) {
-        float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
-                                            Border::Clamp);
-        if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
-        const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
-        const float fv = blurred_visibility(Dv, s.depth, delta, p.beta);
+        const std::size_t i = std::size_t(y) * W + x;
+        float& b = maps[s.cls][i];
+        if (b >= 1.0f) return;
+        const float fv = blurred_visibility(dpix[i], s.depth, delta, p.beta);
         const float u = ((float(x) + 0.5f) - (s.cx - 0.5f * s.size)) / s.size;
         const float v = ((float(y) + 0.5f) - (s.cy - 0.5f * s.size)) / s.size;
-        float& b = maps[s.cls][std::size_t(y) * W + x];
         b = stylize::sat(fv * (p.shape == 1 ? 1.0f : particle_shape(u, v)) + b);
     };
     if (ex.traversal == Traversal::Reference) {

@@ -133,6 +133,51 @@ float sample_map(const View<const float>& m, float px, float py) {
     return stylize::sample_bilinear(m, px, py, Border::Clamp);
 }
 
+// View-space position and normal of a fragment (the part of interpolate() the passes need), and
+// whether it is a back face.
+struct PosNormal {
+    glm::vec3 pos, normal;
+    bool back;
+};
+inline PosNormal gather(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    float o[3];
+    original_weights(ch, t, b, o);
+    const DrawVertices& dv = fr.draws[t.draw];
+    const std::uint32_t* idx = dv.prim->indices.data() + 3 * std::size_t(t.tri);
+    const DrawVertices::Shading& v0 = dv.view[idx[0]];
+    const DrawVertices::Shading& v1 = dv.view[idx[1]];
+    const DrawVertices::Shading& v2 = dv.view[idx[2]];
+    return {v0.pos + (v1.pos - v0.pos) * o[1] + (v2.pos - v0.pos) * o[2],
+            v0.normal + (v1.normal - v0.normal) * o[1] + (v2.normal - v0.normal) * o[2], t.back != 0};
+}
+
+// The value a fragment writes (PassValue), given its weights.
+inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    const TrianglePass& p = *cx.p;
+    switch (p.value) {
+        case PassValue::Depth: return stylize::sat(cx.view.normalized(b.depth));
+        case PassValue::Coverage: return 1.0f;
+        case PassValue::Lighting: {
+            const PosNormal g = gather(fr, ch, t, b);
+            glm::vec3 n = g.normal;
+            const float l2 = glm::dot(n, n);
+            n = l2 > 0.0f ? n * (1.0f / std::sqrt(l2)) : glm::vec3(0, 0, 1);
+            if (g.back) n = -n;  // two-sided lighting, as gl_FrontFacing
+            return stylize::sat((1.0f + glm::dot(n, cx.light_view)) * 0.5f);
+        }
+        case PassValue::Shadow: {
+            const PosNormal g = gather(fr, ch, t, b);
+            const glm::vec3 w = glm::vec3(cx.view_to_world * glm::vec4(g.pos, 1.0f));
+            const LightSample ls = light_space(cx.light, w, cx.shadow_map.width, cx.shadow_map.height);
+            float D = sample_map(cx.shadow_map, ls.x, ls.y);
+            if (p.shadow_test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
+            const float delta = p.shadow_test == DepthTest::Binary ? 0.0f : p.shadow_delta;
+            return 1.0f - blurred_visibility(D, ls.depth, delta, p.shadow_beta);
+        }
+    }
+    return 0.0f;
+}
+
 // The one per-fragment function (both traversals): test, value, blend into *dst; z is the
 // pixel's depth-buffer entry (Binary test only).
 inline void fragment(const PassContext& cx, const Frame& fr, const Chunk& ch, const TriSetup& t,
@@ -151,30 +196,7 @@ inline void fragment(const PassContext& cx, const Frame& fr, const Chunk& ch, co
         if (p.test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
         fv = blurred_visibility(D, cx.view.normalized(b.depth), p.delta, p.beta);
     }
-    float v = 1.0f;
-    switch (p.value) {
-        case PassValue::Depth: v = stylize::sat(cx.view.normalized(b.depth)); break;
-        case PassValue::Coverage: v = 1.0f; break;
-        case PassValue::Lighting: {
-            const FragmentInput in = interpolate(fr, ch, t, b);
-            glm::vec3 n = in.normal;
-            const float l2 = glm::dot(n, n);
-            n = l2 > 0.0f ? n * (1.0f / std::sqrt(l2)) : glm::vec3(0, 0, 1);
-            if (in.back) n = -n;  // two-sided lighting, as gl_FrontFacing
-            v = stylize::sat((1.0f + glm::dot(n, cx.light_view)) * 0.5f);
-            break;
-        }
-        case PassValue::Shadow: {
-            const FragmentInput in = interpolate(fr, ch, t, b);
-            const glm::vec3 w = glm::vec3(cx.view_to_world * glm::vec4(in.view_pos, 1.0f));
-            const LightSample ls = light_space(cx.light, w, cx.shadow_map.width, cx.shadow_map.height);
-            float D = sample_map(cx.shadow_map, ls.x, ls.y);
-            if (p.shadow_test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
-            const float delta = p.shadow_test == DepthTest::Binary ? 0.0f : p.shadow_delta;
-            v = 1.0f - blurred_visibility(D, ls.depth, delta, p.shadow_beta);
-            break;
-        }
-    }
+    const float v = fragment_value(cx, fr, ch, t, b);
     switch (p.blend) {
         case Blend::Replace: *dst = fv * v; break;
         case Blend::Add: *dst = stylize::sat(*dst + fv * v); break;
@@ -238,6 +260,7 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
     else std::fill(out.data(), out.data() + std::size_t(W) * H, cx.background);
     float* const img = out.data();
     PhaseTimer timer;
+    const bool deferred = p.test == DepthTest::Binary && p.blend == Blend::Replace;
     auto body = [&] {
         prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
         if (!fast) {
@@ -259,6 +282,57 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
             float zbuf[kTile * kTile];
             std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
+            if (deferred) {
+                // Binary test, replace: resolve visibility first, then compute each pixel's winner
+                // once — the fragment the forward loop writes last (the first of the nearest).
+                struct Ref {
+                    std::uint32_t chunk, tri;
+                };
+                Ref win[kTile * kTile];
+                for (Ref& r : win) r.chunk = kNoChunk;
+                for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
+                    const Chunk& ch = fr.chunks[ci];
+                    for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+                        const TriSetup& t = ch.tris[ch.bin_items[k]];
+                        const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+                        const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+                        const bool atest = needs_alpha_test(fr, t);
+                        // Edge functions stepped exactly in integers (the values edge_values gives).
+                        std::int64_t row[3];
+                        edge_values(t, x0, y0, row);
+                        const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
+                                                    std::int64_t(t.A[2]) * kSubpixelOne};
+                        const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
+                                                    std::int64_t(t.B[2]) * kSubpixelOne};
+                        for (int y = y0; y <= y1; ++y) {
+                            std::int64_t e[3] = {row[0], row[1], row[2]};
+                            for (int x = x0; x <= x1; ++x) {
+                                if (inside(t, e)) {
+                                    const int li = (y - Y0) * kTile + (x - X0);
+                                    const Bary b = perspective_bary(t, e);
+                                    if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
+                                        zbuf[li] = b.depth;
+                                        win[li] = {ci, ch.bin_items[k]};
+                                    }
+                                }
+                                e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
+                            }
+                            row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
+                        }
+                    }
+                }
+                for (int y = Y0; y <= Y1; ++y)
+                    for (int x = X0; x <= X1; ++x) {
+                        const Ref r = win[(y - Y0) * kTile + (x - X0)];
+                        if (r.chunk == kNoChunk) continue;
+                        const Chunk& ch = fr.chunks[r.chunk];
+                        const TriSetup& t = ch.tris[r.tri];
+                        std::int64_t e[3];
+                        edge_values(t, x, y, e);
+                        img[std::size_t(y) * W + x] = fragment_value(cx, fr, ch, t, perspective_bary(t, e));
+                    }
+                return;
+            }
             for (const Chunk& ch : fr.chunks)
                 for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
                     const TriSetup& t = ch.tris[ch.bin_items[k]];

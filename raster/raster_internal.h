@@ -107,6 +107,9 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
              std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter = nullptr);
 
 // tile.cpp
+//! Weights of the fragment on the original triangle's vertices (through the clip table for
+//! clipped triangles): what interpolate() and the raster passes' lighter gathers use.
+void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o[3]);
 //! The fragment's interpolated vertex data (both traversals and the raster passes).
 FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b);
 //! The material's alpha test (alpha-masked materials only; see needs_alpha_test).

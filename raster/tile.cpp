@@ -5,9 +5,7 @@
 
 namespace aq::raster::detail {
 
-// Interpolates the vertex data of the fragment with setup weights b (shared by both traversals).
-FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
-    float o[3];
+void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o[3]) {
     if (t.clip < 0) {
         o[0] = b.b[0];
         o[1] = t.perm ? b.b[2] : b.b[1];
@@ -16,6 +14,12 @@ FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, c
         const ClipVerts& cv = ch.clips[t.clip];
         for (int k = 0; k < 3; ++k) o[k] = (b.b[0] * cv.beta[0][k] + b.b[1] * cv.beta[1][k]) + b.b[2] * cv.beta[2][k];
     }
+}
+
+// Interpolates the vertex data of the fragment with setup weights b (shared by both traversals).
+FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    float o[3];
+    original_weights(ch, t, b, o);
     const DrawVertices& dv = fr.draws[t.draw];
     const scene::Primitive& p = *dv.prim;
     const std::size_t base = 3 * std::size_t(t.tri);
