@@ -135,6 +135,11 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         }
         raster::FoliageParams fp = c.foliage;
         fp.abstract = c.has_foliage && c.foliage.abstract;
+        const scene::SceneDesc& d = job.desc;  // the scene file's values win over the style's
+        if (d.foliage_threshold) fp.threshold = *d.foliage_threshold;
+        if (d.foliage_radius) fp.radius = *d.foliage_radius;
+        if (d.foliage_relative) fp.relative = *d.foliage_relative;
+        if (d.foliage_cells_per_radius) fp.cells_per_radius = *d.foliage_cells_per_radius;
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
         job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));

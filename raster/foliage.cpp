@@ -37,6 +37,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     dst.lights = sc.lights;
     dst.ambient = sc.ambient;
     dst.source = sc.source;
+    dst.foliage = sc.foliage;
     std::vector<glm::vec3> points;
     int foliage_material = -1;
     std::uint32_t next_id = 1;
@@ -98,6 +99,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     prim.material = int(dst.materials.size()) - 1;
     scene::Mesh mesh;
     mesh.name = "foliage (implicit surface)";
+    if (dst.foliage.set) dst.foliage.meshes.push_back(mesh.name);  // still foliage for the passes
     mesh.primitives.push_back(std::move(prim));
     dst.meshes.push_back(std::move(mesh));
     scene::Instance inst;

@@ -1,6 +1,7 @@
 // scenes/scene.cpp — scene-wide queries.
 #include "scenes/scene.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 
@@ -46,6 +47,14 @@ bool names_foliage(std::string n) {
 
 bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim) {
     const Material* m = prim.material >= 0 && prim.material < int(sc.materials.size()) ? &sc.materials[prim.material] : nullptr;
+    if (sc.foliage.set) {
+        auto listed = [](const std::vector<std::string>& v, const std::string& n) {
+            return std::find(v.begin(), v.end(), n) != v.end();
+        };
+        const Mesh* mesh = inst.mesh >= 0 && inst.mesh < int(sc.meshes.size()) ? &sc.meshes[std::size_t(inst.mesh)] : nullptr;
+        return listed(sc.foliage.nodes, inst.name) || (mesh && listed(sc.foliage.meshes, mesh->name)) ||
+               (m && listed(sc.foliage.materials, m->name));
+    }
     if (m && (m->alpha_mode == AlphaMode::Mask || names_foliage(m->name))) return true;
     if (inst.mesh >= 0 && inst.mesh < int(sc.meshes.size()) && names_foliage(sc.meshes[inst.mesh].name)) return true;
     return names_foliage(inst.name);

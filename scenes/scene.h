@@ -160,6 +160,13 @@ struct Bounds {
     bool valid = false;
 };
 
+//! LD06 foliage chosen by name in a scene file ("foliage" key, docs/scenes.md): a primitive is
+//! foliage when its instance (node), mesh or material name is listed. Unset: is_foliage's rule.
+struct FoliageSelection {
+    bool set = false;
+    std::vector<std::string> nodes, meshes, materials;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
@@ -170,14 +177,15 @@ struct Scene {
     glm::vec3 ambient{0.0f};
     std::vector<std::string> warnings;  //!< non-fatal problems met while loading
     std::string source;                 //!< file it came from, for messages
+    FoliageSelection foliage;           //!< LD06 foliage chosen by the scene file (see is_foliage)
 
     Bounds world_bounds() const;  //!< over finite positions of all instances
     std::size_t triangle_count() const;
 };
 
-//! LD06 foliage (../shared/spec/ld06.md §5) for scenes that select none: alpha-masked materials,
-//! and primitives whose material, mesh or instance name contains "foliage", "leaf" or "leaves"
-//! (case-insensitive). docs/ld06.md "Foliage".
+//! LD06 foliage (../shared/spec/ld06.md §5): the scene's FoliageSelection when set; otherwise
+//! alpha-masked materials, and primitives whose material, mesh or instance name contains
+//! "foliage", "leaf" or "leaves" (case-insensitive). docs/ld06.md "Foliage".
 bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim);
 
 }  // namespace aq::scene

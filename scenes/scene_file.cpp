@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -441,7 +442,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
     const json j = read_json_file(path, "scene file");
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
-                           "materials", "style", "width", "height", "fps", "paper", "substrate_color"});
+                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage"});
     if (j.contains("description")) ctx.string(j["description"], "description");
 
     SceneDesc d;
@@ -555,6 +556,45 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             for (int mi : match_materials(ctx, d.scene, it.key(), k))
                 detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".");
         }
+    }
+
+    // LD06 foliage selection by name; every name must exist (a typo would silently select nothing).
+    if (j.contains("foliage")) {
+        const json& f = j["foliage"];
+        ctx.check_keys(f, "foliage", {"nodes", "meshes", "materials", "T", "radius", "relative", "cells_per_radius", "comment"});
+        if (f.contains("T")) d.foliage_threshold = float(ctx.number(f["T"], "foliage.T", 1e-6, 1e6));
+        if (f.contains("radius")) d.foliage_radius = float(ctx.number(f["radius"], "foliage.radius", 1e-6, 1e6));
+        if (f.contains("relative")) {
+            if (!f["relative"].is_boolean()) ctx.bad("foliage.relative", "expected true or false");
+            d.foliage_relative = f["relative"].get<bool>();
+        }
+        if (f.contains("cells_per_radius")) d.foliage_cells_per_radius = ctx.integer(f["cells_per_radius"], "foliage.cells_per_radius", 1, 16);
+        FoliageSelection& sel = d.scene.foliage;
+        sel.set = true;
+        auto names = [&](const char* key, std::vector<std::string>& out, const std::vector<std::string>& have) {
+            if (!f.contains(key)) return;
+            const std::string k = std::string("foliage.") + key;
+            if (!f[key].is_array()) ctx.bad(k, "expected an array of names");
+            for (std::size_t i = 0; i < f[key].size(); ++i) {
+                const std::string n = ctx.string(f[key][i], k + "[" + std::to_string(i) + "]");
+                if (std::find(have.begin(), have.end(), n) == have.end()) {
+                    std::string list;
+                    for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
+                    ctx.bad(k + "[" + std::to_string(i) + "]", "no " + std::string(key).substr(0, std::strlen(key) - 1) +
+                                                                 " is named '" + n + "' (have: " + (list.empty() ? "none" : list) + ")");
+                }
+                out.push_back(n);
+            }
+        };
+        std::vector<std::string> node_names, mesh_names, material_names;
+        for (const Instance& inst : d.scene.instances) node_names.push_back(inst.name);
+        for (const Mesh& m : d.scene.meshes) mesh_names.push_back(m.name);
+        for (const Material& m : d.scene.materials) material_names.push_back(m.name);
+        names("nodes", sel.nodes, node_names);
+        names("meshes", sel.meshes, mesh_names);
+        names("materials", sel.materials, material_names);
+        if (sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
+            ctx.bad("foliage", "names no node, mesh or material");
     }
 
     // Control mapping.

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,12 @@ struct SceneDesc {
     //! The scene file has a "control" key: its rules (even none) are the art-direction, and a
     //! style's default control is not applied (docs/look.md).
     bool control_rules = false;
+    //! LD06 implicit-surface parameters from the scene file's "foliage" block (T, radius relative
+    //! to the plant height unless "relative": false, cells_per_radius); they replace the style's
+    //! values when the style abstracts foliage (docs/ld06.md). Unset: the style's.
+    std::optional<float> foliage_threshold, foliage_radius;
+    std::optional<bool> foliage_relative;
+    std::optional<int> foliage_cells_per_radius;
 };
 
 //! A scene file (.json), a bare .gltf/.glb (camera framing the bounds, a default light, neutral

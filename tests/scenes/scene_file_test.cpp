@@ -392,4 +392,32 @@ TEST(FrameBounds, FitsTheBoundingSphereAtAnyAspect) {
 }
 
 }  // namespace
+// --- LD06 foliage selection ----------------------------------------------------------------------
+
+TEST(SceneFile, FoliageIsSelectedByNameWithItsAbstractionParameters) {
+    const SceneDesc d = load_scene((fs::path(aq::test::source_dir()) / "scenes/data/common_tree.json").string());
+    ASSERT_TRUE(d.scene.foliage.set);
+    int foliage = 0, other = 0;
+    for (const Instance& inst : d.scene.instances)
+        for (const Primitive& p : d.scene.meshes[std::size_t(inst.mesh)].primitives) {
+            const bool f = is_foliage(d.scene, inst, p);
+            EXPECT_EQ(f, d.scene.materials[std::size_t(p.material)].name == "Green");
+            (f ? foliage : other) += 1;
+        }
+    EXPECT_GT(foliage, 0);
+    EXPECT_GT(other, 0);
+    ASSERT_TRUE(d.foliage_threshold.has_value());
+    EXPECT_FLOAT_EQ(*d.foliage_threshold, 2.0f);
+    EXPECT_FLOAT_EQ(*d.foliage_radius, 0.12f);
+}
+
+TEST(SceneFile, FoliageNamesThatMatchNothingAreErrors) {
+    expect_error(write_scene("foliage_typo.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"materials": ["Leavs"]}})"),
+                 "foliage.materials[0]", "no material is named 'Leavs'");
+    expect_error(write_scene("foliage_empty.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"T": 3}})"), "foliage",
+                 "names no node, mesh or material");
+    expect_error(write_scene("foliage_t.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"meshes": ["Mesh"], "T": -1}})"),
+                 "foliage.T");
+}
+
 }  // namespace aq::scene
