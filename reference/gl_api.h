@@ -23,6 +23,7 @@ namespace aq::ref::gl {
     X(PFNGLDISABLEPROC, Disable)                                                   \
     X(PFNGLDEPTHFUNCPROC, DepthFunc)                                               \
     X(PFNGLDEPTHMASKPROC, DepthMask)                                               \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                               \
     X(PFNGLCLIPCONTROLPROC, ClipControl)                                           \
     X(PFNGLCULLFACEPROC, CullFace)                                                 \
     X(PFNGLFRONTFACEPROC, FrontFace)                                               \

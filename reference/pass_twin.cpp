@@ -1,0 +1,207 @@
+// reference/pass_twin.cpp — draws a scene through the LD06 raster-pass twin.
+#include "reference/pass_twin.h"
+
+#include <cmath>
+
+#include "raster/vertex.h"
+#include "reference/gl_api.h"
+#include "reference/gl_context.h"
+#include "reference/gl_runner.h"
+
+namespace aq::ref {
+
+namespace {
+
+struct Buffers {
+    std::vector<GLuint> ids;
+    ~Buffers() {
+        if (!ids.empty()) gl::DeleteBuffers(GLsizei(ids.size()), ids.data());
+    }
+    template <class T>
+    void attrib(GLuint loc, const std::vector<T>& data, int comps) {
+        GLuint b = 0;
+        gl::GenBuffers(1, &b);
+        ids.push_back(b);
+        gl::BindBuffer(GL_ARRAY_BUFFER, b);
+        gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
+        gl::EnableVertexAttribArray(loc);
+        gl::VertexAttribPointer(loc, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
+};
+
+GLuint linear_sampler(GLint wrap) {
+    GLuint id = 0;
+    gl::GenSamplers(1, &id);
+    gl::SamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl::SamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap);
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap);
+    return id;
+}
+
+}  // namespace
+
+ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::TrianglePass& p) {
+    std::string why;
+    if (!GlContext::shared(&why)) throw Error("render_triangle_pass_gl: no OpenGL context: " + why);
+    if (!ps.scene) throw Error("render_triangle_pass_gl: no scene");
+    const raster::PassViewSetup view = raster::pass_view(ps, p.view, p.scale);
+    const int W = view.width, H = view.height;
+    const scene::Scene& sc = *ps.scene;
+
+    Texture target(W, H, 4);
+    GLuint fbo = 0, depth_rb = 0, vao = 0;
+    gl::GenFramebuffers(1, &fbo);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target.id(), 0);
+    gl::GenRenderbuffers(1, &depth_rb);
+    gl::BindRenderbuffer(GL_RENDERBUFFER, depth_rb);
+    gl::RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, W, H);
+    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    const GLenum buf = GL_COLOR_ATTACHMENT0;
+    gl::DrawBuffers(1, &buf);
+    if (gl::CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("render_triangle_pass_gl: framebuffer incomplete");
+    gl::Viewport(0, 0, W, H);
+    const float bg = p.value == raster::PassValue::Depth ? 1.0f : 0.0f;
+    const float clear[4] = {bg, 0, 0, 0};
+    gl::ClearBufferfv(GL_COLOR, 0, clear);
+    const float one = 1.0f;
+    gl::ClearBufferfv(GL_DEPTH, 0, &one);
+    if (p.test == raster::DepthTest::Binary) {
+        gl::Enable(GL_DEPTH_TEST);
+        gl::DepthFunc(GL_LESS);  // strict: the first fragment in submission order keeps a tie
+        gl::DepthMask(GL_TRUE);
+    } else {
+        gl::Disable(GL_DEPTH_TEST);
+    }
+    if (p.blend == raster::Blend::Add) {
+        gl::Enable(GL_BLEND);
+        gl::BlendFunc(GL_ONE, GL_ONE);
+    } else if (p.blend == raster::Blend::Over) {
+        gl::Enable(GL_BLEND);
+        gl::BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        gl::Disable(GL_BLEND);
+    }
+    gl::FrontFace(GL_CW);  // the y flip mirrors the winding (as the G-buffer twin)
+    gl::Disable(GL_CULL_FACE);
+
+    const GLuint prog = program(load_shader_file("pass.vert.glsl"), load_shader_file("pass.frag.glsl"), "raster pass twin");
+    gl::UseProgram(prog);
+    gl::GenVertexArrays(1, &vao);
+    gl::BindVertexArray(vao);
+    set_uniform(prog, "u_projection", raster::projection_matrix(view.camera, float(ps.width) / float(ps.height)));
+    set_uniform(prog, "u_value", int(p.value));
+    set_uniform(prog, "u_test", int(p.test));
+    set_uniform(prog, "u_blend", int(p.blend));
+    set_uniform(prog, "u_delta", p.delta);
+    set_uniform(prog, "u_beta", p.beta);
+    set_uniform(prog, "u_alpha", p.alpha);
+    set_uniform(prog, "u_depth_near", view.depth_near);
+    set_uniform(prog, "u_depth_far", view.depth_far);
+    set_uniform(prog, "u_size", glm::vec2(float(W), float(H)));
+    set_uniform(prog, "u_light_view", glm::normalize(glm::mat3(view.camera.view) * ps.light_dir));
+    std::vector<GLuint> samplers = {linear_sampler(GL_CLAMP_TO_EDGE)};
+    Texture depth_tex, shadow_tex;
+    if (p.test != raster::DepthTest::Binary && p.depth_map) {
+        gl::ActiveTexture(GL_TEXTURE1);
+        depth_tex = Texture::upload(*p.depth_map);
+        gl::BindTexture(GL_TEXTURE_2D, depth_tex.id());
+        gl::BindSampler(1, samplers[0]);
+        set_uniform(prog, "s_depth", 1);
+    }
+    if (p.value == raster::PassValue::Shadow && p.shadow_map) {
+        const raster::PassViewSetup light = raster::pass_view(ps, raster::PassView::Light, 1.0f);
+        gl::ActiveTexture(GL_TEXTURE2);
+        shadow_tex = Texture::upload(*p.shadow_map);
+        gl::BindTexture(GL_TEXTURE_2D, shadow_tex.id());
+        gl::BindSampler(2, samplers[0]);
+        set_uniform(prog, "s_shadow", 2);
+        set_uniform(prog, "u_view_to_light", light.camera.view * glm::inverse(view.camera.view));
+        set_uniform(prog, "u_light_mag", glm::vec2(light.camera.xmag, light.camera.ymag));
+        set_uniform(prog, "u_light_near", light.depth_near);
+        set_uniform(prog, "u_light_far", light.depth_far);
+        set_uniform(prog, "u_shadow_test", int(p.shadow_test));
+        set_uniform(prog, "u_shadow_delta", p.shadow_delta);
+        set_uniform(prog, "u_shadow_beta", p.shadow_beta);
+    }
+    set_uniform(prog, "s_base", 0);
+    std::vector<Texture> tex(sc.textures.size());
+
+    for (const scene::Instance& inst : sc.instances) {
+        if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+        const glm::mat4 mv = view.camera.view * inst.world;
+        set_uniform(prog, "u_model_view", mv);
+        const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(mv)));
+        gl::UniformMatrix3fv(gl::GetUniformLocation(prog, "u_normal_matrix"), 1, GL_FALSE, &nm[0][0]);
+        for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
+            const bool foliage = scene::is_foliage(sc, inst, prim);
+            if ((p.draw == raster::DrawSet::Foliage && !foliage) || (p.draw == raster::DrawSet::NonFoliage && foliage)) continue;
+            const std::size_t n = prim.positions.size();
+            if (n == 0 || prim.indices.size() < 3) continue;
+            const scene::Material m =
+                prim.material >= 0 && prim.material < int(sc.materials.size()) ? sc.materials[std::size_t(prim.material)] : scene::Material{};
+            Buffers b;
+            b.attrib(0, prim.positions, 3);
+            b.attrib(1, prim.normals.size() == n ? prim.normals : std::vector<glm::vec3>(n, glm::vec3(0, 0, 1)), 3);
+            const bool has_uv = prim.uv0.size() == n;
+            b.attrib(2, has_uv ? prim.uv0 : std::vector<glm::vec2>(n, glm::vec2(0.0f)), 2);
+            b.attrib(3, prim.colors.size() == n ? prim.colors : std::vector<glm::vec4>(n, glm::vec4(1.0f)), 4);
+            GLuint ebo = 0;
+            gl::GenBuffers(1, &ebo);
+            b.ids.push_back(ebo);
+            gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+            gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(prim.indices.size() * 4), prim.indices.data(), GL_STATIC_DRAW);
+            const bool mask = m.alpha_mode == scene::AlphaMode::Mask;
+            bool has_tex = false;
+            const int ti = m.base_color_texture.texture;
+            if (mask && has_uv && ti >= 0 && ti < int(tex.size()) && !sc.textures[std::size_t(ti)].image.empty()) {
+                gl::ActiveTexture(GL_TEXTURE0);  // before the upload: it binds to the active unit
+                if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].image);
+                gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ti)].id());
+                const scene::Sampler& s = m.base_color_texture.sampler;
+                auto wrap = [](scene::Wrap w) {
+                    return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
+                };
+                GLuint smp = 0;
+                gl::GenSamplers(1, &smp);
+                samplers.push_back(smp);
+                const GLint f = s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR;
+                gl::SamplerParameteri(smp, GL_TEXTURE_MIN_FILTER, f);
+                gl::SamplerParameteri(smp, GL_TEXTURE_MAG_FILTER, f);
+                gl::SamplerParameteri(smp, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
+                gl::SamplerParameteri(smp, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
+                gl::BindSampler(0, smp);
+                has_tex = true;
+            }
+            set_uniform(prog, "u_alpha_mask", mask);
+            set_uniform(prog, "u_alpha_cutoff", m.alpha_cutoff);
+            set_uniform(prog, "u_base_alpha", m.base_color.a);
+            set_uniform(prog, "u_has_base_tex", has_tex);
+            gl::DrawElements(GL_TRIANGLES, GLsizei(prim.indices.size()), GL_UNSIGNED_INT, nullptr);
+            check_gl("raster pass twin draw");
+        }
+    }
+    gl::Disable(GL_DEPTH_TEST);
+    gl::Disable(GL_BLEND);
+    gl::FrontFace(GL_CCW);
+    gl::BindVertexArray(0);
+    gl::DeleteVertexArrays(1, &vao);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::DeleteFramebuffers(1, &fbo);
+    gl::DeleteRenderbuffers(1, &depth_rb);
+    for (int u = 0; u < 3; ++u) gl::BindSampler(GLuint(u), 0);
+    gl::DeleteSamplers(GLsizei(samplers.size()), samplers.data());
+
+    const ImageF rgba = read_texture(target);
+    ImageF out(W, H, 1);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const float v = rgba.at(x, y, 0);
+            out.at(x, y, 0) = p.blend == raster::Blend::Add ? std::min(v, 1.0f) : v;
+        }
+    return out;
+}
+
+}  // namespace aq::ref

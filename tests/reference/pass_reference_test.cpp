@@ -1,0 +1,153 @@
+// tests/reference/pass_reference_test.cpp — every LD06 triangle-pass mode (raster/pass.h) against its
+// GLSL twin (reference/pass_twin.h) drawn by OpenGL (llvmpipe here, a real GPU where one is lent):
+// depth from the camera and the light, the lighting map, the shadow intensity with the three
+// tests, intensity masks with the blurred tests and the three blend modes, on a plant with
+// alpha-masked leaves and on a known occluder. Tolerances and their reasons below; the table of
+// errors is printed (ctest -L reference -V).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "raster/foliage.h"
+#include "raster/pass.h"
+#include "reference/gl_context.h"
+#include "reference/pass_twin.h"
+#include "scenes/gltf_loader.h"
+#include "stylize/stages/gaussian_blur.h"
+#include "tests/raster/raster_test_util.h"
+#include "tests/test_support.h"
+
+namespace aq::ref {
+namespace {
+
+using namespace aq::raster;
+
+// A value differing by more than kValueTol counts as "off". Both rasterizers use 8 subpixel bits
+// and the top-left rule, but they snap and interpolate differently (raster/ evaluates attributes at
+// its own snapped vertices, llvmpipe at its own), and llvmpipe's bilinear filtering quantises its
+// weights to 8 bits: a depth map sampled at a steep edge, or the smoothstep band of the blurred
+// test, turns those small differences into visible ones on a few pixels. Bounds:
+// Measured on llvmpipe (2026-11-26): at most 0.09 % of the pixels off (the bush's lighting map, at
+// alpha-tested leaf edges), mean |error| at most 1.5e-4; the abstracted oak's opaque surfaces agree
+// to 1e-5. The bounds leave about 5x margin for other GL implementations.
+constexpr double kValueTol = 1.0 / 255.0;
+constexpr double kMaxOffFraction = 0.005;  //!< of all pixels (silhouettes, leaf edges, shadow borders)
+constexpr double kMaxMeanAbs = 1e-3;       //!< over all pixels
+
+struct Case {
+    std::string name;
+    TrianglePass pass;
+};
+
+void compare(const std::string& scene, const PassScene& ps, const Case& c) {
+    ImageF cpp;
+    render_triangle_pass(cpp, ps, c.pass, Exec::fast(2));
+    const ImageF gl = render_triangle_pass_gl(ps, c.pass);
+    ASSERT_EQ(cpp.width(), gl.width());
+    ASSERT_EQ(cpp.height(), gl.height());
+    long long off = 0, nonfinite = 0;
+    double sum = 0, mx = 0, nonzero = 0;
+    const long long n = (long long)cpp.width() * cpp.height();
+    for (int y = 0; y < cpp.height(); ++y)
+        for (int x = 0; x < cpp.width(); ++x) {
+            const double a = cpp.at(x, y, 0), b = gl.at(x, y, 0);
+            if (!std::isfinite(a) || !std::isfinite(b)) {
+                ++nonfinite;
+                continue;
+            }
+            const double d = std::abs(a - b);
+            sum += d;
+            mx = std::max(mx, d);
+            off += d > kValueTol;
+            nonzero += a != (c.pass.value == PassValue::Depth ? 1.0 : 0.0);
+        }
+    const double frac = double(off) / double(n), mean = sum / double(n);
+    std::printf("  %-10s %-34s mean %.2e max %.3f off %.4f (of %lld px)\n", scene.c_str(), c.name.c_str(), mean, mx, frac, n);
+    EXPECT_EQ(nonfinite, 0) << c.name;
+    EXPECT_GT(nonzero, 0.01 * double(n)) << c.name << ": the C++ pass drew (almost) nothing: the comparison would prove nothing";
+    EXPECT_LE(frac, kMaxOffFraction) << scene << " " << c.name;
+    EXPECT_LE(mean, kMaxMeanAbs) << scene << " " << c.name;
+}
+
+std::vector<Case> cases(const ImageF* light_blur, const ImageF* depth_blur) {
+    std::vector<Case> out;
+    TrianglePass p;
+    p.value = PassValue::Depth;
+    p.scale = 0.75f;
+    out.push_back({"depth camera", p});
+    p.view = PassView::Light;
+    out.push_back({"depth light", p});
+    p = {};
+    p.value = PassValue::Lighting;
+    out.push_back({"lighting", p});
+    for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8, DepthTest::Binary}) {
+        p = {};
+        p.value = PassValue::Shadow;
+        p.shadow_map = light_blur;
+        p.shadow_test = t;
+        p.shadow_delta = 0.02f;  // narrower than the defaults: the small bush casts visible shadows
+        p.shadow_beta = 0.005f;
+        out.push_back({"shadow test " + std::to_string(int(t)), p});
+    }
+    for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8})
+        for (Blend b : {Blend::Replace, Blend::Add, Blend::Over}) {
+            p = {};
+            p.value = PassValue::Coverage;
+            p.test = t;
+            p.depth_map = depth_blur;
+            p.delta = 0.05f;
+            p.beta = 0.0f;  // inside the band for much of the plant: exercises f_v, not only 1
+            p.blend = b;
+            p.alpha = 0.35f;
+            out.push_back({"intensity test " + std::to_string(int(t)) + " blend " + std::to_string(int(b)), p});
+        }
+    return out;
+}
+
+void run_all(const std::string& name, const PassScene& ps) {
+    TrianglePass lp;
+    lp.value = PassValue::Depth;
+    lp.view = PassView::Light;
+    ImageF light, light_blur, depth, depth_blur;
+    render_triangle_pass(light, ps, lp, Exec::fast(2));
+    stylize::GaussianBlurParams bp;
+    bp.radius = 4;
+    bp.sigma = 2;
+    stylize::gaussian_blur(light_blur, light, bp, Exec::fast(2));
+    TrianglePass dp;
+    dp.value = PassValue::Depth;
+    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    stylize::gaussian_blur(depth_blur, depth, bp, Exec::fast(2));
+    for (const Case& c : cases(&light_blur, &depth_blur)) {
+        SCOPED_TRACE(c.name);
+        compare(name, ps, c);
+    }
+}
+
+class PassReference : public ::testing::Test {
+protected:
+    void SetUp() override {
+        std::string why;
+        if (!GlContext::shared(&why)) GTEST_FAIL() << "no OpenGL context (docs/reference.md): " << why;
+    }
+};
+
+TEST_F(PassReference, PlantWithAlphaMaskedLeavesMatchesTheGlslTwin) {
+    scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
+    // A light from above and behind: the branches shadow the lower leaves (the default key light,
+    // from the camera's side, leaves almost no shadow to compare).
+    bush.lights.push_back({glm::normalize(glm::vec3(0.3f, 1.0f, -0.6f)), glm::vec3(1), 1.0f});
+    const scene::Camera cam = test::frame_scene(bush);
+    run_all("bush", make_pass_scene(bush, cam, 240, 200));
+}
+
+TEST_F(PassReference, AbstractedOakMatchesTheGlslTwin) {
+    const scene::Scene oak = scene::load_gltf(test::asset("plants/ez-tree/ez_oak_large_dense.glb"));
+    const auto a = abstract_foliage(oak, FoliageParams{}, Exec::fast(2));
+    const scene::Camera cam = test::frame_scene(a->scene);
+    run_all("oak", make_pass_scene(a->scene, cam, 260, 260));
+}
+
+}  // namespace
+}  // namespace aq::ref
