@@ -204,4 +204,77 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
     return out;
 }
 
+std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std::vector<raster::Particle>& particles,
+                                          const raster::ParticleParams& p) {
+    std::string why;
+    if (!GlContext::shared(&why)) throw Error("render_particles_gl: no OpenGL context: " + why);
+    if (!p.depth_map || p.depth_map->channels() != 1) throw Error("render_particles_gl: needs a 1-channel depth map");
+    const raster::PassViewSetup view = raster::pass_view(ps, raster::PassView::Camera, p.scale);
+    const int W = view.width, H = view.height;
+    Texture target(W, H, 4);
+    GLuint fbo = 0, vao = 0;
+    gl::GenFramebuffers(1, &fbo);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target.id(), 0);
+    const GLenum buf = GL_COLOR_ATTACHMENT0;
+    gl::DrawBuffers(1, &buf);
+    if (gl::CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("render_particles_gl: framebuffer incomplete");
+    gl::Viewport(0, 0, W, H);
+    const float zero[4] = {0, 0, 0, 0};
+    gl::ClearBufferfv(GL_COLOR, 0, zero);
+    gl::Disable(GL_DEPTH_TEST);
+    gl::Enable(GL_BLEND);
+    gl::BlendFunc(GL_ONE, GL_ONE);
+    gl::Enable(GL_PROGRAM_POINT_SIZE);
+    const GLuint prog = program(load_shader_file("particles.vert.glsl"), load_shader_file("particles.frag.glsl"), "particle twin");
+    gl::UseProgram(prog);
+    gl::GenVertexArrays(1, &vao);
+    gl::BindVertexArray(vao);
+    set_uniform(prog, "u_view", view.camera.view);
+    set_uniform(prog, "u_projection", raster::projection_matrix(view.camera, float(ps.width) / float(ps.height)));
+    set_uniform(prog, "u_depth_near", view.depth_near);
+    set_uniform(prog, "u_depth_far", view.depth_far);
+    set_uniform(prog, "u_size_scale", p.size_scale);
+    set_uniform(prog, "u_size_bias", p.size_bias);
+    set_uniform(prog, "u_width", float(W));
+    set_uniform(prog, "u_test", int(p.test));
+    set_uniform(prog, "u_delta", p.delta);
+    set_uniform(prog, "u_beta", p.beta);
+    set_uniform(prog, "u_shape", p.shape);
+    set_uniform(prog, "u_size", glm::vec2(float(W), float(H)));
+    gl::ActiveTexture(GL_TEXTURE1);
+    Texture depth_tex = Texture::upload(*p.depth_map);
+    const GLuint smp = linear_sampler(GL_CLAMP_TO_EDGE);
+    gl::BindSampler(1, smp);
+    set_uniform(prog, "s_depth", 1);
+    std::vector<glm::vec3> pos;
+    std::vector<float> cls;
+    for (const raster::Particle& q : particles) {
+        pos.push_back(q.position);
+        cls.push_back(float(q.cls));
+    }
+    {
+        Buffers b;
+        b.attrib(0, pos, 3);
+        b.attrib(1, cls, 1);
+        if (!pos.empty()) gl::DrawArrays(GL_POINTS, 0, GLsizei(pos.size()));
+        check_gl("particle twin draw");
+    }
+    gl::Disable(GL_BLEND);
+    gl::Disable(GL_PROGRAM_POINT_SIZE);
+    gl::BindVertexArray(0);
+    gl::DeleteVertexArrays(1, &vao);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::DeleteFramebuffers(1, &fbo);
+    gl::BindSampler(1, 0);
+    gl::DeleteSamplers(1, &smp);
+    const ImageF rgba = read_texture(target);
+    std::array<ImageF, 3> out = {ImageF(W, H, 1), ImageF(W, H, 1), ImageF(W, H, 1)};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int k = 0; k < 3; ++k) out[std::size_t(k)].at(x, y, 0) = std::min(rgba.at(x, y, k), 1.0f);
+    return out;
+}
+
 }  // namespace aq::ref

@@ -5,7 +5,10 @@
 #pragma once
 
 #include "core/image.h"
+#include "raster/particles.h"
 #include "raster/pass.h"
+
+#include <array>
 
 namespace aq::ref {
 
@@ -13,5 +16,11 @@ namespace aq::ref {
 //! set-up (raster::pass_view) is shared; everything per vertex and per fragment is GLSL. Throws
 //! aq::Error (no GL context, invalid pass).
 ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::TrianglePass& p);
+
+//! The dark, medium and bright maps of raster::render_particles, drawn as GL points (size from
+//! eq. 10 in the vertex shader) with additive blending. Placement (eq. 8-9, 11) is the shared
+//! preprocessing step, as in the paper. Throws aq::Error.
+std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std::vector<raster::Particle>& particles,
+                                          const raster::ParticleParams& p);
 
 }  // namespace aq::ref

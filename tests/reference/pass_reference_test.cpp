@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "raster/foliage.h"
+#include "raster/particles.h"
 #include "raster/pass.h"
 #include "reference/gl_context.h"
 #include "reference/pass_twin.h"
@@ -34,6 +35,10 @@ using namespace aq::raster;
 constexpr double kValueTol = 1.0 / 255.0;
 constexpr double kMaxOffFraction = 0.005;  //!< of all pixels (silhouettes, leaf edges, shadow borders)
 constexpr double kMaxMeanAbs = 1e-3;       //!< over all pixels
+// Particles, measured on llvmpipe: at most 0.12 % of pixels off by > 1/255 (max 0.011, at sprite
+// borders), mean <= 1.9e-5; bounds with margin:
+constexpr double kMaxParticleOffFraction = 0.005;
+constexpr double kMaxParticleMeanAbs = 2e-4;
 
 struct Case {
     std::string name;
@@ -147,6 +152,49 @@ TEST_F(PassReference, AbstractedOakMatchesTheGlslTwin) {
     const auto a = abstract_foliage(oak, FoliageParams{}, Exec::fast(2));
     const scene::Camera cam = test::frame_scene(a->scene);
     run_all("oak", make_pass_scene(a->scene, cam, 260, 260));
+}
+
+// Particles (LD06 eq. 8-12): 17,000 on the abstracted oak, three tests; GL draws them as points
+// with eq. 10's size computed in the vertex shader and sums them with additive blending. Sprite
+// borders differ where GL's point rule and raster/'s snapped [c - s/2, c + s/2) disagree, but the
+// round blotch is ~0 there.
+TEST_F(PassReference, ParticlesMatchTheGlslTwin) {
+    const scene::Scene oak = scene::load_gltf(test::asset("plants/ez-tree/ez_oak_large_dense.glb"));
+    const auto a = abstract_foliage(oak, FoliageParams{}, Exec::fast(2));
+    const scene::Camera cam = test::frame_scene(a->scene);
+    const PassScene ps = make_pass_scene(a->scene, cam, 260, 260);
+    TrianglePass dp;
+    dp.value = PassValue::Depth;
+    ImageF depth, depth_blur;
+    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    stylize::gaussian_blur(depth_blur, depth, {}, Exec::fast(2));
+    ParticleParams p;
+    p.depth_map = &depth_blur;
+    const std::vector<Particle> qs = place_particles(a->surface, a->height, ps.light_dir, p);
+    for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8, DepthTest::Binary}) {
+        p.test = t;
+        ImageF m[3];
+        render_particles(m[0], m[1], m[2], ps, qs, p, Exec::fast(2));
+        const std::array<ImageF, 3> g = render_particles_gl(ps, qs, p);
+        for (int k = 0; k < 3; ++k) {
+            long long off = 0, drawn = 0;
+            double sum = 0, mx = 0;
+            const long long n = (long long)m[k].width() * m[k].height();
+            for (int y = 0; y < m[k].height(); ++y)
+                for (int x = 0; x < m[k].width(); ++x) {
+                    const double d = std::abs(double(m[k].at(x, y, 0)) - g[std::size_t(k)].at(x, y, 0));
+                    sum += d;
+                    mx = std::max(mx, d);
+                    off += d > kValueTol;
+                    drawn += m[k].at(x, y, 0) > 0.0f;
+                }
+            std::printf("  oak        particles test %d class %d            mean %.2e max %.3f off %.4f (of %lld px)\n", int(t), k,
+                        sum / double(n), mx, double(off) / double(n), n);
+            EXPECT_GT(drawn, n / 100) << "class " << k << " drew (almost) nothing";
+            EXPECT_LE(double(off) / double(n), kMaxParticleOffFraction) << "test " << int(t) << " class " << k;
+            EXPECT_LE(sum / double(n), kMaxParticleMeanAbs) << "test " << int(t) << " class " << k;
+        }
+    }
 }
 
 }  // namespace
