@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <cstring>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -57,23 +57,35 @@ std::vector<Stroke> contour_strokes(const PassScene& ps) {
     const glm::mat4 inv_view = glm::inverse(ps.camera.view);
     const glm::vec3 eye(inv_view[3]);
     const glm::vec3 fwd = -glm::vec3(inv_view[2]);
+    auto bits = [](glm::vec3 v) {
+        std::uint32_t b[3];
+        std::memcpy(b, &v, sizeof b);
+        return std::make_tuple(b[0], b[1], b[2]);
+    };
     for (const scene::Instance& inst : sc.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
         for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
             if (scene::is_foliage(sc, inst, prim)) continue;
-            const std::size_t nv = prim.positions.size();
-            // Weld by exact position, first occurrence wins.
-            std::map<std::tuple<float, float, float>, std::uint32_t> first;
-            std::vector<std::uint32_t> weld(nv);
-            for (std::uint32_t i = 0; i < nv; ++i) {
-                const glm::vec3 q = prim.positions[i];
-                weld[i] = first.emplace(std::make_tuple(q.x, q.y, q.z), i).first->second;
-            }
+            const std::uint32_t nv = std::uint32_t(prim.positions.size());
+            // Weld by exact position (bit pattern: a total order, NaN included): every vertex maps
+            // to the lowest index with the same position.
+            std::vector<std::uint32_t> byp(nv), weld(nv);
+            for (std::uint32_t i = 0; i < nv; ++i) byp[i] = i;
+            std::sort(byp.begin(), byp.end(), [&](std::uint32_t a, std::uint32_t b) {
+                const auto ka = bits(prim.positions[a]), kb = bits(prim.positions[b]);
+                return ka != kb ? ka < kb : a < b;
+            });
+            for (std::uint32_t k = 0; k < nv; ++k)
+                weld[byp[k]] = (k > 0 && bits(prim.positions[byp[k]]) == bits(prim.positions[byp[k - 1]])) ? weld[byp[k - 1]] : byp[k];
             std::vector<glm::vec3> world(nv);
-            for (std::size_t i = 0; i < nv; ++i) world[i] = glm::vec3(inst.world * glm::vec4(prim.positions[i], 1.0f));
-            // Facing per triangle; edges keyed by welded vertex pair, in triangle order.
-            std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, int>> edges;  // -> (front count, back count)
-            std::vector<std::pair<std::uint32_t, std::uint32_t>> order;
+            for (std::uint32_t i = 0; i < nv; ++i) world[i] = glm::vec3(inst.world * glm::vec4(prim.positions[i], 1.0f));
+            // Edges (welded pair, facing of the triangle, order of first use), sorted by pair.
+            struct E {
+                std::uint32_t a, b, order;
+                bool front;
+            };
+            std::vector<E> es;
+            es.reserve(prim.indices.size());
             for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
                 const std::uint32_t i[3] = {prim.indices[t], prim.indices[t + 1], prim.indices[t + 2]};
                 if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
@@ -85,31 +97,45 @@ std::vector<Stroke> contour_strokes(const PassScene& ps) {
                     std::uint32_t a = weld[i[e]], b = weld[i[(e + 1) % 3]];
                     if (a == b) continue;
                     if (a > b) std::swap(a, b);
-                    auto [it, fresh] = edges.try_emplace({a, b}, 0, 0);
-                    if (fresh) order.push_back({a, b});
-                    (f > 0.0f ? it->second.first : it->second.second) += 1;
+                    es.push_back({a, b, std::uint32_t(es.size()), f > 0.0f});
                 }
             }
-            // Silhouette edges, then chains through vertices of degree 2.
+            std::sort(es.begin(), es.end(), [](const E& x, const E& y) {
+                return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.order < y.order);
+            });
+            // Silhouette edges (a front and a back triangle share them), in order of first use.
+            std::vector<std::pair<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>> sil_ordered;
+            for (std::size_t k = 0; k < es.size();) {
+                std::size_t m = k;
+                bool front = false, back = false;
+                for (; m < es.size() && es[m].a == es[k].a && es[m].b == es[k].b; ++m) (es[m].front ? front : back) = true;
+                if (front && back) sil_ordered.push_back({es[k].order, {es[k].a, es[k].b}});
+                k = m;
+            }
+            std::sort(sil_ordered.begin(), sil_ordered.end());
             std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
-            for (const auto& e : order) {
-                const auto& c = edges[e];
-                if (c.first > 0 && c.second > 0) sil.push_back(e);
+            for (const auto& s2 : sil_ordered) sil.push_back(s2.second);
+            // Vertex -> incident silhouette edges (sorted pairs).
+            std::vector<std::pair<std::uint32_t, std::uint32_t>> inc;
+            for (std::uint32_t k = 0; k < sil.size(); ++k) {
+                inc.push_back({sil[k].first, k});
+                inc.push_back({sil[k].second, k});
             }
-            std::map<std::uint32_t, std::vector<std::size_t>> adj;
-            for (std::size_t k = 0; k < sil.size(); ++k) {
-                adj[sil[k].first].push_back(k);
-                adj[sil[k].second].push_back(k);
-            }
+            std::sort(inc.begin(), inc.end());
+            auto incident = [&](std::uint32_t v) {
+                auto lo = std::lower_bound(inc.begin(), inc.end(), std::make_pair(v, 0u));
+                auto hi = std::upper_bound(inc.begin(), inc.end(), std::make_pair(v, ~0u));
+                return std::make_pair(lo, hi);
+            };
             std::vector<char> used(sil.size(), 0);
             auto extend = [&](std::vector<std::uint32_t>& chain) {
                 for (;;) {
                     const std::uint32_t v = chain.back();
-                    const auto& a = adj[v];
-                    if (a.size() != 2) return;
+                    const auto [lo, hi] = incident(v);
+                    if (hi - lo != 2) return;  // an end, or a junction of 3+ contour edges
                     std::size_t next = sil.size();
-                    for (std::size_t k : a)
-                        if (!used[k]) next = std::min(next, k);
+                    for (auto it = lo; it != hi; ++it)
+                        if (!used[it->second]) next = std::min<std::size_t>(next, it->second);
                     if (next == sil.size()) return;
                     used[next] = 1;
                     chain.push_back(sil[next].first == v ? sil[next].second : sil[next].first);
