@@ -9,6 +9,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/hash.h"
 #include "raster/vertex.h"
 #include "stylize/kernels.h"
 
@@ -18,15 +19,7 @@ namespace {
 
 constexpr int kTile = 64;
 
-// Integer hash (lowbias32), for seeded choices keyed by particle index, never by thread.
-inline std::uint32_t hash32(std::uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
+// Seeded choices are keyed by particle index through core/hash.h's hash32, never by thread.
 inline float unit01(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
 
 // A uniformly distributed unit vector from two hashes (z uniform in [-1, 1], angle uniform).

@@ -19,23 +19,6 @@ glm::vec3 normalize3(glm::vec3 v) {
     return l2 > 0.0f ? v * (1.0f / std::sqrt(l2)) : v;
 }
 
-struct Buffers {
-    std::vector<GLuint> ids;
-    ~Buffers() {
-        if (!ids.empty()) gl::DeleteBuffers(GLsizei(ids.size()), ids.data());
-    }
-    template <class T>
-    void attrib(GLuint loc, const std::vector<T>& data, int comps) {
-        GLuint b = 0;
-        gl::GenBuffers(1, &b);
-        ids.push_back(b);
-        gl::BindBuffer(GL_ARRAY_BUFFER, b);
-        gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
-        gl::EnableVertexAttribArray(loc);
-        gl::VertexAttribPointer(loc, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
-    }
-};
-
 struct Samplers {
     std::vector<GLuint> ids;
     ~Samplers() {
@@ -168,7 +151,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
             if (n == 0 || p.indices.empty()) continue;
             const scene::Material& m =
                 p.material >= 0 && p.material < int(sc.materials.size()) ? sc.materials[p.material] : default_material;
-            Buffers b;
+            VertexBuffers b;
             b.attrib(0, p.positions, 3);
             b.attrib(1, p.normals.size() == n ? p.normals : std::vector<glm::vec3>(n, glm::vec3(0, 0, 1)), 3);
             const bool has_tan = p.tangents.size() == n && m.normal_texture.texture >= 0;

@@ -138,6 +138,20 @@ Texture& Texture::operator=(Texture&& o) noexcept {
     return *this;
 }
 
+VertexBuffers::~VertexBuffers() {
+    if (!ids.empty()) gl::DeleteBuffers(GLsizei(ids.size()), ids.data());
+}
+
+void VertexBuffers::attrib_floats(unsigned location, const void* data, std::size_t bytes, int components) {
+    GLuint b = 0;
+    gl::GenBuffers(1, &b);
+    ids.push_back(b);
+    gl::BindBuffer(GL_ARRAY_BUFFER, b);
+    gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
+    gl::EnableVertexAttribArray(location);
+    gl::VertexAttribPointer(location, components, GL_FLOAT, GL_FALSE, 0, nullptr);
+}
+
 ImageF read_texture(const Texture& t) {
     Fbo& f = fbo_state();
     gl::BindFramebuffer(GL_FRAMEBUFFER, f.fbo);

@@ -77,6 +77,22 @@ Texture run_pass_texture(const Pass& pass);
 //! run_pass_texture + read_texture.
 ImageF run_pass(const Pass& pass);
 
+//! Vertex attribute buffers of one draw (RAII): attrib(location, data, components) uploads a float
+//! array and points the attribute at it; the buffers are deleted with the object. `ids` also
+//! takes other buffers of the draw (an element buffer) to delete them together.
+struct VertexBuffers {
+    std::vector<unsigned> ids;
+    VertexBuffers() = default;
+    VertexBuffers(const VertexBuffers&) = delete;
+    VertexBuffers& operator=(const VertexBuffers&) = delete;
+    ~VertexBuffers();
+    void attrib_floats(unsigned location, const void* data, std::size_t bytes, int components);
+    template <class T>
+    void attrib(unsigned location, const std::vector<T>& data, int components) {
+        attrib_floats(location, data.data(), data.size() * sizeof(T), components);
+    }
+};
+
 //! Compiles (cached) a program from a vertex and a fragment source; returns the GL name.
 unsigned program(const std::string& vertex, const std::string& fragment, const std::string& what);
 //! Sets a uniform on the currently bound program, if it is active.

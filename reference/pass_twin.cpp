@@ -12,23 +12,6 @@ namespace aq::ref {
 
 namespace {
 
-struct Buffers {
-    std::vector<GLuint> ids;
-    ~Buffers() {
-        if (!ids.empty()) gl::DeleteBuffers(GLsizei(ids.size()), ids.data());
-    }
-    template <class T>
-    void attrib(GLuint loc, const std::vector<T>& data, int comps) {
-        GLuint b = 0;
-        gl::GenBuffers(1, &b);
-        ids.push_back(b);
-        gl::BindBuffer(GL_ARRAY_BUFFER, b);
-        gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
-        gl::EnableVertexAttribArray(loc);
-        gl::VertexAttribPointer(loc, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
-    }
-};
-
 GLuint linear_sampler(GLint wrap) {
     GLuint id = 0;
     gl::GenSamplers(1, &id);
@@ -37,6 +20,15 @@ GLuint linear_sampler(GLint wrap) {
     gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap);
     gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap);
     return id;
+}
+
+//! A twin's fragment shader with ld06_common.glsl in place of its `#include_ld06_common` line.
+std::string ld06_fragment(const std::string& file) {
+    std::string src = load_shader_file(file);
+    const std::string mark = "#include_ld06_common";
+    const auto at = src.find(mark);
+    if (at == std::string::npos) throw Error("reference shader " + file + ": no " + mark + " line");
+    return src.replace(at, mark.size(), load_shader_file("ld06_common.glsl"));
 }
 
 }  // namespace
@@ -87,7 +79,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
     gl::FrontFace(GL_CW);  // the y flip mirrors the winding (as the G-buffer twin)
     gl::Disable(GL_CULL_FACE);
 
-    const GLuint prog = program(load_shader_file("pass.vert.glsl"), load_shader_file("pass.frag.glsl"), "raster pass twin");
+    const GLuint prog = program(load_shader_file("pass.vert.glsl"), ld06_fragment("pass.frag.glsl"), "raster pass twin");
     gl::UseProgram(prog);
     gl::GenVertexArrays(1, &vao);
     gl::BindVertexArray(vao);
@@ -142,7 +134,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
             if (n == 0 || prim.indices.size() < 3) continue;
             const scene::Material m =
                 prim.material >= 0 && prim.material < int(sc.materials.size()) ? sc.materials[std::size_t(prim.material)] : scene::Material{};
-            Buffers b;
+            VertexBuffers b;
             b.attrib(0, prim.positions, 3);
             b.attrib(1, prim.normals.size() == n ? prim.normals : std::vector<glm::vec3>(n, glm::vec3(0, 0, 1)), 3);
             const bool has_uv = prim.uv0.size() == n;
@@ -227,7 +219,7 @@ std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std
     gl::Enable(GL_BLEND);
     gl::BlendFunc(GL_ONE, GL_ONE);
     gl::Enable(GL_PROGRAM_POINT_SIZE);
-    const GLuint prog = program(load_shader_file("particles.vert.glsl"), load_shader_file("particles.frag.glsl"), "particle twin");
+    const GLuint prog = program(load_shader_file("particles.vert.glsl"), ld06_fragment("particles.frag.glsl"), "particle twin");
     gl::UseProgram(prog);
     gl::GenVertexArrays(1, &vao);
     gl::BindVertexArray(vao);
@@ -255,7 +247,7 @@ std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std
         cls.push_back(float(q.cls));
     }
     {
-        Buffers b;
+        VertexBuffers b;
         b.attrib(0, pos, 3);
         b.attrib(1, cls, 1);
         if (!pos.empty()) gl::DrawArrays(GL_POINTS, 0, GLsizei(pos.size()));

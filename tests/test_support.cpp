@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/image.h"
+
 namespace aq::test {
 namespace fs = std::filesystem;
 
@@ -74,5 +76,14 @@ std::string output_dir() {
 }
 
 std::string source_dir() { return AQ_SOURCE_DIR; }
+
+std::string error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const aq::Error& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
 
 }  // namespace aq::test

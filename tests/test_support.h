@@ -1,6 +1,8 @@
-// tests/test_support.h — paths to shared assets and each test's own output folder.
+// tests/test_support.h — paths to shared assets and each test's own output folder; the message of
+// an expected aq::Error.
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace aq::test {
@@ -17,5 +19,7 @@ std::string asset(const std::string& rel);
 std::string output_dir();
 //! Source tree root (for scenes/data, stylize/presets, ...).
 std::string source_dir();
+//! The message of the aq::Error that f throws, or "(no error)".
+std::string error_of(const std::function<void()>& f);
 
 }  // namespace aq::test

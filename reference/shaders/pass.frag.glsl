@@ -5,6 +5,7 @@
 // is GL's: replace (none), add (ONE, ONE; clamped on readback: every contribution is >= 0, so the
 // clamped sum equals the sequential clamp of eq. 12), over (ONE, ONE_MINUS_SRC_ALPHA).
 #version 450 core
+#include_ld06_common
 in vec3 v_view_pos;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -32,14 +33,7 @@ uniform float u_alpha_cutoff, u_base_alpha;
 uniform bool u_has_base_tex;
 uniform sampler2D s_base;
 
-float ld06_step(float l, float u, float v) { return u > l ? smoothstep(l, u, v) : (v >= l ? 1.0 : 0.0); }
-float visibility(float D, float fd, float delta, float beta) { return ld06_step(-delta, delta, (D - fd) + beta); }
-float rgba8(float d) {
-    d = clamp(d, 0.0, 1.0);
-    float s = 0.0;
-    for (int k = 0; k < 4; ++k) s += round(clamp(4.0 * d - float(k), 0.0, 1.0) * 255.0) / 255.0;
-    return s / 4.0;
-}
+// ld06_step, visibility, rgba8: ld06_common.glsl
 
 void main() {
     if (u_alpha_mask) {

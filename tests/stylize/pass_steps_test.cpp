@@ -9,18 +9,12 @@
 
 #include "core/hash.h"
 #include "stylize/pipeline.h"
+#include "tests/test_support.h"
 
 namespace aq::stylize {
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::error_of;
 
 // Depth from the light, blurred; the camera's shadow intensity from it (LD06 §3.3).
 const char* kShadowPipeline = R"({

@@ -17,14 +17,7 @@
 namespace aq::stylize {
 namespace {
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::error_of;
 
 #define EXPECT_ERROR_MENTIONS(stmt, ...)                                                  \
     do {                                                                                  \
