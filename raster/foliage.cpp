@@ -10,7 +10,7 @@ namespace {
 // The materials kept in the passes' scene lose their textures (the passes read a texture only
 // for the alpha test of masked materials; a masked material keeps its texture).
 scene::Material pass_material(const scene::Material& m) {
-    scene::Material out = m;
+    scene::Material out = m;  // the intensity texture (LD06 §4.3) is kept: a pass reads it
     if (m.alpha_mode != scene::AlphaMode::Mask) {
         out.base_color_texture = {};
         out.normal_texture = {};
@@ -30,9 +30,9 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     bool keeps_masked = false;
     for (const scene::Material& m : sc.materials) {
         dst.materials.push_back(pass_material(m));
-        keeps_masked = keeps_masked || m.alpha_mode == scene::AlphaMode::Mask;
+        keeps_masked = keeps_masked || m.alpha_mode == scene::AlphaMode::Mask || m.intensity_texture.texture >= 0;
     }
-    if (keeps_masked) dst.textures = sc.textures;  // alpha tests need them
+    if (keeps_masked) dst.textures = sc.textures;  // alpha tests and intensity textures need them
     dst.cameras = sc.cameras;
     dst.lights = sc.lights;
     dst.ambient = sc.ambient;

@@ -9,12 +9,6 @@ namespace {
 constexpr float kMinDiluteArea = 0.01f;  // WC17: dA in (0, 1]
 inline float clamp1(float v) { return std::min(std::max(v, -1.0f), 1.0f); }
 
-const scene::Texture* texture_of(const ShadeContext& ctx, const scene::TextureRef& r) {
-    if (r.texture < 0 || !ctx.scene || r.texture >= int(ctx.scene->textures.size())) return nullptr;
-    const scene::Texture& t = ctx.scene->textures[r.texture];
-    return t.image.empty() ? nullptr : &t;
-}
-
 inline glm::vec4 texel(const ImageF& img, int x, int y) {
     const float* p = img.data() + (std::size_t(y) * img.width() + x) * img.channels();
     switch (img.channels()) {
@@ -31,6 +25,13 @@ inline float safe_coord(float x) {
     return std::min(std::max(x, -1.0e7f), 1.0e7f);
 }
 }  // namespace
+
+const scene::Texture* texture_of(const ShadeContext& ctx, const scene::TextureRef& r) {
+    if (r.texture < 0 || !ctx.scene || r.texture >= int(ctx.scene->textures.size())) return nullptr;
+    const scene::Texture& t = ctx.scene->textures[r.texture];
+    return t.image.empty() ? nullptr : &t;
+}
+
 
 glm::vec3 base_color_to_working(glm::vec3 C, bool linear_color, WorkingSpace ws) {
     if (linear_color && ws == WorkingSpace::Display)

@@ -64,6 +64,10 @@ inline float wc17_turbulence_ctrl(float pigment_density) { return 0.5f - 0.5f * 
 
 // ---- Textures ---------------------------------------------------------------------------------
 
+struct ShadeContext;
+//! The scene texture a reference names, or null (no texture, index out of range, empty image).
+const scene::Texture* texture_of(const ShadeContext& ctx, const scene::TextureRef& r);
+
 //! Integer texel coordinate with a glTF/GL wrap mode (MIRRORED_REPEAT mirrors with edge repeat,
 //! period 2n).
 int wrap_texel(int i, int n, scene::Wrap w);

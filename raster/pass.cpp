@@ -174,6 +174,14 @@ inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk&
             const float delta = p.shadow_test == DepthTest::Binary ? 0.0f : p.shadow_delta;
             return 1.0f - blurred_visibility(D, ls.depth, delta, p.shadow_beta);
         }
+        case PassValue::IntensityTexture: {
+            const scene::Material& m = *fr.draws[t.draw].mat;
+            const scene::Texture* tex = texture_of(fr.ctx, m.intensity_texture);
+            if (!tex) return 0.0f;
+            const FragmentInput in = interpolate(fr, ch, t, b);
+            if (!in.has_uv) return 0.0f;
+            return sample_texture(tex->image, m.intensity_texture.sampler, in.uv)[p.channel];
+        }
     }
     return 0.0f;
 }
@@ -217,6 +225,7 @@ void check_pass(const TrianglePass& p) {
     if (!finite_in(p.alpha, 0, 1)) throw Error("raster pass: alpha must be in [0, 1]");
     if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
         throw Error("raster pass: the blurred depth test needs a 1-channel depth map");
+    if (p.channel < 0 || p.channel > 2) throw Error("raster pass: channel must be 0, 1 or 2");
     if (p.value == PassValue::Shadow && (!p.shadow_map || p.shadow_map->empty() || p.shadow_map->channels() != 1))
         throw Error("raster pass: the shadow value needs a 1-channel light-view depth map");
 }

@@ -49,7 +49,9 @@ enum class DrawSet { All = 0, Foliage = 1, NonFoliage = 2 };
 //! What a fragment writes. Depth: its normalised linear depth (0 near, 1 far; the pass view's
 //! range). Lighting: (1 + n·l) / 2, Gooch's t (ld06.md §3). Coverage: 1 (an intensity mask).
 //! Shadow: 1 − f_s, the shadow intensity of eq. 5 from a blurred light-view depth map.
-enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3 };
+//! IntensityTexture: channel `channel` of the material's intensity texture (LD06 §4.3) at the
+//! fragment's TEXCOORD_0; 0 for materials without one (they still occlude).
+enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, IntensityTexture = 4 };
 
 struct Stroke;  // raster/strokes.h
 
@@ -104,6 +106,7 @@ struct TrianglePass {
     float beta = 0.0f;              //!< β of eq. 2, [-1, 1]
     Blend blend = Blend::Replace;
     float alpha = 1.0f;             //!< fragment alpha for Blend::Over, [0, 1]
+    int channel = 0;                //!< IntensityTexture: 0 = R, 1 = G, 2 = B
     const ImageF* depth_map = nullptr;   //!< Blurred tests: the (blurred) depth of this view, 1 channel
     //! Shadow value: the blurred light-view depth map (1 channel) and its test.
     const ImageF* shadow_map = nullptr;

@@ -22,6 +22,21 @@ GLuint linear_sampler(GLint wrap) {
     return id;
 }
 
+//! A GL sampler with a scene sampler's filter and wrap modes (no mipmaps, as raster/material.h).
+GLuint scene_sampler(const scene::Sampler& s) {
+    auto wrap = [](scene::Wrap w) {
+        return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
+    };
+    const GLint f = s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR;
+    GLuint id = 0;
+    gl::GenSamplers(1, &id);
+    gl::SamplerParameteri(id, GL_TEXTURE_MIN_FILTER, f);
+    gl::SamplerParameteri(id, GL_TEXTURE_MAG_FILTER, f);
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
+    return id;
+}
+
 //! A twin's fragment shader with ld06_common.glsl in place of its `#include_ld06_common` line.
 std::string ld06_fragment(const std::string& file) {
     std::string src = load_shader_file(file);
@@ -119,6 +134,8 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
         set_uniform(prog, "u_shadow_beta", p.shadow_beta);
     }
     set_uniform(prog, "s_base", 0);
+    set_uniform(prog, "s_intensity", 3);
+    set_uniform(prog, "u_channel", p.channel);
     std::vector<Texture> tex(sc.textures.size());
 
     for (const scene::Instance& inst : sc.instances) {
@@ -152,21 +169,20 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
                 gl::ActiveTexture(GL_TEXTURE0);  // before the upload: it binds to the active unit
                 if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].image);
                 gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ti)].id());
-                const scene::Sampler& s = m.base_color_texture.sampler;
-                auto wrap = [](scene::Wrap w) {
-                    return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
-                };
-                GLuint smp = 0;
-                gl::GenSamplers(1, &smp);
-                samplers.push_back(smp);
-                const GLint f = s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR;
-                gl::SamplerParameteri(smp, GL_TEXTURE_MIN_FILTER, f);
-                gl::SamplerParameteri(smp, GL_TEXTURE_MAG_FILTER, f);
-                gl::SamplerParameteri(smp, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
-                gl::SamplerParameteri(smp, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
-                gl::BindSampler(0, smp);
+                samplers.push_back(scene_sampler(m.base_color_texture.sampler));
+                gl::BindSampler(0, samplers.back());
                 has_tex = true;
             }
+            const int ii = m.intensity_texture.texture;
+            const bool has_intensity = has_uv && ii >= 0 && ii < int(tex.size()) && !sc.textures[std::size_t(ii)].image.empty();
+            if (has_intensity) {
+                gl::ActiveTexture(GL_TEXTURE3);
+                if (!tex[std::size_t(ii)].valid()) tex[std::size_t(ii)] = Texture::upload(sc.textures[std::size_t(ii)].image);
+                gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ii)].id());
+                samplers.push_back(scene_sampler(m.intensity_texture.sampler));
+                gl::BindSampler(3, samplers.back());
+            }
+            set_uniform(prog, "u_has_intensity", has_intensity);
             set_uniform(prog, "u_alpha_mask", mask);
             set_uniform(prog, "u_alpha_cutoff", m.alpha_cutoff);
             set_uniform(prog, "u_base_alpha", m.base_color.a);
@@ -183,7 +199,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
     gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
     gl::DeleteFramebuffers(1, &fbo);
     gl::DeleteRenderbuffers(1, &depth_rb);
-    for (int u = 0; u < 3; ++u) gl::BindSampler(GLuint(u), 0);
+    for (int u = 0; u < 4; ++u) gl::BindSampler(GLuint(u), 0);
     gl::DeleteSamplers(GLsizei(samplers.size()), samplers.data());
 
     const ImageF rgba = read_texture(target);

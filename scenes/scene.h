@@ -105,6 +105,10 @@ struct Material {
     //! colours): base_color and COLOR_0 are display-referred sRGB values, used as given.
     bool linear_color = false;
     WatercolorMaterial wc;
+    //! LD06 §4.3 intensity texture (scene files: materials.NAME.intensity_texture): up to three
+    //! hand-made detail maps in R, G, B, sampled with TEXCOORD_0 and rendered by the raster pass
+    //! "intensity_texture" into three layer maps; values as stored (no colour decoding).
+    TextureRef intensity_texture;
 };
 
 //! One draw: an indexed triangle list with a material.

@@ -553,8 +553,19 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         if (!m.is_object()) ctx.bad("materials", "expected an object keyed by material name, index or \"*\"");
         for (auto it = m.begin(); it != m.end(); ++it) {
             const std::string k = "materials." + it.key();
-            for (int mi : match_materials(ctx, d.scene, it.key(), k))
-                detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".");
+            int intensity = -1;  // LD06 §4.3: one texture, shared by the matched materials
+            if (it.value().is_object() && it.value().contains("intensity_texture")) {
+                Texture t;
+                t.name = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
+                t.image = read_texture_file(t.name);
+                d.scene.textures.push_back(std::move(t));
+                intensity = int(d.scene.textures.size()) - 1;
+            }
+            for (int mi : match_materials(ctx, d.scene, it.key(), k)) {
+                detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".",
+                                            {"intensity_texture"});
+                if (intensity >= 0) d.scene.materials[std::size_t(mi)].intensity_texture.texture = intensity;
+            }
         }
     }
 

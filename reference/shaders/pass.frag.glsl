@@ -12,7 +12,7 @@ in vec2 v_uv;
 in vec4 v_color;
 out vec4 o_color;
 
-uniform int u_value;        // 0 depth, 1 lighting, 2 coverage, 3 shadow
+uniform int u_value;        // 0 depth, 1 lighting, 2 coverage, 3 shadow, 4 intensity texture
 uniform int u_test;         // 0 binary, 1 blurred, 2 blurred_rgba8
 uniform int u_blend;        // 0 replace, 1 add, 2 over
 uniform float u_delta, u_beta, u_alpha;
@@ -32,6 +32,10 @@ uniform bool u_alpha_mask;
 uniform float u_alpha_cutoff, u_base_alpha;
 uniform bool u_has_base_tex;
 uniform sampler2D s_base;
+// LD06 §4.3 intensity texture of the material (channel u_channel), 0 without one.
+uniform bool u_has_intensity;
+uniform int u_channel;
+uniform sampler2D s_intensity;
 
 // ld06_step, visibility, rgba8: ld06_common.glsl
 
@@ -64,6 +68,8 @@ void main() {
         float D = texture(s_shadow, uv).r;
         if (u_shadow_test == 2) D = rgba8(D);
         v = 1.0 - visibility(D, ld, u_shadow_test == 0 ? 0.0 : u_shadow_delta, u_shadow_beta);
+    } else if (u_value == 4) {
+        v = u_has_intensity ? texture(s_intensity, v_uv)[u_channel] : 0.0;
     }
     if (u_blend == 2) {
         float a = fv * u_alpha;

@@ -183,6 +183,32 @@ void register_triangle_passes(Registry& r) {
         v.reference = StageVariant::Reference::SharedMaths;
         r.add(std::move(v));
     }
+    {
+        static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
+            .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
+        StageVariant v;
+        v.stage = "intensity_texture";
+        v.variant = "rgb";
+        v.doc = "LD06 §4.3: the R, G, B detail maps of the materials' intensity textures (TEXCOORD_0) on the "
+                "front-most surface (binary depth test; materials without one write 0 and occlude)";
+        v.outputs = {{"r", "ld06.detail.r", 1, false}, {"g", "ld06.detail.g", 1, false}, {"b", "ld06.detail.b", 1, false}};
+        v.params = t.descs();
+        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = PassValue::IntensityTexture;
+            for (int c = 0; c < 3; ++c) {
+                p.channel = c;
+                raster::render_triangle_pass(*io.out[std::size_t(c)], scene_of(io), p, ex,
+                                             io.globals ? io.globals->warnings : nullptr);
+            }
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
 }
 
 }  // namespace aq::stylize

@@ -220,6 +220,56 @@ TEST(RasterPass, LightingMapIsHalfLambertOfTheLight) {
     }
 }
 
+TEST(RasterPass, IntensityTextureChannelsAreSampledOnTheFrontMostSurface) {
+    // A quad with UVs over the view carrying a 2 x 2 intensity texture (nearest), and a smaller
+    // quad in front without one: it occludes and writes 0 (LD06 §4.3).
+    const scene::Camera cam = test::look_at({0.0f, 3.0f, 0.01f}, {0, 0, 0});
+    scene::Scene sc = with_up_normals({quad_y(0.0f, 1.0f), quad_y(0.5f, 0.2f)});
+    sc.meshes[0].primitives[0].uv0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};
+    scene::Material textured = sc.materials[0];
+    ImageF img(2, 2, 3);
+    const float texels[2][2][3] = {{{0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f}}, {{0.7f, 0.8f, 0.9f}, {0.15f, 0.25f, 0.35f}}};
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = texels[y][x][c];
+    sc.textures.push_back({"intensity", img, false});
+    textured.intensity_texture.texture = 0;
+    textured.intensity_texture.sampler.mag = scene::Filter::Nearest;
+    sc.materials.push_back(textured);
+    sc.meshes[0].primitives[0].material = 1;
+    const PassScene ps = make_pass_scene(sc, cam, 48, 48);
+    ImageF ch[3];
+    for (int c = 0; c < 3; ++c) {
+        TrianglePass p;
+        p.value = PassValue::IntensityTexture;
+        p.channel = c;
+        render_triangle_pass(ch[c], ps, p, Exec::fast(2));
+        ImageF ref;
+        render_triangle_pass(ref, ps, p, Exec::reference());
+        EXPECT_EQ(sha256_hex(ref), sha256_hex(ch[c])) << "channel " << c;
+    }
+    // Each texel's quadrant of the quad shows that texel's channel values, and the occluder 0.
+    int seen = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const float r = ch[0].at(x, y, 0);
+            if (r == 0.0f) continue;
+            bool found = false;
+            for (const auto& row : texels)
+                for (const auto& t : row)
+                    found = found || (r == t[0] && ch[1].at(x, y, 0) == t[1] && ch[2].at(x, y, 0) == t[2]);
+            EXPECT_TRUE(found) << x << "," << y;
+            ++seen;
+        }
+    EXPECT_GT(seen, 48 * 48 / 3);
+    EXPECT_EQ(ch[0].at(24, 24, 0), 0.0f) << "the occluder has no intensity texture";
+    TrianglePass bad;
+    bad.value = PassValue::IntensityTexture;
+    bad.channel = 3;
+    ImageF out;
+    EXPECT_THROW(render_triangle_pass(out, ps, bad), Error);
+}
+
 TEST(RasterPass, ViewsAndScales) {
     const scene::Scene sc = with_up_normals({quad_y(0.0f, 1.0f), quad_y(1.0f, 0.5f)});
     const scene::Camera cam = test::look_at({0.0f, 4.0f, 4.5f}, {0, 0, 0});

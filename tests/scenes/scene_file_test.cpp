@@ -420,4 +420,20 @@ TEST(SceneFile, FoliageNamesThatMatchNothingAreErrors) {
                  "foliage.T");
 }
 
+TEST(SceneFile, MaterialsNameAnIntensityTexture) {
+    const std::string tex = fs::absolute(aq::test::asset("paper/mnpr/rough_default_2k.jpg")).string();
+    const SceneDesc d = load_scene(write_scene("intensity.json", R"({"gltf": ")" + box_path() +
+                                                                     R"(", "materials": {"*": {"intensity_texture": ")" + tex + R"("}}})"));
+    bool any = false;
+    for (const Material& m : d.scene.materials) {
+        ASSERT_GE(m.intensity_texture.texture, 0);
+        EXPECT_FALSE(d.scene.textures[std::size_t(m.intensity_texture.texture)].image.empty());
+        any = true;
+    }
+    EXPECT_TRUE(any);
+    expect_error(write_scene("intensity_missing.json", R"({"gltf": ")" + box_path() +
+                                                           R"(", "materials": {"*": {"intensity_texture": "nope.png"}}})"),
+                 "materials.*.intensity_texture");
+}
+
 }  // namespace aq::scene
