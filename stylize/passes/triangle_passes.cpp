@@ -46,6 +46,14 @@ struct LightingTable {
     int draw = 0;
     float scale = 1.0f;
 };
+//! The parameters of the camera passes that only choose what to draw and at which size.
+const ParamTable<LightingTable>& draw_scale_table() {
+    static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
+        .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
+        .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
+    return t;
+}
+
 struct ShadowTable {
     int draw = 0;
     float scale = 1.0f;
@@ -98,9 +106,7 @@ void register_triangle_passes(Registry& r) {
         r.add(std::move(v));
     }
     {
-        static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
-            .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
-            .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
+        static const ParamTable<LightingTable>& t = draw_scale_table();
         StageVariant v;
         v.stage = "lighting";
         v.variant = "gooch";
@@ -184,9 +190,7 @@ void register_triangle_passes(Registry& r) {
         r.add(std::move(v));
     }
     {
-        static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
-            .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
-            .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
+        static const ParamTable<LightingTable>& t = draw_scale_table();
         StageVariant v;
         v.stage = "intensity_texture";
         v.variant = "rgb";
