@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/hash.h"
 #include "scenes/noise.h"
 
 namespace aq::scene {
@@ -212,7 +213,7 @@ Scene make_single_mesh_scene(Primitive prim, const Material& material) {
     return s;
 }
 
-std::vector<std::string> procedural_names() { return {"swatches"}; }
+std::vector<std::string> procedural_names() { return {"swatches", "tree"}; }
 
 namespace {
 
@@ -359,10 +360,136 @@ Scene make_swatches() {
     return s;
 }
 
+// ---- "tree": a procedural tree for LD06 (docs/ld06.md "Procedural tree") -------------------------
+
+// Recursive branching, every choice keyed by the branch index through hash32 (same tree every run).
+constexpr float kTreeTrunkLength = 9.0f, kTreeTrunkRadius = 0.55f;
+constexpr int kTreeDepth = 4, kTreeChildren = 3, kTreeLeavesPerBranch = 10, kTreeTubeSides = 8;
+constexpr float kTreeLengthRatio = 0.68f, kTreeRadiusRatio = 0.55f, kTreeLeafSize = 0.9f;
+
+float tree_rand(std::uint32_t id, std::uint32_t k) { return float(hash32(id * 0x9E3779B1u + k) >> 8) / 16777216.0f; }
+
+glm::vec3 any_perpendicular(glm::vec3 d) {
+    const glm::vec3 a = std::abs(d.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    return glm::normalize(glm::cross(d, a));
+}
+
+// An open tapered tube from a (radius ra) to b (radius rb), normals radial.
+void add_tube(Primitive& p, glm::vec3 a, glm::vec3 b, float ra, float rb) {
+    const glm::vec3 d = glm::normalize(b - a);
+    const glm::vec3 u = any_perpendicular(d), v = glm::cross(d, u);
+    const std::uint32_t base = std::uint32_t(p.positions.size());
+    for (int i = 0; i <= kTreeTubeSides; ++i) {
+        const float ang = 2.0f * kPi * float(i % kTreeTubeSides) / float(kTreeTubeSides);
+        const glm::vec3 n = u * std::cos(ang) + v * std::sin(ang);
+        p.positions.push_back(a + n * ra);
+        p.normals.push_back(n);
+        p.uv0.push_back({float(i) / float(kTreeTubeSides), 0.0f});
+        p.positions.push_back(b + n * rb);
+        p.normals.push_back(n);
+        p.uv0.push_back({float(i) / float(kTreeTubeSides), 1.0f});
+    }
+    for (int i = 0; i < kTreeTubeSides; ++i) {
+        const std::uint32_t k = base + std::uint32_t(2 * i);
+        add_quad(p, k, k + 2, k + 3, k + 1);
+    }
+}
+
+// Two crossed quads centred at c (like the shared ez-tree leaves), facing directions from the seed.
+void add_leaf(Primitive& p, glm::vec3 c, std::uint32_t id) {
+    const glm::vec3 n = glm::normalize(glm::vec3(tree_rand(id, 1) - 0.5f, tree_rand(id, 2) * 0.8f + 0.2f, tree_rand(id, 3) - 0.5f));
+    const glm::vec3 u = any_perpendicular(n), w = glm::cross(n, u);
+    const float h = 0.5f * kTreeLeafSize;
+    for (const auto& [a, b] : {std::pair{u, w}, std::pair{u, n}}) {
+        const glm::vec3 nn = glm::normalize(glm::cross(a, b));
+        const std::uint32_t k = std::uint32_t(p.positions.size());
+        for (const glm::vec2 q : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+            p.positions.push_back(c + (a * q.x + b * q.y) * h);
+            p.normals.push_back(nn);
+            p.uv0.push_back((q + 1.0f) * 0.5f);
+        }
+        add_quad(p, k, k + 1, k + 2, k + 3);
+    }
+}
+
+struct TreeBranch {
+    glm::vec3 base, dir;
+    float length, radius;
+    int depth;
+    std::uint32_t id;
+};
+
+Scene make_tree() {
+    Primitive bark, leaves;
+    std::vector<TreeBranch> todo = {{{0, 0, 0}, {0, 1, 0}, kTreeTrunkLength, kTreeTrunkRadius, 0, 1}};
+    std::uint32_t next_id = 2;
+    for (std::size_t i = 0; i < todo.size(); ++i) {  // breadth first: a fixed order
+        const TreeBranch br = todo[i];
+        const glm::vec3 tip = br.base + br.dir * br.length;
+        add_tube(bark, br.base, tip, br.radius, br.radius * kTreeRadiusRatio);
+        if (br.depth >= kTreeDepth - 1)
+            for (int k = 0; k < kTreeLeavesPerBranch; ++k) {
+                const std::uint32_t lid = br.id * 64u + std::uint32_t(k);
+                const glm::vec3 jitter = glm::vec3(tree_rand(lid, 4), tree_rand(lid, 5), tree_rand(lid, 6)) - 0.5f;
+                add_leaf(leaves, br.base + br.dir * (br.length * (0.3f + 0.7f * tree_rand(lid, 7))) + jitter * 1.2f, lid);
+            }
+        if (br.depth == kTreeDepth) continue;
+        const glm::vec3 u = any_perpendicular(br.dir), v = glm::cross(br.dir, u);
+        for (int c = 0; c < kTreeChildren; ++c) {
+            const float az = 2.0f * kPi * (float(c) + 0.4f * tree_rand(br.id, 10u + std::uint32_t(c))) / float(kTreeChildren);
+            const float tilt = 0.45f + 0.35f * tree_rand(br.id, 20u + std::uint32_t(c));
+            const glm::vec3 side = u * std::cos(az) + v * std::sin(az);
+            glm::vec3 dir = glm::normalize(br.dir * std::cos(tilt) + side * std::sin(tilt));
+            dir = glm::normalize(dir + glm::vec3(0, 0.25f, 0));  // branches reach up
+            const float at = 0.55f + 0.4f * tree_rand(br.id, 30u + std::uint32_t(c));
+            todo.push_back({br.base + br.dir * (br.length * at), dir, br.length * kTreeLengthRatio,
+                            br.radius * kTreeRadiusRatio * (1.2f - 0.4f * at), br.depth + 1, next_id++});
+        }
+    }
+    Scene s;
+    Material bark_m;
+    bark_m.name = "bark";
+    bark_m.base_color = {0.38f, 0.27f, 0.18f, 1.0f};
+    Material leaf_m;
+    leaf_m.name = "leaves";
+    leaf_m.base_color = {0.32f, 0.55f, 0.22f, 1.0f};
+    leaf_m.double_sided = true;
+    s.materials = {bark_m, leaf_m};
+    bark.material = 0;
+    leaves.material = 1;
+    for (auto [prim, name] : {std::pair{&bark, "trunk"}, std::pair{&leaves, "foliage"}}) {
+        Mesh m;
+        m.name = name;
+        m.primitives.push_back(std::move(*prim));
+        s.meshes.push_back(std::move(m));
+        Instance inst;
+        inst.mesh = int(s.meshes.size()) - 1;
+        inst.object_id = std::uint32_t(s.meshes.size());
+        inst.name = name;
+        s.instances.push_back(inst);
+    }
+    s.lights.push_back(default_key_light());
+    s.ambient = glm::vec3(0.05f);
+    const Bounds b = s.world_bounds();
+    const glm::vec3 c = 0.5f * (b.min + b.max);
+    const float r = 0.5f * glm::length(b.max - b.min);
+    Camera cam;
+    cam.name = "tree";
+    cam.yfov = 0.7f;
+    const float d = r / std::sin(0.35f) * 1.05f;
+    cam.view = glm::lookAt(c + glm::normalize(glm::vec3(0.3f, 0.15f, 1.0f)) * d, c, glm::vec3(0, 1, 0));
+    cam.znear = d - 1.1f * r;
+    cam.zfar = d + 1.1f * r;
+    s.cameras.push_back(cam);
+    s.source = "procedural:tree";
+    return s;
+}
+
 }  // namespace
 
 Scene make_procedural(const std::string& name) {
     if (name == "swatches") return make_swatches();
+    if (name == "tree") return make_tree();
     std::string known;
     for (const std::string& n : procedural_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown procedural scene '" + name + "' (known: " + known + ")");

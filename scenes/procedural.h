@@ -43,7 +43,9 @@ std::vector<std::string> procedural_names();
 //! Builds a named procedural scene (without the "procedural:" prefix). Throws aq::Error for an
 //! unknown name. "swatches": ground plane, spheres, box, torus and cylinder whose control values
 //! are painted visibly (gradients, patches, bands) so every watercolor effect has something to
-//! act on; includes a camera (Scene::cameras[0]) and two lights.
+//! act on; includes a camera (Scene::cameras[0]) and two lights. "tree": a branching tree about
+//! 20 units tall (trunk + 120 branches as tapered tubes, mesh "trunk"; 1,080 crossed leaf quads,
+//! mesh "foliage", material "leaves") for LD06, generated from a fixed seed (docs/ld06.md).
 Scene make_procedural(const std::string& name);
 
 }  // namespace aq::scene

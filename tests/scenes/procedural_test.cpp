@@ -167,6 +167,34 @@ TEST(Swatches, DeterministicAndPaintedForEveryEffect) {
     EXPECT_THROW(make_procedural("nope"), aq::Error);
 }
 
+// "procedural:tree" (LD06's test plant made by code): the same bytes every call, trunk and leaves
+// separable by the foliage rule, about the height of the paper's Fig. 8 tree (23.8), leaves around
+// the branch tips, every triangle and normal finite.
+TEST(ProceduralTree, DeterministicWithTrunkAndFoliage) {
+    const Scene a = make_procedural("tree"), b = make_procedural("tree");
+    ASSERT_EQ(a.meshes.size(), 2u);
+    for (std::size_t m = 0; m < a.meshes.size(); ++m) {
+        const Primitive& pa = a.meshes[m].primitives[0];
+        const Primitive& pb = b.meshes[m].primitives[0];
+        EXPECT_EQ(pa.positions, pb.positions);
+        EXPECT_EQ(pa.indices, pb.indices);
+        for (const glm::vec3& n : pa.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-4f);
+        for (std::uint32_t i : pa.indices) ASSERT_LT(i, pa.positions.size());
+    }
+    std::size_t foliage = 0, trunk = 0;
+    for (const Instance& inst : a.instances)
+        for (const Primitive& p : a.meshes[std::size_t(inst.mesh)].primitives)
+            (is_foliage(a, inst, p) ? foliage : trunk) += p.indices.size() / 3;
+    EXPECT_EQ(foliage, 1080u * 4u);  // 1,080 leaves of two crossed quads
+    EXPECT_EQ(trunk, 121u * 8u * 2u);  // 121 tubes of 8 sides
+    const Bounds bb = a.world_bounds();
+    EXPECT_GT(bb.max.y - bb.min.y, 15.0f);
+    EXPECT_LT(bb.max.y - bb.min.y, 32.0f);
+    ASSERT_EQ(a.cameras.size(), 1u);
+    const glm::vec4 c = a.cameras[0].view * glm::vec4(0.5f * (bb.min + bb.max), 1.0f);
+    EXPECT_LT(c.z, -a.cameras[0].znear) << "the camera looks at the tree";
+}
+
 TEST(Noise, DeterministicInRangeAndSeeded) {
     float lo = 1.0f, hi = -1.0f;
     int differs = 0;
