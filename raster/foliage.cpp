@@ -38,6 +38,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     dst.ambient = sc.ambient;
     dst.source = sc.source;
     dst.foliage = sc.foliage;
+    dst.strokes = sc.strokes;
     std::vector<glm::vec3> points;
     int foliage_material = -1;
     std::uint32_t next_id = 1;

@@ -46,6 +46,7 @@ PassScene make_pass_scene(const scene::Scene& sc, const scene::Camera& cam, int 
     ps.width = width;
     ps.height = height;
     ps.bounds = sc.world_bounds();
+    if (!sc.strokes.empty()) ps.strokes = &sc.strokes;
     if (!ps.bounds.valid) throw Error("raster pass: the scene has no finite geometry");
     glm::vec3 d;
     if (!sc.lights.empty()) {

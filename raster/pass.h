@@ -53,8 +53,6 @@ enum class DrawSet { All = 0, Foliage = 1, NonFoliage = 2 };
 //! fragment's TEXCOORD_0; 0 for materials without one (they still occlude).
 enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, IntensityTexture = 4 };
 
-struct Stroke;  // raster/strokes.h
-
 //! The scene as every pass of one frame sees it.
 struct PassScene {
     const scene::Scene* scene = nullptr;
@@ -68,7 +66,7 @@ struct PassScene {
     float plant_height = 0;
     //! Hand-made strokes of the scene (LD06 §4.4; raster/strokes.h), drawn before the automatic
     //! contours; null = none.
-    const std::vector<Stroke>* strokes = nullptr;
+    const std::vector<scene::Stroke>* strokes = nullptr;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.

@@ -24,11 +24,8 @@ inline constexpr float kMaxStrokeWidthPx = 64.0f;
 //! Stroke widths are given in pixels at a 720-pixel-wide raster (LD06's output) and scaled.
 inline constexpr int kLd06SizeReferenceStrokes = 720;
 
-struct Stroke {
-    std::vector<glm::vec3> points;   //!< world space, >= 2
-    std::vector<glm::vec3> normals;  //!< per point, the associated surface's normal; empty = no n·v fade
-    bool light_dependent = false;    //!< hatching: also faded by n·l
-};
+//! A stroke is the scene's (scenes/scene.h): points, optional normals, hatching flag.
+using Stroke = scene::Stroke;
 
 struct StrokeParams {
     float width_px = 2.0f;      //!< line width in pixels at 720 px (scaled with the raster width), (0, 64]

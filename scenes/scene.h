@@ -171,6 +171,15 @@ struct FoliageSelection {
     std::vector<std::string> nodes, meshes, materials;
 };
 
+//! LD06 §4.4 hand-made line stroke (scene files: "strokes"): a 3D polyline in world space, the
+//! normals of the surface it belongs to (optional: n·v fade) and whether it is a hatching stroke
+//! (faded by n·l). Drawn by the raster pass "strokes" (raster/strokes.h), in file order.
+struct Stroke {
+    std::vector<glm::vec3> points;   //!< world space, >= 2
+    std::vector<glm::vec3> normals;  //!< per point, or empty
+    bool light_dependent = false;    //!< hatching
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
@@ -182,6 +191,7 @@ struct Scene {
     std::vector<std::string> warnings;  //!< non-fatal problems met while loading
     std::string source;                 //!< file it came from, for messages
     FoliageSelection foliage;           //!< LD06 foliage chosen by the scene file (see is_foliage)
+    std::vector<Stroke> strokes;        //!< LD06 hand-made strokes (scene files)
 
     Bounds world_bounds() const;  //!< over finite positions of all instances
     std::size_t triangle_count() const;

@@ -442,7 +442,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
     const json j = read_json_file(path, "scene file");
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
-                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage"});
+                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes"});
     if (j.contains("description")) ctx.string(j["description"], "description");
 
     SceneDesc d;
@@ -606,6 +606,37 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         names("materials", sel.materials, material_names);
         if (sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
             ctx.bad("foliage", "names no node, mesh or material");
+    }
+
+    // LD06 §4.4 hand-made strokes: polylines in world coordinates ("scale" does not apply), in file order.
+    if (j.contains("strokes")) {
+        const json& st = j["strokes"];
+        if (!st.is_array()) ctx.bad("strokes", "expected an array of {\"points\": [[x, y, z], ...], \"normals\", \"hatching\"}");
+        if (st.size() > kMaxSceneStrokes) ctx.bad("strokes", "more than " + std::to_string(kMaxSceneStrokes) + " strokes");
+        std::size_t vertices = 0;
+        for (std::size_t i = 0; i < st.size(); ++i) {
+            const std::string k = "strokes[" + std::to_string(i) + "]";
+            ctx.check_keys(st[i], k, {"points", "normals", "hatching", "comment"});
+            if (!st[i].contains("points") || !st[i]["points"].is_array() || st[i]["points"].size() < 2)
+                ctx.bad(k + ".points", "expected an array of at least two [x, y, z] points");
+            Stroke s;
+            vertices += st[i]["points"].size();
+            if (vertices > kMaxSceneStrokeVertices)
+                ctx.bad(k + ".points", "more than " + std::to_string(kMaxSceneStrokeVertices) + " stroke points in all");
+            for (std::size_t q = 0; q < st[i]["points"].size(); ++q)
+                s.points.push_back(ctx.vec3(st[i]["points"][q], k + ".points[" + std::to_string(q) + "]"));
+            if (st[i].contains("normals")) {
+                const json& n = st[i]["normals"];
+                if (!n.is_array() || n.size() != s.points.size()) ctx.bad(k + ".normals", "expected one [x, y, z] per point");
+                for (std::size_t q = 0; q < n.size(); ++q)
+                    s.normals.push_back(ctx.vec3(n[q], k + ".normals[" + std::to_string(q) + "]"));
+            }
+            if (st[i].contains("hatching")) {
+                if (!st[i]["hatching"].is_boolean()) ctx.bad(k + ".hatching", "expected true or false");
+                s.light_dependent = st[i]["hatching"].get<bool>();
+            }
+            d.scene.strokes.push_back(std::move(s));
+        }
     }
 
     // Control mapping.

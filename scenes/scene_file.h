@@ -74,6 +74,10 @@ bool has_painted_control(const Scene& scene, const Primitive& p);
 std::size_t apply_default_control(Scene& scene, const std::vector<ControlRule>& rules,
                                   const std::string& where = "default control");
 
+//! Hand-made strokes a scene file may list (raster/strokes.h has the pass's own, larger bounds).
+inline constexpr std::size_t kMaxSceneStrokes = 100'000;
+inline constexpr std::size_t kMaxSceneStrokeVertices = 1'000'000;
+
 struct SceneDesc {
     Scene scene;
     Camera camera;                                     //!< the camera to render with

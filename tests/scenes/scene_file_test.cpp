@@ -436,4 +436,21 @@ TEST(SceneFile, MaterialsNameAnIntensityTexture) {
                  "materials.*.intensity_texture");
 }
 
+TEST(SceneFile, HandMadeStrokesAreReadInOrder) {
+    const SceneDesc d = load_scene(write_scene("strokes.json", R"({"gltf": ")" + box_path() + R"(", "strokes": [
+        {"points": [[0, 0, 0], [1, 0, 0], [1, 1, 0]], "normals": [[0, 0, 1], [0, 0, 1], [0, 0, 1]], "hatching": true},
+        {"points": [[0, 0, 1], [0, 2, 1]]}]})"));
+    ASSERT_EQ(d.scene.strokes.size(), 2u);
+    EXPECT_EQ(d.scene.strokes[0].points.size(), 3u);
+    EXPECT_EQ(d.scene.strokes[0].normals.size(), 3u);
+    EXPECT_TRUE(d.scene.strokes[0].light_dependent);
+    EXPECT_EQ(d.scene.strokes[1].points[1], glm::vec3(0, 2, 1));
+    EXPECT_FALSE(d.scene.strokes[1].light_dependent);
+    expect_error(write_scene("strokes_short.json", R"({"gltf": ")" + box_path() + R"(", "strokes": [{"points": [[0, 0, 0]]}]})"),
+                 "strokes[0].points", "at least two");
+    expect_error(write_scene("strokes_normals.json", R"({"gltf": ")" + box_path() +
+                                                         R"(", "strokes": [{"points": [[0, 0, 0], [1, 0, 0]], "normals": [[0, 0, 1]]}]})"),
+                 "strokes[0].normals", "one [x, y, z] per point");
+}
+
 }  // namespace aq::scene

@@ -118,5 +118,28 @@ TEST(PassSteps, BadStepsAndMissingScenesAreClearErrors) {
     EXPECT_NE(no_scene.find("raster passes, which need a scene"), std::string::npos) << no_scene;
 }
 
+// The scene's hand-made strokes reach the strokes pass through the render's PassScene.
+TEST(PassSteps, SceneStrokesAreDrawnByTheStrokesPass) {
+    scene::Scene sc = two_quads();
+    sc.strokes.push_back({{{-1.5f, 0.01f, 1.0f}, {1.5f, 0.01f, 1.0f}}, {}, false});
+    scene::Camera cam;
+    cam.view = glm::lookAt(glm::vec3(0, 3, 4), glm::vec3(0), glm::vec3(0, 1, 0));
+    const raster::PassScene ps = raster::make_pass_scene(sc, cam, 120, 90);
+    ASSERT_EQ(ps.strokes, &sc.strokes);
+    const CompiledPipeline c = compile_pipeline(parse_pipeline(R"({"output": "ld06.strokes", "steps": [
+        {"pass": "strokes", "variant": "binary", "params": {"contours": false, "fade_near": 1, "width": 30},
+         "in": {"depth_map": "far"}}]})", "strokes.json"));
+    Targets t;
+    t.set("far", ImageF(120, 90, 1, 1.0f));
+    RunOptions o;
+    o.scene = &ps;
+    run_pipeline(c, t, o);
+    float sum = 0;
+    const ImageF& s = t.get("ld06.strokes");
+    for (int y = 0; y < s.height(); ++y)
+        for (int x = 0; x < s.width(); ++x) sum += s.at(x, y, 0);
+    EXPECT_GT(sum, 200.0f) << "the scene's stroke was drawn (5 px wide, ~75 px long)";
+}
+
 }  // namespace
 }  // namespace aq::stylize
