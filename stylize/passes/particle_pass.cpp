@@ -4,6 +4,7 @@
 #include "stylize/passes/particle_pass.h"
 
 #include "raster/particles.h"
+#include "stylize/passes/pass_common.h"
 
 namespace aq::stylize {
 
@@ -17,17 +18,6 @@ struct Table {
     int shape = 0;
     float scale = 1.0f;
     float delta = 0.05f, beta = 0.05f;
-};
-
-struct TestVariant {
-    const char* name;
-    raster::DepthTest test;
-    const char* doc;
-};
-constexpr TestVariant kTests[] = {
-    {"blurred", raster::DepthTest::Blurred, "blurred depth test (LD06 eq. 2, Fig. 9b)"},
-    {"blurred_rgba8", raster::DepthTest::BlurredRgba8, "blurred depth test through the paper's RGBA8 depth coding (eq. 3-4)"},
-    {"binary", raster::DepthTest::Binary, "binary depth test against the depth map (LD06 Fig. 9a)"},
 };
 
 }  // namespace
@@ -44,10 +34,10 @@ void register_particle_pass(Registry& r) {
         .f("size_scale", &Table::size_scale, 0, 1000, "ω_scale of eq. 10, pixels at 720 px (LD06: 200; ours 20, docs/ld06.md)")
         .f("size_bias", &Table::size_bias, 0, 200, "ω_bias of eq. 10, pixels at 720 px (LD06: 5; ours 4)")
         .i("shape", &Table::shape, 0, 1, "0 = round blotch, 1 = square sprite")
-        .f("scale", &Table::scale, 0.05, 4, "raster size as a scale of the output size (LD06: 520/720 = 0.722)")
+        .f("scale", &Table::scale, passes::kMinScale, passes::kMaxScale, passes::kScaleDoc)
         .f("delta", &Table::delta, 0, 1, "δ of eq. 2 (ours: 0.05; unused by binary)")
         .f("beta", &Table::beta, -1, 1, "β of eq. 2 (LD06: β = δ)");
-    for (const TestVariant& tv : kTests) {
+    for (const passes::DepthTestVariant& tv : passes::kDepthTests) {
         StageVariant v;
         v.stage = "particles";
         v.variant = tv.name;
@@ -59,8 +49,7 @@ void register_particle_pass(Registry& r) {
                      {"bright", "ld06.particles.bright", 1, false}};
         v.params = t.descs();
         v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            if (!io.globals || !io.globals->scene) throw Error("a raster pass needs a scene (run it through aquarelle render)");
-            const raster::PassScene& ps = *io.globals->scene;
+            const raster::PassScene& ps = passes::scene_of(io);
             const auto tp = t.from(pv);
             raster::ParticleParams p;
             p.quantity = tp.quantity;
@@ -80,8 +69,8 @@ void register_particle_pass(Registry& r) {
             std::vector<raster::Particle> particles;
             if (ps.foliage_surface) {
                 particles = raster::place_particles(*ps.foliage_surface, ps.plant_height, ps.light_dir, p);
-            } else if (io.globals->warnings) {
-                io.globals->warnings->push_back("particles: no implicit foliage surface (no foliage, or the style has no "
+            } else if (std::vector<std::string>* w = passes::warnings_of(io)) {
+                w->push_back("particles: no implicit foliage surface (no foliage, or the style has no "
                                                 "\"foliage\" block): the particle maps are empty (docs/ld06.md \"Particles\")");
             }
             raster::render_particles(*io.out[0], *io.out[1], *io.out[2], ps, particles, p, ex);

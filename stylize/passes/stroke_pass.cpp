@@ -4,6 +4,7 @@
 #include "stylize/passes/stroke_pass.h"
 
 #include "raster/strokes.h"
+#include "stylize/passes/pass_common.h"
 
 namespace aq::stylize {
 
@@ -15,23 +16,12 @@ struct Table {
     bool contours = true;
 };
 
-struct TestVariant {
-    const char* name;
-    raster::DepthTest test;
-    const char* doc;
-};
-constexpr TestVariant kTests[] = {
-    {"blurred", raster::DepthTest::Blurred, "blurred depth test (LD06 eq. 2, §4.4)"},
-    {"blurred_rgba8", raster::DepthTest::BlurredRgba8, "blurred depth test through the RGBA8 depth coding (eq. 3-4)"},
-    {"binary", raster::DepthTest::Binary, "binary depth test against the depth map"},
-};
-
 }  // namespace
 
 void register_stroke_pass(Registry& r) {
     static const ParamTable<Table> t = ParamTable<Table>()
         .f("width", &Table::width, 0.1, 64, "line width in pixels at 720 px (ours: 2)")
-        .f("scale", &Table::scale, 0.05, 4, "raster size as a scale of the output size")
+        .f("scale", &Table::scale, passes::kMinScale, passes::kMaxScale, passes::kScaleDoc)
         .f("delta", &Table::delta, 0, 1, "δ of eq. 2 (ours: 0.02)")
         .f("beta", &Table::beta, -1, 1, "β of eq. 2 (ours: 0.02 = δ, strokes stay on their surface)")
         .f("fade_near", &Table::fade_near, 0, 1, "distance fade starts at this normalised depth (ours)")
@@ -42,7 +32,7 @@ void register_stroke_pass(Registry& r) {
         .f("nl_hi", &Table::nl_hi, -1, 1, "hatching strokes: invisible at n.l >= nl_hi (ours)")
         .f("alpha", &Table::alpha, 0, 1, "stroke opacity")
         .b("contours", &Table::contours, "draw the automatic contours of non-foliage meshes (trunk, branches)");
-    for (const TestVariant& tv : kTests) {
+    for (const passes::DepthTestVariant& tv : passes::kDepthTests) {
         StageVariant v;
         v.stage = "strokes";
         v.variant = tv.name;
@@ -52,8 +42,7 @@ void register_stroke_pass(Registry& r) {
         v.outputs = {{"strokes", "ld06.strokes", 1, false}};
         v.params = t.descs();
         v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            if (!io.globals || !io.globals->scene) throw Error("a raster pass needs a scene (run it through aquarelle render)");
-            const raster::PassScene& ps = *io.globals->scene;
+            const raster::PassScene& ps = passes::scene_of(io);
             const auto tp = t.from(pv);
             raster::StrokeParams p;
             p.width_px = tp.width;
@@ -77,8 +66,8 @@ void register_stroke_pass(Registry& r) {
             }
             std::size_t dropped = 0;
             raster::render_strokes(*io.out[0], ps, strokes, p, ex, &dropped);
-            if (dropped && io.globals->warnings)
-                io.globals->warnings->push_back("strokes: " + std::to_string(dropped) +
+            if (std::vector<std::string>* w = passes::warnings_of(io); dropped && w)
+                w->push_back("strokes: " + std::to_string(dropped) +
                                                 " segment(s) with non-finite points dropped");
         };
         v.reference = StageVariant::Reference::SharedMaths;

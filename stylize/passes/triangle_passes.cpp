@@ -4,6 +4,8 @@
 // project's (docs/ld06.md "Parameters").
 #include "stylize/passes/triangle_passes.h"
 
+#include "stylize/passes/pass_common.h"
+
 namespace aq::stylize {
 
 namespace {
@@ -14,6 +16,7 @@ using raster::DrawSet;
 using raster::PassValue;
 using raster::PassView;
 using raster::TrianglePass;
+using namespace passes;
 
 // Ours: LD06 gives no values for δ and β. δ = 0.05 of the fitted depth range keeps the band of
 // semi-visible fragments narrow; β = δ keeps an object just in front fully visible (LD06 §2).
@@ -24,18 +27,8 @@ constexpr float kDefaultDelta = 0.05f;
 constexpr float kDefaultShadowDelta = 0.04f;
 constexpr float kDefaultShadowBeta = 0.05f;
 
-constexpr const char* kViewDoc = "0 = camera, 1 = the light's orthographic view fitted to the scene";
-constexpr const char* kDrawDoc = "0 = all, 1 = foliage only, 2 = everything but foliage (docs/ld06.md \"Foliage\")";
-constexpr const char* kScaleDoc = "raster size as a scale of the output size (LD06: 520/720 = 0.722)";
-constexpr double kMinScale = 0.05, kMaxScale = 4;
-
-const raster::PassScene& scene_of(const StageIO& io) {
-    if (!io.globals || !io.globals->scene) throw Error("a raster pass needs a scene (run it through aquarelle render)");
-    return *io.globals->scene;
-}
-
 void run(StageIO& io, const TrianglePass& p, const Exec& ex) {
-    raster::render_triangle_pass(*io.out[0], scene_of(io), p, ex, io.globals ? io.globals->warnings : nullptr);
+    raster::render_triangle_pass(*io.out[0], scene_of(io), p, ex, warnings_of(io));
 }
 
 struct DepthTable {
@@ -67,16 +60,6 @@ struct IntensityTable {
     float alpha = 1.0f;
 };
 
-struct TestVariant {
-    const char* name;
-    DepthTest test;
-    const char* doc;
-};
-constexpr TestVariant kTests[] = {
-    {"binary", DepthTest::Binary, "the binary depth test (LD06 Fig. 2, red)"},
-    {"blurred", DepthTest::Blurred, "the blurred depth test, LD06 eq. 1-2, float depth"},
-    {"blurred_rgba8", DepthTest::BlurredRgba8, "the blurred depth test with the paper's RGBA8 depth coding, LD06 eq. 3-4"},
-};
 
 }  // namespace
 
@@ -125,8 +108,7 @@ void register_triangle_passes(Registry& r) {
         r.add(std::move(v));
     }
     // The shadow pass: blurred is its default (LD06 §3.3), so it is registered first.
-    for (int k : {1, 2, 0}) {
-        const TestVariant& tv = kTests[k];
+    for (const DepthTestVariant& tv : kDepthTests) {
         static const ParamTable<ShadowTable> t = ParamTable<ShadowTable>()
             .i("draw", &ShadowTable::draw, 0, 2, kDrawDoc)
             .f("scale", &ShadowTable::scale, kMinScale, kMaxScale, kScaleDoc)
@@ -155,7 +137,9 @@ void register_triangle_passes(Registry& r) {
         v.reference = StageVariant::Reference::SharedMaths;
         r.add(std::move(v));
     }
-    for (const TestVariant& tv : kTests) {
+    // The intensity masks of §3.1 use the binary test by default: registered first.
+    for (int k : {2, 0, 1}) {
+        const DepthTestVariant& tv = kDepthTests[k];
         static const ParamTable<IntensityTable> t = ParamTable<IntensityTable>()
             .i("view", &IntensityTable::view, 0, 1, kViewDoc)
             .i("draw", &IntensityTable::draw, 0, 2, kDrawDoc)
@@ -206,8 +190,7 @@ void register_triangle_passes(Registry& r) {
             p.value = PassValue::IntensityTexture;
             for (int c = 0; c < 3; ++c) {
                 p.channel = c;
-                raster::render_triangle_pass(*io.out[std::size_t(c)], scene_of(io), p, ex,
-                                             io.globals ? io.globals->warnings : nullptr);
+                raster::render_triangle_pass(*io.out[std::size_t(c)], scene_of(io), p, ex, warnings_of(io));
             }
         };
         v.reference = StageVariant::Reference::SharedMaths;
