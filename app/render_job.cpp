@@ -19,6 +19,42 @@ double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+//! LD06 layer colours (docs/ld06.md "Layers"): every color_ramp step whose `source` is 1 or 2 gets
+//! the colours of the scene's layers (1: layers first..first+3; 2: the foliage layer in all four)
+//! as parameter values. Called before the scene file's style values and --set, which override it.
+void fill_layer_colors(stylize::Pipeline& pipeline, const scene::Scene& sc) {
+    std::optional<scene::LayerTable> table;
+    for (std::size_t i = 0; i < pipeline.steps.size(); ++i) {
+        const stylize::PipelineStep& step = pipeline.steps[i];
+        if (step.pass || step.stage != "color_ramp") continue;
+        const stylize::ResolvedStep r = stylize::resolve_step(pipeline, i);
+        const int source = int(r.params.at("source"));
+        if (source == 0) continue;
+        if (!table) table = scene::build_layer_table(sc);
+        int foliage_layer = -1;
+        if (source == 2)
+            for (const scene::Instance& inst : sc.instances) {
+                if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size()) || foliage_layer >= 0) continue;
+                for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives)
+                    if (foliage_layer < 0 && scene::is_foliage(sc, inst, prim)) foliage_layer = table->of(inst.object_id, prim.material);
+            }
+        const std::string id = step.id.empty() ? step.stage : step.id;
+        const std::string why = "the scene's layer colours";
+        for (int k = 0; k < 4; ++k) {
+            const int l = source == 1 ? int(r.params.at("first")) + k : foliage_layer;
+            if (l < 0 || l >= int(table->layers.size())) continue;
+            const scene::Layer& layer = table->layers[std::size_t(l)];
+            const std::string n = std::to_string(k);
+            for (int c = 0; c < 3; ++c) {
+                const std::string ch(1, "rgb"[c]);
+                stylize::set_param_value(pipeline, id, "color" + n + "_" + ch, double(layer.color[c]), why);
+                stylize::set_param_value(pipeline, id, "dark" + n + "_" + ch, double(layer.dark[c]), why);
+            }
+            if (source == 1) stylize::set_param_value(pipeline, id, "alpha" + n, double(layer.alpha) * r.params.at("alpha" + n), why);
+        }
+    }
+}
+
 }  // namespace
 
 RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
@@ -50,6 +86,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
     if (job.stylize) {
         pipeline = stylize::load_pipeline(style);
+        fill_layer_colors(pipeline, desc.scene);
         if (!o.style_given || o.style == desc.style) {
             for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);
             for (auto& [k, v] : desc.style_set) {
@@ -131,6 +168,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     for (const stylize::CompiledPipeline& c : job.compiled) {
         if (!c.has_passes) {
             job.pass_scenes.emplace_back();
+            job.pass_layers.emplace_back();
             continue;
         }
         raster::FoliageParams fp = c.foliage;
@@ -143,6 +181,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
         job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));
+        job.pass_layers.push_back(raster::abstracted_layer_table(job.desc.scene, *job.pass_scenes.back()));
         for (auto& w : warnings) report.warning(w);
         if (const auto& a = job.pass_scenes.back(); a->abstracted)
             report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
@@ -226,6 +265,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 if (job.compiled[si].has_passes) {
                     const raster::AbstractedScene& a = *job.pass_scenes[si];
                     pass_scene = raster::make_pass_scene(a.scene, job.desc.camera, rs.width, rs.height);
+                    pass_scene->layers = &job.pass_layers[si];
                     if (a.abstracted) {
                         pass_scene->foliage_surface = &a.surface;
                         pass_scene->plant_height = a.height;

@@ -51,6 +51,8 @@ struct RenderJob {
     //! Per style with raster passes: the scene they draw (the foliage abstracted once per run when
     //! the style asks for it, LD06 §4.1), else null.
     std::vector<std::shared_ptr<const raster::AbstractedScene>> pass_scenes;
+    //! Per style with raster passes: the LD06 layers of the scene they draw (scenes/layers.h).
+    std::vector<scene::LayerTable> pass_layers;
     bool sweeping() const { return styles.size() > 1; }
 };
 

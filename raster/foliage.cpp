@@ -52,7 +52,11 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
             if (p.abstract && scene::is_foliage(sc, inst, prim)) {
                 for (const glm::vec3& v : prim.positions) points.push_back(glm::vec3(inst.world * glm::vec4(v, 1.0f)));
                 out->foliage_triangles += prim.indices.size() / 3;
-                if (foliage_material < 0) foliage_material = prim.material;
+                if (foliage_material < 0) {
+                    foliage_material = prim.material;
+                    out->foliage_object_id = inst.object_id;
+                    out->foliage_material = prim.material;
+                }
                 continue;
             }
             kept.primitives.push_back(prim);
@@ -79,6 +83,18 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " +
                     std::to_string(out->height) + " is not a usable radius");
     out->surface = build_implicit_surface(points, ip, ex);
+    for (int k = 0; k < kFitThresholdSteps && p.fit_threshold && out->surface.indices.empty(); ++k) {
+        ip.threshold *= 0.5f;
+        out->surface = build_implicit_surface(points, ip, ex);
+        if (!out->surface.indices.empty() && warnings) {
+            char msg[256];
+            std::snprintf(msg, sizeof msg,
+                          "foliage abstraction: the summed density of %zu foliage points never reaches T = %g at r = %g; "
+                          "used T = %g (fit_threshold; set foliage.T in the scene file to choose)",
+                          points.size(), double(p.threshold), double(out->radius), double(ip.threshold));
+            warnings->push_back(msg);
+        }
+    }
     if (out->surface.indices.empty()) {
         char msg[256];
         std::snprintf(msg, sizeof msg,
@@ -98,6 +114,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     prim.normals = out->surface.normals;
     prim.indices = out->surface.indices;
     prim.material = int(dst.materials.size()) - 1;
+    const int prim_material = prim.material;
     scene::Mesh mesh;
     mesh.name = "foliage (implicit surface)";
     if (dst.foliage.set) dst.foliage.meshes.push_back(mesh.name);  // still foliage for the passes
@@ -108,8 +125,16 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     inst.object_id = next_id;
     inst.name = "foliage (implicit surface)";
     dst.instances.push_back(inst);
+    out->surface_object_id = inst.object_id;
+    out->surface_material = prim_material;
     out->abstracted = true;
     return out;
+}
+
+scene::LayerTable abstracted_layer_table(const scene::Scene& source, const AbstractedScene& a) {
+    scene::LayerTable t = scene::build_layer_table(source);
+    if (a.abstracted) t.assign(a.surface_object_id, a.surface_material, t.of(a.foliage_object_id, a.foliage_material));
+    return t;
 }
 
 }  // namespace aq::raster

@@ -9,6 +9,7 @@
 
 #include "core/exec.h"
 #include "raster/implicit_surface.h"
+#include "scenes/layers.h"
 #include "scenes/scene.h"
 
 namespace aq::raster {
@@ -21,7 +22,13 @@ struct FoliageParams {
     float radius = kLd06RadiusPerHeight;
     bool relative = true;
     int cells_per_radius = 2;
+    //! When the summed density never reaches T (sparse foliage, e.g. a bare glTF bush under the
+    //! ld06 preset's dense-tree T): halve T until the surface is not empty (at most
+    //! kFitThresholdSteps times) and report the T used as a warning, instead of failing.
+    bool fit_threshold = false;
 };
+
+inline constexpr int kFitThresholdSteps = 12;
 
 //! The scene LD06 passes draw, with what the abstraction measured.
 struct AbstractedScene {
@@ -31,6 +38,10 @@ struct AbstractedScene {
     float radius = 0;          //!< r used, world units
     std::size_t foliage_points = 0, foliage_triangles = 0;
     bool abstracted = false;   //!< false: no foliage, or abstraction off (scene is a plain copy)
+    //! The surface's draw (object_id, material) and the first foliage primitive it replaces in the
+    //! source scene: the surface belongs to that primitive's LD06 layer (scenes/layers.h).
+    std::uint32_t surface_object_id = 0, foliage_object_id = 0;
+    int surface_material = -1, foliage_material = -1;
 };
 
 //! Splits `sc` into trunk and foliage (scene::is_foliage), builds the implicit surface of the
@@ -41,5 +52,9 @@ struct AbstractedScene {
 std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, const FoliageParams& p,
                                                         const Exec& ex = {},
                                                         std::vector<std::string>* warnings = nullptr);
+
+//! The layers of the scene an AbstractedScene draws: scene::build_layer_table of the source scene,
+//! with the implicit surface in the layer of the foliage it replaces.
+scene::LayerTable abstracted_layer_table(const scene::Scene& source, const AbstractedScene& a);
 
 }  // namespace aq::raster

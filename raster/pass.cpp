@@ -127,6 +127,7 @@ struct PassContext {
     glm::mat4 view_to_world{1.0f};
     PassViewSetup light;            // Shadow value: the light view the shadow map was rendered from
     View<const float> depth_map, shadow_map;
+    const scene::LayerTable* layers = nullptr;
     float background = 0.0f;
 };
 
@@ -183,6 +184,11 @@ inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk&
             if (!in.has_uv) return 0.0f;
             return sample_texture(tex->image, m.intensity_texture.sampler, in.uv)[p.channel];
         }
+        case PassValue::LayerId: {
+            const DrawVertices& dv = fr.draws[t.draw];
+            return float(cx.layers->of(dv.object_id, dv.prim->material) + 1);
+        }
+        case PassValue::ObjectId: return float(fr.draws[t.draw].object_id);
     }
     return 0.0f;
 }
@@ -224,6 +230,7 @@ void check_pass(const TrianglePass& p) {
     if (!finite_in(p.beta, -1, 1) || !finite_in(p.shadow_beta, -1, 1))
         throw Error("raster pass: beta must be in [-1, 1]");
     if (!finite_in(p.alpha, 0, 1)) throw Error("raster pass: alpha must be in [0, 1]");
+    if (!finite_in(p.lighting_background, 0, 1)) throw Error("raster pass: lighting background must be in [0, 1]");
     if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
         throw Error("raster pass: the blurred depth test needs a 1-channel depth map");
     if (p.channel < 0 || p.channel > 2) throw Error("raster pass: channel must be 0, 1 or 2");
@@ -250,7 +257,14 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
         cx.light = pass_view(ps, PassView::Light, 1.0f);
         cx.shadow_map = p.shadow_map->view<float>();
     }
-    cx.background = p.value == PassValue::Depth ? 1.0f : 0.0f;
+    cx.background = p.value == PassValue::Depth ? 1.0f : p.value == PassValue::Lighting ? p.lighting_background : 0.0f;
+    // Without the job's table (tests, callers of the typed API): the drawn scene's own layers.
+    scene::LayerTable own_layers;
+    cx.layers = ps.layers;
+    if (p.value == PassValue::LayerId && !cx.layers) {
+        own_layers = scene::build_layer_table(*ps.scene);
+        cx.layers = &own_layers;
+    }
 
     // Passes draw without tremor or bleeding displacement (LD06 has neither) and without culling.
     RenderSettings rs;

@@ -19,6 +19,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "raster/implicit_surface.h"
+#include "scenes/layers.h"
 #include "scenes/scene.h"
 
 namespace aq::raster {
@@ -51,7 +52,9 @@ enum class DrawSet { All = 0, Foliage = 1, NonFoliage = 2 };
 //! Shadow: 1 − f_s, the shadow intensity of eq. 5 from a blurred light-view depth map.
 //! IntensityTexture: channel `channel` of the material's intensity texture (LD06 §4.3) at the
 //! fragment's TEXCOORD_0; 0 for materials without one (they still occlude).
-enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, IntensityTexture = 4 };
+//! LayerId: 1 + the draw's layer (PassScene::layers; 0 = background or no layer); ObjectId: the
+//! draw's instance object_id (LD06 §3.1 ID images before they are split into layers).
+enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, IntensityTexture = 4, LayerId = 5, ObjectId = 6 };
 
 //! The scene as every pass of one frame sees it.
 struct PassScene {
@@ -67,6 +70,8 @@ struct PassScene {
     //! Hand-made strokes of the scene (LD06 §4.4; raster/strokes.h), drawn before the automatic
     //! contours; null = none.
     const std::vector<scene::Stroke>* strokes = nullptr;
+    //! LD06 §3.1 layer of every draw (scenes/layers.h), for PassValue::LayerId; null = no layers.
+    const scene::LayerTable* layers = nullptr;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.
@@ -105,6 +110,7 @@ struct TrianglePass {
     Blend blend = Blend::Replace;
     float alpha = 1.0f;             //!< fragment alpha for Blend::Over, [0, 1]
     int channel = 0;                //!< IntensityTexture: 0 = R, 1 = G, 2 = B
+    float lighting_background = 0;  //!< Lighting: value where nothing is drawn, [0, 1]
     const ImageF* depth_map = nullptr;   //!< Blurred tests: the (blurred) depth of this view, 1 channel
     //! Shadow value: the blurred light-view depth map (1 channel) and its test.
     const ImageF* shadow_map = nullptr;
@@ -112,7 +118,8 @@ struct TrianglePass {
     float shadow_delta = 0.04f, shadow_beta = 0.05f;  //!< β >= δ keeps lit surfaces fully lit
 };
 
-//! Renders `p` into `out` (1 channel at the pass view's size; background 1 for Depth, else 0).
+//! Renders `p` into `out` (1 channel at the pass view's size; background 1 for Depth,
+//! lighting_background for Lighting, else 0).
 //! `out`'s storage is reused when it already has that size. Throws aq::Error on invalid
 //! parameters or missing maps (checked before allocating). Warnings (dropped triangles, nothing
 //! drawn) are appended to *warnings.

@@ -180,6 +180,16 @@ struct Stroke {
     bool light_dependent = false;    //!< hatching
 };
 
+//! LD06 §3.1 watercolor layer given in a scene file ("layers", docs/scenes.md): the primitives whose
+//! instance (node), mesh or material name is listed form one layer, painted with `color` ramping to
+//! `dark` (display values; unset: from the first member's material, scenes/layers.h).
+struct LayerSpec {
+    std::string name;
+    std::vector<std::string> nodes, meshes, materials;
+    std::optional<glm::vec3> color, dark;
+    std::optional<float> alpha;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
@@ -192,6 +202,7 @@ struct Scene {
     std::string source;                 //!< file it came from, for messages
     FoliageSelection foliage;           //!< LD06 foliage chosen by the scene file (see is_foliage)
     std::vector<Stroke> strokes;        //!< LD06 hand-made strokes (scene files)
+    std::vector<LayerSpec> layers;      //!< LD06 layer groups (scene files); empty: one layer per material
 
     Bounds world_bounds() const;  //!< over finite positions of all instances
     std::size_t triangle_count() const;

@@ -1,6 +1,8 @@
 // scenes/scene_file.cpp — JSON scene files, control mapping rules and automatic framing.
 #include "scenes/scene_file.h"
 
+#include "scenes/layers.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -442,7 +444,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
     const json j = read_json_file(path, "scene file");
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
-                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes"});
+                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes", "layers"});
     if (j.contains("description")) ctx.string(j["description"], "description");
 
     SceneDesc d;
@@ -569,7 +571,28 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         }
     }
 
-    // LD06 foliage selection by name; every name must exist (a typo would silently select nothing).
+    // LD06 selections by name (foliage, layers); every name must exist (a typo would silently
+    // select nothing).
+    std::vector<std::string> node_names, mesh_names, material_names;
+    for (const Instance& inst : d.scene.instances) node_names.push_back(inst.name);
+    for (const Mesh& m : d.scene.meshes) mesh_names.push_back(m.name);
+    for (const Material& m : d.scene.materials) material_names.push_back(m.name);
+    auto names = [&](const json& f, const std::string& where, const char* key, std::vector<std::string>& out,
+                     const std::vector<std::string>& have) {
+        if (!f.contains(key)) return;
+        const std::string k = where + "." + key;
+        if (!f[key].is_array()) ctx.bad(k, "expected an array of names");
+        for (std::size_t i = 0; i < f[key].size(); ++i) {
+            const std::string n = ctx.string(f[key][i], k + "[" + std::to_string(i) + "]");
+            if (std::find(have.begin(), have.end(), n) == have.end()) {
+                std::string list;
+                for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
+                ctx.bad(k + "[" + std::to_string(i) + "]", "no " + std::string(key).substr(0, std::strlen(key) - 1) +
+                                                             " is named '" + n + "' (have: " + (list.empty() ? "none" : list) + ")");
+            }
+            out.push_back(n);
+        }
+    };
     if (j.contains("foliage")) {
         const json& f = j["foliage"];
         ctx.check_keys(f, "foliage", {"nodes", "meshes", "materials", "T", "radius", "relative", "cells_per_radius", "comment"});
@@ -582,30 +605,32 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         if (f.contains("cells_per_radius")) d.foliage_cells_per_radius = ctx.integer(f["cells_per_radius"], "foliage.cells_per_radius", 1, 16);
         FoliageSelection& sel = d.scene.foliage;
         sel.set = true;
-        auto names = [&](const char* key, std::vector<std::string>& out, const std::vector<std::string>& have) {
-            if (!f.contains(key)) return;
-            const std::string k = std::string("foliage.") + key;
-            if (!f[key].is_array()) ctx.bad(k, "expected an array of names");
-            for (std::size_t i = 0; i < f[key].size(); ++i) {
-                const std::string n = ctx.string(f[key][i], k + "[" + std::to_string(i) + "]");
-                if (std::find(have.begin(), have.end(), n) == have.end()) {
-                    std::string list;
-                    for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
-                    ctx.bad(k + "[" + std::to_string(i) + "]", "no " + std::string(key).substr(0, std::strlen(key) - 1) +
-                                                                 " is named '" + n + "' (have: " + (list.empty() ? "none" : list) + ")");
-                }
-                out.push_back(n);
-            }
-        };
-        std::vector<std::string> node_names, mesh_names, material_names;
-        for (const Instance& inst : d.scene.instances) node_names.push_back(inst.name);
-        for (const Mesh& m : d.scene.meshes) mesh_names.push_back(m.name);
-        for (const Material& m : d.scene.materials) material_names.push_back(m.name);
-        names("nodes", sel.nodes, node_names);
-        names("meshes", sel.meshes, mesh_names);
-        names("materials", sel.materials, material_names);
+        names(f, "foliage", "nodes", sel.nodes, node_names);
+        names(f, "foliage", "meshes", sel.meshes, mesh_names);
+        names(f, "foliage", "materials", sel.materials, material_names);
         if (sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
             ctx.bad("foliage", "names no node, mesh or material");
+    }
+
+    // LD06 §3.1 layers: groups of primitives painted as one wash, with their colours (docs/ld06.md "Layers").
+    if (j.contains("layers")) {
+        const json& ls = j["layers"];
+        if (!ls.is_array()) ctx.bad("layers", "expected an array of {\"name\", \"nodes\", \"meshes\", \"materials\", \"color\", \"dark\", \"alpha\"}");
+        if (ls.size() > kMaxLayerSpecs) ctx.bad("layers", "more than " + std::to_string(kMaxLayerSpecs) + " layers");
+        for (std::size_t i = 0; i < ls.size(); ++i) {
+            const std::string k = "layers[" + std::to_string(i) + "]";
+            ctx.check_keys(ls[i], k, {"name", "nodes", "meshes", "materials", "color", "dark", "alpha", "comment"});
+            LayerSpec l;
+            l.name = ls[i].contains("name") ? ctx.string(ls[i]["name"], k + ".name") : "layer " + std::to_string(i);
+            names(ls[i], k, "nodes", l.nodes, node_names);
+            names(ls[i], k, "meshes", l.meshes, mesh_names);
+            names(ls[i], k, "materials", l.materials, material_names);
+            if (l.nodes.empty() && l.meshes.empty() && l.materials.empty()) ctx.bad(k, "names no node, mesh or material");
+            if (ls[i].contains("color")) l.color = ctx.vec3(ls[i]["color"], k + ".color", 0.0, 1.0);
+            if (ls[i].contains("dark")) l.dark = ctx.vec3(ls[i]["dark"], k + ".dark", 0.0, 1.0);
+            if (ls[i].contains("alpha")) l.alpha = float(ctx.number(ls[i]["alpha"], k + ".alpha", 0.0, 1.0));
+            d.scene.layers.push_back(std::move(l));
+        }
     }
 
     // LD06 §4.4 hand-made strokes: polylines in world coordinates ("scale" does not apply), in file order.

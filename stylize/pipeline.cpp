@@ -164,8 +164,8 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
     }
     if (j.contains("foliage")) {
         const json& fj = j["foliage"];
-        if (!fj.is_object()) fail(src, "foliage", "expected an object {abstract, T, radius, relative, cells_per_radius}");
-        check_keys(fj, {"abstract", "T", "radius", "relative", "cells_per_radius", "comment"}, src, "foliage");
+        if (!fj.is_object()) fail(src, "foliage", "expected an object {abstract, T, radius, relative, cells_per_radius, fit_threshold}");
+        check_keys(fj, {"abstract", "T", "radius", "relative", "cells_per_radius", "fit_threshold", "comment"}, src, "foliage");
         raster::FoliageParams& f = p.foliage;
         auto number = [&](const char* k, double lo, double hi) {
             const double v = get_number(fj[k], src, std::string("foliage.") + k);
@@ -180,6 +180,7 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
         if (fj.contains("T")) f.threshold = float(number("T", 1e-6, 1e6));
         if (fj.contains("radius")) f.radius = float(number("radius", 1e-6, 1e6));
         if (fj.contains("relative")) f.relative = number("relative", 0, 1) != 0;
+        if (fj.contains("fit_threshold")) f.fit_threshold = number("fit_threshold", 0, 1) != 0;
         if (fj.contains("cells_per_radius")) {
             const double c = number("cells_per_radius", 1, 16);
             if (c != std::floor(c)) fail(src, "foliage.cells_per_radius", "must be an integer");

@@ -89,7 +89,15 @@ void register_triangle_passes(Registry& r) {
         r.add(std::move(v));
     }
     {
-        static const ParamTable<LightingTable>& t = draw_scale_table();
+        struct Table {
+            int draw = 0;
+            float scale = 1.0f, background = 0.0f;
+        };
+        static const ParamTable<Table> t = ParamTable<Table>()
+            .i("draw", &Table::draw, 0, 2, kDrawDoc)
+            .f("scale", &Table::scale, kMinScale, kMaxScale, kScaleDoc)
+            .f("background", &Table::background, 0, 1,
+               "value where nothing is drawn (0; the ld06 preset uses 0.5, so particles beyond the surface's silhouette take a middle tone)");
         StageVariant v;
         v.stage = "lighting";
         v.variant = "gooch";
@@ -102,6 +110,7 @@ void register_triangle_passes(Registry& r) {
             p.draw = DrawSet(tp.draw);
             p.scale = tp.scale;
             p.value = PassValue::Lighting;
+            p.lighting_background = tp.background;
             run(io, p, ex);
         };
         v.reference = StageVariant::Reference::SharedMaths;
@@ -192,6 +201,28 @@ void register_triangle_passes(Registry& r) {
                 p.channel = c;
                 raster::render_triangle_pass(*io.out[std::size_t(c)], scene_of(io), p, ex, warnings_of(io));
             }
+        };
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+    // LD06 §3.1 ID image: the layer (default) or the object of the front-most surface.
+    for (bool layer : {true, false}) {
+        static const ParamTable<LightingTable>& t = draw_scale_table();
+        StageVariant v;
+        v.stage = "layer_id";
+        v.variant = layer ? "layer" : "object";
+        v.doc = layer ? "LD06 §3.1: 1 + the layer (scene file \"layers\", else one per material; docs/ld06.md \"Layers\") of the "
+                        "front-most surface, background 0; binary depth test"
+                      : "LD06 §3.1: the object ID (instance) of the front-most surface, background 0; binary depth test";
+        v.outputs = {{"ids", "ld06.layer_id", 1, false}};
+        v.params = t.descs();
+        v.run = [layer](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            TrianglePass p;
+            p.draw = DrawSet(tp.draw);
+            p.scale = tp.scale;
+            p.value = layer ? PassValue::LayerId : PassValue::ObjectId;
+            run(io, p, ex);
         };
         v.reference = StageVariant::Reference::SharedMaths;
         r.add(std::move(v));

@@ -1,0 +1,99 @@
+// scenes/layers.cpp — see layers.h.
+#include "scenes/layers.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/color.h"
+
+namespace aq::scene {
+
+namespace {
+
+bool listed(const std::vector<std::string>& names, const std::string& n) {
+    return std::find(names.begin(), names.end(), n) != names.end();
+}
+
+}  // namespace
+
+glm::vec3 material_display_color(const Scene& sc, int material) {
+    if (material < 0 || material >= int(sc.materials.size())) return glm::vec3(1.0f);
+    const Material& m = sc.materials[std::size_t(material)];
+    glm::vec3 c(m.base_color);
+    const int ti = m.base_color_texture.texture;
+    if (ti >= 0 && ti < int(sc.textures.size()) && !sc.textures[std::size_t(ti)].image.empty()) {
+        const ImageF& img = sc.textures[std::size_t(ti)].image;
+        const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
+        const std::size_t step = std::max<std::size_t>(1, n / kLayerColorSamples);
+        const int nc = img.channels();
+        const bool masked = m.alpha_mode == AlphaMode::Mask && nc >= 4;
+        double sum[3] = {0, 0, 0};
+        std::size_t count = 0;
+        for (std::size_t i = 0; i < n; i += step) {
+            const float* px = img.data() + i * std::size_t(nc);
+            if (masked && !(px[3] >= m.alpha_cutoff)) continue;
+            bool finite = true;
+            for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(px[std::min(k, nc - 1)]);
+            if (!finite) continue;
+            for (int k = 0; k < 3; ++k) sum[k] += double(px[std::min(k, nc - 1)]);
+            ++count;
+        }
+        if (count > 0)
+            for (int k = 0; k < 3; ++k) c[k] *= float(sum[k] / double(count));
+    }
+    for (int k = 0; k < 3; ++k) {
+        float v = std::isfinite(c[k]) ? std::clamp(c[k], 0.0f, 1.0f) : 0.5f;
+        c[k] = m.linear_color ? linear_to_srgb(v) : v;
+    }
+    return c;
+}
+
+LayerTable build_layer_table(const Scene& sc) {
+    LayerTable t;
+    std::vector<int> first_material(sc.layers.size(), -1);
+    for (const LayerSpec& s : sc.layers) {
+        Layer l;
+        l.name = s.name;
+        t.layers.push_back(l);
+    }
+    std::map<int, int> material_layer;  // the per-material layers of unassigned primitives
+    for (const Instance& inst : sc.instances) {
+        if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+        const Mesh& mesh = sc.meshes[std::size_t(inst.mesh)];
+        for (const Primitive& prim : mesh.primitives) {
+            const std::string& mat_name =
+                prim.material >= 0 && prim.material < int(sc.materials.size()) ? sc.materials[std::size_t(prim.material)].name
+                                                                               : std::string();
+            int layer = -1;
+            for (std::size_t g = 0; g < sc.layers.size() && layer < 0; ++g) {
+                const LayerSpec& s = sc.layers[g];
+                if (listed(s.nodes, inst.name) || listed(s.meshes, mesh.name) || (!mat_name.empty() && listed(s.materials, mat_name))) {
+                    layer = int(g);
+                    if (first_material[g] < 0) first_material[g] = prim.material;
+                }
+            }
+            if (layer < 0) {
+                auto [it, fresh] = material_layer.emplace(prim.material, int(t.layers.size()));
+                if (fresh) {
+                    Layer l;
+                    l.name = mat_name.empty() ? "material " + std::to_string(prim.material) : mat_name;
+                    l.color = material_display_color(sc, prim.material);
+                    l.dark = l.color * kLayerDarkTone;
+                    t.layers.push_back(l);
+                }
+                layer = it->second;
+            }
+            t.assign(inst.object_id, prim.material, layer);
+        }
+    }
+    for (std::size_t g = 0; g < sc.layers.size(); ++g) {
+        const LayerSpec& s = sc.layers[g];
+        Layer& l = t.layers[g];
+        l.color = s.color ? *s.color : material_display_color(sc, first_material[g]);
+        l.dark = s.dark ? *s.dark : l.color * kLayerDarkTone;
+        l.alpha = s.alpha ? *s.alpha : 1.0f;
+    }
+    return t;
+}
+
+}  // namespace aq::scene

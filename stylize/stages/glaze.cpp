@@ -1,0 +1,76 @@
+// stylize/stages/glaze.cpp — see glaze.h. Reference: a plain loop sampling the ramp per pixel
+// (sample_resampled_plane); fast: oneTBB rows with precomputed taps (Resampler, the same values).
+#include "stylize/stages/glaze.h"
+
+#include "stylize/stages/toolkit.h"
+#include "stylize/stages/wash.h"
+
+namespace aq::stylize {
+
+using namespace toolkit;
+
+void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* const ramp[4], glm::vec3 paper_color,
+           bool multiplicative, const Exec& ex) {
+    static const char* kPorts[4] = {"ramp0", "ramp1", "ramp2", "ramp3"};
+    check_input(&wash, 4, Channels::Exactly, "glaze", "wash");
+    check_not_alias(dst, &wash, "glaze", "wash");
+    for (int k = 0; k < 4; ++k) {
+        check_input(ramp[k], 4, Channels::Exactly, "glaze", kPorts[k]);
+        check_not_alias(dst, ramp[k], "glaze", kPorts[k]);
+        if (k) check_same_size(*ramp[k], *ramp[0], "glaze", kPorts[k], "ramp0");
+    }
+    if (base) {
+        check_input(base, 4, Channels::Exactly, "glaze", "color");
+        check_same_size(*base, wash, "glaze", "color", "wash");
+        check_not_alias(dst, base, "glaze", "color");
+    }
+    const int w = wash.width(), h = wash.height();
+    ensure_output(dst, w, h, 4);
+    Plane rp[16];
+    for (int c = 0; c < 16; ++c) rp[c] = plane(*ramp[c / 4], c % 4);
+    const float* wd = wash.data();
+    const float* bd = base ? base->data() : nullptr;
+    float* od = dst.data();
+    auto px = [&](int x, int y, auto&& sample) {
+        const std::size_t i = std::size_t(y) * w + x;
+        glm::vec3 c = bd ? glm::vec3(bd[i * 4], bd[i * 4 + 1], bd[i * 4 + 2]) : paper_color;
+        for (int k = 0; k < 4; ++k) {
+            const glm::vec3 col(sample(rp[4 * k], x, y), sample(rp[4 * k + 1], x, y), sample(rp[4 * k + 2], x, y));
+            const float a = sample(rp[4 * k + 3], x, y);
+            c = glaze_px(c, col, sat(a * wd[i * 4 + k]), multiplicative);
+        }
+        od[i * 4] = c.r, od[i * 4 + 1] = c.g, od[i * 4 + 2] = c.b, od[i * 4 + 3] = 1.0f;
+    };
+    if (ex.traversal == Traversal::Reference) {
+        plain_loop(w, h, [&](int x, int y) {
+            px(x, y, [&](const Plane& p, int sx, int sy) { return sample_resampled_plane(p, sx, sy, w, h); });
+        });
+        return;
+    }
+    const Resampler rs(w, h, ramp[0]->width(), ramp[0]->height());
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) px(x, y, [&](const Plane& p, int sx, int sy) { return rs.sample(p, sx, sy); });
+    });
+}
+
+void register_glaze(Registry& r) {
+    for (bool mul : {true, false}) {
+        StageVariant v;
+        v.stage = "glaze";
+        v.variant = mul ? "multiplicative" : "over";
+        v.doc = mul ? "LD06 §4.2 glazing, subtractive-like: dst·(1 - k·(1 - c)) per layer, back to front, over the picture or the paper colour"
+                    : "LD06 §4.2 glazing as plain alpha blending: mix(dst, c, k) per layer, back to front";
+        v.inputs = {{"color", "color.ld06", 4, true},     {"wash", "ld06.wash", 4, false},
+                    {"ramp0", "ld06.ramp.0", 4, false},   {"ramp1", "ld06.ramp.1", 4, false},
+                    {"ramp2", "ld06.ramp.2", 4, false},   {"ramp3", "ld06.ramp.3", 4, false}};
+        v.outputs = {{"color", "color.glazed", 4, false}};
+        v.run = with_port_check(v, [mul](StageIO& io, const ParamValues&, const Exec& ex) {
+            const ImageF* const ramp[4] = {io.in[2], io.in[3], io.in[4], io.in[5]};
+            glaze(*io.out[0], io.in[0], *io.in[1], ramp, globals_of(io).substrate_color, mul, ex);
+        });
+        v.reference = StageVariant::Reference::PlainLoop;
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize

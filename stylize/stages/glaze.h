@@ -1,0 +1,22 @@
+// stylize/stages/glaze.h — stage "glaze": LD06 §3.1/§4.2 glazing: four washes (layer_wash) in the
+// colours of their ramps (color_ramp, resampled bilinearly from the lighting map's size) painted
+// back to front (layer 0 first) over the picture so far, or over the paper colour when there is
+// none yet. Variants: multiplicative (subtractive-like, the watercolor glaze; default) and
+// alpha-over. Per-pixel maths: stylize/stages/wash.h glaze_px.
+#pragma once
+
+#include "core/exec.h"
+#include "core/image.h"
+#include "stylize/stage.h"
+
+namespace aq::stylize {
+
+//! dst (4 channels, wash's size, alpha 1): base (4 channels of wash's size, or null = the paper
+//! colour `paper_color`) glazed with layer k's ramp colour ramp[k].rgb at opacity
+//! sat(ramp[k].a · wash[k]), k = 0..3. ramp[k]: 4 channels, all of one (any) size.
+void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* const ramp[4], glm::vec3 paper_color,
+           bool multiplicative, const Exec& ex = {});
+
+void register_glaze(Registry& r);
+
+}  // namespace aq::stylize

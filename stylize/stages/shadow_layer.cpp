@@ -1,0 +1,81 @@
+// stylize/stages/shadow_layer.cpp — see shadow_layer.h: layer_wash for one layer, then glaze_px.
+#include "stylize/stages/shadow_layer.h"
+
+#include "stylize/stages/toolkit.h"
+#include "stylize/stages/wash.h"
+
+namespace aq::stylize {
+
+using namespace toolkit;
+
+void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const ImageF* paper, const ShadowLayerParams& p,
+                  bool multiplicative, const Exec& ex) {
+    check_input(&color, 4, Channels::Exactly, "shadow_layer", "color");
+    check_input(&shadow, 1, Channels::Exactly, "shadow_layer", "shadow");
+    check_not_alias(dst, &color, "shadow_layer", "color");
+    check_not_alias(dst, &shadow, "shadow_layer", "shadow");
+    check_paper(paper, color, "shadow_layer", "color");
+    const int w = color.width(), h = color.height();
+    ImageF amount;
+    const ImageF* layers[4] = {&shadow, nullptr, nullptr, nullptr};
+    layer_wash(amount, layers, paper, w, h, p.wash, ex);  // both traversals follow ex
+    ensure_output(dst, w, h, 4);
+    const float* a = amount.data();
+    const float* c = color.data();
+    float* o = dst.data();
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const glm::vec3 r = glaze_px(glm::vec3(c[i * 4], c[i * 4 + 1], c[i * 4 + 2]), p.color, sat(p.alpha * a[i * 4]), multiplicative);
+            o[i * 4] = r.r, o[i * 4 + 1] = r.g, o[i * 4 + 2] = r.b, o[i * 4 + 3] = c[i * 4 + 3];
+        }
+    });
+}
+
+namespace {
+struct Table {
+    int radius = kGaussianBlurRadius;
+    float sigma = kGaussianBlurSigma;
+    float kappa = kWashKappa, width = 0.3f, edge = 0.5f, border = kWashBorder, granulation = kWashGranulation;
+    float color_r = kShadowColor.r, color_g = kShadowColor.g, color_b = kShadowColor.b, alpha = kShadowAlpha;
+};
+}  // namespace
+
+void register_shadow_layer(Registry& r) {
+    static const ParamTable<Table> t = ParamTable<Table>()
+        .i("radius", &Table::radius, 0, 64, "Gaussian blur radius in pixels of the shadow map (ours: 8; 0 = none)")
+        .f("sigma", &Table::sigma, 0.1, 64, "Gaussian sigma (ours: 4)")
+        .f("kappa", &Table::kappa, 0, 1, "κ of the wash's smoothstep (ours: 0.5)")
+        .f("width", &Table::width, 0.001, 1, "w of the wash's smoothstep (ours: 0.3, a soft wet-on-wet shadow)")
+        .f("edge", &Table::edge, 0, 8, "edge-darkening gain (ours: 0.5)")
+        .f("border", &Table::border, 0, 2, "paper perturbation of the border (ours: 0.3)")
+        .f("granulation", &Table::granulation, 0, 1, "paper modulation of the pigment (ours: 0.35)")
+        .f("color_r", &Table::color_r, 0, 1, "shadow colour (r; display value; ours: a cool blue-grey)")
+        .f("color_g", &Table::color_g, 0, 1, "shadow colour (g)")
+        .f("color_b", &Table::color_b, 0, 1, "shadow colour (b)")
+        .f("alpha", &Table::alpha, 0, 1, "shadow wash opacity (ours: 0.5, 'semi-transparently painted')");
+    for (bool mul : {true, false}) {
+        StageVariant v;
+        v.stage = "shadow_layer";
+        v.variant = mul ? "multiplicative" : "over";
+        v.doc = std::string("LD06 §3.3: the shadow intensity map as one more wash (blur, shape, edge, paper), glazed ") +
+                (mul ? "multiplicatively" : "with alpha over") + " onto the picture";
+        v.inputs = {{"color", "color.glazed", 4, false}, {"shadow", "ld06.shadow", 1, false}};
+        v.outputs = {{"color", "color.shadowed", 4, false}};
+        v.params = t.descs();
+        v.run = with_port_check(v, [mul](StageIO& io, const ParamValues& pv, const Exec& ex) {
+            const auto tp = t.from(pv);
+            ShadowLayerParams p;
+            p.wash.radius = tp.radius;
+            p.wash.sigma = tp.sigma;
+            p.wash.shape = {tp.kappa, tp.width, tp.edge, tp.border, tp.granulation, true, false};
+            p.color = {tp.color_r, tp.color_g, tp.color_b};
+            p.alpha = tp.alpha;
+            shadow_layer(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, p, mul, ex);
+        });
+        v.reference = StageVariant::Reference::SharedMaths;
+        r.add(std::move(v));
+    }
+}
+
+}  // namespace aq::stylize
