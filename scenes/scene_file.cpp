@@ -587,7 +587,8 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             if (std::find(have.begin(), have.end(), n) == have.end()) {
                 std::string list;
                 for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
-                ctx.bad(k + "[" + std::to_string(i) + "]", "no " + std::string(key).substr(0, std::strlen(key) - 1) +
+                const std::string singular = std::strcmp(key, "meshes") == 0 ? "mesh" : std::string(key).substr(0, std::strlen(key) - 1);
+                ctx.bad(k + "[" + std::to_string(i) + "]", "no " + singular +
                                                              " is named '" + n + "' (have: " + (list.empty() ? "none" : list) + ")");
             }
             out.push_back(n);

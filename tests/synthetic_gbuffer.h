@@ -134,8 +134,17 @@ inline ImageF synthetic_pattern(int w, int h, int channels, std::uint32_t seed) 
 //! The input image of a port: the G-buffer target of that name when `channels` matches its layout
 //! (from synthetic_gbuffer, so every caller sees the same G-buffer content), else
 //! synthetic_pattern.
+//! ID maps (LD06 layer or object IDs: names ending in "_id", one channel) get integer IDs 0..9 in
+//! blocks (0 = background), so every layer of an ID split is exercised.
 inline ImageF synthetic_target(const std::string& name, int channels, int w, int h, std::uint32_t seed = 1) {
     if (target::gbuffer_channels(name.c_str()) == channels) return synthetic_gbuffer(w, h, seed).get(name);
+    if (channels == 1 && name.size() > 3 && name.compare(name.size() - 3, 3, "_id") == 0) {
+        ImageF img(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                img.at(x, y, 0) = float(hash32(std::uint32_t(x / 7) * 131u + std::uint32_t(y / 5) + seed) % 10u);
+        return img;
+    }
     return synthetic_pattern(w, h, channels, seed);
 }
 

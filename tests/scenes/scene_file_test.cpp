@@ -420,6 +420,31 @@ TEST(SceneFile, FoliageNamesThatMatchNothingAreErrors) {
                  "foliage.T");
 }
 
+TEST(SceneFile, LayersGroupPrimitivesWithTheirColours) {
+    const SceneDesc d = load_scene(write_scene("layers.json", R"({"gltf": ")" + box_path() + R"(", "layers": [
+        {"name": "box", "meshes": ["Mesh"], "color": [0.2, 0.4, 0.6], "dark": [0.1, 0.1, 0.2], "alpha": 0.75}]})"));
+    ASSERT_EQ(d.scene.layers.size(), 1u);
+    const LayerSpec& l = d.scene.layers[0];
+    EXPECT_EQ(l.name, "box");
+    EXPECT_EQ(l.meshes, std::vector<std::string>{"Mesh"});
+    ASSERT_TRUE(l.color && l.dark && l.alpha);
+    EXPECT_FLOAT_EQ(l.color->b, 0.6f);
+    EXPECT_FLOAT_EQ(l.dark->b, 0.2f);
+    EXPECT_FLOAT_EQ(*l.alpha, 0.75f);
+}
+
+TEST(SceneFile, LayerNamesAndColoursAreChecked) {
+    expect_error(write_scene("layers_typo.json", R"({"gltf": ")" + box_path() + R"(", "layers": [{"meshes": ["Mesj"]}]})"),
+                 "layers[0].meshes[0]", "no mesh is named 'Mesj'");
+    expect_error(write_scene("layers_empty.json", R"({"gltf": ")" + box_path() + R"(", "layers": [{"name": "x"}]})"),
+                 "layers[0]", "names no node, mesh or material");
+    expect_error(write_scene("layers_color.json", R"({"gltf": ")" + box_path() + R"(", "layers": [{"meshes": ["Mesh"], "color": [0.2, 1.5, 0]}]})"),
+                 "layers[0].color[1]");
+    expect_error(write_scene("layers_alpha.json", R"({"gltf": ")" + box_path() + R"(", "layers": [{"meshes": ["Mesh"], "alpha": -0.1}]})"),
+                 "layers[0].alpha");
+    expect_error(write_scene("layers_type.json", R"({"gltf": ")" + box_path() + R"(", "layers": {"meshes": ["Mesh"]}})"), "layers");
+}
+
 TEST(SceneFile, MaterialsNameAnIntensityTexture) {
     const std::string tex = fs::absolute(aq::test::asset("paper/mnpr/rough_default_2k.jpg")).string();
     const SceneDesc d = load_scene(write_scene("intensity.json", R"({"gltf": ")" + box_path() +

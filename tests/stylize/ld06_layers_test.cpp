@@ -1,0 +1,246 @@
+// tests/stylize/ld06_layers_test.cpp — LD06 part 2 stages (issue 12; docs/ld06.md "Layers"):
+// id_layers splits IDs into four layers (fold packs the rest), layer_wash's shape / edge darkening /
+// automatic level of detail / variants, color_ramp's Gooch ends, glaze's two compositing rules,
+// shadow_layer and stroke_ink leaving the picture alone where there is nothing to paint. Expected
+// values come from the spec's formulas evaluated here, not from the implementation's output.
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "stylize/stages/color_ramp.h"
+#include "stylize/stages/glaze.h"
+#include "stylize/stages/id_layers.h"
+#include "stylize/stages/layer_wash.h"
+#include "stylize/stages/shadow_layer.h"
+#include "stylize/stages/stroke_ink.h"
+
+namespace aq::stylize {
+namespace {
+
+ImageF disk(int w, int h, float cx, float cy, float r) {
+    ImageF img(w, h, 1, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (std::hypot(x + 0.5f - cx, y + 0.5f - cy) < r) img.at(x, y, 0) = 1.0f;
+    return img;
+}
+
+TEST(IdLayers, SplitsIdsIntoFourLayersAndFoldsTheRest) {
+    ImageF ids(9, 1, 1);
+    const float v[9] = {0, 1, 2, 3, 4, 5, 6, 2.4f, 0.3f};  // 0 = background; id n = layer n - 1
+    for (int x = 0; x < 9; ++x) ids.at(x, 0, 0) = v[x];
+    for (bool fold : {true, false}) {
+        ImageF o[4];
+        ImageF* out[4] = {&o[0], &o[1], &o[2], &o[3]};
+        IdLayersParams p;
+        p.first = 1;  // layers 1..4 = ids 2..5
+        p.fold = fold;
+        id_layers(out, ids, p, Exec::reference());
+        // expected slot per pixel: id 2 -> 0, 3 -> 1, 4 -> 2, 5 -> 3, 6 -> 3 (fold) or none
+        const int slot[9] = {-1, -1, 0, 1, 2, 3, fold ? 3 : -1, 0, -1};
+        for (int x = 0; x < 9; ++x)
+            for (int k = 0; k < 4; ++k) EXPECT_EQ(o[k].at(x, 0, 0), slot[x] == k ? 1.0f : 0.0f) << "x " << x << " k " << k;
+    }
+}
+
+LayerWashParams flat_wash() {
+    LayerWashParams p;
+    p.shape.border = 0;
+    p.shape.granulation = 0;
+    return p;
+}
+
+TEST(LayerWash, FullLayerIsOneFullWashAndAbsentLayersAreEmpty) {
+    const ImageF full(40, 30, 1, 1.0f);
+    const ImageF* layers[4] = {&full, nullptr, nullptr, nullptr};
+    ImageF o;
+    layer_wash(o, layers, nullptr, 40, 30, flat_wash(), Exec::reference());
+    ASSERT_EQ(o.channels(), 4);
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+            ASSERT_EQ(o.at(x, y, 0), 1.0f);  // ρ = 1 exactly (delta-form blur), a = 1, e = 0
+            for (int k = 1; k < 4; ++k) ASSERT_EQ(o.at(x, y, k), 0.0f);
+        }
+}
+
+TEST(LayerWash, EdgesAreDarkerThanTheInteriorAndNothingOutside) {
+    const ImageF d = disk(96, 96, 48, 48, 30);
+    const ImageF* layers[4] = {&d, nullptr, nullptr, nullptr};
+    ImageF o;
+    layer_wash(o, layers, nullptr, 96, 96, flat_wash(), Exec::fast(2));
+    EXPECT_NEAR(o.at(48, 48, 0), 1.0f, 1e-5);      // deep inside: a full wash, no edge term
+    EXPECT_GT(o.at(48 + 27, 48, 0), 1.15f);        // just inside the border: pigment gathers
+    EXPECT_EQ(o.at(48 + 40, 48, 0), 0.0f);         // outside the blurred border: nothing
+    EXPECT_EQ(o.at(2, 2, 0), 0.0f);
+}
+
+TEST(LayerWash, WetOnWetBorderIsWiderThanWetOnDry) {
+    const ImageF d = disk(96, 96, 48, 48, 30);
+    const ImageF* layers[4] = {&d, nullptr, nullptr, nullptr};
+    auto band = [&](float width) {
+        LayerWashParams p = flat_wash();
+        p.shape.width = width;
+        p.shape.edge = 0;
+        ImageF o;
+        layer_wash(o, layers, nullptr, 96, 96, p, Exec::reference());
+        int n = 0;
+        for (int y = 0; y < 96; ++y)
+            for (int x = 0; x < 96; ++x) n += o.at(x, y, 0) > 0.05f && o.at(x, y, 0) < 0.95f;
+        return n;
+    };
+    EXPECT_GT(band(0.5f), 2 * band(0.05f));
+}
+
+TEST(LayerWash, SmallShapesFadeBelowTheKernelSize) {
+    // LD06 §4.3 automatic level of detail: a 2-pixel detail vanishes under the blur, a big shape stays.
+    ImageF d = disk(64, 64, 44, 32, 14);
+    d.at(10, 10, 0) = d.at(11, 10, 0) = d.at(10, 11, 0) = d.at(11, 11, 0) = 1.0f;
+    const ImageF* layers[4] = {&d, nullptr, nullptr, nullptr};
+    LayerWashParams p = flat_wash();
+    p.shape.edge = 0;
+    ImageF o;
+    layer_wash(o, layers, nullptr, 64, 64, p, Exec::reference());
+    float small = 0;
+    for (int y = 5; y < 17; ++y)
+        for (int x = 5; x < 17; ++x) small = std::max(small, o.at(x, y, 0));
+    EXPECT_EQ(small, 0.0f);
+    EXPECT_NEAR(o.at(44, 32, 0), 1.0f, 1e-5);
+}
+
+TEST(LayerWash, AdditiveEdgePaintsThinLinesTheMultiplicativeOneDrops) {
+    ImageF d(64, 64, 1, 0.0f);
+    for (int y = 10; y < 54; ++y) d.at(32, y, 0) = 1.0f;  // a 1-pixel line: ρ stays far below κ
+    const ImageF* layers[4] = {&d, nullptr, nullptr, nullptr};
+    LayerWashParams p = flat_wash();
+    ImageF mul, add;
+    layer_wash(mul, layers, nullptr, 64, 64, p, Exec::reference());
+    p.shape.additive_edge = true;
+    layer_wash(add, layers, nullptr, 64, 64, p, Exec::reference());
+    EXPECT_EQ(mul.at(32, 32, 0), 0.0f);
+    EXPECT_GT(add.at(32, 32, 0), 0.5f);
+}
+
+TEST(LayerWash, GranulationPutsMorePigmentInPaperValleys) {
+    const ImageF full(8, 8, 1, 1.0f);
+    const ImageF* layers[4] = {&full, nullptr, nullptr, nullptr};
+    ImageF paper(8, 8, 3, 0.5f);
+    paper.at(1, 1, 2) = 0.0f;  // valley
+    paper.at(5, 5, 2) = 1.0f;  // ridge
+    LayerWashParams p;
+    p.shape.border = 0;
+    ImageF o;
+    layer_wash(o, layers, &paper, 8, 8, p, Exec::reference());
+    EXPECT_FLOAT_EQ(o.at(1, 1, 0), 1.0f + p.shape.granulation);
+    EXPECT_FLOAT_EQ(o.at(5, 5, 0), 1.0f - p.shape.granulation);
+    EXPECT_FLOAT_EQ(o.at(3, 3, 0), 1.0f);
+}
+
+TEST(LayerWash, ResamplesIntermediatesToTheOutputSize) {
+    const ImageF d = disk(52, 52, 26, 26, 15);
+    const ImageF* layers[4] = {&d, &d, nullptr, nullptr};
+    ImageF r, f;
+    layer_wash(r, layers, nullptr, 72, 72, flat_wash(), Exec::reference());
+    layer_wash(f, layers, nullptr, 72, 72, flat_wash(), Exec::fast(2));
+    ASSERT_EQ(r.width(), 72);
+    ASSERT_EQ(0, std::memcmp(r.data(), f.data(), r.num_values() * sizeof(float)));
+    EXPECT_NEAR(r.at(36, 36, 1), 1.0f, 1e-5);
+    EXPECT_THROW(layer_wash(r, layers, nullptr, 0, 72, flat_wash()), Error);
+    const ImageF other(10, 10, 1, 1.0f);
+    const ImageF* bad[4] = {&d, &other, nullptr, nullptr};
+    EXPECT_THROW(layer_wash(r, bad, nullptr, 72, 72, flat_wash()), Error);
+}
+
+TEST(ColorRamp, GoochEndsAndAlpha) {
+    ImageF light(3, 1, 1);
+    light.at(0, 0, 0) = 0.0f, light.at(1, 0, 0) = 1.0f, light.at(2, 0, 0) = 0.5f;
+    ColorRampParams p;
+    p.hue.cool = {0.0f, 0.0f, 0.4f};
+    p.hue.warm = {0.4f, 0.4f, 0.0f};
+    p.hue.cool_mix = 0.2f;
+    p.hue.warm_mix = 0.6f;
+    p.layer[2] = {{0.5f, 0.6f, 0.2f}, {0.1f, 0.2f, 0.05f}, 0.7f, 1.0f};
+    ImageF o[4];
+    ImageF* out[4] = {&o[0], &o[1], &o[2], &o[3]};
+    color_ramp(out, light, p, Exec::reference());
+    // t = 0: k_cool = cool + 0.2 dark; t = 1: k_warm = warm + 0.6 colour (Gooch et al. 1998).
+    const float cool[3] = {0.0f + 0.2f * 0.1f, 0.0f + 0.2f * 0.2f, 0.4f + 0.2f * 0.05f};
+    const float warm[3] = {0.4f + 0.6f * 0.5f, 0.4f + 0.6f * 0.6f, 0.0f + 0.6f * 0.2f};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(o[2].at(0, 0, c), cool[c], 1e-6);
+        EXPECT_NEAR(o[2].at(1, 0, c), warm[c], 1e-6);
+    }
+    EXPECT_EQ(o[2].at(2, 0, 3), 0.7f);
+    // t = 0.5: halfway between the two ends of a ramp whose object colour is itself halfway.
+    const float mid_obj_r = 0.5f * (0.1f + 0.5f);
+    EXPECT_NEAR(o[2].at(2, 0, 0), 0.5f * (0.2f * mid_obj_r) + 0.5f * (0.4f + 0.6f * mid_obj_r), 1e-6);
+}
+
+TEST(Glaze, ZeroWashKeepsThePictureAndFullWashMultiplies) {
+    const int w = 6, h = 4;
+    ImageF base(w, h, 4, 0.8f), wash(w, h, 4, 0.0f), ramp(w, h, 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            ramp.at(x, y, 0) = 0.5f, ramp.at(x, y, 1) = 0.25f, ramp.at(x, y, 2) = 1.0f, ramp.at(x, y, 3) = 1.0f;
+        }
+    const ImageF* ramps[4] = {&ramp, &ramp, &ramp, &ramp};
+    ImageF o;
+    glaze(o, &base, wash, ramps, glm::vec3(1.0f), true, Exec::reference());
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(o.at(2, 2, c), 0.8f);
+    EXPECT_EQ(o.at(2, 2, 3), 1.0f);
+    wash.at(2, 2, 1) = 1.0f;  // one full layer: dst * c
+    glaze(o, &base, wash, ramps, glm::vec3(1.0f), true, Exec::reference());
+    EXPECT_FLOAT_EQ(o.at(2, 2, 0), 0.8f * 0.5f);
+    EXPECT_FLOAT_EQ(o.at(2, 2, 1), 0.8f * 0.25f);
+    EXPECT_FLOAT_EQ(o.at(2, 2, 2), 0.8f);
+    // No picture yet: glazed over the paper colour.
+    glaze(o, nullptr, wash, ramps, glm::vec3(0.9f, 0.8f, 0.7f), true, Exec::reference());
+    EXPECT_FLOAT_EQ(o.at(2, 2, 0), 0.9f * 0.5f);
+    EXPECT_FLOAT_EQ(o.at(0, 0, 2), 0.7f);
+}
+
+TEST(Glaze, OverPaintsBackToFrontTheLastLayerOnTop) {
+    const int w = 2, h = 2;
+    ImageF base(w, h, 4, 1.0f), wash(w, h, 4, 1.0f), r0(w, h, 4), r3(w, h, 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 4; ++c) {
+                r0.at(x, y, c) = c == 3 ? 1.0f : 0.2f;
+                r3.at(x, y, c) = c == 3 ? 1.0f : 0.7f;
+            }
+    const ImageF* ramps[4] = {&r0, &r0, &r0, &r3};
+    ImageF o;
+    glaze(o, &base, wash, ramps, glm::vec3(1.0f), false, Exec::reference());
+    EXPECT_FLOAT_EQ(o.at(1, 1, 0), 0.7f);
+    glaze(o, &base, wash, ramps, glm::vec3(1.0f), true, Exec::reference());
+    EXPECT_NEAR(o.at(1, 1, 0), 0.2f * 0.2f * 0.2f * 0.7f, 1e-7);
+}
+
+TEST(ShadowLayerAndInk, NothingToPaintLeavesThePictureUnchanged) {
+    ImageF color(30, 20, 4);
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 30; ++x)
+            for (int c = 0; c < 4; ++c) color.at(x, y, c) = 0.1f + 0.02f * float((x + y + c) % 30);
+    const ImageF none(22, 15, 1, 0.0f);
+    ImageF s, k;
+    shadow_layer(s, color, none, nullptr, ShadowLayerParams{}, true, Exec::fast(2));
+    stroke_ink(k, color, none, StrokeInkParams{}, Exec::fast(2));
+    ASSERT_EQ(0, std::memcmp(s.data(), color.data(), color.num_values() * sizeof(float)));
+    ASSERT_EQ(0, std::memcmp(k.data(), color.data(), color.num_values() * sizeof(float)));
+    // Full shadow: every colour channel darkened towards the shadow colour, alpha kept.
+    const ImageF full(22, 15, 1, 1.0f);
+    shadow_layer(s, color, full, nullptr, ShadowLayerParams{}, true, Exec::reference());
+    const ShadowLayerParams sp;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_FLOAT_EQ(s.at(10, 10, c), color.at(10, 10, c) * (1.0f - sp.alpha * (1.0f - sp.color[c])));
+    EXPECT_EQ(s.at(10, 10, 3), color.at(10, 10, 3));
+    // Full ink at alpha 1: the ink colour.
+    StrokeInkParams ip;
+    ip.alpha = 1.0f;
+    stroke_ink(k, color, full, ip, Exec::reference());
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(k.at(5, 5, c), ip.color[c]);
+}
+
+}  // namespace
+}  // namespace aq::stylize
