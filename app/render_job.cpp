@@ -238,10 +238,12 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
         rs.frame = f;
         std::vector<std::string> warnings;
-        raster::render_gbuffer_into(gbuffer, job.desc.scene, job.desc.camera, rs, &warnings);
-        for (auto& w : warnings) report.warning(w);
-        report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
-            std::to_string(int(ms_since(tf))) + " ms");
+        if (job.needs_gbuffer()) {
+            raster::render_gbuffer_into(gbuffer, job.desc.scene, job.desc.camera, rs, &warnings);
+            for (auto& w : warnings) report.warning(w);
+            report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
+                std::to_string(int(ms_since(tf))) + " ms");
+        }
 
         for (std::size_t si = 0; si < job.styles.size(); ++si) {
             const stylize::Pipeline& style = job.styles[si];

@@ -54,6 +54,14 @@ struct RenderJob {
     //! Per style with raster passes: the LD06 layers of the scene they draw (scenes/layers.h).
     std::vector<scene::LayerTable> pass_layers;
     bool sweeping() const { return styles.size() > 1; }
+    //! False when every style draws the scene with its own raster passes and reads no G-buffer
+    //! target (ld06): the G-buffer is then not rendered (nor written by --targets).
+    bool needs_gbuffer() const {
+        if (!stylize) return true;
+        for (const stylize::CompiledPipeline& c : compiled)
+            if (!c.has_passes || !c.external.empty()) return true;
+        return false;
+    }
 };
 
 //! Where a job reports: progress (silenced by --quiet) and warnings (always shown by the CLI).

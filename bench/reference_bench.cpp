@@ -112,6 +112,7 @@ const bool kRegistered = [] {
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime();
     for (const std::string& preset : stylize::preset_names())
+        if (!stylize::compile_pipeline(stylize::load_pipeline(preset)).has_passes)  // ld06: needs a scene
         for (const Size& s : kSizes)
             benchmark::RegisterBenchmark(("gl/pipeline/" + preset + "/" + s.name).c_str(), bm_gl_pipeline, preset, s)
                 ->Unit(benchmark::kMillisecond)

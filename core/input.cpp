@@ -18,12 +18,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::mutex g_inputs_mutex;
-std::set<std::pair<dev_t, ino_t>> g_inputs;  // identity of every file read by this process
+// The identity of every file read by this process. Function-local statics: files may be read
+// during another translation unit's static initialisation (benchmark registration loads presets).
+std::mutex& inputs_mutex() {
+    static std::mutex m;
+    return m;
+}
+std::set<std::pair<dev_t, ino_t>>& inputs() {
+    static std::set<std::pair<dev_t, ino_t>> s;
+    return s;
+}
 
 void remember(const struct stat& st) {
-    std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    g_inputs.insert({st.st_dev, st.st_ino});
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    inputs().insert({st.st_dev, st.st_ino});
 }
 
 //! Opens read-only and non-blocking (a FIFO with no writer must not block) and checks the opened
@@ -101,8 +109,8 @@ void check_input_file(const std::string& path, std::uintmax_t max_bytes, const s
 bool is_input_of_run(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) return false;
-    std::lock_guard<std::mutex> lock(g_inputs_mutex);
-    return g_inputs.count({st.st_dev, st.st_ino}) != 0;
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    return inputs().count({st.st_dev, st.st_ino}) != 0;
 }
 
 void note_input_of_run(const std::string& path) {

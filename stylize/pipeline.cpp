@@ -5,6 +5,7 @@
 #include "core/json_file.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -484,9 +485,11 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     g.scene = opt.scene;
     g.warnings = opt.warnings;
     const int n = int(c.steps.size());
+    if (opt.step_ms) opt.step_ms->assign(std::size_t(n), 0.0);
     for (int i = 0; i < n; ++i) {
         const CompiledStep& r = c.steps[std::size_t(i)];
         if (opt.progress) opt.progress(i, n, r.label);
+        const auto t0 = std::chrono::steady_clock::now();
         StageIO io;
         io.globals = &g;
         for (std::size_t k = 0; k < r.inputs.size(); ++k)
@@ -506,6 +509,8 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                             std::to_string(r.variant->outputs[k].channels) + " channels");
             targets.set(r.outputs[k], std::move(outs[k]));
         }
+        if (opt.step_ms)
+            (*opt.step_ms)[std::size_t(i)] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (opt.release_dead) {
             for (const std::string& t : c.produced) {
                 if (t == c.output || !targets.has(t)) continue;

@@ -92,6 +92,9 @@ struct RunOptions {
     const raster::PassScene* scene = nullptr;
     //! Non-fatal problems reported by steps (may be null).
     std::vector<std::string>* warnings = nullptr;
+    //! When set: resized to the step count and filled with each step's wall time in milliseconds
+    //! (benchmarks' per-column splits, reports).
+    std::vector<double>* step_ms = nullptr;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and

@@ -1,4 +1,5 @@
 // stylize/stages/color_ramp.cpp — see color_ramp.h. Pointwise; one row traversal for both schedules.
+#pragma GCC optimize("no-trapping-math")  // lets the row loop if-convert and vectorise; values unchanged
 #include "stylize/stages/color_ramp.h"
 
 #include "stylize/stages/toolkit.h"
@@ -16,14 +17,15 @@ void color_ramp(ImageF* const dst[4], const ImageF& lighting, const ColorRampPar
     }
     const float* in = lighting.data();
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            const float t = in[i];
-            for (int k = 0; k < 4; ++k) {
-                const ColorRampLayer& l = p.layer[k];
-                const glm::vec3 c = ramp_color(t, l.color, l.dark, l.tone, p.hue);
-                float* o = dst[k]->data() + i * 4;
-                o[0] = c.r, o[1] = c.g, o[2] = c.b, o[3] = l.alpha;
+        const std::size_t r = std::size_t(y) * w;
+        for (int k = 0; k < 4; ++k) {  // one layer at a time: a loop over x without branches
+            const ColorRampLayer l = p.layer[k];
+            const RampColors hue = p.hue;
+            float* __restrict o = dst[k]->data() + r * 4;
+            const float* __restrict t = in + r;
+            for (int x = x0; x < x1; ++x) {
+                const glm::vec3 c = ramp_color(t[x], l.color, l.dark, l.tone, hue);
+                o[std::size_t(x) * 4] = c.r, o[std::size_t(x) * 4 + 1] = c.g, o[std::size_t(x) * 4 + 2] = c.b, o[std::size_t(x) * 4 + 3] = l.alpha;
             }
         }
     });

@@ -1,6 +1,7 @@
-// stylize/stages/layer_wash.cpp — see layer_wash.h. Blur: blur.h's separable traversals. Shaping:
-// wash_amount per pixel, over a plain loop (reference) or oneTBB rows with precomputed resampling
-// taps (fast); the taps give sample_resampled_plane's values bit for bit.
+// stylize/stages/layer_wash.cpp — see layer_wash.h. Reference: each layer blurred alone, then a
+// plain loop sampling every value per pixel; fast: the layers blurred as one packed image and
+// resampled row by row (the same values bit for bit, tests/stylize/registry_traversal_test.cpp).
+#pragma GCC optimize("no-trapping-math")  // lets the shaping loop if-convert and vectorise; values unchanged
 #include "stylize/stages/layer_wash.h"
 
 #include "stylize/paper.h"
@@ -19,6 +20,30 @@ void wash_blur(ImageF& dst, const ImageF& src, int radius, float sigma, const Ex
     separable_blur(dst, src, gaussian_weights(radius, sigma), Border::Clamp, ex);
 }
 
+namespace {
+
+// wash_amount over n values with the shape's two switches as constants, so the loop has no
+// branch left and vectorises; the values are wash_amount's (the same function, inlined).
+template <bool Before, bool Additive>
+void shape_row_t(float* __restrict o, const float* __restrict I, const float* __restrict R, const float* __restrict H,
+                 std::size_t n, WashShape s) {
+    s.paper_before = Before;
+    s.additive_edge = Additive;
+    for (std::size_t i = 0; i < n; ++i) o[i] = wash_amount(I[i], R[i], H[i], s);
+}
+
+void shape_row(float* o, const float* I, const float* R, const float* H, std::size_t n, const WashShape& s) {
+    if (s.paper_before) {
+        if (s.additive_edge) shape_row_t<true, true>(o, I, R, H, n, s);
+        else shape_row_t<true, false>(o, I, R, H, n, s);
+    } else {
+        if (s.additive_edge) shape_row_t<false, true>(o, I, R, H, n, s);
+        else shape_row_t<false, false>(o, I, R, H, n, s);
+    }
+}
+
+}  // namespace
+
 void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h,
                 const LayerWashParams& p, const Exec& ex) {
     static const char* kPorts[4] = {"layer0", "layer1", "layer2", "layer3"};
@@ -36,37 +61,65 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
         check_input(paper, 3, Channels::AtLeast, "layer_wash", "paper");
         if (paper->width() != out_w || paper->height() != out_h) throw Error("layer_wash: the paper is not the output size");
     }
-    ImageF blurred[4];
-    for (int k = 0; k < 4; ++k)
-        if (layers[k]) wash_blur(blurred[k], *layers[k], p.radius, p.sigma, ex);
-    ensure_output(dst, out_w, out_h, 4);
     const float flat = kFlatPaperHeight;
     const Plane hp = paper ? plane(*paper, 2) : constant_plane(&flat, out_w, out_h);
-    const float zero = 0.0f;
-    Plane I[4], R[4];
-    for (int k = 0; k < 4; ++k) {
-        I[k] = layers[k] ? plane(*layers[k], 0) : constant_plane(&zero, first->width(), first->height());
-        R[k] = layers[k] ? plane(blurred[k], 0) : constant_plane(&zero, first->width(), first->height());
-    }
-    float* o = dst.data();
     if (ex.traversal == Traversal::Reference) {
+        // Plain schedule: each layer blurred on its own, every value sampled per pixel.
+        ImageF blurred[4];
+        for (int k = 0; k < 4; ++k)
+            if (layers[k]) wash_blur(blurred[k], *layers[k], p.radius, p.sigma, ex);
+        ensure_output(dst, out_w, out_h, 4);
+        float* o = dst.data();
         plain_loop(out_w, out_h, [&](int x, int y) {
             const float h = hp(x, y);
             for (int k = 0; k < 4; ++k)
                 o[(std::size_t(y) * out_w + x) * 4 + k] =
-                    layers[k] ? wash_amount(sample_resampled_plane(I[k], x, y, out_w, out_h),
-                                            sample_resampled_plane(R[k], x, y, out_w, out_h), h, p.shape)
+                    layers[k] ? wash_amount(sample_resampled_plane(plane(*layers[k], 0), x, y, out_w, out_h),
+                                            sample_resampled_plane(plane(blurred[k], 0), x, y, out_w, out_h), h, p.shape)
                               : 0.0f;
         });
         return;
     }
-    const Resampler rs(out_w, out_h, first->width(), first->height());
-    for_each_row(ex, out_w, out_h, [&](int y, int x0, int x1) {
-        float* row = o + std::size_t(y) * out_w * 4;
-        for (int x = x0; x < x1; ++x) {
-            const float h = hp(x, y);
-            for (int k = 0; k < 4; ++k)
-                row[std::size_t(x) * 4 + k] = layers[k] ? wash_amount(rs.sample(I[k], x, y), rs.sample(R[k], x, y), h, p.shape) : 0.0f;
+    // Fast schedule: the layers packed into one P-channel image (P = 1 + the last present layer)
+    // and blurred in one call (the delta-form blur computes every value with the same operations
+    // whatever the channel count, blur.h), then each output row resampled from both packed
+    // images row by row (RowResampler: sample_resampled's values) and shaped in one flat loop.
+    int P = 0;
+    for (int k = 0; k < 4; ++k)
+        if (layers[k]) P = k + 1;
+    const int sw = first->width(), sh = first->height();
+    ImageF packed(sw, sh, P, 0.0f), blurred;
+    for (int k = 0; k < P; ++k)
+        if (layers[k]) {
+            const float* src = layers[k]->data();
+            float* d = packed.data() + k;
+            for (std::size_t i = 0, n = std::size_t(sw) * sh; i < n; ++i) d[std::size_t(i) * P] = src[i];
+        }
+    wash_blur(blurred, packed, p.radius, p.sigma, ex);
+    ensure_output(dst, out_w, out_h, 4);
+    const ResampleAxis ax(out_w, sw), ay(out_h, sh);
+    float* o = dst.data();
+    auto rows = [&]<int N>(int y0, int y1) {
+        RowResampler<N> ri(packed.data(), sw, out_w, ax, ay), rr(blurred.data(), sw, out_w, ax, ay);
+        const std::size_t n = std::size_t(out_w) * N;
+        std::vector<float> I(n), R(n), H(n), A(n);
+        for (int y = y0; y < y1; ++y) {
+            ri.row(y, I.data());
+            rr.row(y, R.data());
+            for (int x = 0; x < out_w; ++x)
+                for (int k = 0; k < N; ++k) H[std::size_t(x) * N + k] = hp(x, y);
+            shape_row(A.data(), I.data(), R.data(), H.data(), n, p.shape);
+            float* row = o + std::size_t(y) * out_w * 4;
+            for (int x = 0; x < out_w; ++x)
+                for (int k = 0; k < 4; ++k) row[std::size_t(x) * 4 + k] = k < N && layers[k] ? A[std::size_t(x) * N + k] : 0.0f;
+        }
+    };
+    for_each_row_block(ex, out_h, [&](int y0, int y1) {
+        switch (P) {
+            case 1: rows.template operator()<1>(y0, y1); break;
+            case 2: rows.template operator()<2>(y0, y1); break;
+            case 3: rows.template operator()<3>(y0, y1); break;
+            default: rows.template operator()<4>(y0, y1); break;
         }
     });
 }

@@ -10,6 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "core/hash.h"
+#include "raster/pass.h"
+#include "scenes/procedural.h"
+#include "scenes/scene_file.h"
 #include "stylize/pipeline.h"
 #include "tests/synthetic_gbuffer.h"
 #include "tests/test_support.h"
@@ -62,11 +65,17 @@ TEST(Pipeline, EveryPresetLoadsValidatesAndRunsDeterministically) {
         EXPECT_EQ(p.name, name);
         EXPECT_FALSE(p.steps.empty());
         p.has_paper = false;  // flat paper: keep the test independent of the paper files
+        // Presets with raster passes (ld06) draw a scene: the procedural tree, as modelled.
+        static const scene::Scene tree = scene::make_procedural("tree");
+        static const raster::PassScene ps =
+            raster::make_pass_scene(tree, scene::frame_bounds(tree.world_bounds(), 61.0f / 37.0f), 61, 37);
+        const bool passes = compile_pipeline(p).has_passes;
         std::map<std::string, std::string> first;
         for (int threads : {1, 2, 8}) {
             Targets t = test::synthetic_gbuffer(61, 37);
             RunOptions o;
             o.exec = Exec{threads, Traversal::Fast, 16};
+            if (passes) o.scene = &ps;
             int calls = 0;
             o.progress = [&](int i, int n, const std::string&) {
                 EXPECT_EQ(i, calls++);
