@@ -67,6 +67,8 @@ options:
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
   --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
   --frames A-B          render frames A..B inclusive (animation), with progress
+  --orbit DEG           camera orbit: frame N sees the scene turned by N x DEG degrees about
+                        the vertical (+Y) axis through the centre of its bounds (default 0)
   --sweep S.P=A:B:N     render N images with parameter P of step S from A to B (G-buffer
                         rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
@@ -156,6 +158,8 @@ RenderOptions parse_render(Args& a) {
             o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -1e30, 1e30);
             o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -1e30, 1e30);
             o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), 2, 1000));
+        } else if (arg == "--orbit") {
+            o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -360.0, 360.0);
         } else if (arg == "--fps") {
             o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
         } else if (arg == "--ssaa") {

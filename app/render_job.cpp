@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <optional>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "app/cli_args.h"
 #include "scenes/scene_file.h"
 
@@ -56,6 +58,21 @@ void fill_layer_colors(stylize::Pipeline& pipeline, const scene::Scene& sc) {
 }
 
 }  // namespace
+
+scene::Camera frame_camera(const RenderJob& job, int frame) {
+    scene::Camera cam = job.desc.camera;
+    const double deg = job.options.orbit_deg * double(frame);
+    if (deg == 0.0) return cam;
+    const scene::Bounds b = job.desc.scene.world_bounds();
+    if (!b.valid) return cam;
+    const glm::vec3 c = 0.5f * (b.min + b.max);
+    // world' = R(c) world: the camera sees the scene turned by -deg, i.e. the camera moves by +deg.
+    const glm::mat4 turn = glm::translate(glm::mat4(1.0f), c) *
+                           glm::rotate(glm::mat4(1.0f), float(-deg * 3.14159265358979323846 / 180.0), glm::vec3(0, 1, 0)) *
+                           glm::translate(glm::mat4(1.0f), -c);
+    cam.view = cam.view * turn;
+    return cam;
+}
 
 RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -237,9 +254,10 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         const std::string prefix =
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
         rs.frame = f;
+        const scene::Camera camera = frame_camera(job, f);
         std::vector<std::string> warnings;
         if (job.needs_gbuffer()) {
-            raster::render_gbuffer_into(gbuffer, job.desc.scene, job.desc.camera, rs, &warnings);
+            raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
             for (auto& w : warnings) report.warning(w);
             report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
                 std::to_string(int(ms_since(tf))) + " ms");
@@ -266,7 +284,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 std::vector<std::string> step_warnings;
                 if (job.compiled[si].has_passes) {
                     const raster::AbstractedScene& a = *job.pass_scenes[si];
-                    pass_scene = raster::make_pass_scene(a.scene, job.desc.camera, rs.width, rs.height);
+                    pass_scene = raster::make_pass_scene(a.scene, camera, rs.width, rs.height);
                     pass_scene->layers = &job.pass_layers[si];
                     if (a.abstracted) {
                         pass_scene->foliage_surface = &a.surface;

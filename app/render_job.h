@@ -27,6 +27,7 @@ struct RenderOptions {
     int frame_first = 0, frame_last = 0;
     bool animation = false;
     double fps = 0;
+    double orbit_deg = 0;  //!< --orbit: camera turned by frame x this about +Y through the bounds' centre
     bool reference = false, quiet = false, allow_outside_files = false;
     bool neutral_control = false;
     //! Hand the sink every intermediate (--targets, --targets-png, the regression goldens); else
@@ -58,8 +59,11 @@ struct RenderJob {
     //! target (ld06): the G-buffer is then not rendered (nor written by --targets).
     bool needs_gbuffer() const {
         if (!stylize) return true;
-        for (const stylize::CompiledPipeline& c : compiled)
-            if (!c.has_passes || !c.external.empty()) return true;
+        for (const stylize::CompiledPipeline& c : compiled) {
+            if (!c.has_passes) return true;
+            for (const stylize::ExternalInput& x : c.external)
+                if (target::gbuffer_channels(x.target.c_str()) > 0) return true;
+        }
         return false;
     }
 };
@@ -69,6 +73,10 @@ struct Reporter {
     std::function<void(const std::string&)> progress = [](const std::string&) {};
     std::function<void(const std::string&)> warning = [](const std::string&) {};
 };
+
+//! The camera of frame f: the job's camera orbited by f x options.orbit_deg degrees about the
+//! vertical (+Y) axis through the centre of the scene's world bounds (the camera itself when 0).
+scene::Camera frame_camera(const RenderJob& job, int frame);
 
 //! Loads the scene and configures the style (scene-file values, automatic depth range, --variant,
 //! --set, paper, working space, default art-direction, sweep values). Throws aq::Error.
