@@ -2,6 +2,7 @@
 #include "scenes/scene_file.h"
 
 #include "scenes/layers.h"
+#include "scenes/leaf_strokes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -634,21 +635,62 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         }
     }
 
-    // LD06 §4.4 hand-made strokes: polylines in world coordinates ("scale" does not apply), in file order.
+    // LD06 §4.4 hand-made strokes: polylines in world coordinates ("scale" does not apply), or in a
+    // material's texture space copied onto every leaf of that material (scenes/leaf_strokes.h), in
+    // file order.
     if (j.contains("strokes")) {
         const json& st = j["strokes"];
-        if (!st.is_array()) ctx.bad("strokes", "expected an array of {\"points\": [[x, y, z], ...], \"normals\", \"hatching\"}");
+        if (!st.is_array())
+            ctx.bad("strokes", "expected an array of {\"points\": [[x, y, z], ...], \"normals\", \"hatching\"} or "
+                               "{\"uv\": [[u, v], ...], \"material\": NAME, \"hatching\"}");
         if (st.size() > kMaxSceneStrokes) ctx.bad("strokes", "more than " + std::to_string(kMaxSceneStrokes) + " strokes");
         std::size_t vertices = 0;
         for (std::size_t i = 0; i < st.size(); ++i) {
             const std::string k = "strokes[" + std::to_string(i) + "]";
-            ctx.check_keys(st[i], k, {"points", "normals", "hatching", "comment"});
+            ctx.check_keys(st[i], k, {"points", "normals", "uv", "material", "hatching", "comment"});
+            bool hatching = false;
+            if (st[i].contains("hatching")) {
+                if (!st[i]["hatching"].is_boolean()) ctx.bad(k + ".hatching", "expected true or false");
+                hatching = st[i]["hatching"].get<bool>();
+            }
+            if (st[i].contains("uv")) {
+                if (st[i].contains("points") || st[i].contains("normals"))
+                    ctx.bad(k, "a stroke has either \"points\" (world) or \"uv\" (texture space), not both");
+                if (!st[i]["uv"].is_array() || st[i]["uv"].size() < 2)
+                    ctx.bad(k + ".uv", "expected an array of at least two [u, v] points");
+                if (!st[i].contains("material")) ctx.bad(k + ".material", "a texture-space stroke names the material whose leaves it is copied onto");
+                UvStroke us;
+                us.material = ctx.string(st[i]["material"], k + ".material");
+                if (std::find(material_names.begin(), material_names.end(), us.material) == material_names.end())
+                    ctx.bad(k + ".material", "no material is named '" + us.material + "'");
+                us.light_dependent = hatching;
+                for (std::size_t q = 0; q < st[i]["uv"].size(); ++q) {
+                    const std::string kq = k + ".uv[" + std::to_string(q) + "]";
+                    const json& uv = st[i]["uv"][q];
+                    if (!uv.is_array() || uv.size() != 2) ctx.bad(kq, "expected [u, v]");
+                    us.uv.push_back({float(ctx.number(uv[0], kq + "[0]", -1e6, 1e6)), float(ctx.number(uv[1], kq + "[1]", -1e6, 1e6))});
+                }
+                std::vector<Stroke> placed;
+                try {
+                    placed = place_uv_strokes(d.scene, {us}, kMaxSceneStrokes - d.scene.strokes.size(),
+                                              kMaxSceneStrokeVertices - vertices);
+                } catch (const Error& e) {
+                    ctx.bad(k, e.what());
+                }
+                if (placed.empty()) ctx.bad(k, "lands on no leaf of material '" + us.material + "' (no triangle's UVs contain its points)");
+                for (Stroke& ps : placed) {
+                    vertices += ps.points.size();
+                    d.scene.strokes.push_back(std::move(ps));
+                }
+                continue;
+            }
             if (!st[i].contains("points") || !st[i]["points"].is_array() || st[i]["points"].size() < 2)
                 ctx.bad(k + ".points", "expected an array of at least two [x, y, z] points");
             Stroke s;
             vertices += st[i]["points"].size();
-            if (vertices > kMaxSceneStrokeVertices)
-                ctx.bad(k + ".points", "more than " + std::to_string(kMaxSceneStrokeVertices) + " stroke points in all");
+            if (vertices > kMaxSceneStrokeVertices || d.scene.strokes.size() >= kMaxSceneStrokes)
+                ctx.bad(k + ".points", "more than " + std::to_string(kMaxSceneStrokeVertices) + " stroke points or " +
+                                           std::to_string(kMaxSceneStrokes) + " strokes in all");
             for (std::size_t q = 0; q < st[i]["points"].size(); ++q)
                 s.points.push_back(ctx.vec3(st[i]["points"][q], k + ".points[" + std::to_string(q) + "]"));
             if (st[i].contains("normals")) {
@@ -657,10 +699,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                 for (std::size_t q = 0; q < n.size(); ++q)
                     s.normals.push_back(ctx.vec3(n[q], k + ".normals[" + std::to_string(q) + "]"));
             }
-            if (st[i].contains("hatching")) {
-                if (!st[i]["hatching"].is_boolean()) ctx.bad(k + ".hatching", "expected true or false");
-                s.light_dependent = st[i]["hatching"].get<bool>();
-            }
+            s.light_dependent = hatching;
             d.scene.strokes.push_back(std::move(s));
         }
     }

@@ -445,6 +445,39 @@ TEST(SceneFile, LayerNamesAndColoursAreChecked) {
     expect_error(write_scene("layers_type.json", R"({"gltf": ")" + box_path() + R"(", "layers": {"meshes": ["Mesh"]}})"), "layers");
 }
 
+TEST(SceneFile, TextureSpaceStrokesAreCopiedOntoEveryLeafOfTheirMaterial) {
+    // BoxTextured: six faces of four vertices each (six "leaves"), material "Texture", UVs in [0, 1].
+    const std::string box = fs::absolute(aq::test::asset("gltf/BoxTextured/BoxTextured.gltf")).string();
+    const SceneDesc plain = load_scene(box);
+    const SceneDesc d = load_scene(write_scene("uv_strokes.json", R"({"gltf": ")" + box + R"(", "strokes": [
+        {"uv": [[0.1, 0.1], [0.3, 0.2], [0.45, 0.4]], "material": "Texture", "hatching": true}]})"));
+    ASSERT_FALSE(d.scene.strokes.empty());
+    EXPECT_LE(d.scene.strokes.size(), 6u);  // at most one copy per face
+    const Bounds b = plain.scene.world_bounds();
+    const float half = 0.5f * (b.max.x - b.min.x);
+    for (const Stroke& s : d.scene.strokes) {
+        EXPECT_TRUE(s.light_dependent);
+        ASSERT_EQ(s.normals.size(), s.points.size());
+        ASSERT_GE(s.points.size(), 2u);
+        for (std::size_t i = 0; i < s.points.size(); ++i) {
+            const glm::vec3 q = s.points[i] - 0.5f * (b.min + b.max);
+            // on the box's surface: one coordinate at +-half, along the (unit) normal
+            const glm::vec3 n = s.normals[i];
+            EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+            EXPECT_NEAR(glm::dot(q, n), half, 1e-4f * half) << "point " << i << " is not on the face its normal names";
+            EXPECT_LE(std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}), half * (1 + 1e-5f));
+        }
+    }
+    expect_error(write_scene("uv_nomat.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[0.1, 0.1], [0.2, 0.2]], "material": "Nope"}]})"),
+                 "strokes[0].material", "no material is named 'Nope'");
+    expect_error(write_scene("uv_nowhere.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[5, 5], [6, 6]], "material": "Texture"}]})"),
+                 "strokes[0]", "lands on no leaf");
+    expect_error(write_scene("uv_both.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[0.1, 0.1], [0.2, 0.2]], "points": [[0,0,0],[1,1,1]], "material": "Texture"}]})"),
+                 "strokes[0]", "not both");
+    expect_error(write_scene("uv_short.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[0.1, 0.1]], "material": "Texture"}]})"),
+                 "strokes[0].uv");
+}
+
 TEST(SceneFile, MaterialsNameAnIntensityTexture) {
     const std::string tex = fs::absolute(aq::test::asset("paper/mnpr/rough_default_2k.jpg")).string();
     const SceneDesc d = load_scene(write_scene("intensity.json", R"({"gltf": ")" + box_path() +
