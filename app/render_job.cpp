@@ -186,6 +186,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         if (!c.has_passes) {
             job.pass_scenes.emplace_back();
             job.pass_layers.emplace_back();
+            job.pass_contours.emplace_back();
             continue;
         }
         raster::FoliageParams fp = c.foliage;
@@ -199,6 +200,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         std::vector<std::string> warnings;
         job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));
         job.pass_layers.push_back(raster::abstracted_layer_table(job.desc.scene, *job.pass_scenes.back()));
+        job.pass_contours.push_back(raster::build_contour_cache(job.pass_scenes.back()->scene));
         for (auto& w : warnings) report.warning(w);
         if (const auto& a = job.pass_scenes.back(); a->abstracted)
             report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
@@ -286,6 +288,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                     const raster::AbstractedScene& a = *job.pass_scenes[si];
                     pass_scene = raster::make_pass_scene(a.scene, camera, rs.width, rs.height);
                     pass_scene->layers = &job.pass_layers[si];
+                    pass_scene->contours = &job.pass_contours[si];
                     if (a.abstracted) {
                         pass_scene->foliage_surface = &a.surface;
                         pass_scene->plant_height = a.height;

@@ -12,6 +12,7 @@
 #include "core/color.h"
 #include "core/targets.h"
 #include "raster/foliage.h"
+#include "raster/strokes.h"
 #include "raster/raster.h"
 #include "scenes/scene_file.h"
 #include "stylize/pipeline.h"
@@ -54,6 +55,8 @@ struct RenderJob {
     std::vector<std::shared_ptr<const raster::AbstractedScene>> pass_scenes;
     //! Per style with raster passes: the LD06 layers of the scene they draw (scenes/layers.h).
     std::vector<scene::LayerTable> pass_layers;
+    //! Per style with raster passes: the contour data of the scene they draw (raster/strokes.h).
+    std::vector<raster::ContourCache> pass_contours;
     bool sweeping() const { return styles.size() > 1; }
     //! False when every style draws the scene with its own raster passes and reads no G-buffer
     //! target (ld06): the G-buffer is then not rendered (nor written by --targets).

@@ -45,6 +45,7 @@ void BM_Ld06Frame(benchmark::State& st, const std::string& model, int threads) {
     const raster::AbstractedScene& a = *job.pass_scenes[0];
     raster::PassScene ps = raster::make_pass_scene(a.scene, job.desc.camera, 720, 720);
     ps.layers = &job.pass_layers[0];
+    ps.contours = &job.pass_contours[0];
     if (a.abstracted) {
         ps.foliage_surface = &a.surface;
         ps.plant_height = a.height;

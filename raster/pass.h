@@ -56,6 +56,8 @@ enum class DrawSet { All = 0, Foliage = 1, NonFoliage = 2 };
 //! draw's instance object_id (LD06 §3.1 ID images before they are split into layers).
 enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, IntensityTexture = 4, LayerId = 5, ObjectId = 6 };
 
+struct ContourCache;  // raster/strokes.h
+
 //! The scene as every pass of one frame sees it.
 struct PassScene {
     const scene::Scene* scene = nullptr;
@@ -72,6 +74,9 @@ struct PassScene {
     const std::vector<scene::Stroke>* strokes = nullptr;
     //! LD06 §3.1 layer of every draw (scenes/layers.h), for PassValue::LayerId; null = no layers.
     const scene::LayerTable* layers = nullptr;
+    //! View-independent contour data of `scene` (raster/strokes.h), built once per job; null =
+    //! built by each strokes pass.
+    const ContourCache* contours = nullptr;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.

@@ -51,12 +51,8 @@ inline float seg_dist2(const Seg& s, float px, float py, float* t) {
 
 }  // namespace
 
-std::vector<Stroke> contour_strokes(const PassScene& ps) {
-    std::vector<Stroke> out;
-    const scene::Scene& sc = *ps.scene;
-    const glm::mat4 inv_view = glm::inverse(ps.camera.view);
-    const glm::vec3 eye(inv_view[3]);
-    const glm::vec3 fwd = -glm::vec3(inv_view[2]);
+ContourCache build_contour_cache(const scene::Scene& sc) {
+    ContourCache cache;
     auto bits = [](glm::vec3 v) {
         std::uint32_t b[3];
         std::memcpy(b, &v, sizeof b);
@@ -66,93 +62,132 @@ std::vector<Stroke> contour_strokes(const PassScene& ps) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
         for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
             if (scene::is_foliage(sc, inst, prim)) continue;
+            ContourCache::Mesh m;
+            m.prim = &prim;
             const std::uint32_t nv = std::uint32_t(prim.positions.size());
             // Weld by exact position (bit pattern: a total order, NaN included): every vertex maps
             // to the lowest index with the same position.
-            std::vector<std::uint32_t> byp(nv), weld(nv);
+            std::vector<std::uint32_t> byp(nv);
+            m.weld.resize(nv);
             for (std::uint32_t i = 0; i < nv; ++i) byp[i] = i;
             std::sort(byp.begin(), byp.end(), [&](std::uint32_t a, std::uint32_t b) {
                 const auto ka = bits(prim.positions[a]), kb = bits(prim.positions[b]);
                 return ka != kb ? ka < kb : a < b;
             });
             for (std::uint32_t k = 0; k < nv; ++k)
-                weld[byp[k]] = (k > 0 && bits(prim.positions[byp[k]]) == bits(prim.positions[byp[k - 1]])) ? weld[byp[k - 1]] : byp[k];
-            std::vector<glm::vec3> world(nv);
-            for (std::uint32_t i = 0; i < nv; ++i) world[i] = glm::vec3(inst.world * glm::vec4(prim.positions[i], 1.0f));
-            // Edges (welded pair, facing of the triangle, order of first use), sorted by pair.
-            struct E {
-                std::uint32_t a, b, order;
-                bool front;
+                m.weld[byp[k]] = (k > 0 && bits(prim.positions[byp[k]]) == bits(prim.positions[byp[k - 1]])) ? m.weld[byp[k - 1]] : byp[k];
+            m.world.resize(nv);
+            for (std::uint32_t i = 0; i < nv; ++i) m.world[i] = glm::vec3(inst.world * glm::vec4(prim.positions[i], 1.0f));
+            // Edges (welded pair) with their uses (3 x triangle + edge slot, increasing), sorted by pair.
+            struct Use {
+                std::uint32_t a, b, use;
             };
-            std::vector<E> es;
-            es.reserve(prim.indices.size());
+            std::vector<Use> us;
+            us.reserve(prim.indices.size());
             for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
                 const std::uint32_t i[3] = {prim.indices[t], prim.indices[t + 1], prim.indices[t + 2]};
                 if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
-                const glm::vec3 n = glm::cross(world[i[1]] - world[i[0]], world[i[2]] - world[i[0]]);
-                const glm::vec3 to_eye = ps.camera.orthographic ? -fwd : eye - world[i[0]];
-                const float f = glm::dot(n, to_eye);
-                if (!std::isfinite(f) || f == 0.0f) continue;
                 for (int e = 0; e < 3; ++e) {
-                    std::uint32_t a = weld[i[e]], b = weld[i[(e + 1) % 3]];
+                    std::uint32_t a = m.weld[i[e]], b = m.weld[i[(e + 1) % 3]];
                     if (a == b) continue;
                     if (a > b) std::swap(a, b);
-                    es.push_back({a, b, std::uint32_t(es.size()), f > 0.0f});
+                    us.push_back({a, b, std::uint32_t(t + std::size_t(e))});
                 }
             }
-            std::sort(es.begin(), es.end(), [](const E& x, const E& y) {
-                return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.order < y.order);
+            std::sort(us.begin(), us.end(), [](const Use& x, const Use& y) {
+                return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.use < y.use);
             });
-            // Silhouette edges (a front and a back triangle share them), in order of first use.
-            std::vector<std::pair<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>> sil_ordered;
-            for (std::size_t k = 0; k < es.size();) {
-                std::size_t m = k;
-                bool front = false, back = false;
-                for (; m < es.size() && es[m].a == es[k].a && es[m].b == es[k].b; ++m) (es[m].front ? front : back) = true;
-                if (front && back) sil_ordered.push_back({es[k].order, {es[k].a, es[k].b}});
-                k = m;
+            for (std::size_t k = 0; k < us.size();) {
+                ContourCache::Edge e{us[k].a, us[k].b, std::uint32_t(m.uses.size()), 0};
+                for (; k < us.size() && us[k].a == e.a && us[k].b == e.b; ++k) m.uses.push_back(us[k].use);
+                e.uses_end = std::uint32_t(m.uses.size());
+                m.edges.push_back(e);
             }
-            std::sort(sil_ordered.begin(), sil_ordered.end());
-            std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
-            for (const auto& s2 : sil_ordered) sil.push_back(s2.second);
-            // Vertex -> incident silhouette edges (sorted pairs).
-            std::vector<std::pair<std::uint32_t, std::uint32_t>> inc;
-            for (std::uint32_t k = 0; k < sil.size(); ++k) {
-                inc.push_back({sil[k].first, k});
-                inc.push_back({sil[k].second, k});
+            cache.meshes.push_back(std::move(m));
+        }
+    }
+    return cache;
+}
+
+std::vector<Stroke> contour_strokes(const PassScene& ps) {
+    if (ps.contours) return contour_strokes(ps, *ps.contours);
+    return contour_strokes(ps, build_contour_cache(*ps.scene));
+}
+
+std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache) {
+    std::vector<Stroke> out;
+    const glm::mat4 inv_view = glm::inverse(ps.camera.view);
+    const glm::vec3 eye(inv_view[3]);
+    const glm::vec3 fwd = -glm::vec3(inv_view[2]);
+    for (const ContourCache::Mesh& m : cache.meshes) {
+        const scene::Primitive& prim = *m.prim;
+        const std::vector<glm::vec3>& world = m.world;
+        const std::uint32_t nv = std::uint32_t(world.size());
+        // Facing of every triangle from this view: +1 front, -1 back, 0 edge-on or not finite (unused).
+        const std::size_t nt = prim.indices.size() / 3;
+        std::vector<std::int8_t> facing(nt, 0);
+        for (std::size_t t = 0; t < nt; ++t) {
+            const std::uint32_t i[3] = {prim.indices[3 * t], prim.indices[3 * t + 1], prim.indices[3 * t + 2]};
+            if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
+            const glm::vec3 n = glm::cross(world[i[1]] - world[i[0]], world[i[2]] - world[i[0]]);
+            const glm::vec3 to_eye = ps.camera.orthographic ? -fwd : eye - world[i[0]];
+            const float f = glm::dot(n, to_eye);
+            if (!std::isfinite(f) || f == 0.0f) continue;
+            facing[t] = f > 0.0f ? 1 : -1;
+        }
+        // Silhouette edges (a front and a back triangle share them), in order of first use.
+        std::vector<std::pair<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>> sil_ordered;
+        for (const ContourCache::Edge& e : m.edges) {
+            bool front = false, back = false;
+            std::uint32_t first = ~0u;
+            for (std::uint32_t k = e.uses_begin; k < e.uses_end; ++k) {
+                const std::int8_t f = facing[m.uses[k] / 3];
+                if (f == 0) continue;
+                first = std::min(first, m.uses[k]);
+                (f > 0 ? front : back) = true;
             }
-            std::sort(inc.begin(), inc.end());
-            auto incident = [&](std::uint32_t v) {
-                auto lo = std::lower_bound(inc.begin(), inc.end(), std::make_pair(v, 0u));
-                auto hi = std::upper_bound(inc.begin(), inc.end(), std::make_pair(v, ~0u));
-                return std::make_pair(lo, hi);
-            };
-            std::vector<char> used(sil.size(), 0);
-            auto extend = [&](std::vector<std::uint32_t>& chain) {
-                for (;;) {
-                    const std::uint32_t v = chain.back();
-                    const auto [lo, hi] = incident(v);
-                    if (hi - lo != 2) return;  // an end, or a junction of 3+ contour edges
-                    std::size_t next = sil.size();
-                    for (auto it = lo; it != hi; ++it)
-                        if (!used[it->second]) next = std::min<std::size_t>(next, it->second);
-                    if (next == sil.size()) return;
-                    used[next] = 1;
-                    chain.push_back(sil[next].first == v ? sil[next].second : sil[next].first);
-                }
-            };
-            for (std::size_t k = 0; k < sil.size(); ++k) {
-                if (used[k]) continue;
-                used[k] = 1;
-                std::vector<std::uint32_t> fwd_chain = {sil[k].first, sil[k].second};
-                extend(fwd_chain);
-                std::vector<std::uint32_t> back_chain = {sil[k].first};
-                extend(back_chain);
-                Stroke s;
-                for (std::size_t m = back_chain.size(); m-- > 1;) s.points.push_back(world[back_chain[m]]);
-                for (std::uint32_t v : fwd_chain) s.points.push_back(world[v]);
-                out.push_back(std::move(s));
+            if (front && back) sil_ordered.push_back({first, {e.a, e.b}});
+        }
+        std::sort(sil_ordered.begin(), sil_ordered.end());
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
+        for (const auto& s2 : sil_ordered) sil.push_back(s2.second);
+        // Vertex -> incident silhouette edges (sorted pairs).
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> inc;
+        for (std::uint32_t k = 0; k < sil.size(); ++k) {
+            inc.push_back({sil[k].first, k});
+            inc.push_back({sil[k].second, k});
+        }
+        std::sort(inc.begin(), inc.end());
+        auto incident = [&](std::uint32_t v) {
+            auto lo = std::lower_bound(inc.begin(), inc.end(), std::make_pair(v, 0u));
+            auto hi = std::upper_bound(inc.begin(), inc.end(), std::make_pair(v, ~0u));
+            return std::make_pair(lo, hi);
+        };
+        std::vector<char> used(sil.size(), 0);
+        auto extend = [&](std::vector<std::uint32_t>& chain) {
+            for (;;) {
+                const std::uint32_t v = chain.back();
+                const auto [lo, hi] = incident(v);
+                if (hi - lo != 2) return;  // an end, or a junction of 3+ contour edges
+                std::size_t next = sil.size();
+                for (auto it = lo; it != hi; ++it)
+                    if (!used[it->second]) next = std::min<std::size_t>(next, it->second);
+                if (next == sil.size()) return;
+                used[next] = 1;
+                chain.push_back(sil[next].first == v ? sil[next].second : sil[next].first);
             }
+        };
+        for (std::size_t k = 0; k < sil.size(); ++k) {
+            if (used[k]) continue;
+            used[k] = 1;
+            std::vector<std::uint32_t> fwd_chain = {sil[k].first, sil[k].second};
+            extend(fwd_chain);
+            std::vector<std::uint32_t> back_chain = {sil[k].first};
+            extend(back_chain);
+            Stroke s;
+            for (std::size_t m = back_chain.size(); m-- > 1;) s.points.push_back(world[back_chain[m]]);
+            for (std::uint32_t v : fwd_chain) s.points.push_back(world[v]);
+            out.push_back(std::move(s));
         }
     }
     return out;

@@ -44,7 +44,29 @@ struct StrokeParams {
 //! split vertices) — chained into polylines in a deterministic order (instance, primitive,
 //! triangle). Open boundary edges are not contours. Contour strokes carry no normals (no n·v fade:
 //! a silhouette's n·v is 0 by definition).
+//! Uses ps.contours when set (built once per job), else builds the cache for this call.
 std::vector<Stroke> contour_strokes(const PassScene& ps);
+
+//! What contour extraction needs that does not depend on the view, per non-foliage primitive:
+//! world positions, vertices welded by exact position, and the welded edges (sorted pairs) with
+//! the triangles using them. Built once per render job (raster::PassScene::contours).
+struct ContourCache {
+    struct Edge {
+        std::uint32_t a, b;                  //!< welded vertex pair, a < b
+        std::uint32_t uses_begin, uses_end;  //!< range of `uses`
+    };
+    struct Mesh {
+        const scene::Primitive* prim = nullptr;
+        std::vector<glm::vec3> world;
+        std::vector<std::uint32_t> weld;
+        std::vector<Edge> edges;           //!< sorted by (a, b)
+        std::vector<std::uint32_t> uses;   //!< 3 x triangle + edge slot, increasing per edge
+    };
+    std::vector<Mesh> meshes;  //!< instances, then primitives, in scene order
+};
+ContourCache build_contour_cache(const scene::Scene& sc);
+//! contour_strokes from a cache of ps.scene (the same strokes as building it anew).
+std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache);
 
 //! Draws `strokes` in order into `out` (1 channel at the pass size, background 0): per stroke, every
 //! covered pixel once, a = alpha·f_v·fades, dst = a + dst·(1 - a) (an ink-coverage map, "over").
