@@ -25,7 +25,8 @@ void id_color(std::uint32_t id, float rgb[3]) {
 ImageF visualize_target(const std::string& name, const ImageF& img) {
     ImageF out(img.width(), img.height(), 3);
     const int w = img.width(), h = img.height(), nc = img.channels();
-    if (name == "object_id") {
+    // ID maps (the G-buffer's object IDs, LD06's layer-ID map): one hashed colour per ID.
+    if (name == "object_id" || name == "ld06.layer_id") {
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const float v = img.at(x, y, 0);

@@ -17,8 +17,11 @@ trap 'rm -rf "$tmp"' EXIT
 maps=(ld06.particles.dark ld06.particles.medium ld06.particles.bright)
 printf "variant\tframes\tdeg/frame\tmean |change|\tvalues jumping > 0.5\n"
 for variant in blurred binary; do
+  # binary: the standard depth test — the depth map itself (the variant's default input) and no shift
+  extra=()
+  [ "$variant" = binary ] && extra=(--set particles.beta=0)
   for ((f = 0; f < frames; ++f)); do
-    "$bin" render scenes/data/oak.json --style ld06 --variant "particles=$variant" --width 720 --height 720 \
+    "$bin" render scenes/data/oak.json --style ld06 --variant "particles=$variant" "${extra[@]}" --width 720 --height 720 \
       --frame "$f" --orbit "$deg" --quiet --out "$tmp/frame.png" --targets "$tmp/t"
     for m in "${maps[@]}"; do cp "$tmp/t/$m.exr" "$tmp/${variant}_${f}_$m.exr"; done
     rm -rf "$tmp/t"

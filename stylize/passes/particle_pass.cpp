@@ -43,7 +43,9 @@ void register_particle_pass(Registry& r) {
         v.variant = tv.name;
         v.doc = std::string("LD06 §4.2 eq. 8-12: particles around the implicit foliage surface, classed by n.l, additive "
                             "sprites into dark / medium / bright maps; ") + tv.doc;
-        v.inputs = {{"depth_map", "ld06.depth.blurred", 1, false}};
+        // The blurred tests read the blurred depth map (LD06 §2); the binary one, the standard
+        // depth test, reads the depth map itself (the paper's Fig. 9 comparison).
+        v.inputs = {{"depth_map", tv.test == raster::DepthTest::Binary ? "ld06.depth" : "ld06.depth.blurred", 1, false}};
         v.outputs = {{"dark", "ld06.particles.dark", 1, false},
                      {"medium", "ld06.particles.medium", 1, false},
                      {"bright", "ld06.particles.bright", 1, false}};

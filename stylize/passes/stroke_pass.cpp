@@ -38,7 +38,8 @@ void register_stroke_pass(Registry& r) {
         v.variant = tv.name;
         v.doc = std::string("LD06 §4.4: line strokes (scene strokes, then trunk contours) over each other in order, "
                             "f_v as transparency, distance / n.v / n.l fades; ") + tv.doc;
-        v.inputs = {{"depth_map", "ld06.depth.blurred", 1, false}};
+        // Blurred tests: the blurred depth map (LD06 §2); binary: the depth map itself.
+        v.inputs = {{"depth_map", tv.test == raster::DepthTest::Binary ? "ld06.depth" : "ld06.depth.blurred", 1, false}};
         v.outputs = {{"strokes", "ld06.strokes", 1, false}};
         v.params = t.descs();
         v.run = [test = tv.test](StageIO& io, const ParamValues& pv, const Exec& ex) {
