@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Renders the LD06 pictures of docs/gallery.md ("LD06 (Luft & Deussen 2006)") with the CLI, 360x360,
-# --style ld06: the shared oak, ash and bush and procedural:tree through the ld06 pipeline (depth,
+# --style ld06: the shared oak, ash and bush and procedural tree (scenes/data/tree.json) through the ld06 pipeline (depth,
 # lighting and shadow maps, the layer washes, the three particle intensity maps, the glazed layers,
 # the final), the binary vs blurred depth test for the particles on a close-up of the oak (LD06
 # Fig. 9), a near and a far view of the bush (automatic level of detail, Fig. 11), and the same
@@ -20,9 +20,9 @@ size=(--width 360 --height 360 --quiet)
 plants=$(cd "${AQ_SHARED:-../shared}/assets/plants/ez-tree" && pwd)
 
 # 1. Each plant through the ld06 pipeline: maps, layers, final; and its WC18 picture.
-keep=(ld06.depth ld06.lighting ld06.shadow ld06.wash ld06.particles.dark ld06.particles.medium
+keep=(ld06.depth ld06.lighting ld06.shadow ld06.layer_id ld06.wash ld06.particles.dark ld06.particles.medium
       ld06.particles.bright ld06.strokes color.layers color.foliage color.final)
-for scene in scenes/data/oak.json scenes/data/ash.json scenes/data/bush.json procedural:tree; do
+for scene in scenes/data/oak.json scenes/data/ash.json scenes/data/bush.json scenes/data/tree.json; do
   tag=$(basename "${scene#procedural:}" .json)
   echo "ld06 gallery: $tag"
   "$bin" render "$scene" "${size[@]}" --style ld06 --out "$tmp/$tag.png" --targets-png "$tmp/$tag"
@@ -45,12 +45,14 @@ scene() {
 EOF
 }
 
-# 2. LD06 Fig. 9: binary vs blurred depth test for the particles, on a close-up of the oak's crown
-#    (the oak is ~105 units tall; at the automatic framing the two differ in ~1 % of the pixels).
+# 2. LD06 Fig. 9: the standard (binary, against the depth map itself, no shift) vs the blurred depth
+#    test for the particles, on a close-up of the oak's crown (the oak is ~105 units tall).
 echo "ld06 gallery: fig9"
 scene oak_close ez_oak_large_dense.glb "-10, 60, 10" 110 83.3 0.0755
 for v in blurred binary; do
-  "$bin" render "$tmp/oak_close.json" "${size[@]}" --style ld06 --variant particles=$v \
+  extra=()
+  [ "$v" = binary ] && extra=(--set particles.beta=0)
+  "$bin" render "$tmp/oak_close.json" "${size[@]}" --style ld06 --variant particles=$v "${extra[@]}" \
     --out "$out/fig9_${v}_final.png" --targets-png "$tmp/fig9_$v"
   for t in ld06.particles.dark ld06.particles.medium; do cp "$tmp/fig9_$v/$t.png" "$out/fig9_${v}_$t.png"; done
 done
