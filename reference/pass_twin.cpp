@@ -285,4 +285,166 @@ std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std
     return out;
 }
 
+ImageF render_strokes_gl(const raster::PassScene& ps, const std::vector<raster::Stroke>& strokes,
+                         const raster::StrokeParams& p) {
+    std::string why;
+    if (!GlContext::shared(&why)) throw Error("render_strokes_gl: no OpenGL context: " + why);
+    const raster::PassViewSetup view = raster::pass_view(ps, raster::PassView::Camera, p.scale);
+    const int W = view.width, H = view.height;
+    const float half = 0.5f * p.width_px * float(W) / float(raster::kLd06SizeReferenceStrokes);
+    Texture acc(W, H, 4), one(W, H, 4);
+    GLuint fbo[2] = {0, 0}, depth_rb = 0, vao = 0, empty_vao = 0;  // empty_vao: the composite reads no attribute
+    gl::GenFramebuffers(2, fbo);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, fbo[0]);  // the accumulated strokes
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, acc.id(), 0);
+    const GLenum buf = GL_COLOR_ATTACHMENT0;
+    gl::DrawBuffers(1, &buf);
+    const float zero[4] = {0, 0, 0, 0};
+    gl::Viewport(0, 0, W, H);
+    gl::ClearBufferfv(GL_COLOR, 0, zero);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, fbo[1]);  // one stroke, with its nearest-segment depth
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, one.id(), 0);
+    gl::GenRenderbuffers(1, &depth_rb);
+    gl::BindRenderbuffer(GL_RENDERBUFFER, depth_rb);
+    gl::RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, W, H);
+    gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb);
+    gl::DrawBuffers(1, &buf);
+    if (gl::CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("render_strokes_gl: framebuffer incomplete");
+
+    const GLuint draw = program(load_shader_file("strokes.vert.glsl"), ld06_fragment("strokes.frag.glsl"), "stroke twin");
+    static const char* kCompositeVertex = R"(#version 450 core
+void main() {
+    vec2 c = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(c * 2.0 - 1.0, 0.0, 1.0);
+})";
+    static const char* kCompositeFragment = R"(#version 450 core
+uniform sampler2D s_stroke;
+layout(location = 0) out vec4 o_color;
+void main() {
+    float a = texelFetch(s_stroke, ivec2(gl_FragCoord.xy), 0).r;
+    o_color = vec4(a);  // blended ONE, ONE_MINUS_SRC_ALPHA: dst = a + dst (1 - a)
+})";
+    const GLuint composite = program(kCompositeVertex, kCompositeFragment, "stroke twin composite");
+    gl::GenVertexArrays(1, &vao);
+    gl::GenVertexArrays(1, &empty_vao);
+    const GLuint smp = linear_sampler(GL_CLAMP_TO_EDGE);
+    Texture depth_tex;
+    const bool has_depth = p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1;
+    if (has_depth) depth_tex = Texture::upload(*p.depth_map);
+    gl::UseProgram(draw);
+    set_uniform(draw, "u_projection", raster::projection_matrix(view.camera, float(ps.width) / float(ps.height)));
+    set_uniform(draw, "u_size", glm::vec2(float(W), float(H)));
+    set_uniform(draw, "u_half", half);
+    set_uniform(draw, "u_r2", half * half);
+    set_uniform(draw, "u_ortho", view.camera.orthographic);
+    set_uniform(draw, "u_depth_near", view.depth_near);
+    set_uniform(draw, "u_depth_far", view.depth_far);
+    set_uniform(draw, "u_test", int(p.test));
+    set_uniform(draw, "u_has_depth", has_depth);
+    set_uniform(draw, "u_delta", p.delta);
+    set_uniform(draw, "u_beta", p.beta);
+    set_uniform(draw, "u_alpha", p.alpha);
+    set_uniform(draw, "u_fade_near", p.fade_near);
+    set_uniform(draw, "u_fade_far", p.fade_far);
+    set_uniform(draw, "u_nv_lo", p.nv_lo);
+    set_uniform(draw, "u_nv_hi", p.nv_hi);
+    set_uniform(draw, "u_nl_lo", p.nl_lo);
+    set_uniform(draw, "u_nl_hi", p.nl_hi);
+    set_uniform(draw, "u_light_view", glm::normalize(glm::mat3(view.camera.view) * ps.light_dir));
+    set_uniform(draw, "s_depth", 1);
+    gl::UseProgram(composite);
+    set_uniform(composite, "s_stroke", 2);
+    const glm::mat3 rot(view.camera.view);
+    const float znear = view.camera.znear;
+    const float one_depth = 1.0f;
+    for (const raster::Stroke& s : strokes) {
+        // Segments in view space, clipped at the near plane (perspective), non-finite ones dropped.
+        std::vector<glm::vec3> pa, pb, na, nb;
+        std::vector<glm::vec2> corner;
+        std::vector<float> has_n;
+        const bool normals = s.normals.size() == s.points.size();
+        for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+            glm::vec3 a(view.camera.view * glm::vec4(s.points[i], 1.0f)), b(view.camera.view * glm::vec4(s.points[i + 1], 1.0f));
+            glm::vec3 an = normals ? rot * s.normals[i] : glm::vec3(0.0f), bn = normals ? rot * s.normals[i + 1] : glm::vec3(0.0f);
+            bool finite = true;
+            for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(a[c]) && std::isfinite(b[c]) && std::isfinite(an[c]) && std::isfinite(bn[c]);
+            if (!finite) continue;
+            if (!view.camera.orthographic) {
+                if (-a.z < znear && -b.z < znear) continue;
+                if (-a.z < znear || -b.z < znear) {
+                    const float t = (znear + a.z) / (a.z - b.z);  // where -z reaches znear
+                    const glm::vec3 c = a + (b - a) * t, cn = an + (bn - an) * t;
+                    if (-a.z < znear) a = c, an = cn;
+                    else b = c, bn = cn;
+                }
+            }
+            const float la = glm::length(an), lb = glm::length(bn);
+            const bool hn = normals && la > 0.0f && lb > 0.0f;
+            for (glm::vec2 q : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
+                pa.push_back(a);
+                pb.push_back(b);
+                na.push_back(hn ? an / la : glm::vec3(0.0f));
+                nb.push_back(hn ? bn / lb : glm::vec3(0.0f));
+                corner.push_back(q);
+                has_n.push_back(hn ? 1.0f : 0.0f);
+            }
+        }
+        if (pa.empty()) continue;
+        // 1. This stroke alone: the nearest segment per pixel wins the depth test.
+        gl::BindFramebuffer(GL_FRAMEBUFFER, fbo[1]);
+        gl::ClearBufferfv(GL_COLOR, 0, zero);
+        gl::ClearBufferfv(GL_DEPTH, 0, &one_depth);
+        gl::Enable(GL_DEPTH_TEST);
+        gl::DepthFunc(GL_LESS);
+        gl::DepthMask(GL_TRUE);
+        gl::Disable(GL_BLEND);
+        gl::BindVertexArray(vao);
+        gl::UseProgram(draw);
+        set_uniform(draw, "u_hatching", s.light_dependent);
+        if (has_depth) {
+            gl::ActiveTexture(GL_TEXTURE1);
+            gl::BindTexture(GL_TEXTURE_2D, depth_tex.id());
+            gl::BindSampler(1, smp);
+        }
+        {
+            VertexBuffers vb;
+            vb.attrib(0, pa, 3);
+            vb.attrib(1, pb, 3);
+            vb.attrib(2, na, 3);
+            vb.attrib(3, nb, 3);
+            vb.attrib(4, corner, 2);
+            vb.attrib(5, has_n, 1);
+            gl::DrawArrays(GL_TRIANGLES, 0, GLsizei(pa.size()));
+            check_gl("stroke twin draw");
+        }
+        // 2. Composited over the strokes before it.
+        gl::BindFramebuffer(GL_FRAMEBUFFER, fbo[0]);
+        gl::Disable(GL_DEPTH_TEST);
+        gl::Enable(GL_BLEND);
+        gl::BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        gl::BindVertexArray(empty_vao);
+        gl::UseProgram(composite);
+        gl::ActiveTexture(GL_TEXTURE2);
+        gl::BindTexture(GL_TEXTURE_2D, one.id());
+        gl::DrawArrays(GL_TRIANGLES, 0, 3);
+        check_gl("stroke twin composite");
+    }
+    gl::Disable(GL_BLEND);
+    gl::Disable(GL_DEPTH_TEST);
+    gl::BindVertexArray(0);
+    gl::DeleteVertexArrays(1, &vao);
+    gl::DeleteVertexArrays(1, &empty_vao);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::DeleteFramebuffers(2, fbo);
+    gl::DeleteRenderbuffers(1, &depth_rb);
+    gl::BindSampler(1, 0);
+    gl::DeleteSamplers(1, &smp);
+    const ImageF rgba = read_texture(acc);
+    ImageF out(W, H, 1);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) out.at(x, y, 0) = rgba.at(x, y, 0);
+    return out;
+}
+
 }  // namespace aq::ref

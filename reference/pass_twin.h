@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "raster/particles.h"
 #include "raster/pass.h"
+#include "raster/strokes.h"
 
 #include <array>
 
@@ -22,5 +23,14 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
 //! preprocessing step, as in the paper. Throws aq::Error.
 std::array<ImageF, 3> render_particles_gl(const raster::PassScene& ps, const std::vector<raster::Particle>& particles,
                                           const raster::ParticleParams& p);
+
+//! raster::render_strokes drawn with OpenGL: per stroke, one quad per segment whose fragment
+//! shader decides coverage (distance to the projected segment), picks the nearest segment with the
+//! depth test and computes the alpha (eq. 2 visibility, the §4.4 fades); then the stroke's map is
+//! composited "over" the result with GL blending, stroke after stroke. Host side: the view set-up
+//! (raster::pass_view, shared) and the segments' view-space ends clipped at the near plane. Throws
+//! aq::Error.
+ImageF render_strokes_gl(const raster::PassScene& ps, const std::vector<raster::Stroke>& strokes,
+                         const raster::StrokeParams& p);
 
 }  // namespace aq::ref

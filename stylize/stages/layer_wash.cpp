@@ -84,13 +84,41 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
     // and blurred in one call (the delta-form blur computes every value with the same operations
     // whatever the channel count, blur.h), then each output row resampled from both packed
     // images row by row (RowResampler: sample_resampled's values) and shaped in one flat loop.
+    //
+    // An all-zero layer (an empty slot of an ID pack) washes to exactly 0 everywhere when no paper
+    // height can lift ρ' = 0 + border·(h - ½) above κ - w (then a = 0, e = 0, p = 0): it is
+    // skipped like an absent one. The reference computes it; the registry-wide test and
+    // LayerWash.EmptyLayersAreSkippedWithTheSameBytes compare the two.
+    float max_hp = 0.0f;  // max |h - 1/2| over the paper (NaN poisons the test below: never skipped)
+    if (paper)
+        for (std::size_t i = 0, n = std::size_t(out_w) * out_h; i < n; ++i) {
+            const float d = std::abs(paper->data()[i * std::size_t(paper->channels()) + 2] - 0.5f);
+            max_hp = d > max_hp || d != d ? d : max_hp;
+        }
+    const float lift = p.shape.paper_before ? p.shape.border * max_hp : 0.0f;
+    const bool empty_is_zero = p.shape.kappa - p.shape.width >= lift;  // false for NaN
+    bool use[4];
     int P = 0;
-    for (int k = 0; k < 4; ++k)
-        if (layers[k]) P = k + 1;
+    for (int k = 0; k < 4; ++k) {
+        use[k] = layers[k] != nullptr;
+        if (use[k] && empty_is_zero) {
+            const float* d = layers[k]->data();
+            const std::size_t n = std::size_t(layers[k]->width()) * layers[k]->height();
+            bool all_zero = true;
+            for (std::size_t i = 0; i < n && all_zero; ++i) all_zero = d[i] == 0.0f;
+            use[k] = !all_zero;
+        }
+        if (use[k]) P = k + 1;
+    }
+    if (P == 0) {
+        ensure_output(dst, out_w, out_h, 4);
+        std::fill(dst.data(), dst.data() + dst.num_values(), 0.0f);
+        return;
+    }
     const int sw = first->width(), sh = first->height();
     ImageF packed(sw, sh, P, 0.0f), blurred;
     for (int k = 0; k < P; ++k)
-        if (layers[k]) {
+        if (use[k]) {
             const float* src = layers[k]->data();
             float* d = packed.data() + k;
             for (std::size_t i = 0, n = std::size_t(sw) * sh; i < n; ++i) d[std::size_t(i) * P] = src[i];
@@ -111,7 +139,7 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
             shape_row(A.data(), I.data(), R.data(), H.data(), n, p.shape);
             float* row = o + std::size_t(y) * out_w * 4;
             for (int x = 0; x < out_w; ++x)
-                for (int k = 0; k < 4; ++k) row[std::size_t(x) * 4 + k] = k < N && layers[k] ? A[std::size_t(x) * N + k] : 0.0f;
+                for (int k = 0; k < 4; ++k) row[std::size_t(x) * 4 + k] = k < N && use[k] ? A[std::size_t(x) * N + k] : 0.0f;
         }
     };
     for_each_row_block(ex, out_h, [&](int y0, int y1) {

@@ -12,6 +12,8 @@
 #include "raster/foliage.h"
 #include "raster/particles.h"
 #include "raster/pass.h"
+#include "raster/strokes.h"
+#include "scenes/procedural.h"
 #include "reference/gl_context.h"
 #include "reference/pass_twin.h"
 #include "scenes/gltf_loader.h"
@@ -44,6 +46,11 @@ constexpr double kMaxTextureOffFraction = 0.03;
 // borders), mean <= 1.9e-5; bounds with margin:
 constexpr double kMaxParticleOffFraction = 0.005;
 constexpr double kMaxParticleMeanAbs = 2e-4;
+// Strokes: coverage is decided per pixel centre against the projected segment by the same formula
+// on both sides, so only pixels whose centre lies within float rounding of a capsule's border (or
+// of a tie between two segments, which GL's depth test resolves on a quantised key) may differ.
+constexpr double kMaxStrokeOffFraction = 0.002;
+constexpr double kMaxStrokeMeanAbs = 2e-4;
 
 struct Case {
     std::string name;
@@ -209,6 +216,61 @@ TEST_F(PassReference, ParticlesMatchTheGlslTwin) {
             EXPECT_LE(double(off) / double(n), kMaxParticleOffFraction) << "test " << int(t) << " class " << k;
             EXPECT_LE(sum / double(n), kMaxParticleMeanAbs) << "test " << int(t) << " class " << k;
         }
+    }
+}
+
+// Strokes (LD06 §4.4): the procedural tree's trunk contours (hundreds of polylines) and hand-made
+// strokes with normals and hatching, each depth test; GL draws each stroke's segments as quads
+// (nearest segment by the depth test) and composites the strokes "over" in order.
+TEST_F(PassReference, StrokesMatchTheGlslTwin) {
+    const scene::Scene tree = scene::make_procedural("tree");
+    const scene::Camera cam = test::frame_scene(tree);
+    const PassScene ps = make_pass_scene(tree, cam, 220, 200);
+    TrianglePass dp;
+    dp.value = PassValue::Depth;
+    ImageF depth, depth_blur;
+    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    stylize::gaussian_blur(depth_blur, depth, {}, Exec::fast(2));
+    std::vector<Stroke> strokes = contour_strokes(ps);
+    ASSERT_GT(strokes.size(), 20u);
+    // Hand-made: a zig-zag across the crown with normals facing the camera, a hatching stroke.
+    const scene::Bounds b = tree.world_bounds();
+    const glm::vec3 c = 0.5f * (b.min + b.max), e = b.max - b.min;
+    Stroke zig, hatch;
+    for (int i = 0; i < 7; ++i) {
+        zig.points.push_back(c + glm::vec3((float(i) / 6.0f - 0.5f) * e.x, (i % 2 ? 0.15f : -0.15f) * e.y, 0.3f * e.z));
+        zig.normals.push_back(glm::normalize(glm::vec3(0.2f * float(i % 3), 0.3f, 1.0f)));
+        hatch.points.push_back(c + glm::vec3(-0.3f * e.x, (float(i) / 6.0f - 0.5f) * 0.6f * e.y, 0.2f * e.z));
+        hatch.normals.push_back(glm::normalize(glm::vec3(-0.5f, 0.2f * float(i), 0.7f)));
+    }
+    hatch.light_dependent = true;
+    strokes.push_back(zig);
+    strokes.push_back(hatch);
+    for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8, DepthTest::Binary}) {
+        StrokeParams p;
+        p.test = t;
+        p.width_px = 3.0f;
+        p.depth_map = t == DepthTest::Binary ? &depth : &depth_blur;
+        ImageF cpu;
+        render_strokes(cpu, ps, strokes, p, Exec::fast(2));
+        const ImageF gl = render_strokes_gl(ps, strokes, p);
+        ASSERT_EQ(gl.width(), cpu.width());
+        long long off = 0, drawn = 0;
+        double sum = 0, mx = 0;
+        const long long n = (long long)cpu.width() * cpu.height();
+        for (int y = 0; y < cpu.height(); ++y)
+            for (int x = 0; x < cpu.width(); ++x) {
+                const double d = std::abs(double(cpu.at(x, y, 0)) - gl.at(x, y, 0));
+                sum += d;
+                mx = std::max(mx, d);
+                off += d > kValueTol;
+                drawn += cpu.at(x, y, 0) > 0.0f;
+            }
+        std::printf("  tree       strokes test %d (%zu strokes)        mean %.2e max %.3f off %.4f (of %lld px)\n", int(t),
+                    strokes.size(), sum / double(n), mx, double(off) / double(n), n);
+        EXPECT_GT(drawn, n / 200) << "the strokes drew (almost) nothing";
+        EXPECT_LE(double(off) / double(n), kMaxStrokeOffFraction) << "test " << int(t);
+        EXPECT_LE(sum / double(n), kMaxStrokeMeanAbs) << "test " << int(t);
     }
 }
 

@@ -4,6 +4,7 @@
 // shadow_layer and stroke_ink leaving the picture alone where there is nothing to paint. Expected
 // values come from the spec's formulas evaluated here, not from the implementation's output.
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -150,6 +151,29 @@ TEST(LayerWash, ResamplesIntermediatesToTheOutputSize) {
     const ImageF other(10, 10, 1, 1.0f);
     const ImageF* bad[4] = {&d, &other, nullptr, nullptr};
     EXPECT_THROW(layer_wash(r, bad, nullptr, 72, 72, flat_wash()), Error);
+}
+
+TEST(LayerWash, EmptyLayersAreSkippedWithTheSameBytes) {
+    // An empty slot of an ID pack is skipped by the fast schedule only when it provably washes to
+    // 0; with a border lift above κ - w it is not (the paper alone raises ρ'), and both schedules agree.
+    const ImageF d = disk(52, 52, 26, 26, 15), none(52, 52, 1, 0.0f);
+    ImageF paper(72, 72, 3, 0.5f);
+    for (int y = 0; y < 72; ++y)
+        for (int x = 0; x < 72; ++x) paper.at(x, y, 2) = float((x * 7 + y * 13) % 11) / 10.0f;
+    const ImageF* layers[4] = {&none, &d, &none, &none};
+    for (float border : {0.3f, 1.8f}) {
+        LayerWashParams p;
+        p.shape.border = border;
+        ImageF r, f;
+        layer_wash(r, layers, &paper, 72, 72, p, Exec::reference());
+        layer_wash(f, layers, &paper, 72, 72, p, Exec::fast(2));
+        ASSERT_EQ(0, std::memcmp(r.data(), f.data(), r.num_values() * sizeof(float))) << "border " << border;
+        float empty_max = 0;
+        for (int y = 0; y < 72; ++y)
+            for (int x = 0; x < 72; ++x) empty_max = std::max(empty_max, r.at(x, y, 0));
+        if (border < 0.5f) EXPECT_EQ(empty_max, 0.0f);
+        else EXPECT_GT(empty_max, 0.0f) << "a large border lift paints the paper's ridges even without pigment";
+    }
 }
 
 TEST(ColorRamp, GoochEndsAndAlpha) {
