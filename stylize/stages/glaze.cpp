@@ -3,6 +3,9 @@
 #pragma GCC optimize("no-trapping-math")  // lets the row loop if-convert and vectorise; values unchanged
 #include "stylize/stages/glaze.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
 
@@ -12,18 +15,32 @@ using namespace toolkit;
 
 namespace {
 
-// One output row: w pixels of 4 channels; rows = the four resampled ramp rows, one after the other.
-template <bool Mul>
+// One output row: w pixels of 4 channels; rows = the N used layers' resampled ramp rows, one
+// after the other; ch[j] = the wash channel of used layer j (in back-to-front order).
+template <bool Mul, int N>
 void glaze_row(float* __restrict o, const float* __restrict base, const float* __restrict wash,
-               const float* __restrict rows, int w) {
+               const float* __restrict rows, int w, const int* ch) {
+    int c4[N > 0 ? N : 1];
+    for (int j = 0; j < N; ++j) c4[j] = ch[j];
     for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(x) * 4;
         glm::vec3 c(base[i], base[i + 1], base[i + 2]);
-        for (int k = 0; k < 4; ++k) {
-            const float* r = rows + (std::size_t(k) * w + x) * 4;
-            c = glaze_px(c, glm::vec3(r[0], r[1], r[2]), sat(r[3] * wash[i + k]), Mul);
+        for (int j = 0; j < N; ++j) {
+            const float* r = rows + (std::size_t(j) * w + x) * 4;
+            c = glaze_px(c, glm::vec3(r[0], r[1], r[2]), sat(r[3] * wash[i + std::size_t(c4[j])]), Mul);
         }
         o[i] = c.r, o[i + 1] = c.g, o[i + 2] = c.b, o[i + 3] = 1.0f;
+    }
+}
+
+template <bool Mul>
+void glaze_row_n(int n, float* o, const float* base, const float* wash, const float* rows, int w, const int* ch) {
+    switch (n) {
+        case 0: glaze_row<Mul, 0>(o, base, wash, rows, w, ch); break;
+        case 1: glaze_row<Mul, 1>(o, base, wash, rows, w, ch); break;
+        case 2: glaze_row<Mul, 2>(o, base, wash, rows, w, ch); break;
+        case 3: glaze_row<Mul, 3>(o, base, wash, rows, w, ch); break;
+        default: glaze_row<Mul, 4>(o, base, wash, rows, w, ch); break;
     }
 }
 
@@ -67,25 +84,38 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
         });
         return;
     }
-    // Fast: each ramp's row resampled once per output row (RowResampler: sample_resampled's
-    // values), then the layers composited over the row with the variant as a constant.
+    // Fast: each used ramp's row resampled once per output row (RowResampler: sample_resampled's
+    // values), then the layers composited over the row with the variant as a constant. A
+    // multiplicative layer whose wash is 0 everywhere and whose ramp is finite multiplies by
+    // exactly 1 (dst·(1 - 0·(1 - c))): it is skipped (the empty slots of an ID pack). Over is not
+    // skipped (dst + c·0 can turn -0 into +0).
+    bool painted[4] = {!multiplicative, !multiplicative, !multiplicative, !multiplicative};
+    for (std::size_t i = 0, m = std::size_t(w) * h; i < m && !(painted[0] && painted[1] && painted[2] && painted[3]); ++i)
+        for (int k = 0; k < 4; ++k) painted[k] = painted[k] || wd[i * 4 + std::size_t(k)] != 0.0f;
+    int used[4], n = 0;
+    for (int k = 0; k < 4; ++k) {
+        bool skip = !painted[k];
+        const float* rd = ramp[k]->data();
+        for (std::size_t i = 0, m = ramp[k]->num_values(); skip && i < m; ++i) skip = std::isfinite(rd[i]);
+        if (!skip) used[n++] = k;
+    }
     const int rw = ramp[0]->width(), rh = ramp[0]->height();
     const ResampleAxis ax(w, rw), ay(h, rh);
     for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<RowResampler<4>> up;
-        for (int k = 0; k < 4; ++k) up.emplace_back(ramp[k]->data(), rw, w, ax, ay);
-        std::vector<float> rows(std::size_t(w) * 16), paper_row;
+        for (int j = 0; j < n; ++j) up.emplace_back(ramp[used[j]]->data(), rw, w, ax, ay);
+        std::vector<float> rows(std::size_t(w) * 4 * std::size_t(std::max(n, 1))), paper_row;
         if (!bd) {  // no picture yet: a row of the paper colour
             paper_row.resize(std::size_t(w) * 4);
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 3; ++c) paper_row[std::size_t(x) * 4 + c] = paper_color[c];
         }
         for (int y = y0; y < y1; ++y) {
-            for (int k = 0; k < 4; ++k) up[std::size_t(k)].row(y, rows.data() + std::size_t(k) * w * 4);
+            for (int j = 0; j < n; ++j) up[std::size_t(j)].row(y, rows.data() + std::size_t(j) * w * 4);
             const std::size_t i0 = std::size_t(y) * w;
             const float* b = bd ? bd + i0 * 4 : paper_row.data();
-            if (multiplicative) glaze_row<true>(od + i0 * 4, b, wd + i0 * 4, rows.data(), w);
-            else glaze_row<false>(od + i0 * 4, b, wd + i0 * 4, rows.data(), w);
+            if (multiplicative) glaze_row_n<true>(n, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, used);
+            else glaze_row_n<false>(n, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, used);
         }
     });
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -222,6 +223,36 @@ TEST(Glaze, ZeroWashKeepsThePictureAndFullWashMultiplies) {
     glaze(o, nullptr, wash, ramps, glm::vec3(0.9f, 0.8f, 0.7f), true, Exec::reference());
     EXPECT_FLOAT_EQ(o.at(2, 2, 0), 0.9f * 0.5f);
     EXPECT_FLOAT_EQ(o.at(0, 0, 2), 0.7f);
+}
+
+TEST(Glaze, LayersWithoutWashAreSkippedWithTheSameBytes) {
+    // Wash only in layer 1 (an ID pack with empty slots); ramps at another size (resampled). The
+    // fast schedule skips the empty multiplicative layers; a NaN in an empty layer's ramp must not
+    // be skipped (it poisons the product in the plain loop too).
+    const int w = 37, h = 23;
+    ImageF base(w, h, 4), wash(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 4; ++c) base.at(x, y, c) = 0.2f + 0.6f * float((x * 3 + y * 5 + c) % 7) / 7.0f;
+            wash.at(x, y, 1) = float((x + 2 * y) % 9) / 6.0f;
+        }
+    ImageF r[4];
+    for (int k = 0; k < 4; ++k) {
+        r[k] = ImageF(19, 11, 4);
+        for (int y = 0; y < 11; ++y)
+            for (int x = 0; x < 19; ++x)
+                for (int c = 0; c < 4; ++c) r[k].at(x, y, c) = float((x * (k + 1) + y + c) % 5) / 4.0f;
+    }
+    const ImageF* ramps[4] = {&r[0], &r[1], &r[2], &r[3]};
+    for (bool poison : {false, true}) {
+        if (poison) r[3].at(4, 4, 0) = std::numeric_limits<float>::quiet_NaN();
+        for (bool mul : {true, false}) {
+            ImageF ref, fast;
+            glaze(ref, &base, wash, ramps, glm::vec3(1.0f), mul, Exec::reference());
+            glaze(fast, &base, wash, ramps, glm::vec3(1.0f), mul, Exec::fast(2));
+            ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "mul " << mul << " poison " << poison;
+        }
+    }
 }
 
 TEST(Glaze, OverPaintsBackToFrontTheLastLayerOnTop) {
