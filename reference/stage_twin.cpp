@@ -1,6 +1,7 @@
 // reference/stage_twin.cpp — directive parsing and pass scheduling for the stage twins.
 #include "reference/stage_twin.h"
 
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -40,14 +41,20 @@ std::string param_uniform_decls(const std::vector<stylize::ParamDesc>& params) {
 
 StageTwin::StageTwin(const stylize::StageVariant& v) : v_(&v) {
     const std::string file = twin_file(v);
-    // //@include <file> lines are replaced by that file (shared bodies of related variants).
+    // //@include <file> lines are replaced by that file (shared bodies of related variants), which
+    // may include further files (at most kMaxIncludeDepth levels: a cycle is an error).
     {
-        std::istringstream raw(load_shader_file(file));
-        std::string l;
-        while (std::getline(raw, l)) {
-            if (l.rfind("//@include ", 0) == 0) source_ += load_shader_file(l.substr(11)) + "\n";
-            else source_ += l + "\n";
-        }
+        constexpr int kMaxIncludeDepth = 4;
+        std::function<void(const std::string&, int)> expand = [&](const std::string& name, int depth) {
+            if (depth > kMaxIncludeDepth) throw Error(file + ": //@include nested deeper than 4 (a cycle?) at " + name);
+            std::istringstream raw(load_shader_file(name));
+            std::string l;
+            while (std::getline(raw, l)) {
+                if (l.rfind("//@include ", 0) == 0) expand(l.substr(11), depth + 1);
+                else source_ += l + "\n";
+            }
+        };
+        expand(file, 0);
     }
     std::map<std::string, std::string> outputs;
     std::istringstream in(source_);

@@ -6,7 +6,7 @@
 //
 //   //@pass <name> out=<1..4> [size=[half:|half_if_<param>:]<input>] [in=<input>[:linear][:mirror],...]
 //   //@output <port>=<pass>
-//   //@include <file>          (replaced by reference/shaders/<file>: bodies shared by variants)
+//   //@include <file>          (replaced by reference/shaders/<file>: bodies shared by variants; nested, 4 levels)
 //
 // An <input> is a stage input port name, an earlier pass name, or `paper` (Globals::paper). A pass
 // is compiled from the whole file with `#define PASS_<name>`; it sees each of its inputs as
