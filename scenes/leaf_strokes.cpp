@@ -57,7 +57,23 @@ bool inside_uv(glm::vec2 q, glm::vec2 a, glm::vec2 b, glm::vec2 c, float* w1, fl
 }  // namespace
 
 std::vector<Stroke> place_uv_strokes(const Scene& sc, const std::vector<UvStroke>& strokes, std::size_t max_strokes,
-                                     std::size_t max_points) {
+                                     std::size_t max_points, std::size_t* work_budget) {
+    // Work bound first: every point may be tested against every triangle of its material.
+    std::size_t work = 0;
+    for (const UvStroke& us : strokes)
+        for (const Instance& inst : sc.instances) {
+            if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+            for (const Primitive& p : sc.meshes[std::size_t(inst.mesh)].primitives)
+                if (p.material >= 0 && p.material < int(sc.materials.size()) && sc.materials[std::size_t(p.material)].name == us.material) {
+                    const std::size_t tris = p.indices.size() / 3, pts = us.uv.size();
+                    if (tris && pts > (*work_budget - std::min(work, *work_budget)) / tris) work = *work_budget + 1;
+                    else work += tris * pts;
+                    if (work > *work_budget)
+                        throw Error("strokes: placing the texture-space strokes would test more than " + std::to_string(kMaxUvStrokeWork) +
+                                    " (point, triangle) pairs (docs/limits.md); draw fewer or shorter strokes");
+                }
+        }
+    *work_budget -= work;
     std::vector<Stroke> out;
     std::size_t points = 0;
     auto limit = [&](std::size_t more_points) {

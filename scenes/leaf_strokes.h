@@ -25,8 +25,13 @@ struct UvStroke {
 //! through the first triangle of its leaf whose UV triangle contains it (barycentric, inclusive
 //! edges); points outside every triangle split the stroke; runs of fewer than two points are
 //! dropped. Throws aq::Error naming the limits when the copies exceed max_strokes strokes or
-//! max_points points in all (nothing is allocated beyond them).
+//! max_points points in all (nothing is allocated beyond them), or when the placement would test
+//! more than *work_budget (point, triangle) pairs (checked before any work; the pairs tested are
+//! subtracted from it), so a hostile file cannot make loading hang.
 std::vector<Stroke> place_uv_strokes(const Scene& sc, const std::vector<UvStroke>& strokes, std::size_t max_strokes,
-                                     std::size_t max_points);
+                                     std::size_t max_points, std::size_t* work_budget);
+
+//! (point, triangle) pairs a scene file's texture-space strokes may test in all while loading.
+inline constexpr std::size_t kMaxUvStrokeWork = 200'000'000;
 
 }  // namespace aq::scene

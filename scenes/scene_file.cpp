@@ -644,7 +644,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             ctx.bad("strokes", "expected an array of {\"points\": [[x, y, z], ...], \"normals\", \"hatching\"} or "
                                "{\"uv\": [[u, v], ...], \"material\": NAME, \"hatching\"}");
         if (st.size() > kMaxSceneStrokes) ctx.bad("strokes", "more than " + std::to_string(kMaxSceneStrokes) + " strokes");
-        std::size_t vertices = 0;
+        std::size_t vertices = 0, uv_work = kMaxUvStrokeWork;
         for (std::size_t i = 0; i < st.size(); ++i) {
             const std::string k = "strokes[" + std::to_string(i) + "]";
             ctx.check_keys(st[i], k, {"points", "normals", "uv", "material", "hatching", "comment"});
@@ -673,7 +673,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                 std::vector<Stroke> placed;
                 try {
                     placed = place_uv_strokes(d.scene, {us}, kMaxSceneStrokes - d.scene.strokes.size(),
-                                              kMaxSceneStrokeVertices - vertices);
+                                              kMaxSceneStrokeVertices - vertices, &uv_work);
                 } catch (const Error& e) {
                     ctx.bad(k, e.what());
                 }

@@ -474,6 +474,15 @@ TEST(SceneFile, TextureSpaceStrokesAreCopiedOntoEveryLeafOfTheirMaterial) {
                  "strokes[0]", "lands on no leaf");
     expect_error(write_scene("uv_both.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[0.1, 0.1], [0.2, 0.2]], "points": [[0,0,0],[1,1,1]], "material": "Texture"}]})"),
                  "strokes[0]", "not both");
+    {
+        // One long stroke over a material with many triangles: 50,000 points x the procedural
+        // tree's 4,320 leaf triangles = 2.16e8 tests, refused by the work bound before placing.
+        std::string pts;
+        for (int q = 0; q < 50000; ++q) pts += std::string(q ? "," : "") + "[7, 7]";
+        expect_error(write_scene("uv_work.json", R"({"procedural": "tree", "strokes": [{"uv": [)" + pts +
+                                                     R"(], "material": "leaves"}]})"),
+                     "strokes[0]", "(point, triangle) pairs");
+    }
     expect_error(write_scene("uv_short.json", R"({"gltf": ")" + box + R"(", "strokes": [{"uv": [[0.1, 0.1]], "material": "Texture"}]})"),
                  "strokes[0].uv");
 }
