@@ -117,7 +117,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     const int prim_material = prim.material;
     scene::Mesh mesh;
     mesh.name = "foliage (implicit surface)";
-    if (dst.foliage.set) dst.foliage.meshes.push_back(mesh.name);  // still foliage for the passes
+    if (dst.foliage.set) scene::FoliageSelection::add(dst.foliage.meshes, mesh.name);  // still foliage for the passes
     mesh.primitives.push_back(std::move(prim));
     dst.meshes.push_back(std::move(mesh));
     scene::Instance inst;

@@ -3,18 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/color.h"
 
 namespace aq::scene {
-
-namespace {
-
-bool listed(const std::vector<std::string>& names, const std::string& n) {
-    return std::find(names.begin(), names.end(), n) != names.end();
-}
-
-}  // namespace
 
 glm::vec3 material_display_color(const Scene& sc, int material) {
     if (material < 0 || material >= int(sc.materials.size())) return glm::vec3(1.0f);
@@ -56,6 +49,18 @@ LayerTable build_layer_table(const Scene& sc) {
         l.name = s.name;
         t.layers.push_back(l);
     }
+    // Name -> the first group naming it, per kind (a primitive joins the first group naming its
+    // node, mesh or material): one lookup per primitive whatever the number of groups and names.
+    std::map<std::string, int> by_node, by_mesh, by_material;
+    for (std::size_t g = sc.layers.size(); g-- > 0;) {
+        for (const std::string& n : sc.layers[g].nodes) by_node[n] = int(g);
+        for (const std::string& n : sc.layers[g].meshes) by_mesh[n] = int(g);
+        for (const std::string& n : sc.layers[g].materials) by_material[n] = int(g);
+    }
+    auto group_of = [](const std::map<std::string, int>& m, const std::string& n) {
+        const auto it = m.find(n);
+        return it == m.end() ? std::numeric_limits<int>::max() : it->second;
+    };
     std::map<int, int> material_layer;  // the per-material layers of unassigned primitives
     for (const Instance& inst : sc.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
@@ -65,11 +70,12 @@ LayerTable build_layer_table(const Scene& sc) {
                 prim.material >= 0 && prim.material < int(sc.materials.size()) ? sc.materials[std::size_t(prim.material)].name
                                                                                : std::string();
             int layer = -1;
-            for (std::size_t g = 0; g < sc.layers.size() && layer < 0; ++g) {
-                const LayerSpec& s = sc.layers[g];
-                if (listed(s.nodes, inst.name) || listed(s.meshes, mesh.name) || (!mat_name.empty() && listed(s.materials, mat_name))) {
-                    layer = int(g);
-                    if (first_material[g] < 0) first_material[g] = prim.material;
+            if (!sc.layers.empty()) {
+                const int g = std::min({group_of(by_node, inst.name), group_of(by_mesh, mesh.name),
+                                        mat_name.empty() ? std::numeric_limits<int>::max() : group_of(by_material, mat_name)});
+                if (g != std::numeric_limits<int>::max()) {
+                    layer = g;
+                    if (first_material[std::size_t(g)] < 0) first_material[std::size_t(g)] = prim.material;
                 }
             }
             if (layer < 0) {

@@ -45,11 +45,16 @@ bool names_foliage(std::string n) {
 }
 }  // namespace
 
+void FoliageSelection::add(std::vector<std::string>& list, const std::string& name) {
+    const auto it = std::lower_bound(list.begin(), list.end(), name);
+    if (it == list.end() || *it != name) list.insert(it, name);
+}
+
 bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim) {
     const Material* m = prim.material >= 0 && prim.material < int(sc.materials.size()) ? &sc.materials[prim.material] : nullptr;
     if (sc.foliage.set) {
         auto listed = [](const std::vector<std::string>& v, const std::string& n) {
-            return std::find(v.begin(), v.end(), n) != v.end();
+            return std::binary_search(v.begin(), v.end(), n);  // sorted: FoliageSelection
         };
         const Mesh* mesh = inst.mesh >= 0 && inst.mesh < int(sc.meshes.size()) ? &sc.meshes[std::size_t(inst.mesh)] : nullptr;
         return listed(sc.foliage.nodes, inst.name) || (mesh && listed(sc.foliage.meshes, mesh->name)) ||

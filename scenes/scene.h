@@ -168,7 +168,9 @@ struct Bounds {
 //! foliage when its instance (node), mesh or material name is listed. Unset: is_foliage's rule.
 struct FoliageSelection {
     bool set = false;
-    std::vector<std::string> nodes, meshes, materials;
+    std::vector<std::string> nodes, meshes, materials;  //!< each sorted and unique (binary search)
+    //! Adds a name keeping the list sorted and unique.
+    static void add(std::vector<std::string>& list, const std::string& name);
 };
 
 //! LD06 §4.4 hand-made line stroke (scene files: "strokes"): a 3D polyline in world space, the

@@ -574,10 +574,15 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
 
     // LD06 selections by name (foliage, layers); every name must exist (a typo would silently
     // select nothing).
+    // Sorted name lists: a lookup is a binary search (a file may name many thousands).
     std::vector<std::string> node_names, mesh_names, material_names;
     for (const Instance& inst : d.scene.instances) node_names.push_back(inst.name);
     for (const Mesh& m : d.scene.meshes) mesh_names.push_back(m.name);
     for (const Material& m : d.scene.materials) material_names.push_back(m.name);
+    for (auto* v : {&node_names, &mesh_names, &material_names}) {
+        std::sort(v->begin(), v->end());
+        v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
     auto names = [&](const json& f, const std::string& where, const char* key, std::vector<std::string>& out,
                      const std::vector<std::string>& have) {
         if (!f.contains(key)) return;
@@ -585,7 +590,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         if (!f[key].is_array()) ctx.bad(k, "expected an array of names");
         for (std::size_t i = 0; i < f[key].size(); ++i) {
             const std::string n = ctx.string(f[key][i], k + "[" + std::to_string(i) + "]");
-            if (std::find(have.begin(), have.end(), n) == have.end()) {
+            if (!std::binary_search(have.begin(), have.end(), n)) {
                 std::string list;
                 for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
                 const std::string singular = std::strcmp(key, "meshes") == 0 ? "mesh" : std::string(key).substr(0, std::strlen(key) - 1);
@@ -612,6 +617,10 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         names(f, "foliage", "materials", sel.materials, material_names);
         if (sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
             ctx.bad("foliage", "names no node, mesh or material");
+        for (auto* v : {&sel.nodes, &sel.meshes, &sel.materials}) {  // sorted and unique (is_foliage searches them)
+            std::sort(v->begin(), v->end());
+            v->erase(std::unique(v->begin(), v->end()), v->end());
+        }
     }
 
     // LD06 §3.1 layers: groups of primitives painted as one wash, with their colours (docs/ld06.md "Layers").
@@ -661,7 +670,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                 if (!st[i].contains("material")) ctx.bad(k + ".material", "a texture-space stroke names the material whose leaves it is copied onto");
                 UvStroke us;
                 us.material = ctx.string(st[i]["material"], k + ".material");
-                if (std::find(material_names.begin(), material_names.end(), us.material) == material_names.end())
+                if (!std::binary_search(material_names.begin(), material_names.end(), us.material))
                     ctx.bad(k + ".material", "no material is named '" + us.material + "'");
                 us.light_dependent = hatching;
                 for (std::size_t q = 0; q < st[i]["uv"].size(); ++q) {
