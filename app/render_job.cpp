@@ -283,12 +283,14 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 ro.exec = rs.exec;
                 // Raster passes (LD06) draw the scene themselves, at the output size's scales.
                 std::optional<raster::PassScene> pass_scene;
+                raster::PassFrameCache pass_frames;  // this frame's prepared geometry, shared by its passes
                 std::vector<std::string> step_warnings;
                 if (job.compiled[si].has_passes) {
                     const raster::AbstractedScene& a = *job.pass_scenes[si];
                     pass_scene = raster::make_pass_scene(a.scene, camera, rs.width, rs.height);
                     pass_scene->layers = &job.pass_layers[si];
                     pass_scene->contours = &job.pass_contours[si];
+                    pass_scene->frames = &pass_frames;
                     if (a.abstracted) {
                         pass_scene->foliage_surface = &a.surface;
                         pass_scene->plant_height = a.height;

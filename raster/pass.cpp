@@ -240,6 +240,22 @@ void check_pass(const TrianglePass& p) {
 
 }  // namespace
 
+struct PassFrameCache::Entry {
+    PassView view;
+    float scale;
+    DrawSet draw;
+    bool fast;
+    int threads;
+    glm::mat4 camera_view;
+    int width, height;
+    std::unique_ptr<RenderSettings> rs;  // the Frame keeps it by pointer
+    Frame frame;
+    bool prepared = false;
+};
+
+PassFrameCache::PassFrameCache() = default;
+PassFrameCache::~PassFrameCache() = default;
+
 void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& p, const Exec& ex,
                           std::vector<std::string>* warnings) {
     if (!ps.scene) throw Error("raster pass: no scene");
@@ -267,26 +283,54 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
     }
 
     // Passes draw without tremor or bleeding displacement (LD06 has neither) and without culling.
-    RenderSettings rs;
-    rs.width = W;
-    rs.height = H;
-    rs.exec = ex;
-    rs.tremor.enabled = false;
-    rs.bleed_displacement = false;
     const scene::Scene& sc = *ps.scene;
-    const DrawFilter filter = [&](const scene::Instance& inst, const scene::Primitive& prim) {
-        if (p.draw == DrawSet::All) return true;
-        return scene::is_foliage(sc, inst, prim) == (p.draw == DrawSet::Foliage);
+    const DrawSet draw = p.draw;
+    const DrawFilter filter = [&sc, draw](const scene::Instance& inst, const scene::Primitive& prim) {
+        if (draw == DrawSet::All) return true;
+        return scene::is_foliage(sc, inst, prim) == (draw == DrawSet::Foliage);
     };
-    Frame fr = make_frame(sc, cx.view.camera, rs, W, H);
     const bool fast = ex.traversal == Traversal::Fast;
+    // The prepared frame: this frame's shared one for the same view, size and draw set, or a new
+    // one (kept in the cache when there is one).
+    PassFrameCache::Entry* entry = nullptr;
+    if (ps.frames)
+        for (auto& e : ps.frames->entries)
+            if (e->view == p.view && e->scale == p.scale && e->draw == p.draw && e->fast == fast && e->threads == ex.threads &&
+                e->camera_view == cx.view.camera.view && e->width == W && e->height == H)
+                entry = e.get();
+    std::unique_ptr<PassFrameCache::Entry> own;
+    if (!entry) {
+        own = std::make_unique<PassFrameCache::Entry>();
+        own->view = p.view;
+        own->scale = p.scale;
+        own->draw = p.draw;
+        own->fast = fast;
+        own->threads = ex.threads;
+        own->camera_view = cx.view.camera.view;
+        own->width = W;
+        own->height = H;
+        own->rs = std::make_unique<RenderSettings>();
+        RenderSettings& rs = *own->rs;
+        rs.width = W;
+        rs.height = H;
+        rs.exec = ex;
+        rs.tremor.enabled = false;
+        rs.bleed_displacement = false;
+        own->frame = make_frame(sc, cx.view.camera, rs, W, H);
+        entry = own.get();
+        if (ps.frames) ps.frames->entries.push_back(std::move(own));
+    }
+    Frame& fr = entry->frame;
     if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, cx.background);
     else std::fill(out.data(), out.data() + std::size_t(W) * H, cx.background);
     float* const img = out.data();
     PhaseTimer timer;
     const bool deferred = p.test == DepthTest::Binary && p.blend == Blend::Replace;
     auto body = [&] {
-        prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
+        if (!entry->prepared) {
+            prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
+            entry->prepared = true;
+        }
         if (!fast) {
             std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());
             for (const Chunk& ch : fr.chunks)

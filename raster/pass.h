@@ -11,6 +11,7 @@
 // loop over the whole image with the same per-fragment function (tests/raster/pass_test.cpp).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,21 @@ enum class PassValue { Depth = 0, Lighting = 1, Coverage = 2, Shadow = 3, Intens
 
 struct ContourCache;  // raster/strokes.h
 
+//! Prepared frames — the geometry transformed, clipped, set up and binned — shared by the triangle
+//! passes of one frame that draw the same view, size and draw set (LD06's depth, shadow, lighting
+//! and layer-ID passes all draw the camera view at 520 px). Owned by whoever owns the PassScene of
+//! that frame (the render job); not thread-safe: a pipeline's steps run one after the other. The
+//! values are those of preparing anew (tests/raster/pass_test.cpp).
+class PassFrameCache {
+public:
+    PassFrameCache();
+    ~PassFrameCache();
+    PassFrameCache(const PassFrameCache&) = delete;
+    PassFrameCache& operator=(const PassFrameCache&) = delete;
+    struct Entry;  // raster/pass.cpp
+    std::vector<std::unique_ptr<Entry>> entries;
+};
+
 //! The scene as every pass of one frame sees it.
 struct PassScene {
     const scene::Scene* scene = nullptr;
@@ -77,6 +93,8 @@ struct PassScene {
     //! View-independent contour data of `scene` (raster/strokes.h), built once per job; null =
     //! built by each strokes pass.
     const ContourCache* contours = nullptr;
+    //! Prepared frames shared by this frame's passes; null = every pass prepares its own.
+    PassFrameCache* frames = nullptr;
 };
 
 //! Fills bounds and light direction. Throws aq::Error for a scene without finite extent.

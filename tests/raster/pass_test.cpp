@@ -388,6 +388,23 @@ TEST(RasterPass, EveryPassIsBitIdenticalAcrossTraversalsAndThreads) {
             EXPECT_EQ(sha256_hex(fast), want) << name << ", " << threads << " thread(s)";
         }
     }
+    // One frame's passes sharing prepared frames (PassFrameCache, as the render job does): every
+    // pass gives the bytes it gives alone, in any order, and same-view passes share one entry.
+    for (bool reverse : {false, true}) {
+        PassFrameCache frames;
+        PassScene shared = ps;
+        shared.frames = &frames;
+        for (std::size_t k = 0; k < cases.size(); ++k) {
+            const auto& [name, pass] = cases[reverse ? cases.size() - 1 - k : k];
+            ImageF alone, with_cache;
+            render_triangle_pass(alone, ps, pass, Exec::fast(2));
+            render_triangle_pass(with_cache, shared, pass, Exec::fast(2));
+            EXPECT_EQ(sha256_hex(with_cache), sha256_hex(alone)) << name << (reverse ? " (reverse order)" : "");
+        }
+        // light depth; camera foliage at scale 1 (depth and intensity share it); lighting at 0.72;
+        // camera all at scale 1 (the shadows)
+        EXPECT_EQ(frames.entries.size(), 4u);
+    }
 }
 
 }  // namespace
