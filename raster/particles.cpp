@@ -149,14 +149,22 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
     const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
     // The one per-fragment function: blurred test of the sprite's depth (eq. 2), shape, eq. 12.
     // A saturated pixel stays 1 (every contribution is >= 0), so it is skipped: exact.
+    // Outside the round blotch (r >= 0.5) the shape is 0 and b = sat(f_v · 0 + b) = b for a finite
+    // f_v (a finite D): skipped, exact (the corners of every sprite, ~21 % of its pixels).
+    const bool round = p.shape != 1;
     auto fragment = [&](const Sprite& s, int x, int y) {
         const std::size_t i = std::size_t(y) * W + x;
         float& b = maps[s.cls][i];
         if (b >= 1.0f) return;
-        const float fv = blurred_visibility(dpix[i], s.depth, delta, p.beta);
         const float u = ((float(x) + 0.5f) - (s.cx - 0.5f * s.size)) / s.size;
         const float v = ((float(y) + 0.5f) - (s.cy - 0.5f * s.size)) / s.size;
-        b = stylize::sat(fv * (p.shape == 1 ? 1.0f : particle_shape(u, v)) + b);
+        float shape = 1.0f;
+        if (round) {
+            shape = particle_shape(u, v);
+            if (shape == 0.0f && std::isfinite(dpix[i]) && std::isfinite(s.depth)) return;
+        }
+        const float fv = blurred_visibility(dpix[i], s.depth, delta, p.beta);
+        b = stylize::sat(fv * shape + b);
     };
     if (ex.traversal == Traversal::Reference) {
         for (const Sprite& s : sprites)

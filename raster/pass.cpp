@@ -15,15 +15,6 @@ namespace aq::raster {
 
 using namespace detail;
 
-float ld06_step(float l, float u, float v) {
-    if (!(u > l)) return v >= l ? 1.0f : 0.0f;
-    return stylize::smoothstep(l, u, v);
-}
-
-float blurred_visibility(float D, float fd, float delta, float beta) {
-    return ld06_step(-delta, delta, (D - fd) + beta);
-}
-
 // LD06 eq. 3: scale 4 and bias (0, -1, -2, -3) per channel; 8-bit unsigned normalised storage
 // rounds to the nearest of 255 steps (GL's float -> UNORM8 conversion); eq. 4 decodes the sum / 4.
 namespace {

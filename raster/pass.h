@@ -20,6 +20,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "raster/implicit_surface.h"
+#include "stylize/kernels.h"
 #include "scenes/layers.h"
 #include "scenes/scene.h"
 
@@ -29,10 +30,16 @@ namespace aq::raster {
 
 //! LD06 eq. 1, Δstep(l, u, v) = 3v̂² − 2v̂³ with v̂ = clamp((v − l)/(u − l), 0, 1) (GLSL smoothstep).
 //! l == u (δ = 0, the binary limit) is a step: 1 where v >= l, else 0.
-float ld06_step(float l, float u, float v);
+//! Inline: the per-fragment functions of every pass call it.
+inline float ld06_step(float l, float u, float v) {
+    if (!(u > l)) return v >= l ? 1.0f : 0.0f;
+    return stylize::smoothstep(l, u, v);
+}
 //! LD06 eq. 2: visibility of a fragment of normalised depth fd against the stored (blurred) depth
 //! D: f_v = Δstep(−δ, +δ, D − fd + β).
-float blurred_visibility(float D, float fd, float delta, float beta);
+inline float blurred_visibility(float D, float fd, float delta, float beta) {
+    return ld06_step(-delta, delta, (D - fd) + beta);
+}
 //! LD06 eq. 3-4: d (clamped to [0, 1]) through the paper's RGBA8 depth texture — channel k holds
 //! clamp(4d − k, 0, 1) in 8 bits — and decoded as the channel sum / 4 (about 10 bits).
 float quantize_depth_rgba8(float d);
