@@ -67,6 +67,9 @@ options:
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
   --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
   --frames A-B          render frames A..B inclusive (animation), with progress
+  --shard I/N           render only shard I of N (0 <= I < N) of --frames or --sweep: the items k
+                        (frame - first frame, or sweep index) with k mod N == I; N runs together
+                        write exactly the files of one unsharded run (docs/shards.md)
   --orbit DEG           camera orbit: frame N sees the scene turned by N x DEG degrees about
                         the vertical (+Y) axis through the centre of its bounds (default 0)
   --sweep S.P=A:B:N     render N images with parameter P of step S from A to B (G-buffer
@@ -158,6 +161,14 @@ RenderOptions parse_render(Args& a) {
             o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -1e30, 1e30);
             o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -1e30, 1e30);
             o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), 2, 1000));
+        } else if (arg == "--shard") {
+            const std::string v = a.value(arg);
+            const auto slash = v.find('/');
+            if (slash == std::string::npos) throw UsageError("--shard expects I/N, e.g. 0/4");
+            o.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
+            o.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
+            if (o.shard_index >= o.shard_count)
+                throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
         } else if (arg == "--orbit") {
             o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -360.0, 360.0);
         } else if (arg == "--fps") {
@@ -186,6 +197,8 @@ RenderOptions parse_render(Args& a) {
         throw UsageError("render: with --frames, --out must contain #### for the frame number");
     if (!o.sweep.empty() && o.animation)
         throw UsageError("render: --sweep and --frames cannot be combined");
+    if (o.shard_count > 1 && !o.animation && o.sweep.empty())
+        throw UsageError("render: --shard splits --frames or --sweep; give one of them");
     if (!o.sweep.empty() && o.out.find("####") == std::string::npos)
         throw UsageError("render: with --sweep, --out must contain #### for the sweep index");
     check_output_path(o.out, "--out");

@@ -252,6 +252,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     Targets gbuffer, frame_targets;
     ImageF converted;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
+        if (o.animation && !o.in_shard(f - o.frame_first)) continue;  // another shard's frame
         const auto tf = std::chrono::steady_clock::now();
         const std::string prefix =
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
@@ -266,6 +267,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         }
 
         for (std::size_t si = 0; si < job.styles.size(); ++si) {
+            if (sweeping && !o.in_shard(int(si))) continue;  // another shard's sweep value
             const stylize::Pipeline& style = job.styles[si];
             const std::string tag = sweeping ? "[sweep " + std::to_string(si + 1) + "/" +
                                                    std::to_string(job.styles.size()) + " " + job.sweep_labels[si] + "] "

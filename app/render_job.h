@@ -29,6 +29,10 @@ struct RenderOptions {
     bool animation = false;
     double fps = 0;
     double orbit_deg = 0;  //!< --orbit: camera turned by frame x this about +Y through the bounds' centre
+    //! --shard I/N (docs/shards.md): this run renders the items k (frame f - frame_first, or sweep
+    //! index) with k mod N == I; the N shards together write exactly the unsharded run's files.
+    int shard_index = 0, shard_count = 1;
+    bool in_shard(int k) const { return k % shard_count == shard_index; }
     bool reference = false, quiet = false, allow_outside_files = false;
     bool neutral_control = false;
     //! Hand the sink every intermediate (--targets, --targets-png, the regression goldens); else

@@ -15,11 +15,13 @@ while [ $# -gt 0 ]; do
   shift
 done
 
-# Every package the build, the tests and the GL reference need (../shared/platform-notes.md).
+# Every package the build, the tests and the GL reference need (../shared/platform-notes.md);
+# GNU parallel for the shard test (docs/shards.md).
 pkgs=(build-essential cmake ninja-build pkg-config
       libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev libbenchmark-dev libgtest-dev
       nlohmann-json3-dev libssl-dev
-      libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)
+      libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+      parallel)
 
 [ "$install" = 1 ] && bash scripts/install_packages.sh setup "${pkgs[@]}"
 

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# tests/app/shard_test.sh — issue 14 item 4 (docs/shards.md): `render --shard I/N` on an animation
+# and on a sweep, four shards run through GNU parallel, write exactly the files — names and bytes —
+# of one unsharded run; bad --shard values are usage errors (exit 2) that write nothing.
+# Usage: shard_test.sh AQUARELLE OUTPUT_PARENT
+set -euo pipefail
+bin=$1
+mkdir -p "$2"
+dir=$(mktemp -d "$2/shard_test.XXXXXX")
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "shard_test: FAIL: $*" >&2; exit 1; }
+command -v parallel >/dev/null || fail "GNU parallel is not installed (scripts/setup.sh installs it)"
+common=(procedural:swatches --width 96 --height 64 --quiet)
+mkdir -p "$dir/one" "$dir/four" "$dir/sweep_one" "$dir/sweep_four"  # --out folders must exist
+
+same() {  # same file names and bytes in two folders
+  (cd "$1" && sha256sum -- *) >"$dir/a.sum"
+  (cd "$2" && sha256sum -- *) >"$dir/b.sum"
+  [ -s "$dir/a.sum" ] || fail "nothing rendered in $1"
+  diff "$dir/a.sum" "$dir/b.sum" >&2 || fail "$3: the shards differ from one run"
+}
+
+# Animation: 9 frames (the hand tremor changes every frame), 4 shards of 3, 2, 2, 2 frames.
+"$bin" render "${common[@]}" --frames 0-8 --out "$dir/one/f_####.png"
+parallel --will-cite -j 4 "$bin" render "${common[@]}" --frames 0-8 --shard {}/4 --out "$dir/four/f_####.png" ::: 0 1 2 3
+[ "$(ls "$dir/one" | wc -l)" = 9 ] || fail "the unsharded animation wrote $(ls "$dir/one" | wc -l) files, not 9"
+same "$dir/one" "$dir/four" "animation"
+# One shard alone renders only its frames: k mod 4 == 1 of frames 0..8 -> 1 and 5.
+mkdir -p "$dir/only1"
+"$bin" render "${common[@]}" --frames 0-8 --shard 1/4 --out "$dir/only1/f_####.png"
+[ "$(ls "$dir/only1" | tr '\n' ' ')" = "f_0001.png f_0005.png " ] || fail "shard 1/4 wrote: $(ls "$dir/only1" | tr '\n' ' ')"
+
+# Sweep: 5 values of one parameter; 4 shards (one renders two values).
+"$bin" render "${common[@]}" --style wc18 --sweep edge_darken.intensity=0:2:5 --out "$dir/sweep_one/s_####.png"
+parallel --will-cite -j 4 "$bin" render "${common[@]}" --style wc18 --sweep edge_darken.intensity=0:2:5 --shard {}/4 \
+  --out "$dir/sweep_four/s_####.png" ::: 0 1 2 3
+same "$dir/sweep_one" "$dir/sweep_four" "sweep"
+
+# Usage errors: exit 2, nothing written.
+mkdir -p "$dir/bad"
+for bad in 4/4 -1/4 1/0 x/4 2; do
+  set +e
+  "$bin" render "${common[@]}" --frames 0-3 --shard "$bad" --out "$dir/bad/f_####.png" 2>/dev/null
+  rc=$?
+  set -e
+  [ "$rc" = 2 ] || fail "--shard $bad exited $rc, expected 2"
+done
+set +e
+"$bin" render "${common[@]}" --shard 0/2 --out "$dir/bad/single.png" 2>/dev/null
+rc=$?
+set -e
+[ "$rc" = 2 ] || fail "--shard without --frames or --sweep exited $rc, expected 2"
+[ -z "$(ls -A "$dir/bad" 2>/dev/null)" ] || fail "a refused run wrote files"
+echo "shard_test: ok"
