@@ -17,6 +17,9 @@
 #include "tests/synthetic_gbuffer.h"
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
+#include "tests/raster/raster_test_util.h"
+#include "scenes/procedural.h"
+#include "raster/pass.h"
 #include "tests/reference/reference_scenes.h"
 #include "tests/reference/reference_support.h"
 #include "tests/test_support.h"
@@ -262,6 +265,39 @@ INSTANTIATE_TEST_SUITE_P(Presets, PipelineReference, ::testing::ValuesIn(pipelin
                                  if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                              return n;
                          });
+
+// The ld06 preset's stages on what its raster passes really produce — 0.72-scale maps resampled to
+// the output size, ID packs with empty layers, a real lighting map — for the procedural tree: each
+// stage step against its twin (the passes have their own twins, tests/reference/pass_reference_test.cpp).
+TEST(PipelineReferenceLd06, EveryStageStepMatchesItsTwinOnThePassOutputs) {
+    AQ_REQUIRE_GL();
+    stylize::Pipeline p = stylize::load_pipeline("ld06");
+    p.has_paper = false;  // flat paper keeps the comparison about the stages' own maths
+    const scene::Scene tree = scene::make_procedural("tree");
+    raster::PassScene ps = raster::make_pass_scene(tree, test::frame_scene(tree), 200, 180);
+    Targets t;
+    stylize::RunOptions opt;
+    opt.exec = Exec::reference();
+    opt.scene = &ps;
+    stylize::run_pipeline(p, t, opt);
+    stylize::Globals g;
+    g.substrate_color = p.substrate_color;
+    g.paper = &t.get("paper");
+    int compared = 0;
+    for (std::size_t i = 0; i < p.steps.size(); ++i) {
+        if (p.steps[i].pass) continue;
+        const stylize::ResolvedStep st = stylize::resolve_step(p, i);
+        const StageVariant& v = *st.variant;
+        ASSERT_TRUE(has_twin(v)) << "no GLSL twin for " << v.key();
+        std::vector<const ImageF*> ins, cpp;
+        for (auto& name : st.inputs) ins.push_back(name.empty() || !t.has(name) ? nullptr : &t.get(name));
+        for (auto& name : st.outputs) cpp.push_back(&t.get(name));
+        auto gl = StageTwin(v).run(ins, st.params, g);
+        compare_outputs(v, cpp, gl, "procedural_tree", "ld06#" + std::to_string(i));
+        ++compared;
+    }
+    EXPECT_GE(compared, 10);
+}
 
 TEST(StageReferenceCoverage, EveryRegisteredVariantHasATwin) {
     std::string missing;
