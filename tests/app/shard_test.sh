@@ -2,11 +2,10 @@
 # tests/app/shard_test.sh — issue 14 item 4 (docs/shards.md): `render --shard I/N` on an animation
 # and on a sweep, four shards run through GNU parallel, write exactly the files — names and bytes —
 # of one unsharded run; bad --shard values are usage errors (exit 2) that write nothing.
-# Usage: shard_test.sh AQUARELLE OUTPUT_PARENT
+# Usage: shard_test.sh AQUARELLE   (writes only in its own mktemp -d folder, removed on exit)
 set -euo pipefail
 bin=$1
-mkdir -p "$2"
-dir=$(mktemp -d "$2/shard_test.XXXXXX")
+dir=$(mktemp -d "${TMPDIR:-/tmp}/aq_shard_test.XXXXXX")
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "shard_test: FAIL: $*" >&2; exit 1; }
 command -v parallel >/dev/null || fail "GNU parallel is not installed (scripts/setup.sh installs it)"
