@@ -29,9 +29,10 @@ for d in reference/shaders scenes/data stylize/presets; do
 done
 [ -f "$SRC/GPU_SNAPSHOT_COMMIT" ] && cp "$SRC/GPU_SNAPSHOT_COMMIT" "$B/src/"
 echo "$SRC" >"$B/src_path"   # where run_on_gpu.sh links $B/src
+echo "$BUILD/test-output" >"$B/test_output_path"   # the binary's compiled-in AQ_TEST_OUTPUT_DIR
 # Shared assets used by tests/reference (scene files' models and papers, bare glTFs).
 for a in paper/mnpr/rough_default_2k.jpg gltf/Suzanne gltf/WaterBottle gltf/OrientationTest gltf/Fox gltf/BoxTextured \
-         meshes/stanford_dragon/dragon_202k.glb; do
+         meshes/stanford_dragon/dragon_202k.glb plants/ez-tree/ez_bush2.glb plants/ez-tree/ez_oak_large_dense.glb; do
     mkdir -p "$B/shared/assets/$(dirname "$a")"
     cp -r "$SHARED/assets/$a" "$B/shared/assets/$a"
 done

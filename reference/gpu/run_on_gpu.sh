@@ -50,7 +50,7 @@ T=$G/bin/reference_test
     done
 } >"$OUT/platform.txt" 2>&1
 set -o pipefail
-TO=$SRC/build-gpu/test-output
+TO=$(cat "$G/test_output_path" 2>/dev/null || echo "$SRC/build-gpu/test-output")
 rm -rf "$TO"
 SECONDS=0
 timeout 200 "$T" --gtest_output=xml:"$OUT/reference_test.xml" 2>&1 | tee "$OUT/log.txt"
