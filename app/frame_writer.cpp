@@ -44,7 +44,9 @@ void FrameWriter::run() {
         }
         std::exception_ptr err;
         try {
-            for (auto& [path, img] : f.files) write_image(path, img);
+            std::vector<std::string> sha;
+            for (auto& [path, img] : f.files) sha.push_back(write_image(path, img, f.description));
+            if (f.after) f.after(sha);
             if (report_ && !f.done_message.empty()) report_(f.done_message);
         } catch (...) {
             err = std::current_exception();

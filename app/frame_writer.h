@@ -29,6 +29,11 @@ public:
     struct Frame {
         std::vector<std::pair<std::string, ImageF>> files;  //!< path -> image, written in order
         std::string done_message;                          //!< reported once every file is written
+        std::string description;  //!< embedded in every file (core/io.h write_image), may be empty
+        //! Called on the writer thread once every file is written, with the SHA-256 of each file's
+        //! bytes in `files` order (the provenance sidecar, app/manifest.h). A throw stops the job
+        //! like a write failure.
+        std::function<void(const std::vector<std::string>& sha256)> after;
     };
 
     //! max_in_flight >= 1 frames may wait; `report` is called from the writer thread.

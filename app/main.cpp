@@ -1,4 +1,4 @@
-// app/main.cpp — the `aquarelle` command line: render, stages, styles, compare.
+// app/main.cpp — the `aquarelle` command line: render, stages, styles, compare, reproduce.
 //
 // Every failure prints one clear message to stderr and exits non-zero; nothing is written unless
 // the whole image was computed (core/io.h writes through a temporary file and a rename).
@@ -13,8 +13,10 @@
 #include <vector>
 
 #include "app/cli_args.h"
+#include "app/manifest.h"
 #include "app/render_files.h"
 #include "app/render_job.h"
+#include "core/build_info.h"
 #include "core/color.h"
 #include "core/compare.h"
 #include "core/io.h"
@@ -38,6 +40,8 @@ commands:
   stages           list every stylization stage, its variants and parameters (defaults, ranges)
   styles           list the pipeline presets
   compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
+  reproduce M      render an image again from its manifest (IMAGE.json) and say whether it is
+                   identical (docs/provenance.md)
   help [COMMAND]   this text, or a command's options
 
 Run `aquarelle COMMAND --help` for a command's options. Exit status: 0 on success, 1 on an
@@ -90,6 +94,27 @@ Prints mean and max absolute error, the fraction of values differing by more tha
 1/255) and PSNR (peak 1.0) of two images of the same size and channel count (any format
 OpenImageIO reads). --diff writes a heatmap of the per-pixel max error. Exit status 0 when the
 images could be compared (whatever the difference), 1 on error.
+)";
+
+constexpr const char* kReproduceHelp = R"(usage: aquarelle reproduce MANIFEST.json [options]
+
+Every image `aquarelle render` writes gets a manifest beside it (IMAGE.json: build, request,
+every input file's SHA-256, the compiled pipeline, every output file's SHA-256; docs/provenance.md).
+reproduce checks that this build is the manifest's and that every input is present and unchanged,
+renders the image again with the recorded request, and compares every output file's SHA-256. It
+prints "identical", or what differs: changed inputs, the pipeline, and the first differing output
+(in pipeline order) with compare's metrics when the original file is beside the manifest.
+
+options:
+  --keep DIR       render into DIR and keep it (default: a temporary folder, removed)
+  --threads N      worker threads, 0 = all cores (default 0); the bytes do not depend on it
+  --any-version    render and compare even when the manifest was made by another build
+  --quiet          no progress on stderr
+  --help           this text
+
+Exit status: 0 identical; 3 something differs (reported on stdout); 1 the image cannot be
+reproduced (not a manifest, another build without --any-version, a missing input file, an error
+while rendering); 2 usage error.
 )";
 
 using aq::app::RenderOptions;
@@ -323,6 +348,40 @@ int cmd_compare(Args& a) {
     return 0;
 }
 
+int cmd_reproduce(Args& a) {
+    aq::app::ReproduceOptions ro;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kReproduceHelp;
+            return 0;
+        } else if (arg == "--keep") {
+            ro.keep_dir = a.value(arg);
+        } else if (arg == "--threads") {
+            ro.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+        } else if (arg == "--any-version") {
+            ro.any_version = true;
+        } else if (arg == "--quiet" || arg == "-q") {
+            ro.quiet = true;
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw UsageError("reproduce: unknown option '" + arg + "' (see aquarelle reproduce --help)");
+        } else if (ro.manifest.empty()) {
+            ro.manifest = arg;
+        } else {
+            throw UsageError("reproduce: unexpected argument '" + arg + "'");
+        }
+    }
+    if (ro.manifest.empty()) throw UsageError("reproduce: no MANIFEST given (see aquarelle reproduce --help)");
+    aq::app::Reporter report;
+    report.progress = [&](const std::string& s) {
+        if (!ro.quiet) std::cerr << s << std::endl;
+    };
+    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    const aq::app::ReproduceResult r = aq::app::reproduce(ro, report);
+    for (const std::string& line : r.lines) std::cout << line << "\n";
+    return r.status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -340,17 +399,21 @@ int main(int argc, char** argv) {
             const std::string sub = args.done() ? "" : args.next();
             if (sub == "render") std::cout << kRenderHelp;
             else if (sub == "compare") std::cout << kCompareHelp;
+            else if (sub == "reproduce") std::cout << kReproduceHelp;
             else std::cout << kMainHelp;
             return 0;
         }
         if (cmd == "--version") {
-            std::cout << "aquarelle 0.1.0\n";
+            const aq::BuildInfo& b = aq::build_info();
+            std::cout << "aquarelle " << b.describe() << "\n"
+                      << "compiler " << b.compiler << ", " << b.build_type << ", flags " << b.flags << "\n";
             return 0;
         }
         if (cmd == "render") return cmd_render(args);
         if (cmd == "stages") return cmd_stages(args);
         if (cmd == "styles") return cmd_styles(args);
         if (cmd == "compare") return cmd_compare(args);
+        if (cmd == "reproduce") return cmd_reproduce(args);
         std::cerr << "aquarelle: unknown command '" << cmd << "'\n\n" << kMainHelp;
         return 2;
     } catch (const UsageError& e) {

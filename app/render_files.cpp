@@ -1,10 +1,13 @@
 // app/render_files.cpp — see render_files.h.
 #include "app/render_files.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 #include <mutex>
 
 #include "app/frame_writer.h"
+#include "app/manifest.h"
 #include "app/visualize.h"
 #include "core/io.h"
 
@@ -17,6 +20,28 @@ std::string frame_path(const std::string& pattern, int number) {
     std::snprintf(num, sizeof num, "%04d", number);
     return pattern.substr(0, pos) + num + pattern.substr(pos + 4);
 }
+
+namespace {
+
+//! The image's targets in pipeline order: what the G-buffer and the paper hold (by name), then
+//! what the steps write, in step order; so "the first differing target" of a reproduction is the
+//! earliest one in the pipeline.
+std::vector<std::string> pipeline_order(const RenderJob& job, const RenderedImage& img) {
+    std::map<std::string, std::size_t> rank;
+    if (job.stylize && img.style_index < job.compiled.size()) {
+        const auto& produced = job.compiled[img.style_index].produced;
+        for (std::size_t i = 0; i < produced.size(); ++i) rank.emplace(produced[i], i + 1);
+    }
+    std::vector<std::string> names;
+    for (const auto& [name, t] : img.targets.all()) names.push_back(name);
+    std::stable_sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) {
+        const auto ra = rank.find(a), rb = rank.find(b);
+        return (ra == rank.end() ? 0 : ra->second) < (rb == rank.end() ? 0 : rb->second);
+    });
+    return names;
+}
+
+}  // namespace
 
 void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_in_flight) {
     const RenderOptions& o = job.options;
@@ -36,23 +61,38 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
         // Intermediates first, the display image last: a listener waiting for --out sees a
         // complete set.
         FrameWriter::Frame frame;
+        std::vector<OutputFile> files;  // what the provenance manifest lists, in frame.files order
         const bool numbered = o.animation || job.sweeping();
         const std::string sub = frame_path(job.sweeping() ? "sweep####" : "frame####", img.index);
+        const std::vector<std::string> order = pipeline_order(job, img);
         if (!o.targets_dir.empty()) {
             const std::string dir = numbered ? o.targets_dir + "/" + sub : o.targets_dir;
             ensure_directory(dir);
-            for (const auto& [name, t] : img.targets.all())
-                frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".exr", t);
+            for (const std::string& name : order) {
+                frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".exr", img.targets.get(name));
+                files.push_back({frame.files.back().first, name, "exr"});
+            }
         }
         if (!o.targets_png_dir.empty()) {
             const std::string dir = numbered ? o.targets_png_dir + "/" + sub : o.targets_png_dir;
             ensure_directory(dir);
-            for (const auto& [name, t] : img.targets.all())
-                frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".png", visualize_target(name, t));
+            for (const std::string& name : order) {
+                frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".png", visualize_target(name, img.targets.get(name)));
+                files.push_back({frame.files.back().first, name, "png"});
+            }
         }
         const std::string out = frame_path(o.out, img.index);
         if (img.converted_) frame.files.emplace_back(out, std::move(img.converted));
         else frame.files.emplace_back(out, img.final_image());
+        files.push_back({out, "", "out"});
+        // Provenance (app/manifest.h): embedded in every file without "outputs", then the sidecar.
+        nlohmann::json core = manifest_core(job, img);
+        frame.description = core.dump();
+        frame.after = [core = std::move(core), files = std::move(files), sidecar = manifest_path(out)](
+                          const std::vector<std::string>& sha) {
+            const std::string text = manifest_text(manifest_with_outputs(core, sidecar, files, sha));
+            write_file_atomically(sidecar, text.data(), text.size());
+        };
         frame.done_message = img.tag + "wrote " + out;
         writer.submit(std::move(frame));
     }, serialised);

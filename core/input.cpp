@@ -1,12 +1,16 @@
 // core/input.cpp — bounded, regular-file-only reads; the path policy; the run's input record.
 #include "core/input.h"
 
+#include "core/hash.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <algorithm>
+#include <map>
 #include <mutex>
 #include <set>
 #include <utility>
@@ -32,6 +36,22 @@ std::set<std::pair<dev_t, ino_t>>& inputs() {
 void remember(const struct stat& st) {
     std::lock_guard<std::mutex> lock(inputs_mutex());
     inputs().insert({st.st_dev, st.st_ino});
+}
+
+// Provenance of every file whose bytes were read (function-local static, as above).
+std::map<std::pair<dev_t, ino_t>, InputRecord>& provenance() {
+    static std::map<std::pair<dev_t, ino_t>, InputRecord> m;
+    return m;
+}
+
+void remember_bytes(const struct stat& st, const std::string& path, const std::vector<unsigned char>& bytes) {
+    std::error_code ec;
+    fs::path abs = fs::absolute(path, ec);
+    if (ec) abs = path;
+    InputRecord r{abs.lexically_normal().string(), bytes.size(), sha256_hex(bytes.data(), bytes.size())};
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    inputs().insert({st.st_dev, st.st_ino});
+    provenance().emplace(std::make_pair(st.st_dev, st.st_ino), std::move(r));
 }
 
 //! Opens read-only and non-blocking (a FIFO with no writer must not block) and checks the opened
@@ -90,7 +110,7 @@ std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax
         done += std::size_t(n);
     }
     ::close(fd);
-    remember(st);
+    remember_bytes(st, path, out);
     return out;
 }
 
@@ -100,10 +120,25 @@ std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, c
 }
 
 void check_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what) {
+    // Read (and so hashed for the provenance record) like any input; the caller reads it again.
+    (void)read_input_file(path, max_bytes, what);
+}
+
+void forget_input_record(const std::string& path) {
     struct stat st {};
-    const int fd = open_checked(path, max_bytes, what + " '" + path + "'", &st);
-    ::close(fd);
-    remember(st);
+    if (::stat(path.c_str(), &st) != 0) return;
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    provenance().erase({st.st_dev, st.st_ino});
+}
+
+std::vector<InputRecord> inputs_read() {
+    std::vector<InputRecord> v;
+    {
+        std::lock_guard<std::mutex> lock(inputs_mutex());
+        for (const auto& [id, r] : provenance()) v.push_back(r);
+    }
+    std::sort(v.begin(), v.end(), [](const InputRecord& a, const InputRecord& b) { return a.path < b.path; });
+    return v;
 }
 
 bool is_input_of_run(const std::string& path) {

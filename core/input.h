@@ -33,6 +33,22 @@ std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, c
 //! OpenImageIO reads only by name). Throws aq::Error like read_input_file().
 void check_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
 
+//! One file read by this process through read_input_file() or check_input_file(): the path it
+//! was first read by (absolute, lexically normalised), its size and the SHA-256 of the bytes read.
+struct InputRecord {
+    std::string path;
+    std::uintmax_t bytes = 0;
+    std::string sha256;
+};
+//! Every file read so far, one record per file (by identity: dev, inode), sorted by path, so the
+//! list does not depend on the order in which threads read them (provenance manifests,
+//! app/manifest.h).
+std::vector<InputRecord> inputs_read();
+
+//! Drops `path` from inputs_read() (it stays protected from overwriting): for files a command
+//! reads about a render rather than for it (`reproduce` reading the manifest).
+void forget_input_record(const std::string& path);
+
 //! True when `path` is (the same inode as) a file read as an input by this process.
 bool is_input_of_run(const std::string& path);
 //! Records a file as an input of this run (readers that do not go through read_input_file()).

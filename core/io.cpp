@@ -1,6 +1,8 @@
 // core/io.cpp — OpenImageIO decoding with header checks; encoding to memory and crash-safe writes.
 #include "core/io.h"
 
+#include "core/hash.h"
+
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -256,7 +258,7 @@ constexpr const char* kExrCompression = "piz";
 }
 
 //! Encodes img in the format of the extension into memory (OpenImageIO writer through a proxy).
-std::vector<unsigned char> encode_image(const std::string& path, const ImageF& img) {
+std::vector<unsigned char> encode_image(const std::string& path, const ImageF& img, const std::string& description) {
     const std::string ext = lower_extension(path);
     if (ext.empty()) fail_write(path, "no file extension to choose a format");
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
@@ -275,6 +277,7 @@ std::vector<unsigned char> encode_image(const std::string& path, const ImageF& i
         // a fixed value keeps "same input, same bytes" true for whole files, not only pixels.
         spec.attribute("DateTime", "1970:01:01 00:00:00");
     }
+    if (!description.empty()) spec.attribute("ImageDescription", description);
     auto out = OIIO::ImageOutput::create("memory" + ext);
     if (!out) fail_write(path, "no writer for '" + ext + "': " + OIIO::geterror());
     if (!out->supports("ioproxy")) fail_write(path, "the '" + ext + "' writer cannot encode to memory; use .png, .exr, .tif or .jpg");
@@ -397,15 +400,16 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
     }
 }
 
-void write_image(const std::string& path, const ImageF& img) {
+std::string write_image(const std::string& path, const ImageF& img, const std::string& description) {
     if (img.empty()) fail_write(path, "the image is empty");
     const fs::path dst(path);
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail_write(path, "folder '" + dir.string() + "' does not exist");
     if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
-    const std::vector<unsigned char> bytes = encode_image(path, img);
+    const std::vector<unsigned char> bytes = encode_image(path, img, description);
     write_file_atomically(path, bytes.data(), bytes.size());
+    return sha256_hex(bytes.data(), bytes.size());
 }
 
 }  // namespace aq

@@ -40,8 +40,11 @@ struct DecodeBudget {
     std::string what;  //!< named in the error, e.g. "the scene's textures (1 GiB)"
 };
 
-//! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). Throws aq::Error.
-void write_image(const std::string& path, const ImageF& img);
+//! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). A non-empty
+//! `description` is embedded as the standard ImageDescription attribute (PNG tEXt "Description",
+//! EXR/TIFF header; the provenance manifest, app/manifest.h). Returns the SHA-256 (hex) of the
+//! bytes written. Throws aq::Error.
+std::string write_image(const std::string& path, const ImageF& img, const std::string& description = {});
 
 //! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);

@@ -1,7 +1,11 @@
 // tests/test_support.cpp
 #include "tests/test_support.h"
 
+#include <sys/wait.h>
+
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <mutex>
 #include <vector>
@@ -84,6 +88,24 @@ std::string error_of(const std::function<void()>& f) {
         return e.what();
     }
     return "(no error)";
+}
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+int run_command(const std::string& command, std::string* output) {
+    const std::string log = output_dir() + "/.command.log";
+    const int rc = std::system(("(" + command + ") >" + shell_quote(log) + " 2>&1").c_str());
+    if (output) *output = file_bytes(log);
+    return rc != -1 && WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string file_bytes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 }  // namespace aq::test

@@ -22,4 +22,12 @@ std::string source_dir();
 //! The message of the aq::Error that f throws, or "(no error)".
 std::string error_of(const std::function<void()>& f);
 
+//! `s` quoted for /bin/sh (single quotes).
+std::string shell_quote(const std::string& s);
+//! Runs a /bin/sh command line; returns its exit status (0-255, or -1 when it did not exit), and its
+//! stdout and stderr together in *output when given.
+int run_command(const std::string& command, std::string* output = nullptr);
+//! The whole content of a file ("" when it cannot be read).
+std::string file_bytes(const std::string& path);
+
 }  // namespace aq::test

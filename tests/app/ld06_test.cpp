@@ -22,19 +22,15 @@ namespace {
 
 constexpr int kSize = 200;  // small: the test is about behaviour, not the look at 720 px
 
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using test::shell_quote;
 
 //! Runs `aquarelle render MODEL --style STYLE EXTRA --out OUT`; returns the exit status, the log in *log.
 int render(const std::string& model, const std::string& style, const std::string& out, const std::string& extra,
            std::string* log = nullptr) {
     const std::string lp = out + ".log";
-    const std::string cmd = quote(AQ_CLI_EXE) + " render " + quote(model) + " --style " + style + " --width " +
+    const std::string cmd = shell_quote(AQ_CLI_EXE) + " render " + shell_quote(model) + " --style " + style + " --width " +
                             std::to_string(kSize) + " --height " + std::to_string(kSize) + " --quiet " + extra + " --out " +
-                            quote(out) + " 2>" + quote(lp);
+                            shell_quote(out) + " 2>" + shell_quote(lp);
     const int rc = std::system(cmd.c_str());
     if (log) {
         std::ifstream f(lp);

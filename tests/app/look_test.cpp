@@ -47,18 +47,14 @@ std::string exe() {
     return AQ_CLI_EXE;
 }
 
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using test::shell_quote;
 
 ImageF render(const std::string& model, const std::string& style, const std::string& extra = "") {
     const std::string out = test::output_dir() + "/" + std::to_string(std::hash<std::string>{}(model + style + extra)) +
                             "_" + style + ".png";
-    const std::string cmd = quote(exe()) + " render " + quote(model) + " --style " + style + " --width " +
+    const std::string cmd = shell_quote(exe()) + " render " + shell_quote(model) + " --style " + style + " --width " +
                             std::to_string(kWidth) + " --height " + std::to_string(kHeight) + " --quiet " + extra +
-                            " --out " + quote(out) + " 2>" + quote(out + ".log");
+                            " --out " + shell_quote(out) + " 2>" + shell_quote(out + ".log");
     const int rc = std::system(cmd.c_str());
     EXPECT_EQ(rc, 0) << cmd;
     return read_image(out);

@@ -22,12 +22,13 @@ same() {  # same file names and bytes in two folders
 # Animation: 9 frames (the hand tremor changes every frame), 4 shards of 3, 2, 2, 2 frames.
 "$bin" render "${common[@]}" --frames 0-8 --out "$dir/one/f_####.png"
 parallel --will-cite -j 4 "$bin" render "${common[@]}" --frames 0-8 --shard {}/4 --out "$dir/four/f_####.png" ::: 0 1 2 3
-[ "$(ls "$dir/one" | wc -l)" = 9 ] || fail "the unsharded animation wrote $(ls "$dir/one" | wc -l) files, not 9"
+# 9 images and their 9 provenance manifests (docs/provenance.md), which do not depend on sharding.
+[ "$(ls "$dir/one" | wc -l)" = 18 ] || fail "the unsharded animation wrote $(ls "$dir/one" | wc -l) files, not 18"
 same "$dir/one" "$dir/four" "animation"
 # One shard alone renders only its frames: k mod 4 == 1 of frames 0..8 -> 1 and 5.
 mkdir -p "$dir/only1"
 "$bin" render "${common[@]}" --frames 0-8 --shard 1/4 --out "$dir/only1/f_####.png"
-[ "$(ls "$dir/only1" | tr '\n' ' ')" = "f_0001.png f_0005.png " ] || fail "shard 1/4 wrote: $(ls "$dir/only1" | tr '\n' ' ')"
+[ "$(ls "$dir/only1" | tr '\n' ' ')" = "f_0001.png f_0001.png.json f_0005.png f_0005.png.json " ] || fail "shard 1/4 wrote: $(ls "$dir/only1" | tr '\n' ' ')"
 
 # Sweep: 5 values of one parameter; 4 shards (one renders two values).
 "$bin" render "${common[@]}" --style wc18 --sweep edge_darken.intensity=0:2:5 --out "$dir/sweep_one/s_####.png"

@@ -1,0 +1,72 @@
+// app/manifest.h — provenance manifests (issue 14 item 1; docs/provenance.md): how each output
+// image was made, and `aquarelle reproduce` to render it again and say whether it is identical.
+//
+// Every image `aquarelle render` writes to --out gets a sidecar `IMAGE.json` (e.g.
+// `s_0003.png.json`) and the same manifest, without the "outputs" section, embedded in every file
+// of that frame (the standard ImageDescription attribute: PNG tEXt "Description", EXR header),
+// since a file cannot hold its own hash. A manifest holds: the build (version, git commit, compiler,
+// determinism flags), the render request of this one image (scene, style, --set/--variant, size,
+// frame or sweep value, control mode, working space, ...), every file the process read with its
+// SHA-256, the compiled pipeline (every pass and step, variant, resolved parameter value, ports),
+// and the SHA-256 of every file written for the image. It holds nothing that depends on the
+// thread count, the traversal (--reference), sharding or the output folder (output files are named
+// relative to the sidecar's folder), so equal renders give byte-equal manifests.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/render_job.h"
+
+namespace aq::app {
+
+inline constexpr int kManifestFormat = 1;  //!< "aquarelle_manifest" value this build writes and reads
+
+//! A file written for one image: its path, the target it holds ("" for the --out image) and its
+//! kind ("out", "exr" for --targets, "png" for --targets-png).
+struct OutputFile {
+    std::string path, target, kind;
+};
+
+//! The sidecar path of an image: IMAGE + ".json".
+std::string manifest_path(const std::string& image_path);
+
+//! The manifest of one rendered image, without "outputs": what is embedded in the files.
+nlohmann::json manifest_core(const RenderJob& job, const RenderedImage& img);
+
+//! core + "outputs": one entry per file (name relative to the sidecar's folder, target, kind,
+//! SHA-256), in the order of `files` (sha256[i] belongs to files[i]).
+nlohmann::json manifest_with_outputs(nlohmann::json core, const std::string& sidecar_path,
+                                     const std::vector<OutputFile>& files, const std::vector<std::string>& sha256);
+
+//! The one text form of a manifest (2-space indentation, trailing newline).
+std::string manifest_text(const nlohmann::json& manifest);
+
+//! `aquarelle reproduce` (docs/provenance.md "Reproducing an image").
+struct ReproduceOptions {
+    std::string manifest;
+    std::string keep_dir;      //!< render into this folder and keep it; else a temporary folder, removed
+    int threads = 0;
+    bool any_version = false;  //!< render even when the build differs from the manifest's
+    bool quiet = false;
+};
+
+//! Exit status of reproduce when something differs (0: identical; 1: could not reproduce).
+inline constexpr int kReproduceDiffers = 3;
+
+struct ReproduceResult {
+    int status = 0;                  //!< 0 identical, kReproduceDiffers otherwise
+    std::vector<std::string> lines;  //!< the report, one line each ("identical" when status 0)
+};
+
+//! Checks the manifest (format, build, every input present with its SHA-256), renders the image
+//! again with the recorded request and compares every output's SHA-256; for the first differing
+//! output whose original file is still beside the manifest, the pixel metrics of core/compare.h.
+//! Throws aq::Error when the image cannot be reproduced at all (not a manifest, another build
+//! without any_version, a missing input).
+ReproduceResult reproduce(const ReproduceOptions& options, const Reporter& report);
+
+}  // namespace aq::app
