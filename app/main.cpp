@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/cli_args.h"
+#include "app/coherence.h"
 #include "app/manifest.h"
 #include "app/render_files.h"
 #include "app/render_job.h"
@@ -42,6 +43,8 @@ commands:
   compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
   reproduce M      render an image again from its manifest (IMAGE.json) and say whether it is
                    identical (docs/provenance.md)
+  coherence F...   temporal coherence of a rendered --frames sequence, as numbers
+                   (docs/coherence.md)
   help [COMMAND]   this text, or a command's options
 
 Run `aquarelle COMMAND --help` for a command's options. Exit status: 0 on success, 1 on an
@@ -115,6 +118,28 @@ options:
 Exit status: 0 identical; 3 something differs (reported on stdout); 1 the image cannot be
 reproduced (not a manifest, another build without --any-version, a missing input file, an error
 while rendering); 2 usage error.
+)";
+
+constexpr const char* kCoherenceHelp = R"(usage: aquarelle coherence (FOLDER | IMAGE IMAGE...) --targets DIR [options]
+
+Temporal coherence of a frame sequence rendered with `aquarelle render --frames A-B --targets DIR`
+(docs/coherence.md). Frames: every image of FOLDER that has a manifest (sorted by name), or the
+images given, in frame order; their manifests give each frame's camera, DIR its G-buffer. Per
+consecutive pair, and in total (pixel-weighted):
+  static   the change of the image where the G-buffer did not change (same object id, depth and
+           normal): paper "shower door", noise flicker, effects pulled by motion nearby
+  warp     the change along the true motion: each object pixel reprojected through its depth and
+           the two cameras into the previous frame, compared where it is visible there
+Each as the mean absolute change per channel and the % of pixels changing by more than 1/255.
+
+options:
+  --targets DIR          the --targets folder of the same run (DIR/frame####/depth.linear.exr, ...)
+  --json FILE            also write the numbers as JSON
+  --depth-tolerance R    relative depth change still "the same" for static pixels (default 1e-4)
+  --normal-tolerance N   normal component change still "the same" (default 1e-3)
+  --warp-tolerance R     relative depth difference for a reprojected point to count as visible
+                         (default 0.01)
+  --help                 this text
 )";
 
 using aq::app::RenderOptions;
@@ -382,6 +407,40 @@ int cmd_reproduce(Args& a) {
     return r.status;
 }
 
+int cmd_coherence(Args& a) {
+    std::vector<std::string> inputs;
+    std::string targets, json_out;
+    aq::app::CoherenceParams p;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kCoherenceHelp;
+            return 0;
+        } else if (arg == "--targets") {
+            targets = a.value(arg);
+        } else if (arg == "--json") {
+            json_out = a.value(arg);
+        } else if (arg == "--depth-tolerance") {
+            p.static_depth_rel = aq::cli::parse_double(arg, a.value(arg), 0.0, 1.0);
+        } else if (arg == "--normal-tolerance") {
+            p.static_normal = aq::cli::parse_double(arg, a.value(arg), 0.0, 2.0);
+        } else if (arg == "--warp-tolerance") {
+            p.warp_depth_rel = aq::cli::parse_double(arg, a.value(arg), 0.0, 1.0);
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw UsageError("coherence: unknown option '" + arg + "' (see aquarelle coherence --help)");
+        } else {
+            inputs.push_back(arg);
+        }
+    }
+    if (inputs.empty()) throw UsageError("coherence: no FOLDER or images given (see aquarelle coherence --help)");
+    if (targets.empty()) throw UsageError("coherence: --targets DIR (the G-buffer folder of the same run) is required");
+    if (inputs.size() > 100000) throw UsageError("coherence: more than 100000 images");
+    std::vector<std::string> images = inputs;
+    if (inputs.size() == 1 && fs::is_directory(inputs[0])) images = aq::app::sequence_in_folder(inputs[0]);
+    std::cout << aq::app::coherence_report(images, targets, p, json_out);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -400,6 +459,7 @@ int main(int argc, char** argv) {
             if (sub == "render") std::cout << kRenderHelp;
             else if (sub == "compare") std::cout << kCompareHelp;
             else if (sub == "reproduce") std::cout << kReproduceHelp;
+            else if (sub == "coherence") std::cout << kCoherenceHelp;
             else std::cout << kMainHelp;
             return 0;
         }
@@ -414,6 +474,7 @@ int main(int argc, char** argv) {
         if (cmd == "styles") return cmd_styles(args);
         if (cmd == "compare") return cmd_compare(args);
         if (cmd == "reproduce") return cmd_reproduce(args);
+        if (cmd == "coherence") return cmd_coherence(args);
         std::cerr << "aquarelle: unknown command '" << cmd << "'\n\n" << kMainHelp;
         return 2;
     } catch (const UsageError& e) {

@@ -14,6 +14,7 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/json_file.h"
+#include "raster/vertex.h"
 
 namespace aq::app {
 
@@ -126,6 +127,18 @@ json manifest_core(const RenderJob& job, const RenderedImage& img) {
               {"request", request_json(job, img)},
               {"image", {{"width", job.settings.width}, {"height", job.settings.height}, {"frame", img.frame}}},
               {"inputs", inputs}};
+    // The camera of this frame (orbit applied) and its projection at the image's aspect: what
+    // `aquarelle coherence` reprojects through (app/coherence.h).
+    const scene::Camera cam = frame_camera(job, img.frame);
+    const glm::mat4 proj = raster::projection_matrix(cam, float(job.settings.width) / float(job.settings.height));
+    auto mat = [](const glm::mat4& a) {
+        json v = json::array();
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) v.push_back(a[c][r]);
+        return v;
+    };
+    m["image"]["camera"] = {{"orthographic", cam.orthographic}, {"view", mat(cam.view)}, {"projection", mat(proj)},
+                            {"zfar", cam.zfar}};
     m["pipeline"] = job.stylize && img.style_index < job.compiled.size() ? pipeline_json(job.compiled[img.style_index]) : json(nullptr);
     if (!job.sweep_labels.empty() && img.style_index < job.sweep_labels.size() && !job.sweep_labels[img.style_index].empty())
         m["image"]["sweep_value"] = job.sweep_labels[img.style_index];

@@ -63,9 +63,11 @@ struct RenderJob {
     std::vector<raster::ContourCache> pass_contours;
     bool sweeping() const { return styles.size() > 1; }
     //! False when every style draws the scene with its own raster passes and reads no G-buffer
-    //! target (ld06): the G-buffer is then not rendered (nor written by --targets).
+    //! target (ld06) and --targets was not asked: the G-buffer is then not rendered. With --targets
+    //! it is rendered and written, so `aquarelle coherence` has the depth, normal and object ids
+    //! of every frame (docs/coherence.md).
     bool needs_gbuffer() const {
-        if (!stylize) return true;
+        if (!stylize || !options.targets_dir.empty()) return true;
         for (const stylize::CompiledPipeline& c : compiled) {
             if (!c.has_passes) return true;
             for (const stylize::ExternalInput& x : c.external)
