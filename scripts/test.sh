@@ -5,12 +5,14 @@
 #      checks (label `reference`);
 #   2. the same unit and CLI tests built with clang, AddressSanitizer + UBSan (scripts/sanitize.sh,
 #      build-fuzz/);
-#   3. a smoke run of every libFuzzer target on its seed corpus and regression inputs, from the same
+#   3. a smoke run of every benchmark (scripts/bench_suite.sh --smoke: each once, none may fail,
+#      and the ratios of bench/ratios.json measured in the same run against the recorded ones);
+#   4. a smoke run of every libFuzzer target on its seed corpus and regression inputs, from the same
 #      instrumented build (scripts/fuzz.sh --smoke: a fixed number of inputs per target from a
 #      fixed seed, the same on every run; $AQ_FUZZ_SECONDS caps each target, default 120).
 # Usage: scripts/test.sh                 everything (what .ci/run runs)
 #        scripts/test.sh CTEST_ARGS...   only step 1, with extra ctest args (e.g. -L reference, -R raster)
-# AQ_SKIP_SANITIZERS=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 for a quick local run.
+# AQ_SKIP_SANITIZERS=1 / AQ_SKIP_BENCH=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 / 4 for a quick local run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -22,6 +24,11 @@ if [ "${AQ_SKIP_SANITIZERS:-0}" != 1 ]; then
   start=$SECONDS
   bash scripts/sanitize.sh
   echo "test.sh: sanitizer build and tests in $((SECONDS - start)) s"
+fi
+if [ "${AQ_SKIP_BENCH:-0}" != 1 ]; then
+  start=$SECONDS
+  bash scripts/bench_suite.sh --smoke build
+  echo "test.sh: benchmark smoke run in $((SECONDS - start)) s"
 fi
 if [ "${AQ_SKIP_FUZZ:-0}" != 1 ]; then
   start=$SECONDS
