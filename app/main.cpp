@@ -14,6 +14,7 @@
 
 #include "app/cli_args.h"
 #include "app/coherence.h"
+#include "app/grid.h"
 #include "app/manifest.h"
 #include "app/render_files.h"
 #include "app/render_job.h"
@@ -43,6 +44,8 @@ commands:
   compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
   reproduce M      render an image again from its manifest (IMAGE.json) and say whether it is
                    identical (docs/provenance.md)
+  grid SCENE       combinations of styles, variants and parameter values side by side: a labelled
+                   contact sheet and an HTML report (docs/grid.md)
   coherence F...   temporal coherence of a rendered --frames sequence, as numbers
                    (docs/coherence.md)
   help [COMMAND]   this text, or a command's options
@@ -140,6 +143,28 @@ options:
   --warp-tolerance R     relative depth difference for a reprojected point to count as visible
                          (default 0.01)
   --help                 this text
+)";
+
+constexpr const char* kGridHelp = R"(usage: aquarelle grid SCENE --out SHEET.png [axes] [options]
+
+Renders every combination of the axes from one G-buffer per style into a labelled contact sheet
+(docs/grid.md). Axes, combined in this order (the last axis with several values runs along the
+columns, the others along the rows):
+  --styles A,B,...        styles (default: the scene's style, else wc18)
+  --variant STAGE=a,b     variants of one stage (repeatable: one axis each)
+  --set STEP.PARAM=x,y    values of one parameter (repeatable: one axis each)
+At most 64 combinations (refused before rendering).
+
+options:
+  --out FILE              the contact sheet (.png, .exr); required
+  --report DIR            also write DIR/index.html: one column per combination, one row per
+                          pipeline step with thumbnails and timings, the parameters that differ,
+                          diff heatmaps and metrics against the baseline column
+  --baseline K            the report's reference column (default 0)
+  --width W, --height H   size of each combination's image (default 640x360)
+  --frame N, --control C, --working-space W, --threads N, --allow-outside-files, --quiet
+                          as in render
+  --help                  this text
 )";
 
 using aq::app::RenderOptions;
@@ -407,6 +432,84 @@ int cmd_reproduce(Args& a) {
     return r.status;
 }
 
+int cmd_grid(Args& a) {
+    aq::app::GridOptions g;
+    RenderOptions& o = g.base;
+    o.width = 640;
+    o.height = 360;
+    auto axis = [](const std::string& opt, const std::string& v) {
+        const auto eq = v.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
+            throw UsageError("grid: " + opt + " expects NAME=a,b,... (got '" + v + "')");
+        std::vector<std::string> vals;
+        std::size_t p = eq + 1;
+        while (p <= v.size()) {
+            const std::size_t q = std::min(v.find(',', p), v.size());
+            vals.push_back(v.substr(p, q - p));
+            if (vals.back().empty()) throw UsageError("grid: " + opt + ": an empty value in '" + v + "'");
+            p = q + 1;
+        }
+        return std::make_pair(v.substr(0, eq), vals);
+    };
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kGridHelp;
+            return 0;
+        } else if (arg == "--styles") {
+            const auto [name, vals] = axis(arg, "styles=" + a.value(arg));
+            g.styles = vals;
+        } else if (arg == "--variant") {
+            g.variant_axes.push_back(axis(arg, a.value(arg)));
+        } else if (arg == "--set") {
+            g.set_axes.push_back(axis(arg, a.value(arg)));
+        } else if (arg == "--out" || arg == "-o") {
+            g.out = a.value(arg);
+        } else if (arg == "--report") {
+            g.report_dir = a.value(arg);
+        } else if (arg == "--baseline") {
+            g.baseline = int(aq::cli::parse_int(arg, a.value(arg), 0, aq::app::kMaxGridCombinations - 1));
+        } else if (arg == "--width") {
+            o.width = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+        } else if (arg == "--height") {
+            o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+        } else if (arg == "--frame") {
+            o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
+        } else if (arg == "--control") {
+            const std::string v = a.value(arg);
+            if (v != "neutral" && v != "default") throw UsageError("--control expects default or neutral, got '" + v + "'");
+            o.neutral_control = v == "neutral";
+        } else if (arg == "--working-space") {
+            const std::string v = a.value(arg);
+            if (v != "display" && v != "linear") throw UsageError("--working-space expects display or linear, got '" + v + "'");
+            o.working_space = v == "linear" ? aq::WorkingSpace::Linear : aq::WorkingSpace::Display;
+        } else if (arg == "--threads") {
+            o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+        } else if (arg == "--allow-outside-files") {
+            o.allow_outside_files = true;
+        } else if (arg == "--quiet" || arg == "-q") {
+            o.quiet = true;
+        } else if (!arg.empty() && arg[0] == '-') {
+            throw UsageError("grid: unknown option '" + arg + "' (see aquarelle grid --help)");
+        } else if (o.scene.empty()) {
+            o.scene = arg;
+        } else {
+            throw UsageError("grid: unexpected argument '" + arg + "'");
+        }
+    }
+    if (o.scene.empty()) throw UsageError("grid: no SCENE given (see aquarelle grid --help)");
+    if (g.out.empty()) throw UsageError("grid: --out SHEET is required");
+    check_output_path(g.out, "--out");
+    o.out = g.out;
+    aq::app::Reporter report;
+    report.progress = [&](const std::string& s) {
+        if (!o.quiet) std::cerr << s << std::endl;
+    };
+    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    aq::app::run_grid(g, report);
+    return 0;
+}
+
 int cmd_coherence(Args& a) {
     std::vector<std::string> inputs;
     std::string targets, json_out;
@@ -460,6 +563,7 @@ int main(int argc, char** argv) {
             else if (sub == "compare") std::cout << kCompareHelp;
             else if (sub == "reproduce") std::cout << kReproduceHelp;
             else if (sub == "coherence") std::cout << kCoherenceHelp;
+            else if (sub == "grid") std::cout << kGridHelp;
             else std::cout << kMainHelp;
             return 0;
         }
@@ -475,6 +579,7 @@ int main(int argc, char** argv) {
         if (cmd == "compare") return cmd_compare(args);
         if (cmd == "reproduce") return cmd_reproduce(args);
         if (cmd == "coherence") return cmd_coherence(args);
+        if (cmd == "grid") return cmd_grid(args);
         std::cerr << "aquarelle: unknown command '" << cmd << "'\n\n" << kMainHelp;
         return 2;
     } catch (const UsageError& e) {

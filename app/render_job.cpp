@@ -177,6 +177,19 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             job.sweep_labels.push_back(label);
         }
     }
+    if (!o.combinations.empty()) {
+        if (!job.stylize) throw cli::UsageError("grid: combinations need a style (not --style none)");
+        if (!o.sweep.empty()) throw cli::UsageError("grid: combinations and --sweep cannot be combined");
+        job.styles.clear();
+        job.sweep_labels.clear();
+        for (const RenderOptions::Combination& c : o.combinations) {
+            stylize::Pipeline p = pipeline;  // every assignment checked before rendering
+            for (const std::string& v : c.variants) stylize::set_variant(p, v);
+            for (const std::string& a : c.sets) stylize::set_param(p, a);
+            job.styles.push_back(std::move(p));
+            job.sweep_labels.push_back(c.label);
+        }
+    }
     // Compiled once per run (every name, value and binding resolved and checked); each frame then
     // only checks the G-buffer it is given.
     for (const stylize::Pipeline& p : job.styles)
@@ -279,6 +292,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             else move_gbuffer(gbuffer, frame_targets);
             Targets& targets = sweeping ? sweep_targets : frame_targets;
             std::string final_name = target::kColor;
+            std::vector<double> step_ms;
             if (job.stylize) {
                 const auto ts = std::chrono::steady_clock::now();
                 stylize::RunOptions ro;
@@ -300,6 +314,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                     ro.scene = &*pass_scene;
                 }
                 ro.warnings = &step_warnings;
+                ro.step_ms = &step_ms;
                 ro.reuse_outputs = !sweeping;
                 ro.release_dead = !o.keep_intermediates;
                 if (!o.quiet && !o.animation && !sweeping)
@@ -312,7 +327,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
                     std::to_string(int(ms_since(ts))) + " ms");
             }
-            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, std::move(converted), false};
+            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, std::move(step_ms), std::move(converted), false};
             const ImageF& fin = targets.get(final_name);
             // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
             // colour (--style none) keeps its coverage alpha for compositing.

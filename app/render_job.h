@@ -39,6 +39,13 @@ struct RenderOptions {
     //! intermediates are released after their last reader (stylize::RunOptions::release_dead).
     bool keep_intermediates = false;
     WorkingSpace working_space = WorkingSpace::Display;
+    //! `aquarelle grid` (app/grid.h): render these combinations of --variant/--set assignments
+    //! from one G-buffer instead of one style (labels name each); empty for render.
+    struct Combination {
+        std::vector<std::string> variants, sets;
+        std::string label;
+    };
+    std::vector<Combination> combinations;
     std::string sweep;  //!< "step.param" swept by --sweep
     double sweep_from = 0, sweep_to = 0;
     int sweep_count = 0;
@@ -100,6 +107,7 @@ struct RenderedImage {
     std::string tag;              //!< progress prefix, e.g. "[frame 3/24] "
     Targets& targets;
     std::string final_target;
+    std::vector<double> step_ms;  //!< wall time of each pipeline step (stylize::RunOptions::step_ms)
     //! The image `--out` receives: the final target, converted where the output needs it (linear
     //! working space -> sRGB; a stylised painting written opaque, RGB).
     const ImageF& final_image() const { return converted_ ? converted : targets.get(final_target); }
