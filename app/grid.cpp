@@ -184,41 +184,61 @@ void run_grid(const GridOptions& g, const Reporter& report) {
     if (with_report && (g.baseline < 0 || g.baseline >= int(cells.size())))
         throw cli::UsageError("grid: --baseline " + std::to_string(g.baseline) + " is not a combination (0.." +
                               std::to_string(cells.size() - 1) + ")");
-    // Every style's job prepared (names, values and ranges of every combination checked) before
-    // any rendering starts.
-    std::vector<RenderJob> jobs;
-    std::vector<std::size_t> first_cell;
-    for (std::size_t k = 0; k < cells.size();) {
-        RenderOptions o = g.base;
-        o.style = cells[k].style;
-        o.style_given = !o.style.empty();
-        o.keep_intermediates = with_report;
-        std::size_t e = k;
-        while (e < cells.size() && cells[e].style == cells[k].style) o.combinations.push_back(cells[e++].assignments);
-        jobs.push_back(prepare_render(o, report));
-        first_cell.push_back(k);
-        k = e;
-    }
+    auto cell_path = [&](std::size_t k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "/cell_%04zu.exr", k);
+        return g.cells_dir + name;
+    };
     std::vector<CellResult> results(cells.size());
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
-        RenderJob& job = jobs[j];
-        run_render(job, [&](RenderedImage& img) {
-            const std::size_t k = first_cell[j] + img.style_index;
-            CellResult& r = results[k];
-            r.image = img.final_image();
-            r.step_ms = img.step_ms;
-            report.progress("[grid " + std::to_string(k + 1) + "/" + std::to_string(cells.size()) + "] " + cells[k].assignments.label);
-            if (!with_report) return;
-            const stylize::CompiledPipeline& c = job.compiled[img.style_index];
-            for (const stylize::CompiledStep& s : c.steps) {
-                r.step_labels.push_back(s.label);
-                const std::string id = s.label.substr(0, s.label.find(' '));
-                for (const auto& [p, v] : s.params) r.params[id + "." + p] = fmt("%.9g", v);
-                r.step_thumbs.push_back(s.outputs.empty() || !img.targets.has(s.outputs[0])
-                                            ? ImageF()
-                                            : thumbnail(visualize_target(s.outputs[0], img.targets.get(s.outputs[0]))));
-            }
-        }, report);
+    if (g.from_cells) {
+        // Assemble the sheet from the cells a (sharded) run wrote; nothing is rendered.
+        for (std::size_t k = 0; k < cells.size(); ++k) results[k].image = read_image(cell_path(k));
+    } else {
+        // Every style's job prepared (names, values and ranges of every combination checked)
+        // before any rendering starts; a shard keeps only its combinations (k mod N == I).
+        std::vector<RenderJob> jobs;
+        std::vector<std::vector<std::size_t>> cell_of;  // per job: style index -> combination k
+        for (std::size_t k = 0; k < cells.size();) {
+            RenderOptions o = g.base;
+            o.style = cells[k].style;
+            o.style_given = !o.style.empty();
+            o.keep_intermediates = with_report;
+            std::vector<std::size_t> mine;
+            std::size_t e = k;
+            for (; e < cells.size() && cells[e].style == cells[k].style; ++e)
+                if (int(e) % g.shard_count == g.shard_index) {
+                    o.combinations.push_back(cells[e].assignments);
+                    mine.push_back(e);
+                }
+            k = e;
+            if (mine.empty()) continue;
+            jobs.push_back(prepare_render(o, report));
+            cell_of.push_back(std::move(mine));
+        }
+        if (!g.cells_dir.empty()) ensure_directory(g.cells_dir);
+        for (std::size_t j = 0; j < jobs.size(); ++j) {
+            RenderJob& job = jobs[j];
+            run_render(job, [&](RenderedImage& img) {
+                const std::size_t k = cell_of[j][img.style_index];
+                CellResult& r = results[k];
+                r.image = img.final_image();
+                r.step_ms = img.step_ms;
+                if (!g.cells_dir.empty()) write_image(cell_path(k), r.image);
+                report.progress("[grid " + std::to_string(k + 1) + "/" + std::to_string(cells.size()) + "] " +
+                                cells[k].assignments.label);
+                if (!with_report) return;
+                const stylize::CompiledPipeline& c = job.compiled[img.style_index];
+                for (const stylize::CompiledStep& s : c.steps) {
+                    r.step_labels.push_back(s.label);
+                    const std::string id = s.label.substr(0, s.label.find(' '));
+                    for (const auto& [p, v] : s.params) r.params[id + "." + p] = fmt("%.9g", v);
+                    r.step_thumbs.push_back(s.outputs.empty() || !img.targets.has(s.outputs[0])
+                                                ? ImageF()
+                                                : thumbnail(visualize_target(s.outputs[0], img.targets.get(s.outputs[0]))));
+                }
+            }, report);
+        }
+        if (g.shard_count > 1) return;  // a shard writes its cells only (docs/grid.md "Sharding")
     }
     std::vector<ImageF> images;
     std::vector<std::string> labels;

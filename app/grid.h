@@ -29,6 +29,12 @@ struct GridOptions {
     std::string out;         //!< the contact sheet (PNG or EXR)
     std::string report_dir;  //!< the report folder, or empty
     int baseline = 0;        //!< report: the column the others are compared with
+    //! --cells DIR: also write each combination's image as DIR/cell_KKKK.exr (exact floats).
+    std::string cells_dir;
+    //! --shard I/N: render only the combinations k with k mod N == I into --cells (no sheet).
+    int shard_index = 0, shard_count = 1;
+    //! --from-cells: assemble the sheet from --cells DIR (written by shards) without rendering.
+    bool from_cells = false;
 };
 
 //! One combination: its style, assignments and label ("wc18, edge_darken.intensity=2").

@@ -161,6 +161,10 @@ options:
                           pipeline step with thumbnails and timings, the parameters that differ,
                           diff heatmaps and metrics against the baseline column
   --baseline K            the report's reference column (default 0)
+  --cells DIR             also write each combination's image as DIR/cell_KKKK.exr
+  --shard I/N             render only combinations k with k mod N == I into --cells DIR (no sheet,
+                          no report); then assemble with the same axes and --from-cells
+  --from-cells            make the sheet from the cells in --cells DIR instead of rendering
   --width W, --height H   size of each combination's image (default 640x360)
   --frame N, --control C, --working-space W, --threads N, --allow-outside-files, --quiet
                           as in render
@@ -467,6 +471,17 @@ int cmd_grid(Args& a) {
             g.out = a.value(arg);
         } else if (arg == "--report") {
             g.report_dir = a.value(arg);
+        } else if (arg == "--cells") {
+            g.cells_dir = a.value(arg);
+        } else if (arg == "--from-cells") {
+            g.from_cells = true;
+        } else if (arg == "--shard") {
+            const std::string v = a.value(arg);
+            const auto slash = v.find('/');
+            if (slash == std::string::npos) throw UsageError("--shard expects I/N, e.g. 0/4");
+            g.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
+            g.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
+            if (g.shard_index >= g.shard_count) throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
         } else if (arg == "--baseline") {
             g.baseline = int(aq::cli::parse_int(arg, a.value(arg), 0, aq::app::kMaxGridCombinations - 1));
         } else if (arg == "--width") {
@@ -498,9 +513,19 @@ int cmd_grid(Args& a) {
         }
     }
     if (o.scene.empty()) throw UsageError("grid: no SCENE given (see aquarelle grid --help)");
-    if (g.out.empty()) throw UsageError("grid: --out SHEET is required");
-    check_output_path(g.out, "--out");
-    o.out = g.out;
+    if (g.shard_count > 1) {
+        if (g.cells_dir.empty()) throw UsageError("grid: --shard writes combinations into --cells DIR; give it");
+        if (!g.out.empty() || !g.report_dir.empty())
+            throw UsageError("grid: a shard writes only its cells; assemble the sheet with --from-cells (docs/grid.md)");
+        if (g.from_cells) throw UsageError("grid: --shard and --from-cells cannot be combined");
+    } else {
+        if (g.out.empty()) throw UsageError("grid: --out SHEET is required");
+        check_output_path(g.out, "--out");
+    }
+    if (g.from_cells && g.cells_dir.empty()) throw UsageError("grid: --from-cells needs --cells DIR");
+    if (g.from_cells && !g.report_dir.empty())
+        throw UsageError("grid: --report needs the intermediates of a render, not --from-cells");
+    o.out = g.out.empty() ? "grid.png" : g.out;  // a shard writes no sheet; the render job wants a name
     aq::app::Reporter report;
     report.progress = [&](const std::string& s) {
         if (!o.quiet) std::cerr << s << std::endl;

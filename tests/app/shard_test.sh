@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/app/shard_test.sh — issue 14 item 4 (docs/shards.md): `render --shard I/N` on an animation
-# and on a sweep, four shards run through GNU parallel, write exactly the files — names and bytes —
-# of one unsharded run; bad --shard values are usage errors (exit 2) that write nothing.
+# and on a sweep, and `grid --shard I/N` on a grid, four shards run through GNU parallel, write
+# exactly the files — names and bytes — of one unsharded run; bad --shard values are usage errors
+# (exit 2) that write nothing.
 # Usage: shard_test.sh AQUARELLE   (writes only in its own mktemp -d folder, removed on exit)
 set -euo pipefail
 bin=$1
@@ -36,6 +37,16 @@ parallel --will-cite -j 4 "$bin" render "${common[@]}" --style wc18 --sweep edge
   --out "$dir/sweep_four/s_####.png" ::: 0 1 2 3
 same "$dir/sweep_one" "$dir/sweep_four" "sweep"
 
+# Grid: 2 styles x 3 values = 6 combinations, 4 shards write exactly the cells of one run, and the
+# sheet assembled from the shards' cells (--from-cells) has the bytes of the unsharded sheet.
+axes=(--styles wc16,wc18 --set edge_darken.intensity=0.5,1,2)
+"$bin" grid "${common[@]}" "${axes[@]}" --cells "$dir/grid_one" --out "$dir/grid_one.png"
+parallel --will-cite -j 4 "$bin" grid "${common[@]}" "${axes[@]}" --shard {}/4 --cells "$dir/grid_four" ::: 0 1 2 3
+[ "$(ls "$dir/grid_one" | wc -l)" = 6 ] || fail "the unsharded grid wrote $(ls "$dir/grid_one" | wc -l) cells, not 6"
+same "$dir/grid_one" "$dir/grid_four" "grid"
+"$bin" grid "${common[@]}" "${axes[@]}" --cells "$dir/grid_four" --from-cells --out "$dir/grid_four.png"
+cmp "$dir/grid_one.png" "$dir/grid_four.png" || fail "the sheet assembled from shards differs from one run's"
+
 # Usage errors: exit 2, nothing written.
 mkdir -p "$dir/bad"
 for bad in 4/4 -1/4 1/0 x/4 2; do
@@ -50,5 +61,13 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] || fail "--shard without --frames or --sweep exited $rc, expected 2"
+for args in "--shard 0/2 --out $dir/bad/g.png" "--shard 0/2 --cells $dir/bad/c --out $dir/bad/g.png" "--shard 2/2 --cells $dir/bad/c"; do
+  set +e
+  # shellcheck disable=SC2086
+  "$bin" grid "${common[@]}" --styles wc16,wc18 $args 2>/dev/null
+  rc=$?
+  set -e
+  [ "$rc" = 2 ] || fail "grid $args exited $rc, expected 2"
+done
 [ -z "$(ls -A "$dir/bad" 2>/dev/null)" ] || fail "a refused run wrote files"
 echo "shard_test: ok"
