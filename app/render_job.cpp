@@ -6,6 +6,10 @@
 #include <cstdio>
 #include <optional>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/cli_args.h"
@@ -63,7 +67,7 @@ scene::Camera frame_camera(const RenderJob& job, int frame) {
     scene::Camera cam = job.desc.camera;
     const double deg = job.options.orbit_deg * double(frame);
     if (deg == 0.0) return cam;
-    const scene::Bounds b = job.desc.scene.world_bounds();
+    const scene::Bounds& b = job.world_bounds;
     if (!b.valid) return cam;
     const glm::vec3 c = 0.5f * (b.min + b.max);
     // world' = R(c) world: the camera sees the scene turned by -deg, i.e. the camera moves by +deg.
@@ -219,6 +223,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
                             std::to_string(a->surface.indices.size() / 3) + " in " + std::to_string(int(ms_since(t0))) + " ms");
     }
+    job.world_bounds = job.desc.scene.world_bounds();
     return job;
 }
 
@@ -262,6 +267,17 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     // reuse_outputs), so a frame neither allocates nor first-touches ~0.5 GB at 1080p, nor prepares
     // the paper again. Every pixel of every target is written again each frame: the bytes are those
     // of a fresh render (tests/app/golden_test.cpp GoldenAnimation.*).
+    if (job.consumed) throw Error("render job: a one-shot job renders once (its scene was released)");
+    // One image, nothing kept (RenderJob::one_shot): buffers released as soon as they are dead,
+    // a smaller image pool (restored on return), the scene released after its G-buffer.
+    const bool one_shot_memory = job.one_shot();
+    struct PoolLimit {
+        std::size_t previous;
+        bool set;
+        ~PoolLimit() {
+            if (set) set_image_pool_limit(previous);
+        }
+    } pool_limit{one_shot_memory ? set_image_pool_limit(kOneShotPoolBytes) : 0, one_shot_memory};
     Targets gbuffer, frame_targets;
     ImageF converted;
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
@@ -272,9 +288,27 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         rs.frame = f;
         const scene::Camera camera = frame_camera(job, f);
         std::vector<std::string> warnings;
+        if (one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
+            // One-shot: the paper first, while nothing else large is alive; the decoded file is
+            // then dropped, so its decoding is not on top of the G-buffer (issue 13 item 6).
+            frame_targets.set(stylize::kPaperTarget, stylize::prepare_paper(job.compiled[0].paper, rs.width, rs.height));
+            stylize::clear_paper_cache();
+            image_pool_release();  // the decoded file's buffer: no later image has its size
+        }
         if (job.needs_gbuffer()) {
             raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
             for (auto& w : warnings) report.warning(w);
+            // One-shot: the geometry is not drawn again (styles with raster passes draw their own
+            // scene); its memory goes to the stylization.
+            bool passes = false;
+            for (const stylize::CompiledPipeline& c : job.compiled) passes = passes || c.has_passes;
+            if (one_shot_memory && !passes) {
+                job.desc.scene = scene::Scene{};
+                job.consumed = true;
+#ifdef __GLIBC__
+                malloc_trim(0);  // give the freed heap back: the peak is 9 MB lower (docs/performance.md)
+#endif
+            }
             report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
                 std::to_string(int(ms_since(tf))) + " ms");
         }
@@ -317,6 +351,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 ro.step_ms = &step_ms;
                 ro.reuse_outputs = !sweeping;
                 ro.release_dead = !o.keep_intermediates;
+                ro.release_inputs = one_shot_memory;
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);

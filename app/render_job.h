@@ -19,6 +19,10 @@
 
 namespace aq::app {
 
+//! The image pool's limit during a one-shot render (core/image.h set_image_pool_limit): measured
+//! on the 871k dragon at 1080p through WC18 (docs/performance.md "Memory of a one-shot render").
+inline constexpr std::size_t kOneShotPoolBytes = std::size_t(32) << 20;
+
 //! What `aquarelle render` was asked (app/main.cpp parses it; docs in its --help).
 struct RenderOptions {
     std::string scene, out, targets_dir, targets_png_dir, style;
@@ -69,6 +73,16 @@ struct RenderJob {
     //! Per style with raster passes: the contour data of the scene they draw (raster/strokes.h).
     std::vector<raster::ContourCache> pass_contours;
     bool sweeping() const { return styles.size() > 1; }
+    //! The scene's world bounds (the orbit's centre), kept when a one-shot render releases the
+    //! scene after its G-buffer.
+    scene::Bounds world_bounds;
+    //! A one-shot render (one image, nothing kept: no --targets, no animation, no sweep) releases
+    //! the scene's geometry after the G-buffer and the G-buffer targets after their last reader
+    //! (issue 13 item 6: peak memory); such a job renders once.
+    bool one_shot() const {
+        return !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
+    }
+    bool consumed = false;
     //! False when every style draws the scene with its own raster passes and reads no G-buffer
     //! target (ld06) and --targets was not asked: the G-buffer is then not rendered. With --targets
     //! it is rendered and written, so `aquarelle coherence` has the depth, normal and object ids

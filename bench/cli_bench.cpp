@@ -6,13 +6,16 @@
 //
 //   cli/animation/<scene>/1920x1080/wc18/<png|exr>: --frames 0-11; counters frames/s and s/frame
 //   cli/oneshot/<model>/1920x1080/wc18/png: one frame of a bare model (the default style)
+// Every cli/ benchmark reports peak_MB, the child process's peak resident memory.
 //
 // Scenes from scenes/data and the shared assets (../shared). Wall time (UseRealTime).
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -33,8 +36,9 @@ std::string make_temp_dir() {
     return ::mkdtemp(buf.data()) ? std::string(buf.data()) : std::string();
 }
 
-//! Runs `aquarelle args...`; returns its exit status (or -1 when it could not be started).
-int run_cli(const std::vector<std::string>& args) {
+//! Runs `aquarelle args...`; returns its exit status (or -1 when it could not be started) and the
+//! child's peak resident memory in *peak_kb (wait4's ru_maxrss).
+int run_cli(const std::vector<std::string>& args, long* peak_kb) {
     std::vector<char*> argv;
     std::string exe = AQ_CLI_PATH;
     argv.push_back(exe.data());
@@ -44,7 +48,9 @@ int run_cli(const std::vector<std::string>& args) {
     pid_t pid = 0;
     if (posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
     int status = 0;
-    if (waitpid(pid, &status, 0) != pid) return -1;
+    struct rusage ru {};
+    if (wait4(pid, &status, 0, &ru) != pid) return -1;
+    *peak_kb = ru.ru_maxrss;
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -56,8 +62,11 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
     }
     for (auto& a : args)
         if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+    long peak_kb = 0, max_peak_kb = 0;
     for (auto _ : st) {
-        if (run_cli(args) != 0) {
+        const int rc = run_cli(args, &peak_kb);
+        max_peak_kb = std::max(max_peak_kb, peak_kb);
+        if (rc != 0) {
             st.SkipWithError("aquarelle failed (run the command by hand to see why)");
             break;
         }
@@ -65,6 +74,8 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
     st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * frames, benchmark::Counter::kIsRate);
     st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * frames,
                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    // Peak resident memory of the process (the largest over the iterations), issue 13 item 6.
+    st.counters["peak_MB"] = benchmark::Counter(double(max_peak_kb) / 1024.0);
     std::error_code ec;
     fs::remove_all(dir, ec);
 }

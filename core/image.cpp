@@ -1,6 +1,8 @@
 // core/image.cpp — ImageF allocation with size limits, border names.
 #include "core/image.h"
 
+#include <atomic>
+
 #include <sys/mman.h>
 
 #include <algorithm>
@@ -54,8 +56,11 @@ float* pool_take(std::size_t rounded) {
     return nullptr;
 }
 
+std::atomic<std::size_t> g_pool_limit{kImagePoolBytes};
+
 void pool_give(float* p, std::size_t rounded) {
-    if (rounded > kImagePoolBytes) {
+    const std::size_t limit = g_pool_limit.load(std::memory_order_relaxed);
+    if (rounded > limit) {
         std::free(p);
         return;
     }
@@ -66,7 +71,7 @@ void pool_give(float* p, std::size_t rounded) {
         bp.free.emplace_back(rounded, p);
         bp.bytes += rounded;
         std::size_t drop = 0;
-        while (bp.bytes > kImagePoolBytes) {
+        while (bp.bytes > limit) {
             bp.bytes -= bp.free[drop].first;
             evicted.push_back(bp.free[drop].second);
             ++drop;
@@ -76,6 +81,8 @@ void pool_give(float* p, std::size_t rounded) {
     for (float* e : evicted) std::free(e);  // outside the lock
 }
 }  // namespace
+
+std::size_t set_image_pool_limit(std::size_t bytes) { return g_pool_limit.exchange(bytes); }
 
 std::size_t image_pool_bytes() {
     BufferPool& bp = pool();

@@ -83,6 +83,12 @@ struct View {
 //! are returned to the system. Two 1080p frames' worth of 4-channel temporaries.
 inline constexpr std::size_t kImagePoolBytes = std::size_t(256) << 20;
 
+//! Changes the pool's limit (at most kImagePoolBytes is the default) and returns the previous one;
+//! pooled bytes beyond the new limit are returned to the system at the next release into the pool.
+//! A one-shot render lowers it (app/render_job.cpp: a single image gains little from reuse, and
+//! parked buffers of sizes no later image takes count in its peak memory).
+std::size_t set_image_pool_limit(std::size_t bytes);
+
 //! Bytes currently held by the buffer pool (for tests and diagnostics).
 std::size_t image_pool_bytes();
 //! Returns every pooled buffer to the system.

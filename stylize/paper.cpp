@@ -71,9 +71,18 @@ ImageF to_mnpr_layout(const ImageF& img, const std::string& layout, const std::s
     throw Error("paper '" + path + "': unknown layout \"" + layout + "\" (expected \"mnpr\" or \"height\")");
 }
 
-std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::string& layout) {
+std::mutex& cache_mutex() {
     static std::mutex mu;
+    return mu;
+}
+std::map<std::string, std::shared_ptr<const ImageF>>& paper_cache() {
     static std::map<std::string, std::shared_ptr<const ImageF>> cache;
+    return cache;
+}
+
+std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::string& layout) {
+    std::mutex& mu = cache_mutex();
+    auto& cache = paper_cache();
     const std::string key = layout + "|" + path;
     {
         std::lock_guard<std::mutex> lock(mu);
@@ -92,6 +101,11 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
 }
 
 }  // namespace
+
+void clear_paper_cache() {
+    std::lock_guard<std::mutex> lock(cache_mutex());
+    paper_cache().clear();
+}
 
 ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
     check_image_size(width, height, "paper");

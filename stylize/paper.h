@@ -24,6 +24,10 @@ struct PaperSpec {
 //! Throws aq::Error with the path on unreadable files.
 ImageF prepare_paper(const PaperSpec& spec, int width, int height);
 
+//! Drops the decoded paper files kept by prepare_paper (one-shot renders: the source image is not
+//! needed once the paper is prepared at the output size; docs/performance.md "Memory").
+void clear_paper_cache();
+
 //! A flat paper (normal (0,0,1) -> 0.5, 0.5; height 0.5) for pipelines without a paper file.
 ImageF flat_paper(int width, int height);
 

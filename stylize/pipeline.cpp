@@ -349,10 +349,6 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
     return r;
 }
 
-namespace {
-constexpr const char* kPaperTarget = "paper";
-}
-
 CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     CompiledPipeline c;
     c.name = p.name;
@@ -479,6 +475,12 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     if (w == 0) throw Error(c.source + ": no step reads a G-buffer target");
     if (!targets.has(kPaperTarget))
         targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h) : flat_paper(w, h));
+    if (opt.release_dead && opt.release_inputs) clear_paper_cache();  // the decoded source is not needed again
+    if (opt.release_dead && opt.release_inputs)
+        for (const std::string& t : targets.names())
+            if (t != kPaperTarget && t != c.output && !c.last_read.count(t) &&
+                std::find(c.produced.begin(), c.produced.end(), t) == c.produced.end())
+                targets.erase(t);  // a G-buffer target no step reads
     Globals g;
     g.substrate_color = c.substrate_color;
     g.paper = &targets.get(kPaperTarget);
@@ -519,6 +521,11 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                                                             : last->second == std::size_t(i);
                 if (dead) targets.erase(t);
             }
+            if (opt.release_inputs)
+                for (const ExternalInput& x : c.external)
+                    if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target) &&
+                        c.last_read.at(x.target) == std::size_t(i))
+                        targets.erase(x.target);
         }
     }
 }

@@ -19,6 +19,11 @@
 
 namespace aq::stylize {
 
+//! The target holding the paper (prepare_paper at the image size, or the flat paper): added by
+//! run_pipeline unless the caller put it there first (the render job prepares it before the
+//! G-buffer of a one-shot render, so the paper file's decoding does not add to the peak memory).
+inline constexpr const char* kPaperTarget = "paper";
+
 struct PipelineStep {
     std::string stage, variant;                  //!< registry names; variant "" = the stage's default
     bool pass = false;                           //!< a raster pass (builtin_pass_registry; "pass" in files)
@@ -87,6 +92,12 @@ struct RunOptions {
     //! first-touching new ones. The output, the G-buffer and the paper are kept. Off: every
     //! intermediate stays in `targets` (--targets, tests).
     bool release_dead = false;
+    //! With release_dead, for a one-shot render whose G-buffer is not kept (issue 13 item 6): the
+    //! G-buffer targets are released too — those no step reads before the first step, the others
+    //! after their last reader — so their memory serves the intermediates. The caller must not
+    //! need the G-buffer afterwards. The paper stays (stages read it through Globals); the decoded
+    //! paper file is dropped from prepare_paper's cache once the paper is prepared.
+    bool release_inputs = false;
     //! The scene raster passes draw (pipelines with "pass" steps); its output size is the image
     //! size when the pipeline reads no G-buffer target.
     const raster::PassScene* scene = nullptr;

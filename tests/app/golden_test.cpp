@@ -99,6 +99,23 @@ TEST(GoldenAnimation, ReleasingIntermediatesChangesNoKeptImage) {
     }
 }
 
+// A one-shot render (one image, nothing kept; issue 13 item 6) prepares the paper before the
+// G-buffer, releases the scene after it, releases G-buffer targets after their last reader and
+// runs with a smaller image pool: none of it may change a byte of what it keeps.
+TEST(GoldenAnimation, OneShotMemoryReleaseChangesNoKeptImage) {
+    for (const char* preset : kPresets) {
+        SCOPED_TRACE(preset);
+        const Hashes kept = render_frames("suzanne.json", preset, 2, 4, 4, true).at(4);
+        const Hashes one = render_frames("suzanne.json", preset, 2, 4, 4, false).at(4);
+        EXPECT_EQ(one.at("final"), kept.at("final"));
+        for (const auto& [name, h] : one) EXPECT_EQ(h, kept.at(name)) << name;
+        if (std::string(preset) != "ld06") {  // ld06 reads no G-buffer target (docs/ld06.md)
+            EXPECT_FALSE(one.count("normal")) << "a G-buffer target no step reads was kept";
+            EXPECT_FALSE(one.count("depth.linear")) << "a G-buffer target was kept after its last reader";
+        }
+    }
+}
+
 TEST(GoldenAnimation, EveryFrameEqualsTheSameFrameRenderedAlone) {
     for (const char* preset : kPresets) {
         SCOPED_TRACE(preset);

@@ -96,5 +96,23 @@ TEST(ImagePool, RecycledBuffersAreRefilledAndBounded) {
     EXPECT_EQ(image_pool_bytes(), 0u);
 }
 
+// A one-shot render lowers the pool's limit (app/render_job.cpp): buffers beyond it go back to the
+// system at once, and the previous limit comes back.
+TEST(ImagePool, TheLimitCanBeLoweredAndRestored) {
+    image_pool_release();
+    const std::size_t before = set_image_pool_limit(std::size_t(8) << 20);
+    EXPECT_EQ(before, kImagePoolBytes);
+    {
+        ImageF a(1024, 1024, 4, 1.0f);  // 16 MiB: more than the limit
+    }
+    EXPECT_EQ(image_pool_bytes(), 0u);
+    {
+        ImageF a(1024, 512, 4, 1.0f);  // 8 MiB: fits
+    }
+    EXPECT_EQ(image_pool_bytes(), std::size_t(8) << 20);
+    EXPECT_EQ(set_image_pool_limit(before), std::size_t(8) << 20);
+    image_pool_release();
+}
+
 }  // namespace
 }  // namespace aq
