@@ -183,6 +183,52 @@ void check_output_path(const std::string& path, const std::string& opt) {
     if (!fs::is_directory(dir)) throw aq::Error(opt + ": folder '" + dir.string() + "' does not exist");
 }
 
+//! Progress on stderr unless quiet; warnings always.
+aq::app::Reporter cli_reporter(bool quiet) {
+    aq::app::Reporter r;
+    r.progress = [quiet](const std::string& s) {
+        if (!quiet) std::cerr << s << std::endl;
+    };
+    r.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    return r;
+}
+
+//! The options render and grid share (size, frame, control, working space, threads, shard, file
+//! policy, quiet): consumes `arg` (and its value) into o and returns true, or returns false.
+bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
+    if (arg == "--width") {
+        o.width = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+    } else if (arg == "--height") {
+        o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
+    } else if (arg == "--frame") {
+        o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
+    } else if (arg == "--control") {
+        const std::string v = a.value(arg);
+        if (v != "neutral" && v != "default") throw UsageError("--control expects default or neutral, got '" + v + "'");
+        o.neutral_control = v == "neutral";
+    } else if (arg == "--working-space") {
+        const std::string v = a.value(arg);
+        if (v != "display" && v != "linear") throw UsageError("--working-space expects display or linear, got '" + v + "'");
+        o.working_space = v == "linear" ? aq::WorkingSpace::Linear : aq::WorkingSpace::Display;
+    } else if (arg == "--threads") {
+        o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+    } else if (arg == "--shard") {
+        const std::string v = a.value(arg);
+        const auto slash = v.find('/');
+        if (slash == std::string::npos) throw UsageError("--shard expects I/N, e.g. 0/4");
+        o.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
+        o.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
+        if (o.shard_index >= o.shard_count) throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
+    } else if (arg == "--allow-outside-files") {
+        o.allow_outside_files = true;
+    } else if (arg == "--quiet" || arg == "-q") {
+        o.quiet = true;
+    } else {
+        return false;
+    }
+    return true;
+}
+
 RenderOptions parse_render(Args& a) {
     RenderOptions o;
     while (!a.done()) {
@@ -199,26 +245,11 @@ RenderOptions parse_render(Args& a) {
         } else if (arg == "--style") {
             o.style = a.value(arg);
             o.style_given = true;
-        } else if (arg == "--control") {
-            const std::string v = a.value(arg);
-            if (v == "neutral") o.neutral_control = true;
-            else if (v == "default") o.neutral_control = false;
-            else throw UsageError("--control expects default or neutral, got '" + v + "'");
-        } else if (arg == "--working-space") {
-            const std::string v = a.value(arg);
-            if (v == "display") o.working_space = aq::WorkingSpace::Display;
-            else if (v == "linear") o.working_space = aq::WorkingSpace::Linear;
-            else throw UsageError("--working-space expects display or linear, got '" + v + "'");
+        } else if (parse_image_option(arg, a, o)) {
         } else if (arg == "--set") {
             o.sets.push_back(a.value(arg));
         } else if (arg == "--variant") {
             o.variants.push_back(a.value(arg));
-        } else if (arg == "--width") {
-            o.width = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
-        } else if (arg == "--height") {
-            o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
-        } else if (arg == "--frame") {
-            o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
         } else if (arg == "--frames") {
             const std::string v = a.value(arg);
             const auto dash = v.find('-');
@@ -240,28 +271,14 @@ RenderOptions parse_render(Args& a) {
             o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -1e30, 1e30);
             o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -1e30, 1e30);
             o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), 2, 1000));
-        } else if (arg == "--shard") {
-            const std::string v = a.value(arg);
-            const auto slash = v.find('/');
-            if (slash == std::string::npos) throw UsageError("--shard expects I/N, e.g. 0/4");
-            o.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
-            o.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
-            if (o.shard_index >= o.shard_count)
-                throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
         } else if (arg == "--orbit") {
             o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -360.0, 360.0);
         } else if (arg == "--fps") {
             o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
         } else if (arg == "--ssaa") {
             o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, 4));
-        } else if (arg == "--threads") {
-            o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
         } else if (arg == "--reference") {
             o.reference = true;
-        } else if (arg == "--allow-outside-files") {
-            o.allow_outside_files = true;
-        } else if (arg == "--quiet" || arg == "-q") {
-            o.quiet = true;
         } else if (!arg.empty() && arg[0] == '-' && arg != "-") {
             throw UsageError("render: unknown option '" + arg + "' (see aquarelle render --help)");
         } else if (o.scene.empty()) {
@@ -287,11 +304,7 @@ RenderOptions parse_render(Args& a) {
 
 int cmd_render(Args& a) {
     const RenderOptions o = parse_render(a);
-    aq::app::Reporter report;
-    report.progress = [&](const std::string& s) {
-        if (!o.quiet) std::cerr << s << std::endl;
-    };
-    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    const aq::app::Reporter report = cli_reporter(o.quiet);
     const auto t0 = std::chrono::steady_clock::now();
     // Every name and value is validated before anything is rendered.
     aq::app::RenderJob job = aq::app::prepare_render(o, report);
@@ -426,11 +439,7 @@ int cmd_reproduce(Args& a) {
         }
     }
     if (ro.manifest.empty()) throw UsageError("reproduce: no MANIFEST given (see aquarelle reproduce --help)");
-    aq::app::Reporter report;
-    report.progress = [&](const std::string& s) {
-        if (!ro.quiet) std::cerr << s << std::endl;
-    };
-    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    const aq::app::Reporter report = cli_reporter(ro.quiet);
     const aq::app::ReproduceResult r = aq::app::reproduce(ro, report);
     for (const std::string& line : r.lines) std::cout << line << "\n";
     return r.status;
@@ -475,35 +484,9 @@ int cmd_grid(Args& a) {
             g.cells_dir = a.value(arg);
         } else if (arg == "--from-cells") {
             g.from_cells = true;
-        } else if (arg == "--shard") {
-            const std::string v = a.value(arg);
-            const auto slash = v.find('/');
-            if (slash == std::string::npos) throw UsageError("--shard expects I/N, e.g. 0/4");
-            g.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
-            g.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
-            if (g.shard_index >= g.shard_count) throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
         } else if (arg == "--baseline") {
             g.baseline = int(aq::cli::parse_int(arg, a.value(arg), 0, aq::app::kMaxGridCombinations - 1));
-        } else if (arg == "--width") {
-            o.width = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
-        } else if (arg == "--height") {
-            o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
-        } else if (arg == "--frame") {
-            o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
-        } else if (arg == "--control") {
-            const std::string v = a.value(arg);
-            if (v != "neutral" && v != "default") throw UsageError("--control expects default or neutral, got '" + v + "'");
-            o.neutral_control = v == "neutral";
-        } else if (arg == "--working-space") {
-            const std::string v = a.value(arg);
-            if (v != "display" && v != "linear") throw UsageError("--working-space expects display or linear, got '" + v + "'");
-            o.working_space = v == "linear" ? aq::WorkingSpace::Linear : aq::WorkingSpace::Display;
-        } else if (arg == "--threads") {
-            o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
-        } else if (arg == "--allow-outside-files") {
-            o.allow_outside_files = true;
-        } else if (arg == "--quiet" || arg == "-q") {
-            o.quiet = true;
+        } else if (parse_image_option(arg, a, o)) {
         } else if (!arg.empty() && arg[0] == '-') {
             throw UsageError("grid: unknown option '" + arg + "' (see aquarelle grid --help)");
         } else if (o.scene.empty()) {
@@ -513,6 +496,8 @@ int cmd_grid(Args& a) {
         }
     }
     if (o.scene.empty()) throw UsageError("grid: no SCENE given (see aquarelle grid --help)");
+    g.shard_index = o.shard_index;
+    g.shard_count = o.shard_count;
     if (g.shard_count > 1) {
         if (g.cells_dir.empty()) throw UsageError("grid: --shard writes combinations into --cells DIR; give it");
         if (!g.out.empty() || !g.report_dir.empty())
@@ -526,11 +511,7 @@ int cmd_grid(Args& a) {
     if (g.from_cells && !g.report_dir.empty())
         throw UsageError("grid: --report needs the intermediates of a render, not --from-cells");
     o.out = g.out.empty() ? "grid.png" : g.out;  // a shard writes no sheet; the render job wants a name
-    aq::app::Reporter report;
-    report.progress = [&](const std::string& s) {
-        if (!o.quiet) std::cerr << s << std::endl;
-    };
-    report.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    const aq::app::Reporter report = cli_reporter(o.quiet);
     aq::app::run_grid(g, report);
     return 0;
 }
