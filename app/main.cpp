@@ -62,6 +62,8 @@ light, the style's default control) or procedural:NAME (e.g. procedural:swatches
 options:
   --out FILE            output image (.png 8-bit display, .exr float); required.
                         With --frames, FILE must contain #### (replaced by the frame number).
+                        Each image gets its provenance manifest FILE.json (also embedded in the
+                        file; `aquarelle reproduce FILE.json` renders it again; docs/provenance.md)
   --targets DIR         also write every G-buffer target and every pipeline intermediate as EXR
   --targets-png DIR     also write display versions (PNG) of every target (see docs/gallery.md)
   --style S             wc18 | wc17 | wc16 | mnpr | FILE.json | none (G-buffer colour only);
