@@ -30,6 +30,9 @@ bench=$build/bench/aquarelle_bench
 report=$build/bench/aquarelle_bench_report
 [ -x "$bench" ] && [ -x "$report" ] || { echo "bench_suite: build first (cmake --build $build)" >&2; exit 1; }
 mkdir -p "$out"
+# llvmpipe on as many rasterizer threads as the C++ side it is compared with (threads:2), whatever
+# the machine's core count, so "C++ vs llvmpipe" compares like with like (docs/bench_suite.md).
+export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 ratio_filter=$(grep -o '"\(slow\|fast\)": "[^"]*"' bench/ratios.json | sed 's/.*: "\(.*\)"/\1/; s|/real_time$||; s/[][().*+?^$|]/\\&/g' |
                sort -u | paste -sd'|')
 matrix='^(pipeline/(wc16|wc17|wc18|mnpr)/(640x360|1920x1080)/fast/threads:[12]|gl/pipeline/|BM_RasterFrame/|BM_Ld06Frame/|cli/)'

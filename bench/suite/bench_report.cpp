@@ -94,6 +94,7 @@ struct RatioResult {
     std::string name, slow, fast;
     double recorded = 0, max_drop = 1, measured = 0;
     bool present = false, dropped = false;
+    bool applicable = true;  //!< false when the machine has fewer CPUs than the ratio needs (min_cpus)
 };
 
 }  // namespace
@@ -149,11 +150,12 @@ int main(int argc, char** argv) {
                 x.fast = r.at("fast").get<std::string>();
                 x.recorded = r.value("recorded", 0.0);
                 x.max_drop = r.value("max_drop", 2.0);
+                x.applicable = ctx.value("num_cpus", 0) >= r.value("min_cpus", 0);
                 const auto s = by_name.find(x.slow), f = by_name.find(x.fast);
                 x.present = s != by_name.end() && f != by_name.end() && f->second->real_ms > 0;
                 if (x.present) {
                     x.measured = s->second->real_ms / f->second->real_ms;
-                    x.dropped = !record && x.recorded > 0 && x.measured < x.recorded / x.max_drop;
+                    x.dropped = x.applicable && !record && x.recorded > 0 && x.measured < x.recorded / x.max_drop;
                 }
                 ratios.push_back(x);
             }
@@ -209,6 +211,11 @@ int main(int argc, char** argv) {
                 status = 5;
             }
         for (const RatioResult& r : ratios) {
+            if (!r.applicable) {
+                std::cout << "ratio '" << r.name << "': not checked on a machine with "
+                          << ctx.value("num_cpus", 0) << " CPU(s)\n";
+                continue;
+            }
             if (!r.present) {  // a renamed or removed benchmark must not silently end its check
                 std::cout << "ratio '" << r.name << "': not measured in this run (" << r.slow << " / " << r.fast << ")\n";
                 status = 4;
@@ -220,7 +227,7 @@ int main(int argc, char** argv) {
         }
         if (record && !ratios_path.empty()) {
             for (std::size_t i = 0; i < ratios.size(); ++i)
-                if (ratios[i].present) ratio_file["ratios"][i]["recorded"] = std::round(ratios[i].measured * 100.0) / 100.0;
+                if (ratios[i].present && ratios[i].applicable) ratio_file["ratios"][i]["recorded"] = std::round(ratios[i].measured * 100.0) / 100.0;
             ratio_file["recorded_at"] = {{"date", ctx.value("date", std::string())}, {"commit", b.commit},
                                          {"num_cpus", ctx.value("num_cpus", 0)}, {"load_avg", ctx.value("load_avg", json::array())}};
             // The ratio file is an input of this run, which write_file_atomically refuses to

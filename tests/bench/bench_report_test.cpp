@@ -80,6 +80,17 @@ TEST(BenchReport, ADroppedOrMissingRatioFailsAndRecordStoresIt) {
     EXPECT_EQ(report(dir, "--ratios " + dir + "/ratios.json", &log), 0) << log;
 }
 
+TEST(BenchReport, ARatioNeedingMoreCpusThanTheMachineHasIsNotChecked) {
+    const std::string dir = test::output_dir();
+    write(dir + "/run.json", run(50.0, 10.0));  // ratio 5, recorded 12: dropped, but...
+    json r = json::parse(ratios(12.0));
+    r["ratios"][0]["min_cpus"] = 4;  // ...the run's machine has 2 CPUs
+    std::ofstream(dir + "/ratios.json") << r.dump();
+    std::string log;
+    EXPECT_EQ(report(dir, "--ratios " + dir + "/ratios.json", &log), 0) << log;
+    EXPECT_NE(log.find("not checked on a machine with 2 CPU(s)"), std::string::npos) << log;
+}
+
 TEST(BenchReport, ABenchmarkErrorFailsAndBadInputIsRefused) {
     const std::string dir = test::output_dir();
     json r = run(100.0, 10.0);
