@@ -75,9 +75,13 @@ inline float texel_coord(int x, int n_out, int n_src) {
 }
 
 //! Bilinear resample of v (any size) at output pixel (x, y) of an out_w x out_h image, clamp to
-//! edge (GL_CLAMP_TO_EDGE): the up/down-sampling used for half-resolution intermediates.
+//! edge (GL_CLAMP_TO_EDGE): the up/down-sampling used for half-resolution intermediates. At equal
+//! sizes it is exactly the identity (the texel itself, as the GLSL twins' same_or_resample reads it
+//! with texelFetch): the bilinear formula is not, since (x + 0.5) / n * n is not always x + 0.5 in
+//! float, and a + (c - a) * 0 turns -0 into +0 and a neighbouring infinity into NaN.
 template <class T>
 T sample_resampled(const View<const T>& v, int x, int y, int out_w, int out_h) {
+    if (v.width == out_w && v.height == out_h) return v(x, y);
     return sample_bilinear(v, texel_coord(x, out_w, v.width), texel_coord(y, out_h, v.height),
                            Border::Clamp);
 }

@@ -13,7 +13,6 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "bleed_blend", "color");
     toolkit::check_input(&bleed, 4, toolkit::Channels::Exactly, "bleed_blend", "bleed");
     const int w = color.width(), h = color.height();
-    const bool full = bleed.same_size(color);
     toolkit::check_full_or_half(bleed, color, "bleed_blend", "bleed", "color");
     toolkit::ensure_output(dst, w, h, 4);
     const float* I = color.data();
@@ -39,30 +38,20 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
         toolkit::plain_loop(w, h, [&](int x, int y) {
             glm::vec4 b;
             for (int ch = 0; ch < 4; ++ch)
-                b[ch] = full ? bp[ch](x, y) : toolkit::sample_resampled_plane(bp[ch], x, y, w, h);
+                b[ch] = toolkit::sample_resampled_plane(bp[ch], x, y, w, h);
             ov(x, y) = bleed_blend_px(c(x, y), b, gain);
         });
         return;
     }
-    if (full) {
-        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
-            const std::size_t i0 = std::size_t(y0) * w;
-            blend(bleed.data() + 4 * i0, i0, std::size_t(y1 - y0) * w);
-        });
-        return;
-    }
-    // A half-resolution bleed is upsampled row by row into a buffer (toolkit::RowResampler: the
-    // sample_resampled convention, value for value, each source row resampled horizontally once
-    // per row block) and blended at once: no full-size temporary (33 MB at 1080p, written and
-    // read back every frame).
+    // The bleed (full or half size) is upsampled row by row into a buffer (toolkit::RowResampler:
+    // the sample_resampled convention, value for value, each source row resampled horizontally once
+    // per row block; a full-size bleed is read in place) and blended at once: no full-size
+    // temporary (33 MB at 1080p, written and read back every frame).
     const toolkit::ResampleAxis ax(w, bleed.width()), ay(h, bleed.height());
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<float> row(std::size_t(w) * 4);
         toolkit::RowResampler<4> up(bleed.data(), bleed.width(), w, ax, ay);
-        for (int y = y0; y < y1; ++y) {
-            up.row(y, row.data());
-            blend(row.data(), std::size_t(y) * w, std::size_t(w));
-        }
+        for (int y = y0; y < y1; ++y) blend(up.row_or_source(y, row.data()), std::size_t(y) * w, std::size_t(w));
     });
 }
 

@@ -30,11 +30,9 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
-    const bool same = blurred.same_size(color);
     const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
-    const Resampler up = same ? Resampler() : Resampler(w, h, blurred.width(), blurred.height());
+    const Resampler up(w, h, blurred.width(), blurred.height());
     auto blur_at = [&](int x, int y) -> glm::vec3 {
-        if (same) return {br(x, y), bg(x, y), bb(x, y)};
         return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
     };
     const View<const glm::vec4> c = color.view<glm::vec4>();
@@ -42,10 +40,8 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 8 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
-            const glm::vec3 b = same ? glm::vec3(br(x, y), bg(x, y), bb(x, y))
-                                     : glm::vec3(sample_resampled_plane(br, x, y, w, h),
-                                                 sample_resampled_plane(bg, x, y, w, h),
-                                                 sample_resampled_plane(bb, x, y, w, h));
+            const glm::vec3 b(sample_resampled_plane(br, x, y, w, h), sample_resampled_plane(bg, x, y, w, h),
+                              sample_resampled_plane(bb, x, y, w, h));
             o(x, y) = edge_darken_dog_px(c(x, y), b, ctrl(x, y), p);
         });
         return;
@@ -97,12 +93,11 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
-    const bool bleed_same = !bleed || bleed->same_size(color);
-    const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bm.width, bm.height);
+    const Resampler up(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: §3.1 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
-            const float b = bleed_same ? bm(x, y) : sample_resampled_plane(bm, x, y, w, h);
+            const float b = sample_resampled_plane(bm, x, y, w, h);
             o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, substrate, p);
         });
         return;
@@ -124,10 +119,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 ev[i] = e(xs + i, y);
                 ci[i] = ctrl(xs + i, y);
             }
-            if (bleed_same)
-                for (int i = 0; i < n; ++i) bl[i] = bm(xs + i, y);
-            else
-                for (int i = 0; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
+            for (int i = 0; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
             for (int i = 0; i < n; ++i)
                 d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], substrate, p);
             int m = 0;  // pixels that darken (d != 1), packed

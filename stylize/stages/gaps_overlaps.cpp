@@ -16,7 +16,6 @@ namespace {
 struct GoKernel {
     View<const glm::vec4> c;
     Plane e, ctrl, bleed;
-    bool bleed_same;
     const Resampler* up;
     int w, h;
     glm::vec3 substrate;
@@ -24,7 +23,7 @@ struct GoKernel {
     Border b;
 
     float bleed_at(int x, int y) const {
-        return bleed_same ? bleed(x, y) : up->sample(bleed, x, y);
+        return up->sample(bleed, x, y);
     }
 
     //! Normalised gradient of the extended edges; false if it is zero or not finite.
@@ -114,13 +113,11 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     static const float kZero = 0.0f;
-    const bool bleed_same = !bleed || bleed->same_size(color);
-    const Resampler up = bleed_same ? Resampler() : Resampler(w, h, bleed->width(), bleed->height());
+    const Resampler up = bleed ? Resampler(w, h, bleed->width(), bleed->height()) : Resampler(w, h, w, h);
     const GoKernel k{color.view<glm::vec4>(),
                      plane(edges_ext, 0),
                      plane(ctrl_edge, control::kEdgeTransition.channel),
                      bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h),
-                     bleed_same,
                      &up,
                      w,
                      h,

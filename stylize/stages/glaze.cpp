@@ -78,14 +78,6 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
         }
         od[i * 4] = c.r, od[i * 4 + 1] = c.g, od[i * 4 + 2] = c.b, od[i * 4 + 3] = 1.0f;
     };
-    // Ramps of the wash's size are read as is (the twins' same_or_resample): resampling at equal
-    // sizes is not exactly the identity in float ((x + 0.5) / n * n).
-    if (ramp[0]->width() == w && ramp[0]->height() == h) {
-        for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-            for (int x = x0; x < x1; ++x) px(x, y, [](const Plane& p, int sx, int sy) { return p(sx, sy); });
-        });
-        return;
-    }
     if (ex.traversal == Traversal::Reference) {
         plain_loop(w, h, [&](int x, int y) {
             px(x, y, [&](const Plane& p, int sx, int sy) { return sample_resampled_plane(p, sx, sy, w, h); });

@@ -24,14 +24,6 @@ void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const Strok
         const glm::vec3 r = glaze_px(glm::vec3(c[i * 4], c[i * 4 + 1], c[i * 4 + 2]), p.color, sat(p.alpha * cov), false);
         o[i * 4] = r.r, o[i * 4 + 1] = r.g, o[i * 4 + 2] = r.b, o[i * 4 + 3] = c[i * 4 + 3];
     };
-    // An ink map of the picture's size is read as is (the twins' same_or_resample): resampling at
-    // equal sizes is not exactly the identity in float ((x + 0.5) / n * n).
-    if (ink.width() == w && ink.height() == h) {
-        for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-            for (int x = x0; x < x1; ++x) px(x, y, ip(x, y));
-        });
-        return;
-    }
     if (ex.traversal == Traversal::Reference) {
         plain_loop(w, h, [&](int x, int y) { px(x, y, sample_resampled_plane(ip, x, y, w, h)); });
         return;

@@ -196,9 +196,10 @@ inline Plane plane(const ImageF& img, int channel) {
 inline Plane constant_plane(const float* value, int w, int h) { return {value, 0, 0, w, h}; }
 
 //! Value at output pixel (x, y) of a w x h image of plane p resampled by the convention of
-//! kernels.h (texel_coord + sample_bilinear, clamp to edge), computed directly: the plain
-//! counterpart of Resampler::sample.
+//! kernels.h sample_resampled (texel_coord + sample_bilinear, clamp to edge; exactly the identity at
+//! equal sizes), computed directly: the plain counterpart of Resampler::sample.
 inline float sample_resampled_plane(const Plane& p, int x, int y, int w, int h) {
+    if (p.width == w && p.height == h) return p(x, y);
     return sample_bilinear(p, texel_coord(x, w, p.width), texel_coord(y, h, p.height), Border::Clamp);
 }
 
@@ -208,11 +209,15 @@ inline float sample_resampled_plane(const Plane& p, int x, int y, int w, int h) 
 //! edge): for output index x, source taps i0[x], i1[x] (already clamped) and weight t[x], computed
 //! with exactly sample_bilinear's float operations, so resampled values equal sample_resampled's
 //! bit for bit.
+//! `same` (n_out == n_src) marks the identity: users of two axes read the texel itself when both
+//! are the same (sample_resampled's rule at equal sizes).
 struct ResampleAxis {
     std::vector<int> i0, i1;
     std::vector<float> t;
+    bool same = true;
     ResampleAxis() = default;
-    ResampleAxis(int n_out, int n_src) : i0(std::size_t(n_out)), i1(std::size_t(n_out)), t(std::size_t(n_out)) {
+    ResampleAxis(int n_out, int n_src)
+        : i0(std::size_t(n_out)), i1(std::size_t(n_out)), t(std::size_t(n_out)), same(n_out == n_src) {
         for (int x = 0; x < n_out; ++x) {
             const float f = texel_coord(x, n_out, n_src) - 0.5f;
             const float f0 = std::floor(f);
@@ -230,8 +235,11 @@ struct Resampler {
     ResampleAxis x, y;
     Resampler() = default;
     Resampler(int out_w, int out_h, int src_w, int src_h) : x(out_w, src_w), y(out_h, src_h) {}
+    //! True when both sizes are equal: every sample is the texel itself.
+    bool identity() const { return x.same && y.same; }
     //! The value at output pixel (ox, oy): sample_resampled's, bit for bit.
     float sample(const Plane& p, int ox, int oy) const {
+        if (identity()) return p(ox, oy);
         const std::size_t i = std::size_t(ox), j = std::size_t(oy);
         const float a = p(x.i0[i], y.i0[j]), c = p(x.i1[i], y.i0[j]), d = p(x.i0[i], y.i1[j]), e = p(x.i1[i], y.i1[j]);
         const float top = a + (c - a) * x.t[i];
@@ -245,6 +253,12 @@ struct Resampler {
 //! wanted, e.g. data() + 2 resamples channel 2 of an S-channel image without extracting it).
 template <int C, int S = C>
 void resample_row(const float* s, int sw, float* o, int w, const ResampleAxis& ax, const ResampleAxis& ay, int y) {
+    if (ax.same && ay.same) {  // the identity: the source row itself
+        const float* r = s + std::size_t(y) * sw * S;
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < C; ++c) o[std::size_t(x) * C + c] = r[std::size_t(x) * S + c];
+        return;
+    }
     const float ty = ay.t[std::size_t(y)];
     const float* r0 = s + std::size_t(ay.i0[std::size_t(y)]) * sw * S;
     const float* r1 = s + std::size_t(ay.i1[std::size_t(y)]) * sw * S;
@@ -270,10 +284,15 @@ class RowResampler {
 public:
     RowResampler(const float* s, int sw, int w, const ResampleAxis& ax, const ResampleAxis& ay)
         : s_(s), sw_(sw), w_(w), ax_(ax), ay_(ay) {
-        for (auto& b : buf_) b.resize(std::size_t(w) * C);
+        if (!identity())
+            for (auto& b : buf_) b.resize(std::size_t(w) * C);
     }
     //! Writes output row y (w * C values) to o.
     void row(int y, float* o) {
+        if (identity()) {
+            resample_row<C, S>(s_, sw_, o, w_, ax_, ay_, y);
+            return;
+        }
         const float ty = ay_.t[std::size_t(y)];
         const int j0 = ay_.i0[std::size_t(y)], j1 = ay_.i1[std::size_t(y)];
         const float* __restrict top = horizontal(j0, -1);
@@ -281,6 +300,15 @@ public:
         const std::size_t n = std::size_t(w_) * C;
         for (std::size_t i = 0; i < n; ++i) o[i] = top[i] + (bot[i] - top[i]) * ty;
     }
+
+    //! Output row y without a copy where it exists as is (the identity of a C-channel source): a
+    //! pointer into the source; otherwise row(y, buf) and buf. buf holds w * C values.
+    const float* row_or_source(int y, float* buf) {
+        if (identity() && C == S) return s_ + std::size_t(y) * sw_ * S;
+        row(y, buf);
+        return buf;
+    }
+    bool identity() const { return ax_.same && ay_.same; }
 
 private:
     //! The horizontal resampling of source row j, cached; never evicts the row `keep`.

@@ -2,6 +2,8 @@
 // by the stages) equals kernels.h sample_resampled value for value; the even-size downsample is
 // the 2x2 box average; constants survive up- and down-sampling exactly.
 #include <cstring>
+#include <limits>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -70,6 +72,57 @@ TEST(Resample, RowResamplerEqualsResampleRow) {
                 ASSERT_EQ(std::memcmp(want1.data(), got1.data(), want1.size() * sizeof(float)), 0)
                     << w << "x" << h << " alpha row " << y;
             }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize
+
+namespace aq::stylize {
+namespace {
+
+// At equal sizes every form of the resampling convention is exactly the identity, also where the
+// bilinear formula is not: sizes whose (x + 0.5) / n * n rounds away from x + 0.5 in float, -0
+// (a + (c - a) * 0 gives +0) and infinities beside finite texels (inf - a gives NaN weights).
+TEST(Resample, EqualSizesAreExactlyTheIdentity) {
+    // Some n whose float texel coordinate is not x + 0.5 at some x (so the identity is not free).
+    int inexact_sizes = 0;
+    for (int n : {520, 719, 1080, 1920})
+        for (int x = 0; x < n; ++x)
+            if (texel_coord(x, n, n) != float(x) + 0.5f) {
+                ++inexact_sizes;
+                break;
+            }
+    EXPECT_GT(inexact_sizes, 0) << "no size needs the identity rule: pick others";
+    for (auto [w, h] : {std::pair{1080, 3}, {719, 5}, {37, 23}}) {
+        ImageF src = test::synthetic_target("color", 4, w, h, 13);
+        src.at(1, 1, 0) = -0.0f;
+        src.at(2, 2, 1) = std::numeric_limits<float>::infinity();
+        src.at(3, 1, 2) = -std::numeric_limits<float>::infinity();
+        const auto same_bits = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+        const ImageF r = toolkit::resample(src, w, h, Exec::fast(2));
+        ASSERT_EQ(std::memcmp(r.data(), src.data(), src.num_values() * sizeof(float)), 0) << w << "x" << h;
+        const toolkit::Resampler up(w, h, w, h);
+        EXPECT_TRUE(up.identity());
+        const auto v = std::as_const(src).view<glm::vec4>();
+        for (int c = 0; c < 4; ++c) {
+            const toolkit::Plane p = toolkit::plane(src, c);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    ASSERT_TRUE(same_bits(toolkit::sample_resampled_plane(p, x, y, w, h), src.at(x, y, c)));
+                    ASSERT_TRUE(same_bits(up.sample(p, x, y), src.at(x, y, c)));
+                    ASSERT_TRUE(same_bits(sample_resampled(v, x, y, w, h)[c], src.at(x, y, c)));
+                }
+        }
+        const toolkit::ResampleAxis ax(w, w), ay(h, h);
+        toolkit::RowResampler<1, 4> up1(src.data() + 2, w, w, ax, ay);
+        toolkit::RowResampler<4> up4(src.data(), w, w, ax, ay);
+        std::vector<float> row(std::size_t(w) * 4);
+        for (int y = 0; y < h; ++y) {
+            up1.row(y, row.data());
+            for (int x = 0; x < w; ++x) ASSERT_TRUE(same_bits(row[std::size_t(x)], src.at(x, y, 2)));
+            EXPECT_EQ(up4.row_or_source(y, row.data()), src.data() + std::size_t(y) * w * 4);  // read in place
         }
     }
 }
