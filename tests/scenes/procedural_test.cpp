@@ -3,6 +3,10 @@
 #include "scenes/procedural.h"
 
 #include <gtest/gtest.h>
+#include <cstring>
+#include <cmath>
+#include <algorithm>
+#include "core/hash.h"
 
 #include <map>
 #include <set>
@@ -219,6 +223,40 @@ TEST(Noise, DeterministicInRangeAndSeeded) {
     const float big = value_noise({3e9f, -3e9f, 1e30f}, 1u);
     EXPECT_GE(big, -1.0f);
     EXPECT_LE(big, 1.0f);
+}
+
+// value_noise equals its plain definition: each of the cell's eight corners hashed on its own,
+// hash32 chained over the seed and the corner's x, y, z (the shared-prefix form in noise.cpp must
+// give these values bit for bit; the control goldens depend on them).
+TEST(Noise, EqualsThePlainChainedHashDefinition) {
+    auto lattice = [](std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t seed) {
+        std::uint32_t h = hash32(seed ^ 0x9e3779b9U);
+        h = hash32(h ^ std::uint32_t(x));
+        h = hash32(h ^ std::uint32_t(y));
+        h = hash32(h ^ std::uint32_t(z));
+        return float(h >> 8) * (2.0f / 16777215.0f) - 1.0f;
+    };
+    auto fade = [](float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); };
+    auto lerp = [](float a, float b, float t) { return a + (b - a) * t; };
+    auto plain = [&](glm::vec3 p, std::uint32_t seed) {
+        p = glm::vec3(std::fmod(p.x, 1048576.0f), std::fmod(p.y, 1048576.0f), std::fmod(p.z, 1048576.0f));
+        const glm::vec3 f = glm::floor(p);
+        const std::int32_t x = std::int32_t(f.x), y = std::int32_t(f.y), z = std::int32_t(f.z);
+        const float tx = fade(std::clamp(p.x - f.x, 0.0f, 1.0f)), ty = fade(std::clamp(p.y - f.y, 0.0f, 1.0f)),
+                    tz = fade(std::clamp(p.z - f.z, 0.0f, 1.0f));
+        const float c00 = lerp(lattice(x, y, z, seed), lattice(x + 1, y, z, seed), tx);
+        const float c10 = lerp(lattice(x, y + 1, z, seed), lattice(x + 1, y + 1, z, seed), tx);
+        const float c01 = lerp(lattice(x, y, z + 1, seed), lattice(x + 1, y, z + 1, seed), tx);
+        const float c11 = lerp(lattice(x, y + 1, z + 1, seed), lattice(x + 1, y + 1, z + 1, seed), tx);
+        return std::clamp(lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz), -1.0f, 1.0f);
+    };
+    for (int i = 0; i < 20000; ++i) {
+        const glm::vec3 p(float(i % 41) * 0.377f - 7.0f, float(i / 41 % 23) * -0.611f + 2.0f, float(i / 943) * 0.53f - 4.0f);
+        for (std::uint32_t seed : {0u, 101u, 0xffffffffu}) {
+            const float a = value_noise(p, seed), b = plain(p, seed);
+            ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "at " << p.x << "," << p.y << "," << p.z << " seed " << seed;
+        }
+    }
 }
 
 TEST(Noise, FieldAmplitudeOffsetOctaves) {
