@@ -260,6 +260,7 @@ void move_gbuffer(Targets& from, Targets& to) {
 void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report) {
     const RenderOptions& o = job.options;
     raster::RenderSettings& rs = job.settings;
+    rs.targets = job.gbuffer_targets();
     const bool sweeping = job.sweeping();
     const int nframes = o.frame_last - o.frame_first + 1;
     // Kept from frame to frame (issue 13): the G-buffer's memory (render_gbuffer_into), and for one

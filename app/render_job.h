@@ -87,6 +87,17 @@ struct RenderJob {
     //! target (ld06) and --targets was not asked: the G-buffer is then not rendered. With --targets
     //! it is rendered and written, so `aquarelle coherence` has the depth, normal and object ids
     //! of every frame (docs/coherence.md).
+    //! The G-buffer targets to render (raster::RenderSettings::targets): those some style reads
+    //! (optional inputs included, so no stage falls back), or all ten for --style none and
+    //! --targets / a grid report (every target kept: the user asked for the G-buffer). Leaving the
+    //! others out changes no value.
+    std::uint32_t gbuffer_targets() const {
+        if (!stylize || options.keep_intermediates || !options.targets_dir.empty()) return target::kAllGBufferTargets;
+        std::uint32_t m = 0;
+        for (const stylize::CompiledPipeline& c : compiled)
+            for (const stylize::ExternalInput& x : c.external) m |= target::gbuffer_bit(x.target);
+        return m;
+    }
     bool needs_gbuffer() const {
         if (!stylize || !options.targets_dir.empty()) return true;
         for (const stylize::CompiledPipeline& c : compiled) {

@@ -4,6 +4,10 @@
 // "ctrl.edge", "ctrl.abstraction", "depth.linear", "normal", "object_id", plus stage outputs.
 #pragma once
 
+#include <iterator>
+
+#include <cstdint>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -37,6 +41,14 @@ inline constexpr GBufferTarget kGBufferLayout[] = {
     {kCtrlAbstraction, 4, false}, {kDepthLinear, 1, true}, {kNormal, 3, false},        {kObjectId, 1, false},
     {kDiffuse, 1, false},      {kSpecular, 1, false},
 };
+//! Sets of G-buffer targets as bits over kGBufferLayout's order (bit i = kGBufferLayout[i]).
+inline constexpr std::uint32_t kAllGBufferTargets = (1u << std::size(kGBufferLayout)) - 1u;
+//! The bit of G-buffer target `name` (0 if `name` is not one).
+inline std::uint32_t gbuffer_bit(const std::string& name) {
+    for (std::size_t i = 0; i < std::size(kGBufferLayout); ++i)
+        if (name == kGBufferLayout[i].name) return 1u << i;
+    return 0;
+}
 //! Channels of a G-buffer target (0 if `name` is not one).
 inline int gbuffer_channels(const char* name) {
     for (const GBufferTarget& t : kGBufferLayout)

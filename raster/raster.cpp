@@ -127,6 +127,11 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
     Frame fr = make_frame(sc, cam, s, W, H);
     FrameScratch::take(fr);
     const bool fast = s.exec.traversal == Traversal::Fast;
+    // Only the fast single-sample traversal leaves out targets (its row streaming skips them);
+    // colour and depth always exist. mask = the targets produced.
+    const std::uint32_t mask = fast && K == 1 && mode == Mode::GBuffer
+                                   ? s.targets | target::gbuffer_bit(target::kColor) | target::gbuffer_bit(target::kDepthLinear)
+                                   : target::kAllGBufferTargets;
     Targets tg;
     bool clear = false;
     PhaseTimer timer;
@@ -139,7 +144,7 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             *count_out = ImageF(W, H, 1, 0.0f);
             count = count_out->data();
         } else {
-            if (reuse && K == 1 && reusable(*reuse, W, H)) {
+            if (reuse && K == 1 && reusable(*reuse, W, H, mask)) {
                 tg = std::move(*reuse);
                 clear = true;
                 if (!fast) {
@@ -147,7 +152,7 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
                     for (std::size_t i = 0; i < std::size_t(W) * H; ++i) write_background(bp, i, fr.background_depth);
                 }
             } else {
-                tg = allocate_targets(W, H, fr.background_depth, fast);
+                tg = allocate_targets(W, H, fr.background_depth, fast, mask);
             }
             tp = pointers(tg);
         }

@@ -125,11 +125,16 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);
 
 // gbuffer.cpp
-//! The targets of target::kGBufferLayout at W x H (allocated in parallel when `parallel`).
-Targets allocate_targets(int W, int H, float bg_depth, bool parallel = false);
+//! The targets of target::kGBufferLayout in `mask` (target::gbuffer_bit) at W x H (allocated in
+//! parallel when `parallel`).
+Targets allocate_targets(int W, int H, float bg_depth, bool parallel = false,
+                         std::uint32_t mask = target::kAllGBufferTargets);
+//! Pointers to the targets of tg; null for a G-buffer target tg does not hold (only the fast
+//! traversal's row streaming skips null targets: the other writers need all ten).
 TargetPtrs pointers(Targets& tg);
-//! `t` holds exactly the G-buffer layout at W x H (its storage can be reused for a new frame).
-bool reusable(const Targets& t, int W, int H);
+//! `t` holds exactly the G-buffer targets of `mask` at W x H (its storage can be reused for a new
+//! frame).
+bool reusable(const Targets& t, int W, int H, std::uint32_t mask = target::kAllGBufferTargets);
 
 // resolve.cpp
 //! SSAA resolve of the K-times supersampled `hi` to W x H (docs/raster.md "Supersampling").

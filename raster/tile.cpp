@@ -146,13 +146,17 @@ struct RowBuffer {
     }
     void stream_row(const TargetPtrs& tp, int x0, int y, int n) const {
         const std::size_t i = std::size_t(y) * tp.width + x0;
-        stream_floats(tp.color + 4 * i, color, 4 * std::size_t(n));
-        for (int k = 0; k < scene::kNumControlTargets; ++k) stream_floats(tp.ctrl[k] + 4 * i, ctrl[k], 4 * std::size_t(n));
-        stream_floats(tp.depth + i, depth, std::size_t(n));
-        stream_floats(tp.normal + 3 * i, normal, 3 * std::size_t(n));
-        stream_floats(tp.id + i, id, std::size_t(n));
-        stream_floats(tp.diffuse + i, diffuse, std::size_t(n));
-        stream_floats(tp.specular + i, specular, std::size_t(n));
+        // Targets the caller did not ask for are null (RenderSettings::targets): not written.
+        auto put = [&](float* dst, const float* src, std::size_t m) {
+            if (dst) stream_floats(dst + m * i, src, m * std::size_t(n));
+        };
+        put(tp.color, color, 4);
+        for (int k = 0; k < scene::kNumControlTargets; ++k) put(tp.ctrl[k], ctrl[k], 4);
+        put(tp.depth, depth, 1);
+        put(tp.normal, normal, 3);
+        put(tp.id, id, 1);
+        put(tp.diffuse, diffuse, 1);
+        put(tp.specular, specular, 1);
     }
 };
 

@@ -3,6 +3,7 @@
 // real models, determinism across threads and runs, hand tremor, size validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/io.h"
@@ -380,3 +381,57 @@ TEST(GBuffer, RenderIntoReusesTargetsWithIdenticalBytes) {
         expect_same_targets(out, raster::render_gbuffer(scene::Scene{}, cam, st), "render_into_empty");
     }
 }
+
+namespace aq {
+namespace {
+
+// RenderSettings::targets: the fast single-sample traversal renders only the targets asked for
+// (colour and depth always), each with the bytes of a render of all ten, also into the targets of
+// a previous frame (reused only when they are exactly that set); the reference traversal and
+// supersampling produce all ten.
+TEST(GBuffer, ATargetSubsetHasTheBytesOfTheFullRender) {
+    raster::RenderSettings st;
+    st.width = 160;
+    st.height = 120;
+    st.exec.threads = 2;
+    const scene::Camera cam = test::frame_scene(suzanne());
+    const Targets all = raster::render_gbuffer(suzanne(), cam, st);
+    raster::RenderSettings sub = st;
+    sub.targets = target::gbuffer_bit(target::kCtrlEdge) | target::gbuffer_bit(target::kObjectId);
+    const std::vector<std::string> want = {target::kColor, target::kCtrlEdge, target::kDepthLinear, target::kObjectId};
+    const Targets part = raster::render_gbuffer(suzanne(), cam, sub);
+    std::vector<std::string> names = part.names();
+    std::sort(names.begin(), names.end());
+    std::vector<std::string> sorted_want = want;
+    std::sort(sorted_want.begin(), sorted_want.end());
+    EXPECT_EQ(names, sorted_want);
+    for (const std::string& n : want) EXPECT_EQ(sha256_hex(part.get(n)), sha256_hex(all.get(n))) << n;
+
+    // Into the subset of a previous frame: memory reused, bytes of a fresh full render.
+    Targets out;
+    sub.frame = 1;
+    raster::render_gbuffer_into(out, suzanne(), cam, sub);
+    const float* before = out.get(target::kCtrlEdge).data();
+    sub.frame = 2;
+    raster::render_gbuffer_into(out, suzanne(), cam, sub);
+    EXPECT_EQ(out.get(target::kCtrlEdge).data(), before) << "memory not reused";
+    raster::RenderSettings full2 = st;
+    full2.frame = 2;
+    const Targets all2 = raster::render_gbuffer(suzanne(), cam, full2);
+    for (const std::string& n : want) EXPECT_EQ(sha256_hex(out.get(n)), sha256_hex(all2.get(n))) << n;
+    // A full render into the subset's targets replaces them with all ten.
+    raster::render_gbuffer_into(out, suzanne(), cam, full2);
+    expect_same_targets(out, all2, "subset_then_full");
+
+    // Reference traversal and supersampling ignore the subset.
+    for (int variant = 0; variant < 2; ++variant) {
+        raster::RenderSettings r = sub;
+        r.frame = 0;
+        if (variant == 0) r.exec = Exec::reference();
+        else r.ssaa = 2;
+        EXPECT_EQ(raster::render_gbuffer(suzanne(), cam, r).names().size(), std::size(target::kGBufferLayout));
+    }
+}
+
+}  // namespace
+}  // namespace aq
