@@ -242,6 +242,15 @@ struct PassFrameCache::Entry {
     std::unique_ptr<RenderSettings> rs;  // the Frame keeps it by pointer
     Frame frame;
     bool prepared = false;
+    //! The visible fragment of every pixel (W x H, row-major; chunk kNoChunk = none) as the deferred
+    //! passes (binary test, replace) resolve it: it depends on the prepared frame alone, not on what
+    //! the pass writes, so the first such pass stores it and the others of this view read it
+    //! (LD06's depth, shadow, lighting and layer-ID passes resolve the camera view once).
+    struct PixelRef {
+        std::uint32_t chunk, tri;
+    };
+    std::vector<PixelRef> winners;
+    bool resolved = false;
 };
 
 PassFrameCache::PassFrameCache() = default;
@@ -317,6 +326,9 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
     float* const img = out.data();
     PhaseTimer timer;
     const bool deferred = p.test == DepthTest::Binary && p.blend == Blend::Replace;
+    const bool resolved = entry->resolved;  // the visibility of an earlier deferred pass of this frame
+    // Kept only where later passes can read it (a frame cache).
+    if (fast && deferred && !resolved && ps.frames) entry->winners.resize(std::size_t(W) * H);
     auto body = [&] {
         if (!entry->prepared) {
             prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
@@ -343,42 +355,49 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
             if (deferred) {
                 // Binary test, replace: resolve visibility first, then compute each pixel's winner
-                // once — the fragment the forward loop writes last (the first of the nearest).
-                struct Ref {
-                    std::uint32_t chunk, tri;
-                };
+                // once — the fragment the forward loop writes last (the first of the nearest). The
+                // visibility of this prepared frame is resolved once (Entry::winners).
+                using Ref = PassFrameCache::Entry::PixelRef;
                 Ref win[kTile * kTile];
-                for (Ref& r : win) r.chunk = kNoChunk;
-                for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
-                    const Chunk& ch = fr.chunks[ci];
-                    for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
-                        const TriSetup& t = ch.tris[ch.bin_items[k]];
-                        const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-                        const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
-                        const bool atest = needs_alpha_test(fr, t);
-                        // Edge functions stepped exactly in integers (the values edge_values gives).
-                        std::int64_t row[3];
-                        edge_values(t, x0, y0, row);
-                        const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
-                                                    std::int64_t(t.A[2]) * kSubpixelOne};
-                        const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
-                                                    std::int64_t(t.B[2]) * kSubpixelOne};
-                        for (int y = y0; y <= y1; ++y) {
-                            std::int64_t e[3] = {row[0], row[1], row[2]};
-                            for (int x = x0; x <= x1; ++x) {
-                                if (inside(t, e)) {
-                                    const int li = (y - Y0) * kTile + (x - X0);
-                                    const Bary b = perspective_bary(t, e);
-                                    if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
-                                        zbuf[li] = b.depth;
-                                        win[li] = {ci, ch.bin_items[k]};
+                if (resolved) {
+                    for (int y = Y0; y <= Y1; ++y)
+                        std::copy_n(entry->winners.data() + std::size_t(y) * W + X0, X1 - X0 + 1, win + (y - Y0) * kTile);
+                } else {
+                    for (Ref& r : win) r.chunk = kNoChunk;
+                    for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
+                        const Chunk& ch = fr.chunks[ci];
+                        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+                            const TriSetup& t = ch.tris[ch.bin_items[k]];
+                            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+                            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+                            const bool atest = needs_alpha_test(fr, t);
+                            // Edge functions stepped exactly in integers (the values edge_values gives).
+                            std::int64_t row[3];
+                            edge_values(t, x0, y0, row);
+                            const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
+                                                        std::int64_t(t.A[2]) * kSubpixelOne};
+                            const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
+                                                        std::int64_t(t.B[2]) * kSubpixelOne};
+                            for (int y = y0; y <= y1; ++y) {
+                                std::int64_t e[3] = {row[0], row[1], row[2]};
+                                for (int x = x0; x <= x1; ++x) {
+                                    if (inside(t, e)) {
+                                        const int li = (y - Y0) * kTile + (x - X0);
+                                        const Bary b = perspective_bary(t, e);
+                                        if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
+                                            zbuf[li] = b.depth;
+                                            win[li] = {ci, ch.bin_items[k]};
+                                        }
                                     }
+                                    e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
                                 }
-                                e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
+                                row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
                             }
-                            row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
                         }
                     }
+                    if (!entry->winners.empty())
+                        for (int y = Y0; y <= Y1; ++y)  // this tile's rows of the shared visibility
+                            std::copy_n(win + (y - Y0) * kTile, X1 - X0 + 1, entry->winners.data() + std::size_t(y) * W + X0);
                 }
                 for (int y = Y0; y <= Y1; ++y)
                     for (int x = X0; x <= X1; ++x) {
@@ -410,6 +429,7 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
     };
     if (fast) with_arena(ex, body);
     else body();
+    if (fast && deferred && ps.frames) entry->resolved = true;
     if (fr.draws.empty())
         warnings->push_back(std::string("raster pass draws nothing: no ") +
                             (p.draw == DrawSet::Foliage ? "foliage" : p.draw == DrawSet::NonFoliage ? "non-foliage geometry" : "geometry") +
