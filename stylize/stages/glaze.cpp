@@ -89,14 +89,12 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
     // multiplicative layer whose wash is 0 everywhere and whose ramp is finite multiplies by
     // exactly 1 (dst·(1 - 0·(1 - c))): it is skipped (the empty slots of an ID pack). Over is not
     // skipped (dst + c·0 can turn -0 into +0).
-    bool painted[4] = {!multiplicative, !multiplicative, !multiplicative, !multiplicative};
-    for (std::size_t i = 0, m = std::size_t(w) * h; i < m && !(painted[0] && painted[1] && painted[2] && painted[3]); ++i)
-        for (int k = 0; k < 4; ++k) painted[k] = painted[k] || wd[i * 4 + std::size_t(k)] != 0.0f;
     int used[4], n = 0;
     for (int k = 0; k < 4; ++k) {
-        bool skip = !painted[k];
         const float* rd = ramp[k]->data();
-        for (std::size_t i = 0, m = ramp[k]->num_values(); skip && i < m; ++i) skip = std::isfinite(rd[i]);
+        const bool skip = multiplicative &&
+                          !any_index(ex, std::size_t(w) * h, [&](std::size_t i) { return wd[i * 4 + std::size_t(k)] != 0.0f; }) &&
+                          !any_index(ex, ramp[k]->num_values(), [&](std::size_t i) { return !std::isfinite(rd[i]); });
         if (!skip) used[n++] = k;
     }
     const int rw = ramp[0]->width(), rh = ramp[0]->height();

@@ -89,14 +89,16 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
     // height can lift ρ' = 0 + border·(h - ½) above κ - w (then a = 0, e = 0, p = 0): it is
     // skipped like an absent one. The reference computes it; the registry-wide test and
     // LayerWash.EmptyLayersAreSkippedWithTheSameBytes compare the two.
-    float max_hp = 0.0f;  // max |h - 1/2| over the paper (NaN poisons the test below: never skipped)
-    if (paper)
-        for (std::size_t i = 0, n = std::size_t(out_w) * out_h; i < n; ++i) {
-            const float d = std::abs(paper->data()[i * std::size_t(paper->channels()) + 2] - 0.5f);
-            max_hp = d > max_hp || d != d ? d : max_hp;
-        }
-    const float lift = p.shape.paper_before ? p.shape.border * max_hp : 0.0f;
-    const bool empty_is_zero = p.shape.kappa - p.shape.width >= lift;  // false for NaN
+    // κ - w >= border·|h - ½| at every paper texel (false for NaN), i.e. >= border·max|h - ½|.
+    const float room = p.shape.kappa - p.shape.width;
+    bool empty_is_zero = room >= 0.0f;
+    if (empty_is_zero && paper && p.shape.paper_before) {
+        const float* pd = paper->data();
+        const std::size_t pc = std::size_t(paper->channels());
+        empty_is_zero = !any_index(ex, std::size_t(out_w) * out_h, [&](std::size_t i) {
+            return !(room >= p.shape.border * std::abs(pd[i * pc + 2] - 0.5f));
+        });
+    }
     bool use[4];
     int P = 0;
     for (int k = 0; k < 4; ++k) {
@@ -104,9 +106,7 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
         if (use[k] && empty_is_zero) {
             const float* d = layers[k]->data();
             const std::size_t n = std::size_t(layers[k]->width()) * layers[k]->height();
-            bool all_zero = true;
-            for (std::size_t i = 0; i < n && all_zero; ++i) all_zero = d[i] == 0.0f;
-            use[k] = !all_zero;
+            use[k] = any_index(ex, n, [&](std::size_t i) { return d[i] != 0.0f; });
         }
         if (use[k]) P = k + 1;
     }
@@ -116,13 +116,15 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
         return;
     }
     const int sw = first->width(), sh = first->height();
-    ImageF packed(sw, sh, P, 0.0f), blurred;
-    for (int k = 0; k < P; ++k)
-        if (use[k]) {
-            const float* src = layers[k]->data();
+    ImageF packed(sw, sh, P, kUninitialized), blurred;  // every value written below
+    for_each_row_block(ex, sh, [&](int y0, int y1) {
+        const std::size_t i0 = std::size_t(y0) * sw, i1 = std::size_t(y1) * sw;
+        for (int k = 0; k < P; ++k) {
+            const float* src = use[k] ? layers[k]->data() : nullptr;
             float* d = packed.data() + k;
-            for (std::size_t i = 0, n = std::size_t(sw) * sh; i < n; ++i) d[std::size_t(i) * P] = src[i];
+            for (std::size_t i = i0; i < i1; ++i) d[i * std::size_t(P)] = src ? src[i] : 0.0f;
         }
+    });
     wash_blur(blurred, packed, p.radius, p.sigma, ex);
     ensure_output(dst, out_w, out_h, 4);
     const ResampleAxis ax(out_w, sw), ay(out_h, sh);

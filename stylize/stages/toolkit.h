@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -135,6 +136,31 @@ void for_each_row_block(const Exec& ex, int h, F&& f) {
             tbb::blocked_range<int>(0, h, row_grain(ex)), [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); },
             tbb::simple_partitioner());
     });
+}
+
+//! Whether pred(i) holds for some i in [0, n): one loop for Reference, oneTBB blocks for Fast that
+//! stop once an answer is found. The answer does not depend on the traversal (no order, no float
+//! reduction): for the whole-image checks stages make before choosing a schedule.
+template <class F>
+bool any_index(const Exec& ex, std::size_t n, F&& pred) {
+    if (ex.traversal == Traversal::Reference) {
+        for (std::size_t i = 0; i < n; ++i)
+            if (pred(i)) return true;
+        return false;
+    }
+    constexpr std::size_t kGrain = 1 << 16;
+    std::atomic<bool> found{false};
+    with_arena(ex, [&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            if (found.load(std::memory_order_relaxed)) return;
+            for (std::size_t i = r.begin(); i < r.end(); ++i)
+                if (pred(i)) {
+                    found.store(true, std::memory_order_relaxed);
+                    return;
+                }
+        });
+    });
+    return found.load();
 }
 
 //! for_each_row_block, one row at a time: row(y, 0, w) for every row (x0, x1 = the pixels of the
