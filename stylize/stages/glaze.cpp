@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
@@ -89,12 +90,10 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
     // multiplicative layer whose wash is 0 everywhere and whose ramp is finite multiplies by
     // exactly 1 (dst·(1 - 0·(1 - c))): it is skipped (the empty slots of an ID pack). Over is not
     // skipped (dst + c·0 can turn -0 into +0).
+    const std::uint32_t painted = multiplicative ? nonzero_channels(ex, wash) : 0xfu;
     int used[4], n = 0;
     for (int k = 0; k < 4; ++k) {
-        const float* rd = ramp[k]->data();
-        const bool skip = multiplicative &&
-                          !any_index(ex, std::size_t(w) * h, [&](std::size_t i) { return wd[i * 4 + std::size_t(k)] != 0.0f; }) &&
-                          !any_index(ex, ramp[k]->num_values(), [&](std::size_t i) { return !std::isfinite(rd[i]); });
+        const bool skip = !(painted >> k & 1u) && !any_nonfinite(ex, ramp[k]->data(), ramp[k]->num_values());
         if (!skip) used[n++] = k;
     }
     const int rw = ramp[0]->width(), rh = ramp[0]->height();

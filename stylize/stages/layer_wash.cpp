@@ -104,9 +104,7 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
     for (int k = 0; k < 4; ++k) {
         use[k] = layers[k] != nullptr;
         if (use[k] && empty_is_zero) {
-            const float* d = layers[k]->data();
-            const std::size_t n = std::size_t(layers[k]->width()) * layers[k]->height();
-            use[k] = any_index(ex, n, [&](std::size_t i) { return d[i] != 0.0f; });
+            use[k] = (nonzero_channels(ex, *layers[k]) & 1u) != 0;
         }
         if (use[k]) P = k + 1;
     }

@@ -148,16 +148,20 @@ bool any_index(const Exec& ex, std::size_t n, F&& pred) {
             if (pred(i)) return true;
         return false;
     }
-    constexpr std::size_t kGrain = 1 << 16;
+    constexpr std::size_t kGrain = 1 << 16, kChunk = 256;
     std::atomic<bool> found{false};
     with_arena(ex, [&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-            if (found.load(std::memory_order_relaxed)) return;
-            for (std::size_t i = r.begin(); i < r.end(); ++i)
-                if (pred(i)) {
+            for (std::size_t i = r.begin(); i < r.end(); i += kChunk) {
+                if (found.load(std::memory_order_relaxed)) return;
+                // A chunk without early exit: the OR of a simple predicate vectorises.
+                bool any = false;
+                for (std::size_t j = i, e = std::min(i + kChunk, r.end()); j < e; ++j) any |= bool(pred(j));
+                if (any) {
                     found.store(true, std::memory_order_relaxed);
                     return;
                 }
+            }
         });
     });
     return found.load();
@@ -200,6 +204,61 @@ inline v8f load8(const float* p) {
     return v;
 }
 inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+
+//! Bit k set when channel k (C <= 8) of img holds a value other than 0 (NaN counts), on the
+//! traversal of ex (the answer does not depend on it): one pass over the image for all channels,
+//! 8 values per compare where C divides 8 (lane l is channel l % C), stopping once every channel
+//! has been seen.
+inline std::uint32_t nonzero_channels(const Exec& ex, const ImageF& img) {
+    const int C = img.channels();
+    const float* d = img.data();
+    const std::size_t nv = img.num_values();
+    const std::uint32_t all = (1u << C) - 1u;
+    std::atomic<std::uint32_t> mask{0};
+    auto scan = [&](std::size_t v0, std::size_t v1) {  // v0: a multiple of 8 and of C
+        constexpr std::size_t kChunk = 1024;          // values between checks of the shared mask
+        for (std::size_t i = v0; i < v1; i += kChunk) {
+            if (mask.load(std::memory_order_relaxed) == all) return;
+            const std::size_t e = std::min(i + kChunk, v1);
+            std::uint32_t m = 0;
+            std::size_t j = i;
+            if (8 % C == 0) {
+                v8i acc{};
+                for (; j + 8 <= e; j += 8) acc |= load8(d + j) != v8f{};
+                for (int l = 0; l < 8; ++l) m |= std::uint32_t(acc[l] != 0) << (l % C);
+            }
+            for (; j < e; ++j) m |= std::uint32_t(d[j] != 0.0f) << (j % std::size_t(C));
+            if (m) mask.fetch_or(m, std::memory_order_relaxed);
+        }
+    };
+    const std::size_t block = std::size_t(1) << 15;  // times C: a multiple of 8 and of C
+    if (ex.traversal == Traversal::Reference || nv <= block) scan(0, nv);
+    else
+        with_arena(ex, [&] {
+            const std::size_t step = block * std::size_t(C), nb = (nv + step - 1) / step;
+            tbb::parallel_for(std::size_t(0), nb, [&](std::size_t k) { scan(k * step, std::min(nv, (k + 1) * step)); });
+        });
+    return mask.load();
+}
+
+//! Whether some of the n values at d is not finite (NaN or infinite), on the traversal of ex:
+//! x - x is 0 exactly for finite x and NaN otherwise, 8 values per compare.
+inline bool any_nonfinite(const Exec& ex, const float* d, std::size_t n) {
+    constexpr std::size_t kChunk = 1024;
+    return any_index(ex, (n + kChunk - 1) / kChunk, [&](std::size_t c) {
+        const std::size_t i0 = c * kChunk, i1 = std::min(n, i0 + kChunk);
+        v8i acc{};
+        std::size_t j = i0;
+        for (; j + 8 <= i1; j += 8) {
+            const v8f x = load8(d + j);
+            acc |= (x - x) != v8f{};
+        }
+        bool any = false;
+        for (int l = 0; l < 8; ++l) any |= acc[l] != 0;
+        for (; j < i1; ++j) any |= (d[j] - d[j]) != 0.0f;
+        return any;
+    });
+}
 
 // ---- single-channel views ----------------------------------------------------------------------
 

@@ -1,0 +1,66 @@
+// tests/stylize/toolkit_scan_test.cpp — the toolkit's whole-image checks (toolkit.h any_index,
+// nonzero_channels, any_nonfinite), which stages use to choose a schedule (skip empty layers):
+// each answer equals a plain scalar scan, for every channel count, for a single telling value at
+// every kind of position (first, inside a vector, the unvectorised tail, a parallel block's edge),
+// on the reference traversal and on 1, 2 and 8 threads.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "stylize/stages/toolkit.h"
+
+namespace aq::stylize {
+namespace {
+
+std::vector<Exec> traversals() { return {Exec::reference(), Exec::fast(1), Exec::fast(2), Exec::fast(8)}; }
+
+TEST(ToolkitScan, NonzeroChannelsEqualsThePlainScan) {
+    for (int C : {1, 2, 3, 4}) {
+        for (auto [w, h] : {std::pair{301, 217}, {8, 1}, {7, 3}}) {
+            const std::size_t nv = std::size_t(w) * h * C;
+            for (std::size_t pos : {std::size_t(0), std::size_t(5), nv / 2, std::size_t(1) << 15, nv - 1}) {
+                if (pos >= nv) continue;
+                for (float v : {1.0f, -2.5e-38f, std::numeric_limits<float>::quiet_NaN(), -0.0f}) {
+                    ImageF img(w, h, C, 0.0f);
+                    img.data()[pos] = v;
+                    std::uint32_t want = 0;
+                    for (std::size_t j = 0; j < nv; ++j) want |= std::uint32_t(img.data()[j] != 0.0f) << (j % std::size_t(C));
+                    EXPECT_EQ(want, v == 0.0f ? 0u : 1u << (pos % std::size_t(C)));  // -0 is 0; NaN is not
+                    for (const Exec& ex : traversals())
+                        EXPECT_EQ(toolkit::nonzero_channels(ex, img), want) << C << " channels, " << w << "x" << h
+                                                                            << ", value " << v << " at " << pos;
+                }
+            }
+        }
+    }
+    ImageF full(40, 30, 4, 0.5f);
+    for (const Exec& ex : traversals()) EXPECT_EQ(toolkit::nonzero_channels(ex, full), 0xfu);
+}
+
+TEST(ToolkitScan, AnyNonfiniteFindsEveryNonFiniteValue) {
+    const std::size_t n = 100003;  // not a multiple of 8 or of the chunk
+    for (std::size_t pos : {std::size_t(0), std::size_t(9), std::size_t(1024), n / 2, n - 3, n - 1}) {
+        for (float v : {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                        std::numeric_limits<float>::quiet_NaN()}) {
+            std::vector<float> d(n, std::numeric_limits<float>::max());  // finite, however large
+            d[pos] = v;
+            for (const Exec& ex : traversals()) {
+                EXPECT_TRUE(toolkit::any_nonfinite(ex, d.data(), n)) << v << " at " << pos;
+                EXPECT_FALSE(toolkit::any_nonfinite(ex, d.data(), pos)) << "before " << pos;
+            }
+        }
+    }
+    for (const Exec& ex : traversals()) EXPECT_FALSE(toolkit::any_nonfinite(ex, nullptr, 0));
+}
+
+TEST(ToolkitScan, AnyIndexAnswersLikeTheLoop) {
+    const std::size_t n = 250000;
+    for (std::size_t hit : {std::size_t(0), std::size_t(65536), n - 1, n}) {  // n: no hit
+        for (const Exec& ex : traversals())
+            EXPECT_EQ(toolkit::any_index(ex, n, [&](std::size_t i) { return i == hit; }), hit < n) << hit;
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize
