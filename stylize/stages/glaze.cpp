@@ -16,6 +16,10 @@ using namespace toolkit;
 
 namespace {
 
+//! Ramp texels within ±kRampBound resample to finite values (|a + (c - a)·t| <= 3·10^30 < FLT_MAX),
+//! the condition for skipping a layer where its wash is 0 (colour ramps lie in [0, 1]).
+constexpr float kRampBound = 1e30f;
+
 // One output row: w pixels of 4 channels; rows = the N used layers' resampled ramp rows, one
 // after the other; ch[j] = the wash channel of used layer j (in back-to-front order).
 template <bool Mul, int N>
@@ -86,14 +90,17 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
         return;
     }
     // Fast: each used ramp's row resampled once per output row (RowResampler: sample_resampled's
-    // values), then the layers composited over the row with the variant as a constant. A
-    // multiplicative layer whose wash is 0 everywhere and whose ramp is finite multiplies by
-    // exactly 1 (dst·(1 - 0·(1 - c))): it is skipped (the empty slots of an ID pack). Over is not
-    // skipped (dst + c·0 can turn -0 into +0).
+    // values), then the layers composited over the row with the variant as a constant.
+    // A multiplicative layer whose wash is 0 multiplies by exactly 1 (dst·(1 - 0·(1 - c))) where
+    // its resampled ramp is finite, which holds where the ramp texels it lerps lie within
+    // ±kRampBound (a lerp of such values cannot overflow). So such a layer is skipped: in the whole
+    // image when its wash is 0 everywhere (the empty slots of an ID pack), else in each row where
+    // its wash is 0 (LD06's layers cover parts of the picture: 52-68 % of the oak's layer rows).
+    // Over is not skipped (dst + c·0 can turn -0 into +0).
     const std::uint32_t painted = multiplicative ? nonzero_channels(ex, wash) : 0xfu;
     int used[4], n = 0;
     for (int k = 0; k < 4; ++k) {
-        const bool skip = !(painted >> k & 1u) && !any_nonfinite(ex, ramp[k]->data(), ramp[k]->num_values());
+        const bool skip = !(painted >> k & 1u) && !any_beyond(ex, ramp[k]->data(), ramp[k]->num_values(), kRampBound);
         if (!skip) used[n++] = k;
     }
     const int rw = ramp[0]->width(), rh = ramp[0]->height();
@@ -107,12 +114,29 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
             for (int x = 0; x < w; ++x)
                 for (int c = 0; c < 3; ++c) paper_row[std::size_t(x) * 4 + c] = paper_color[c];
         }
+        // Whether source row r of used layer j lies within ±kRampBound, cached for the rows of
+        // this block (each source row serves one or two output rows).
+        std::vector<std::int8_t> bounded(std::size_t(n) * std::size_t(rh), -1);
+        auto row_bounded = [&](int j, int r) {
+            std::int8_t& b = bounded[std::size_t(j) * std::size_t(rh) + std::size_t(r)];
+            if (b < 0) b = all_within(ramp[used[j]]->data() + std::size_t(r) * rw * 4, std::size_t(rw) * 4, kRampBound);
+            return b == 1;
+        };
         for (int y = y0; y < y1; ++y) {
-            for (int j = 0; j < n; ++j) up[std::size_t(j)].row(y, rows.data() + std::size_t(j) * w * 4);
             const std::size_t i0 = std::size_t(y) * w;
+            const std::uint32_t row_painted = multiplicative ? nonzero_channels_of(wd + i0 * 4, std::size_t(w) * 4, 4) : 0xfu;
+            int row_used[4], m = 0;
+            for (int j = 0; j < n; ++j) {
+                const int k = used[j];
+                const bool skip = !(row_painted >> k & 1u) && row_bounded(j, ay.i0[std::size_t(y)]) &&
+                                  row_bounded(j, ay.i1[std::size_t(y)]);
+                if (skip) continue;
+                up[std::size_t(j)].row(y, rows.data() + std::size_t(m) * w * 4);
+                row_used[m++] = k;
+            }
             const float* b = bd ? bd + i0 * 4 : paper_row.data();
-            if (multiplicative) glaze_row_n<true>(n, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, used);
-            else glaze_row_n<false>(n, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, used);
+            if (multiplicative) glaze_row_n<true>(m, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, row_used);
+            else glaze_row_n<false>(m, od + i0 * 4, b, wd + i0 * 4, rows.data(), w, row_used);
         }
     });
 }

@@ -205,6 +205,21 @@ inline v8f load8(const float* p) {
 }
 inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
 
+//! Bit k set when channel k (C <= 8) of the n values at d (C channels interleaved, d at a channel-0
+//! value) holds a value other than 0 (NaN counts; -0 is 0), on the calling thread: 8 values per
+//! compare where C divides 8 (lane l is channel l % C).
+inline std::uint32_t nonzero_channels_of(const float* d, std::size_t n, int C) {
+    std::uint32_t m = 0;
+    std::size_t j = 0;
+    if (8 % C == 0) {
+        v8i acc{};
+        for (; j + 8 <= n; j += 8) acc |= load8(d + j) != v8f{};
+        for (int l = 0; l < 8; ++l) m |= std::uint32_t(acc[l] != 0) << (l % C);
+    }
+    for (; j < n; ++j) m |= std::uint32_t(d[j] != 0.0f) << (j % std::size_t(C));
+    return m;
+}
+
 //! Bit k set when channel k (C <= 8) of img holds a value other than 0 (NaN counts), on the
 //! traversal of ex (the answer does not depend on it): one pass over the image for all channels,
 //! 8 values per compare where C divides 8 (lane l is channel l % C), stopping once every channel
@@ -215,23 +230,15 @@ inline std::uint32_t nonzero_channels(const Exec& ex, const ImageF& img) {
     const std::size_t nv = img.num_values();
     const std::uint32_t all = (1u << C) - 1u;
     std::atomic<std::uint32_t> mask{0};
-    auto scan = [&](std::size_t v0, std::size_t v1) {  // v0: a multiple of 8 and of C
-        constexpr std::size_t kChunk = 1024;          // values between checks of the shared mask
-        for (std::size_t i = v0; i < v1; i += kChunk) {
+    auto scan = [&](std::size_t v0, std::size_t v1) {      // v0: a multiple of C
+        const std::size_t chunk = 256 * std::size_t(C);  // values between checks of the shared mask
+        for (std::size_t i = v0; i < v1; i += chunk) {
             if (mask.load(std::memory_order_relaxed) == all) return;
-            const std::size_t e = std::min(i + kChunk, v1);
-            std::uint32_t m = 0;
-            std::size_t j = i;
-            if (8 % C == 0) {
-                v8i acc{};
-                for (; j + 8 <= e; j += 8) acc |= load8(d + j) != v8f{};
-                for (int l = 0; l < 8; ++l) m |= std::uint32_t(acc[l] != 0) << (l % C);
-            }
-            for (; j < e; ++j) m |= std::uint32_t(d[j] != 0.0f) << (j % std::size_t(C));
+            const std::uint32_t m = nonzero_channels_of(d + i, std::min(i + chunk, v1) - i, C);
             if (m) mask.fetch_or(m, std::memory_order_relaxed);
         }
     };
-    const std::size_t block = std::size_t(1) << 15;  // times C: a multiple of 8 and of C
+    const std::size_t block = std::size_t(1) << 15;  // times C: a multiple of C
     if (ex.traversal == Traversal::Reference || nv <= block) scan(0, nv);
     else
         with_arena(ex, [&] {
@@ -241,22 +248,29 @@ inline std::uint32_t nonzero_channels(const Exec& ex, const ImageF& img) {
     return mask.load();
 }
 
-//! Whether some of the n values at d is not finite (NaN or infinite), on the traversal of ex:
-//! x - x is 0 exactly for finite x and NaN otherwise, 8 values per compare.
-inline bool any_nonfinite(const Exec& ex, const float* d, std::size_t n) {
+//! Whether every one of the n values at d lies in [-bound, bound] (false for NaN), 8 values per
+//! compare, on the calling thread.
+inline bool all_within(const float* d, std::size_t n, float bound) {
+    const v8f hi = v8f{} + bound, lo = v8f{} - bound;
+    v8i out{};
+    std::size_t j = 0;
+    for (; j + 8 <= n; j += 8) {
+        const v8f x = load8(d + j);
+        out |= ~((x <= hi) & (x >= lo));
+    }
+    bool ok = true;
+    for (int l = 0; l < 8; ++l) ok &= out[l] == 0;
+    for (; j < n; ++j) ok &= d[j] <= bound && d[j] >= -bound;
+    return ok;
+}
+
+//! Whether some of the n values at d is NaN or beyond [-bound, bound] (bound = FLT_MAX: not finite),
+//! on the traversal of ex; the answer does not depend on it.
+inline bool any_beyond(const Exec& ex, const float* d, std::size_t n, float bound) {
     constexpr std::size_t kChunk = 1024;
     return any_index(ex, (n + kChunk - 1) / kChunk, [&](std::size_t c) {
-        const std::size_t i0 = c * kChunk, i1 = std::min(n, i0 + kChunk);
-        v8i acc{};
-        std::size_t j = i0;
-        for (; j + 8 <= i1; j += 8) {
-            const v8f x = load8(d + j);
-            acc |= (x - x) != v8f{};
-        }
-        bool any = false;
-        for (int l = 0; l < 8; ++l) any |= acc[l] != 0;
-        for (; j < i1; ++j) any |= (d[j] - d[j]) != 0.0f;
-        return any;
+        const std::size_t i0 = c * kChunk;
+        return !all_within(d + i0, std::min(n, i0 + kChunk) - i0, bound);
     });
 }
 

@@ -255,6 +255,46 @@ TEST(Glaze, LayersWithoutWashAreSkippedWithTheSameBytes) {
     }
 }
 
+// The fast schedule also skips a multiplicative layer in each row where its wash is 0, when the
+// ramp texels that row lerps lie within the skip bound: rows of zero wash next to painted rows,
+// and ramps holding a NaN, an infinity or huge opposite values (whose lerp overflows) in some rows,
+// where the layer must not be skipped. Every case: the plain loop's bytes, at 1, 2 and 8 threads.
+TEST(Glaze, LayersAreSkippedRowByRowWhereTheirWashIsZeroWithTheSameBytes) {
+    const int w = 41, h = 29;
+    ImageF base(w, h, 4), wash(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 4; ++c) base.at(x, y, c) = 0.1f + 0.8f * float((x * 5 + y * 3 + c) % 9) / 9.0f;
+            for (int k = 0; k < 4; ++k)  // layer k painted in a band of rows only
+                if (y >= 4 * k && y < 4 * k + 9 && (x + k) % 3 != 0) wash.at(x, y, k) = float((x + y + k) % 7) / 5.0f;
+        }
+    wash.at(7, 20, 2) = -0.0f;  // -0 counts as no wash
+    const float poisons[] = {0.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), 3e38f};
+    for (float poison : poisons) {
+        ImageF r[4];
+        for (int k = 0; k < 4; ++k) {
+            r[k] = ImageF(21, 15, 4);
+            for (int y = 0; y < 15; ++y)
+                for (int x = 0; x < 21; ++x)
+                    for (int c = 0; c < 4; ++c) r[k].at(x, y, c) = float((x * (k + 2) + y + c) % 6) / 5.0f;
+        }
+        if (poison != 0.0f) {
+            r[1].at(3, 12, 0) = poison;  // a row where layer 1 has no wash
+            r[2].at(10, 1, 3) = poison;
+            if (poison == 3e38f) r[2].at(11, 1, 3) = -3e38f;  // lerps to an infinity
+        }
+        const ImageF* ramps[4] = {&r[0], &r[1], &r[2], &r[3]};
+        ImageF ref;
+        glaze(ref, &base, wash, ramps, glm::vec3(1.0f), true, Exec::reference());
+        for (int threads : {1, 2, 8}) {
+            ImageF fast;
+            glaze(fast, &base, wash, ramps, glm::vec3(1.0f), true, Exec::fast(threads));
+            ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)))
+                << "poison " << poison << ", " << threads << " threads";
+        }
+    }
+}
+
 TEST(Glaze, OverPaintsBackToFrontTheLastLayerOnTop) {
     const int w = 2, h = 2;
     ImageF base(w, h, 4, 1.0f), wash(w, h, 4, 1.0f), r0(w, h, 4), r3(w, h, 4);

@@ -1,5 +1,5 @@
 // tests/stylize/toolkit_scan_test.cpp — the toolkit's whole-image checks (toolkit.h any_index,
-// nonzero_channels, any_nonfinite), which stages use to choose a schedule (skip empty layers):
+// nonzero_channels, any_beyond), which stages use to choose a schedule (skip empty layers):
 // each answer equals a plain scalar scan, for every channel count, for a single telling value at
 // every kind of position (first, inside a vector, the unvectorised tail, a parallel block's edge),
 // on the reference traversal and on 1, 2 and 8 threads.
@@ -34,24 +34,32 @@ TEST(ToolkitScan, NonzeroChannelsEqualsThePlainScan) {
             }
         }
     }
+    // The serial form on a row: the same answer as the plain scan of that row.
+    ImageF row(37, 1, 4, 0.0f);
+    row.at(36, 0, 2) = 1.0f;
+    row.at(3, 0, 0) = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(toolkit::nonzero_channels_of(row.data(), row.num_values(), 4), 0x5u);
     ImageF full(40, 30, 4, 0.5f);
     for (const Exec& ex : traversals()) EXPECT_EQ(toolkit::nonzero_channels(ex, full), 0xfu);
 }
 
-TEST(ToolkitScan, AnyNonfiniteFindsEveryNonFiniteValue) {
+TEST(ToolkitScan, AnyBeyondFindsEveryValueOutsideTheBound) {
     const std::size_t n = 100003;  // not a multiple of 8 or of the chunk
+    const float inf = std::numeric_limits<float>::infinity(), fmax = std::numeric_limits<float>::max();  // fmax: finite
     for (std::size_t pos : {std::size_t(0), std::size_t(9), std::size_t(1024), n / 2, n - 3, n - 1}) {
-        for (float v : {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-                        std::numeric_limits<float>::quiet_NaN()}) {
-            std::vector<float> d(n, std::numeric_limits<float>::max());  // finite, however large
+        for (auto [v, bound] : {std::pair{inf, fmax}, {-inf, fmax}, {std::numeric_limits<float>::quiet_NaN(), fmax},
+                                {1.5e30f, 1e30f}, {-1.5e30f, 1e30f}, {std::nextafter(1.0f, 2.0f), 1.0f}}) {
+            std::vector<float> d(n, -bound);  // within the bound, at its edge
             d[pos] = v;
             for (const Exec& ex : traversals()) {
-                EXPECT_TRUE(toolkit::any_nonfinite(ex, d.data(), n)) << v << " at " << pos;
-                EXPECT_FALSE(toolkit::any_nonfinite(ex, d.data(), pos)) << "before " << pos;
+                EXPECT_TRUE(toolkit::any_beyond(ex, d.data(), n, bound)) << v << " at " << pos << ", bound " << bound;
+                EXPECT_FALSE(toolkit::any_beyond(ex, d.data(), pos, bound)) << "before " << pos;
             }
+            EXPECT_FALSE(toolkit::all_within(d.data(), n, bound));
+            EXPECT_EQ(toolkit::all_within(d.data() + pos + 1, n - pos - 1, bound), true);
         }
     }
-    for (const Exec& ex : traversals()) EXPECT_FALSE(toolkit::any_nonfinite(ex, nullptr, 0));
+    for (const Exec& ex : traversals()) EXPECT_FALSE(toolkit::any_beyond(ex, nullptr, 0, 1.0f));
 }
 
 TEST(ToolkitScan, AnyIndexAnswersLikeTheLoop) {
