@@ -131,7 +131,23 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
         RowResampler<N> ri(packed.data(), sw, out_w, ax, ay), rr(blurred.data(), sw, out_w, ax, ay);
         const std::size_t n = std::size_t(out_w) * N;
         std::vector<float> I(n), R(n), H(n), A(n);
+        // A row whose source rows hold only zeros in every packed layer, blurred or not, washes to
+        // exactly 0 where empty layers do (empty_is_zero): written as such (the rows around the
+        // plant). Each source row's answer is kept for the block.
+        std::vector<std::int8_t> zero_rows(std::size_t(sh), -1);
+        auto zero_row = [&](int r) {
+            std::int8_t& z = zero_rows[std::size_t(r)];
+            if (z < 0) {
+                const std::size_t at = std::size_t(r) * std::size_t(sw) * P, m = std::size_t(sw) * P;
+                z = all_within(packed.data() + at, m, 0.0f) && all_within(blurred.data() + at, m, 0.0f);
+            }
+            return z == 1;
+        };
         for (int y = y0; y < y1; ++y) {
+            if (empty_is_zero && zero_row(ay.i0[std::size_t(y)]) && zero_row(ay.i1[std::size_t(y)])) {
+                std::fill_n(o + std::size_t(y) * out_w * 4, std::size_t(out_w) * 4, 0.0f);
+                continue;
+            }
             ri.row(y, I.data());
             rr.row(y, R.data());
             for (int x = 0; x < out_w; ++x)
