@@ -1,6 +1,9 @@
 // stylize/stages/blur.cpp — see blur.h.
 #include "stylize/stages/blur.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
@@ -27,8 +30,13 @@ void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w,
             }
 }
 
+// Rows of zeros blur to rows of +0 for weights >= 0 (acc = e0 + Σ w·(0 − e0) = ±0 + 0 = +0 for
+// e0 = ±0; a negative weight could keep −0): with such weights a row whose
+// every tap row is zero (±0) is written as +0 without its taps (the layers' intensity maps are
+// zero around the plant). zero[y] (horizontal pass) records the rows it wrote that way, for the
+// vertical pass; a conservative record (computed rows are not marked) keeps the bytes.
 void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal,
-               const Exec& ex) {
+               const Exec& ex, std::vector<std::uint8_t>& zero) {
     const int W = src.width(), H = src.height(), C = src.channels();
     const int r = int(w.size() / 2);
     toolkit::ensure_output(dst, W, H, C);
@@ -37,12 +45,19 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
     const std::size_t n = std::size_t(W) * C;
     if (horizontal) {
         const std::vector<int> xt = toolkit::border_table(W, r, b);
+        zero.assign(std::size_t(H), 0);
+        const bool skip_zero_rows = std::all_of(w.begin(), w.end(), [](float v) { return v >= 0.0f && v <= 1e30f; });
         toolkit::for_each_row_block(ex, H, [&](int y0, int y1) {
             std::vector<float> pad(std::size_t(W + 2 * r) * C);
             std::vector<const float*> dp(w.size());
             for (int y = y0; y < y1; ++y) {
                 const float* sr = s + std::size_t(y) * n;
                 float* orow = o + std::size_t(y) * n;
+                if (skip_zero_rows && toolkit::all_within(sr, n, 0.0f)) {
+                    std::fill_n(orow, n, 0.0f);
+                    zero[std::size_t(y)] = 1;
+                    continue;
+                }
                 for (int i = 0; i < W + 2 * r; ++i)
                     for (int c = 0; c < C; ++c) pad[std::size_t(i) * C + c] = sr[std::size_t(xt[std::size_t(i)]) * C + c];
                 for (int ai = 0; ai <= 2 * r; ++ai) dp[std::size_t(ai)] = pad.data() + std::size_t(ai) * C;
@@ -56,6 +71,12 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
             for (int y = y0; y < y1; ++y) {
                 const float* sr = s + std::size_t(y) * n;
                 float* orow = o + std::size_t(y) * n;
+                bool all_zero = true;
+                for (int ai = 0; ai <= 2 * r && all_zero; ++ai) all_zero = zero[std::size_t(yt[std::size_t(y + ai)])] != 0;
+                if (all_zero) {
+                    std::fill_n(orow, n, 0.0f);
+                    continue;
+                }
                 for (int ai = 0; ai <= 2 * r; ++ai) dp[std::size_t(ai)] = s + std::size_t(yt[std::size_t(y + ai)]) * n;
                 accumulate_taps(orow, sr, dp.data(), w.data(), 2 * r + 1, n);
             }
@@ -73,8 +94,9 @@ void separable_blur(ImageF& dst, const ImageF& src, const std::vector<float>& w,
         pass_reference(tmp, src, w, b, true);
         pass_reference(dst, tmp, w, b, false);
     } else {
-        pass_fast(tmp, src, w, b, true, ex);
-        pass_fast(dst, tmp, w, b, false, ex);
+        std::vector<std::uint8_t> zero;  // rows of tmp written as zeros
+        pass_fast(tmp, src, w, b, true, ex, zero);
+        pass_fast(dst, tmp, w, b, false, ex, zero);
     }
 }
 

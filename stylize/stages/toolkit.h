@@ -249,17 +249,21 @@ inline std::uint32_t nonzero_channels(const Exec& ex, const ImageF& img) {
 }
 
 //! Whether every one of the n values at d lies in [-bound, bound] (false for NaN), 8 values per
-//! compare, on the calling thread.
+//! compare, on the calling thread; returns at the first block of 64 values with one outside.
 inline bool all_within(const float* d, std::size_t n, float bound) {
     const v8f hi = v8f{} + bound, lo = v8f{} - bound;
-    v8i out{};
     std::size_t j = 0;
-    for (; j + 8 <= n; j += 8) {
-        const v8f x = load8(d + j);
-        out |= ~((x <= hi) & (x >= lo));
+    for (; j + 64 <= n; j += 64) {
+        v8i out{};
+        for (std::size_t k = j; k < j + 64; k += 8) {
+            const v8f x = load8(d + k);
+            out |= ~((x <= hi) & (x >= lo));
+        }
+        bool any = false;
+        for (int l = 0; l < 8; ++l) any |= out[l] != 0;
+        if (any) return false;
     }
     bool ok = true;
-    for (int l = 0; l < 8; ++l) ok &= out[l] == 0;
     for (; j < n; ++j) ok &= d[j] <= bound && d[j] >= -bound;
     return ok;
 }

@@ -49,3 +49,44 @@ TEST(GaussianBlur, OnlyOneChannelIsAccepted) {
 
 }  // namespace
 }  // namespace aq::stylize
+
+#include <cstring>
+#include <limits>
+
+#include "stylize/stages/blur.h"
+
+namespace aq::stylize {
+namespace {
+
+// The fast passes write rows whose every tap row is zero (±0) as +0 without their taps: bands of
+// zero rows, rows of −0, zero rows beside a NaN and beside a tiny value, for 1 and 3 channels, both
+// borders, radius 0 and 6: the plain loop's bytes at 1, 2 and 8 threads.
+TEST(SeparableBlur, ZeroRowsSkippedByTheFastPassesKeepTheBytes) {
+    for (int C : {1, 3}) {
+        const int W = 33, H = 41;
+        ImageF img(W, H, C, 0.0f);
+        for (int y = 12; y < 20; ++y)
+            for (int x = 3; x < 29; ++x)
+                for (int c = 0; c < C; ++c) img.at(x, y, c) = float((x * 7 + y + c) % 5) / 4.0f;
+        for (int x = 0; x < W; ++x) img.at(x, 2, 0) = -0.0f;  // a row of -0
+        img.at(5, 30, 0) = std::numeric_limits<float>::quiet_NaN();
+        img.at(9, 37, C - 1) = 1e-30f;
+        for (int radius : {0, 6})
+            for (Border b : {Border::Clamp, Border::Mirror}) {
+                const std::vector<float> w = gaussian_weights(radius, 2.5f);
+                ImageF ref;
+                separable_blur(ref, img, w, b, Exec::reference());
+                for (int threads : {1, 2, 8}) {
+                    ImageF fast;
+                    separable_blur(fast, img, w, b, Exec::fast(threads));
+                    ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)))
+                        << C << " channels, radius " << radius << ", border " << int(b) << ", " << threads << " threads";
+                }
+                EXPECT_EQ(ref.at(0, 0, 0), 0.0f);  // far from everything: zero
+                EXPECT_TRUE(std::isnan(ref.at(5, 30, 0)));
+            }
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize
