@@ -288,11 +288,7 @@ std::vector<unsigned char> encode_image(const std::string& path, const ImageF& i
     if (eight_bit) {
         std::vector<unsigned char> q(img.num_values());
         const float* p = img.data();
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            float v = p[i];
-            v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
-            q[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
-        }
+        for (std::size_t i = 0; i < q.size(); ++i) q[i] = to_unorm8(p[i]);
         ok = out->write_image(OIIO::TypeDesc::UINT8, q.data());
     } else {
         ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data());

@@ -46,6 +46,16 @@ struct DecodeBudget {
 //! bytes written. Throws aq::Error.
 std::string write_image(const std::string& path, const ImageF& img, const std::string& description = {});
 
+//! The 8-bit code of a display value as PNG/JPEG files store it: NaN -> 0, clamped to [0, 1], then
+//! std::lround(v * 255) (round half away from zero), computed as trunc + (fraction >= 1/2), which
+//! is exact for these values (the fraction of a float below 256 is representable) and vectorises.
+inline unsigned char to_unorm8(float v) {
+    v = v == v ? (v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v)) : 0.0f;
+    const float x = v * 255.0f;
+    const int i = int(x);
+    return static_cast<unsigned char>(i + int(x - float(i) >= 0.5f));
+}
+
 //! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 

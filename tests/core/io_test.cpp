@@ -6,6 +6,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -46,6 +50,30 @@ TEST(ImageIO, PngQuantisesAndClamps) {
 // Only the documented formats reach a decoder (docs/limits.md "Image formats"): the format comes
 // from the magic bytes where known, else from the extension, and OpenImageIO is not allowed to
 // fall back to trying its other readers.
+// to_unorm8 equals its definition (NaN -> 0, clamp, std::lround(v * 255)): every 37th float of
+// [0, 1] by bit pattern (28.8 million; all 1.07 billion took 10 s), the 33 floats around every tie
+// (k + 1/2) / 255, and values outside the range.
+TEST(ImageIO, Unorm8EqualsLroundOfTheClampedValue) {
+    auto plain = [](float v) {
+        v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+        return static_cast<unsigned char>(std::lround(v * 255.0f));
+    };
+    const std::uint32_t one = 0x3f800000u;  // the bits of 1.0f
+    for (std::uint32_t b = 0; b <= one; b += 37) {
+        float v;
+        std::memcpy(&v, &b, sizeof v);
+        if (to_unorm8(v) != plain(v)) FAIL() << "differs at " << v;
+    }
+    for (int k = 0; k < 255; ++k) {
+        float v = (float(k) + 0.5f) / 255.0f;
+        for (int u = 0; u < 16; ++u) v = std::nextafter(v, 0.0f);
+        for (int u = 0; u < 33; ++u, v = std::nextafter(v, 1.0f)) EXPECT_EQ(to_unorm8(v), plain(v)) << v;
+    }
+    for (float v : {-1.0f, -0.0f, 1.5f, 1e30f, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::quiet_NaN()})
+        EXPECT_EQ(to_unorm8(v), plain(v)) << v;
+}
+
 TEST(ImageIO, OnlyTheDocumentedFormatsAreDecoded) {
     ImageF img(3, 2, 3);
     img.at(1, 1, 2) = 0.5f;
