@@ -175,6 +175,14 @@ TEST(LayerWash, EmptyLayersAreSkippedWithTheSameBytes) {
         if (border < 0.5f) EXPECT_EQ(empty_max, 0.0f);
         else EXPECT_GT(empty_max, 0.0f) << "a large border lift paints the paper's ridges even without pigment";
     }
+    // A NaN paper height: the empty layer is never provably 0, so nothing is skipped; both
+    // schedules agree bit for bit (NaN included).
+    paper.at(40, 41, 2) = std::numeric_limits<float>::quiet_NaN();
+    LayerWashParams p;
+    ImageF r, f;
+    layer_wash(r, layers, &paper, 72, 72, p, Exec::reference());
+    layer_wash(f, layers, &paper, 72, 72, p, Exec::fast(2));
+    ASSERT_EQ(0, std::memcmp(r.data(), f.data(), r.num_values() * sizeof(float))) << "NaN paper";
 }
 
 TEST(ColorRamp, GoochEndsAndAlpha) {
@@ -310,6 +318,37 @@ TEST(Glaze, OverPaintsBackToFrontTheLastLayerOnTop) {
     EXPECT_FLOAT_EQ(o.at(1, 1, 0), 0.7f);
     glaze(o, &base, wash, ramps, glm::vec3(1.0f), true, Exec::reference());
     EXPECT_NEAR(o.at(1, 1, 0), 0.2f * 0.2f * 0.2f * 0.7f, 1e-7);
+}
+
+// Rows without shadow keep the picture exactly (multiplicative: a factor of exactly 1), and every
+// case — a shadowed band, rows without shadow, NaN and -0 in the picture, both variants — has the
+// plain loop's bytes on every traversal.
+TEST(ShadowLayer, RowsWithoutShadowKeepThePictureOnEveryTraversal) {
+    const int w = 37, h = 31;
+    ImageF color(w, h, 4), shadow(26, 22, 1, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 4; ++c) color.at(x, y, c) = 0.05f + 0.03f * float((x * 3 + y + c) % 29);
+    color.at(4, 2, 1) = std::numeric_limits<float>::quiet_NaN();
+    color.at(6, 28, 0) = -0.0f;
+    for (int y = 9; y < 14; ++y)
+        for (int x = 5; x < 20; ++x) shadow.at(x, y, 0) = 1.0f;
+    for (bool mul : {true, false}) {
+        ImageF ref;
+        shadow_layer(ref, color, shadow, nullptr, ShadowLayerParams{}, mul, Exec::reference());
+        int unchanged_rows = 0;
+        for (int y = 0; y < h; ++y)
+            unchanged_rows += std::memcmp(&ref.at(0, y, 0), &color.at(0, y, 0), std::size_t(w) * 4 * sizeof(float)) == 0;
+        if (mul) {
+            EXPECT_GT(unchanged_rows, 3) << "rows without shadow keep the picture";
+        }
+        EXPECT_LT(unchanged_rows, h) << "the band is shadowed";
+        for (int threads : {1, 2, 8}) {
+            ImageF fast;
+            shadow_layer(fast, color, shadow, nullptr, ShadowLayerParams{}, mul, Exec::fast(threads));
+            ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "mul " << mul << ", " << threads;
+        }
+    }
 }
 
 TEST(ShadowLayerAndInk, NothingToPaintLeavesThePictureUnchanged) {
