@@ -2,6 +2,8 @@
 #pragma GCC optimize("no-trapping-math")  // lets the row loop if-convert and vectorise; values unchanged
 #include "stylize/stages/color_ramp.h"
 
+#include <algorithm>
+
 #include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
@@ -16,16 +18,42 @@ void color_ramp(ImageF* const dst[4], const ImageF& lighting, const ColorRampPar
         ensure_output(*dst[k], w, h, 4);
     }
     const float* in = lighting.data();
+    if (ex.traversal == Traversal::Reference) {  // the plain loop: ramp_color pixel by pixel
+        for (int k = 0; k < 4; ++k) {
+            const ColorRampLayer l = p.layer[k];
+            float* o = dst[k]->data();
+            plain_loop(w, h, [&](int x, int y) {
+                const std::size_t i = std::size_t(y) * w + x;
+                const glm::vec3 c = ramp_color(in[i], l.color, l.dark, l.tone, p.hue);
+                o[i * 4] = c.r, o[i * 4 + 1] = c.g, o[i * 4 + 2] = c.b, o[i * 4 + 3] = l.alpha;
+            });
+        }
+        return;
+    }
+    // Fast: per layer and chunk of a row, ramp_color into R, G, B planes (a loop over x without
+    // branches: vectorised), then stored as RGBA pixels 8 at a time (store_rgba8).
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         const std::size_t r = std::size_t(y) * w;
-        for (int k = 0; k < 4; ++k) {  // one layer at a time: a loop over x without branches
+        constexpr int kChunk = 64;
+        alignas(32) float R[kChunk], G[kChunk], B[kChunk], A[kChunk];
+        for (int k = 0; k < 4; ++k) {  // one layer at a time
             const ColorRampLayer l = p.layer[k];
             const RampColors hue = p.hue;
+            std::fill_n(A, kChunk, l.alpha);
             float* __restrict o = dst[k]->data() + r * 4;
             const float* __restrict t = in + r;
-            for (int x = x0; x < x1; ++x) {
-                const glm::vec3 c = ramp_color(t[x], l.color, l.dark, l.tone, hue);
-                o[std::size_t(x) * 4] = c.r, o[std::size_t(x) * 4 + 1] = c.g, o[std::size_t(x) * 4 + 2] = c.b, o[std::size_t(x) * 4 + 3] = l.alpha;
+            for (int xs = x0; xs < x1; xs += kChunk) {
+                const int n = std::min(kChunk, x1 - xs);
+                for (int i = 0; i < n; ++i) {
+                    const glm::vec3 c = ramp_color(t[xs + i], l.color, l.dark, l.tone, hue);
+                    R[i] = c.r, G[i] = c.g, B[i] = c.b;
+                }
+                int i = 0;
+                for (; i + 8 <= n; i += 8) store_rgba8(o + std::size_t(xs + i) * 4, R + i, G + i, B + i, A + i);
+                for (; i < n; ++i) {
+                    float* q = o + std::size_t(xs + i) * 4;
+                    q[0] = R[i], q[1] = G[i], q[2] = B[i], q[3] = A[i];
+                }
             }
         }
     });

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <immintrin.h>
+
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/fastmath.h"
@@ -204,6 +206,21 @@ inline v8f load8(const float* p) {
     return v;
 }
 inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+
+//! Eight RGBA pixels from planes: o[4i .. 4i+3] = (r[i], g[i], b[i], a[i]), i < 8 (unpacks and
+//! 128-bit permutes: values moved, never computed). For row kernels that compute channels as
+//! separate vectorised planes and store interleaved pixels.
+inline void store_rgba8(float* o, const float* r, const float* g, const float* b, const float* a) {
+    const __m256 vr = _mm256_loadu_ps(r), vg = _mm256_loadu_ps(g), vb = _mm256_loadu_ps(b), va = _mm256_loadu_ps(a);
+    const __m256 rg_lo = _mm256_unpacklo_ps(vr, vg), rg_hi = _mm256_unpackhi_ps(vr, vg);  // r0 g0 r1 g1 | r4 g4 r5 g5
+    const __m256 ba_lo = _mm256_unpacklo_ps(vb, va), ba_hi = _mm256_unpackhi_ps(vb, va);
+    const __m256 p0 = _mm256_shuffle_ps(rg_lo, ba_lo, 0x44), p1 = _mm256_shuffle_ps(rg_lo, ba_lo, 0xee);  // px 0|4, 1|5
+    const __m256 p2 = _mm256_shuffle_ps(rg_hi, ba_hi, 0x44), p3 = _mm256_shuffle_ps(rg_hi, ba_hi, 0xee);  // px 2|6, 3|7
+    _mm256_storeu_ps(o, _mm256_permute2f128_ps(p0, p1, 0x20));
+    _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(p2, p3, 0x20));
+    _mm256_storeu_ps(o + 16, _mm256_permute2f128_ps(p0, p1, 0x31));
+    _mm256_storeu_ps(o + 24, _mm256_permute2f128_ps(p2, p3, 0x31));
+}
 
 //! Bit k set when channel k (C <= 8) of the n values at d (C channels interleaved, d at a channel-0
 //! value) holds a value other than 0 (NaN counts; -0 is 0), on the calling thread: 8 values per

@@ -4,6 +4,7 @@
 // every kind of position (first, inside a vector, the unvectorised tail, a parallel block's edge),
 // on the reference traversal and on 1, 2 and 8 threads.
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -60,6 +61,19 @@ TEST(ToolkitScan, AnyBeyondFindsEveryValueOutsideTheBound) {
         }
     }
     for (const Exec& ex : traversals()) EXPECT_FALSE(toolkit::any_beyond(ex, nullptr, 0, 1.0f));
+}
+
+// store_rgba8 writes pixel i as (r[i], g[i], b[i], a[i]), every bit moved (NaN payloads, -0).
+TEST(ToolkitStore, Rgba8InterleavesEightPixelsBitForBit) {
+    float planes[4][8], out[32];
+    for (int c = 0; c < 4; ++c)
+        for (int i = 0; i < 8; ++i) planes[c][i] = float(c * 10 + i) + 0.25f;
+    planes[1][3] = -0.0f;
+    const std::uint32_t nan_bits = 0x7fc01234u;
+    std::memcpy(&planes[2][6], &nan_bits, sizeof nan_bits);
+    toolkit::store_rgba8(out, planes[0], planes[1], planes[2], planes[3]);
+    for (int i = 0; i < 8; ++i)
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(std::memcmp(&out[4 * i + c], &planes[c][i], sizeof(float)), 0) << i << "," << c;
 }
 
 TEST(ToolkitScan, AnyIndexAnswersLikeTheLoop) {
