@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
@@ -26,14 +27,22 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
                const float* __restrict rows, int w, const int* ch) {
     int c4[N > 0 ? N : 1];
     for (int j = 0; j < N; ++j) c4[j] = ch[j];
+    // A pixel's RGB in the first three lanes of a 4-lane register: glaze_px's operations lane by
+    // lane (the same IEEE operations as its vec3 form; the fourth lane is computed and replaced).
+    typedef float v4f __attribute__((vector_size(16)));
     for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(x) * 4;
-        glm::vec3 c(base[i], base[i + 1], base[i + 2]);
+        v4f c;
+        std::memcpy(&c, base + i, sizeof c);
         for (int j = 0; j < N; ++j) {
-            const float* r = rows + (std::size_t(j) * w + x) * 4;
-            c = glaze_px(c, glm::vec3(r[0], r[1], r[2]), sat(r[3] * wash[i + std::size_t(c4[j])]), Mul);
+            v4f col;
+            std::memcpy(&col, rows + (std::size_t(j) * w + x) * 4, sizeof col);
+            const float k = sat(col[3] * wash[i + std::size_t(c4[j])]);
+            if constexpr (Mul) c = c * (1.0f - k * (1.0f - col));
+            else c = c * (1.0f - k) + col * k;
         }
-        o[i] = c.r, o[i + 1] = c.g, o[i + 2] = c.b, o[i + 3] = 1.0f;
+        c[3] = 1.0f;
+        std::memcpy(o + i, &c, sizeof c);
     }
 }
 
