@@ -4,6 +4,7 @@
 // order and each tile is written by one task, so the "over" compositing gives the same bytes for
 // any thread count; the reference traversal visits each stroke's whole bounding box on the whole
 // image with the same distance and shading functions.
+#pragma GCC optimize("no-trapping-math")  // lets the capsule row loop if-convert and vectorise; values unchanged
 #include "raster/strokes.h"
 
 #include <algorithm>
@@ -360,13 +361,23 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                     const int sx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
                     const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
                     const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
-                    for (int y = sy0; y <= sy1; ++y)
+                    for (int y = sy0; y <= sy1; ++y) {
+                        // Selects, not a branch: the row loop vectorises (no-trapping-math above);
+                        // the same strict < (first segment on a tie; NaN never wins).
+                        float* __restrict brow = best + (y - Y0) * kTile;
+                        float* __restrict trow = bt + (y - Y0) * kTile;
+                        std::uint32_t* __restrict srow = bs + (y - Y0) * kTile;
+                        const float py = float(y) + 0.5f;
                         for (int x = sx0; x <= sx1; ++x) {
                             float t;
-                            const float d2 = seg_dist2(g, float(x) + 0.5f, float(y) + 0.5f, &t);
-                            const int li = (y - Y0) * kTile + (x - X0);
-                            if (d2 < best[li]) best[li] = d2, bt[li] = t, bs[li] = k;
+                            const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
+                            const int lx = x - X0;
+                            const bool win = d2 < brow[lx];
+                            brow[lx] = win ? d2 : brow[lx];
+                            trow[lx] = win ? t : trow[lx];
+                            srow[lx] = win ? k : srow[lx];
                         }
+                    }
                 }
                 for (int y = y0; y <= y1; ++y)
                     for (int x = x0; x <= x1; ++x) {
