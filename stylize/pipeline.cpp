@@ -475,12 +475,13 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     if (w == 0) throw Error(c.source + ": no step reads a G-buffer target");
     if (!targets.has(kPaperTarget))
         targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h) : flat_paper(w, h));
-    if (opt.release_dead && opt.release_inputs) clear_paper_cache();  // the decoded source is not needed again
-    if (opt.release_dead && opt.release_inputs)
+    if (opt.release_dead && opt.release_inputs) {
+        clear_paper_cache();  // the decoded source is not needed again
         for (const std::string& t : targets.names())
             if (t != kPaperTarget && t != c.output && !c.last_read.count(t) &&
                 std::find(c.produced.begin(), c.produced.end(), t) == c.produced.end())
                 targets.erase(t);  // a G-buffer target no step reads
+    }
     Globals g;
     g.substrate_color = c.substrate_color;
     g.paper = &targets.get(kPaperTarget);

@@ -29,7 +29,6 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
     for (int j = 0; j < N; ++j) c4[j] = ch[j];
     // A pixel's RGB in the first three lanes of a 4-lane register: glaze_px's operations lane by
     // lane (the same IEEE operations as its vec3 form; the fourth lane is computed and replaced).
-    typedef float v4f __attribute__((vector_size(16)));
     for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(x) * 4;
         v4f c;

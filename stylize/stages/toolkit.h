@@ -200,6 +200,7 @@ void plain_loop(int w, int h, F&& px) {
 //! so a lane computes exactly what the scalar expression computes.
 typedef float v8f __attribute__((vector_size(32)));
 typedef int v8i __attribute__((vector_size(32)));
+typedef float v4f __attribute__((vector_size(16)));  //!< one RGBA pixel in an SSE register
 inline v8f load8(const float* p) {
     v8f v;
     std::memcpy(&v, p, sizeof v);
@@ -377,7 +378,6 @@ template <int C>
 inline void lerp_pixel(const float* p0, const float* p1, float t, float* o) {
     static_assert(C >= 1 && C <= 4);
     if constexpr (C == 4) {
-        typedef float v4f __attribute__((vector_size(16)));
         v4f a, b;
         std::memcpy(&a, p0, sizeof a);
         std::memcpy(&b, p1, sizeof b);
