@@ -1,6 +1,10 @@
 // raster/binning.cpp — vertex stage, chunked triangle setup and binning (docs/raster.md "Tiles, traversal, determinism"): setups are produced per chunk of consecutive triangles and bins list them per chunk, so a tile visits triangles in submission order.
 #include "raster/raster_internal.h"
 
+#include <algorithm>
+
+#include <tbb/task_arena.h>
+
 namespace aq::raster::detail {
 
 const scene::Material& default_material() {
@@ -79,10 +83,17 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
     });
     timer.lap("vertex");
 
+    // Chunk size (schedule only: a tile visits its triangles in submission order however they are
+    // chunked): large frames in kChunkTris chunks, small ones in about kChunksPerThread per thread.
+    std::size_t total_tris = 0;
+    for (const DrawVertices& dv : fr.draws) total_tris += dv.prim->indices.size() / 3;
+    const std::size_t workers = parallel ? std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())) : 1;
+    const std::uint32_t chunk_tris = std::uint32_t(
+        std::clamp<std::size_t>(total_tris / (workers * kChunksPerThread) + 1, kMinChunkTris, kChunkTris));
     for (std::uint32_t d = 0; d < fr.draws.size(); ++d) {
         const std::uint32_t ntri = std::uint32_t(fr.draws[d].prim->indices.size() / 3);
         for (std::uint32_t b = 0; b < ntri;) {
-            if (fr.chunks.empty() || fr.chunks.back().size == kChunkTris) {
+            if (fr.chunks.empty() || fr.chunks.back().size == chunk_tris) {
                 if (next_chunk < old_chunks.size()) {
                     Chunk& r = fr.chunks.emplace_back(std::move(old_chunks[next_chunk++]));
                     r.segments.clear();
@@ -97,7 +108,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                 }
             }
             Chunk& c = fr.chunks.back();
-            const std::uint32_t e = std::min(ntri, b + (kChunkTris - c.size));
+            const std::uint32_t e = std::min(ntri, b + (chunk_tris - c.size));
             c.segments.push_back({d, b, e});
             c.size += e - b;
             b = e;

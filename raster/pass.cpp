@@ -144,11 +144,14 @@ inline PosNormal gather(const Frame& fr, const Chunk& ch, const TriSetup& t, con
             v0.normal + (v1.normal - v0.normal) * o[1] + (v2.normal - v0.normal) * o[2], t.back != 0};
 }
 
+// PassValue::Depth of a fragment at linear eye depth d.
+inline float depth_value(const PassContext& cx, float d) { return stylize::sat(cx.view.normalized(d)); }
+
 // The value a fragment writes (PassValue), given its weights.
 inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
     const TrianglePass& p = *cx.p;
     switch (p.value) {
-        case PassValue::Depth: return stylize::sat(cx.view.normalized(b.depth));
+        case PassValue::Depth: return depth_value(cx, b.depth);
         case PassValue::Coverage: return 1.0f;
         case PassValue::Lighting: {
             const PosNormal g = gather(fr, ch, t, b);
@@ -246,10 +249,7 @@ struct PassFrameCache::Entry {
     //! passes (binary test, replace) resolve it: it depends on the prepared frame alone, not on what
     //! the pass writes, so the first such pass stores it and the others of this view read it
     //! (LD06's depth, shadow, lighting and layer-ID passes resolve the camera view once).
-    struct PixelRef {
-        std::uint32_t chunk, tri;
-    };
-    std::vector<PixelRef> winners;
+    std::vector<TileRef> winners;
     bool resolved = false;
 };
 
@@ -357,47 +357,28 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
                 // Binary test, replace: resolve visibility first, then compute each pixel's winner
                 // once — the fragment the forward loop writes last (the first of the nearest). The
                 // visibility of this prepared frame is resolved once (Entry::winners).
-                using Ref = PassFrameCache::Entry::PixelRef;
+                using Ref = TileRef;
                 Ref win[kTile * kTile];
                 if (resolved) {
                     for (int y = Y0; y <= Y1; ++y)
                         std::copy_n(entry->winners.data() + std::size_t(y) * W + X0, X1 - X0 + 1, win + (y - Y0) * kTile);
                 } else {
                     for (Ref& r : win) r.chunk = kNoChunk;
-                    for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
-                        const Chunk& ch = fr.chunks[ci];
-                        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
-                            const TriSetup& t = ch.tris[ch.bin_items[k]];
-                            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-                            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
-                            const bool atest = needs_alpha_test(fr, t);
-                            // Edge functions stepped exactly in integers (the values edge_values gives).
-                            std::int64_t row[3];
-                            edge_values(t, x0, y0, row);
-                            const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
-                                                        std::int64_t(t.A[2]) * kSubpixelOne};
-                            const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
-                                                        std::int64_t(t.B[2]) * kSubpixelOne};
-                            for (int y = y0; y <= y1; ++y) {
-                                std::int64_t e[3] = {row[0], row[1], row[2]};
-                                for (int x = x0; x <= x1; ++x) {
-                                    if (inside(t, e)) {
-                                        const int li = (y - Y0) * kTile + (x - X0);
-                                        const Bary b = perspective_bary(t, e);
-                                        if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
-                                            zbuf[li] = b.depth;
-                                            win[li] = {ci, ch.bin_items[k]};
-                                        }
-                                    }
-                                    e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
-                                }
-                                row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
-                            }
-                        }
-                    }
+                    resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, win);
                     if (!entry->winners.empty())
                         for (int y = Y0; y <= Y1; ++y)  // this tile's rows of the shared visibility
                             std::copy_n(win + (y - Y0) * kTile, X1 - X0 + 1, entry->winners.data() + std::size_t(y) * W + X0);
+                }
+                if (!resolved && p.value == PassValue::Depth) {
+                    // The value is the winner's depth, which the resolve just computed (the same
+                    // perspective_bary): normalised straight from the tile's depth buffer.
+                    for (int y = Y0; y <= Y1; ++y)
+                        for (int x = X0; x <= X1; ++x) {
+                            const int li = (y - Y0) * kTile + (x - X0);
+                            if (win[li].chunk != kNoChunk)
+                                img[std::size_t(y) * W + x] = depth_value(cx, zbuf[li]);
+                        }
+                    return;
                 }
                 for (int y = Y0; y <= Y1; ++y)
                     for (int x = X0; x <= X1; ++x) {

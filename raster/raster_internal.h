@@ -18,10 +18,15 @@
 #include "raster/raster.h"
 #include "raster/setup.h"
 #include "raster/vertex.h"
+#include "raster/visibility.h"
 
 namespace aq::raster::detail {
 
-constexpr std::uint32_t kChunkTris = 32768;  // triangles per setup chunk (schedule only)
+constexpr std::uint32_t kChunkTris = 32768;  // most triangles per setup chunk (schedule only)
+//! Fewest triangles per chunk: a frame of few triangles (LD06's 520 px passes over ~14k) is still
+//! cut into about kChunksPerThread chunks per thread so that its setup runs on every thread.
+constexpr std::uint32_t kMinChunkTris = 2048;
+constexpr std::uint32_t kChunksPerThread = 4;
 constexpr std::size_t kVertexGrain = 4096;
 constexpr int kTile = 64;                   // tile side in pixels (binning and raster)
 constexpr std::uint32_t kNoChunk = 0xffffffffu;
@@ -119,6 +124,10 @@ inline bool needs_alpha_test(const Frame& fr, const TriSetup& t) {
 }
 //! The plain reference: per triangle in submission order, bounding box, whole image.
 void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float* count);
+//! The visibility of tile `tile` (pixels [X0, X1] x [Y0, Y1]): the triangles binned to it in
+//! submission order through depth_test_triangle, alpha-masked ones per pixel with the material's
+//! alpha test. zbuf and ids (kTile x kTile, row-major) hold +inf and kNoChunk, or an earlier state.
+void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, float* zbuf, TileRef* ids);
 //! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.
 void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear);
 //! Writes the background values of pixel i into every target.

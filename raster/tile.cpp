@@ -160,10 +160,6 @@ struct RowBuffer {
     }
 };
 
-struct TileRef {
-    std::uint32_t chunk, tri;
-};
-
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
     for (int c = 0; c < 4; ++c) tp.color[4 * i + c] = 0.0f;
     for (int k = 0; k < scene::kNumControlTargets; ++k)
@@ -173,6 +169,41 @@ void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
     tp.id[i] = 0.0f;
     tp.diffuse[i] = 0.0f;
     tp.specular[i] = 0.0f;
+}
+
+void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, float* zbuf, TileRef* ids) {
+    for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
+        const Chunk& ch = fr.chunks[ci];
+        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+            const std::uint32_t ti = ch.bin_items[k];
+            // The setups of one tile are scattered over the chunk: fetch ahead (latency-bound).
+            if (k + 6 < ch.bin_offsets[tile + 1]) {
+                const char* ahead = reinterpret_cast<const char*>(&ch.tris[ch.bin_items[k + 6]]);
+                __builtin_prefetch(ahead);
+                __builtin_prefetch(ahead + 64);
+            }
+            const TriSetup& t = ch.tris[ti];
+            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+            if (!needs_alpha_test(fr, t)) {
+                depth_test_triangle(t, X0, Y0, kTile, x0, x1, y0, y1, zbuf, ids, {ci, ti});
+                continue;
+            }
+            // Alpha-masked: the material's alpha per pixel, after the depth test (as the reference).
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) {
+                    std::int64_t e[3];
+                    edge_values(t, x, y, e);
+                    if (!inside(t, e)) continue;
+                    const int li = (y - Y0) * kTile + (x - X0);
+                    const Bary b = perspective_bary(t, e);
+                    if (b.depth < zbuf[li] && alpha_pass(fr, ch, t, b)) {
+                        zbuf[li] = b.depth;
+                        ids[li] = {ci, ti};
+                    }
+                }
+        }
+    }
 }
 
 // clear: the targets hold a previous frame (render_gbuffer_into), so background pixels are
@@ -188,47 +219,27 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         zbuf[i] = std::numeric_limits<float>::infinity();
         ids[i].chunk = kNoChunk;
     }
-    const std::int64_t step = kSubpixelOne;
-    for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
-        const Chunk& ch = fr.chunks[ci];
-        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
-            const std::uint32_t ti = ch.bin_items[k];
-            // The setups of one tile are scattered over the chunk: fetch ahead (latency-bound).
-            if (k + 6 < ch.bin_offsets[tile + 1]) {
-                const char* ahead = reinterpret_cast<const char*>(&ch.tris[ch.bin_items[k + 6]]);
-                __builtin_prefetch(ahead);
-                __builtin_prefetch(ahead + 64);
-            }
-            const TriSetup& t = ch.tris[ti];
-            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
-            std::int64_t row[3];
-            edge_values(t, x0, y0, row);
-            const std::int64_t sx[3] = {t.A[0] * step, t.A[1] * step, t.A[2] * step};
-            const std::int64_t sy[3] = {t.B[0] * step, t.B[1] * step, t.B[2] * step};
-            const bool atest = needs_alpha_test(fr, t);
-            for (int y = y0; y <= y1; ++y) {
-                std::int64_t e[3] = {row[0], row[1], row[2]};
-                for (int x = x0; x <= x1; ++x) {
-                    if (inside(t, e)) {
-                        const int li = (y - Y0) * kTile + (x - X0);
-                        if (count) {
-                            count[std::size_t(y) * W + x] += 1.0f;
-                        } else {
-                            const Bary b = perspective_bary(t, e);
-                            if (b.depth < zbuf[li] && (!atest || alpha_pass(fr, ch, t, b))) {
-                                zbuf[li] = b.depth;
-                                ids[li] = {ci, ti};
-                            }
-                        }
+    if (count) {  // overdraw: every covered sample of every triangle, no depth test
+        const std::int64_t step = kSubpixelOne;
+        for (const Chunk& ch : fr.chunks)
+            for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+                const TriSetup& t = ch.tris[ch.bin_items[k]];
+                const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
+                const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+                std::int64_t row[3];
+                edge_values(t, x0, y0, row);
+                for (int y = y0; y <= y1; ++y) {
+                    std::int64_t e[3] = {row[0], row[1], row[2]};
+                    for (int x = x0; x <= x1; ++x) {
+                        if (inside(t, e)) count[std::size_t(y) * W + x] += 1.0f;
+                        for (int i = 0; i < 3; ++i) e[i] += t.A[i] * step;
                     }
-                    e[0] += sx[0]; e[1] += sx[1]; e[2] += sx[2];
+                    for (int i = 0; i < 3; ++i) row[i] += t.B[i] * step;
                 }
-                row[0] += sy[0]; row[1] += sy[1]; row[2] += sy[2];
             }
-        }
+        return;
     }
-    if (count) return;
+    resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, ids);
     // Deferred shading of the covered pixels, row-major. Each pixel gathers its setup, then the
     // triangle's indices, then its vertices (dependent cache misses: one small triangle per pixel
     // on dense meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).

@@ -1,0 +1,137 @@
+// raster/visibility.cpp — the depth test of one triangle over a block of pixels (raster/visibility.h).
+#include "raster/visibility.h"
+
+#include <limits>
+
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
+namespace aq::raster {
+
+namespace {
+
+constexpr int kPlainPixels = 4;
+
+// The plain loop: the reference traversal's per-pixel test, with the edge values stepped exactly
+// in integers (the values edge_values gives).
+void depth_test_plain(const TriSetup& t, int X0, int Y0, int stride, int x0, int x1, int y0, int y1, float* zbuf,
+                      TileRef* ids, TileRef ref) {
+    std::int64_t row[3];
+    edge_values(t, x0, y0, row);
+    const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
+                                std::int64_t(t.A[2]) * kSubpixelOne};
+    const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
+                                std::int64_t(t.B[2]) * kSubpixelOne};
+    for (int y = y0; y <= y1; ++y) {
+        std::int64_t e[3] = {row[0], row[1], row[2]};
+        for (int x = x0; x <= x1; ++x) {
+            if (inside(t, e)) {
+                const int li = (y - Y0) * stride + (x - X0);
+                const Bary b = perspective_bary(t, e);
+                if (b.depth < zbuf[li]) {
+                    zbuf[li] = b.depth;
+                    ids[li] = ref;
+                }
+            }
+            e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
+        }
+        row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
+    }
+}
+
+#ifdef __AVX2__
+// Whether every edge value of t at the pixels [x0, x1] x [y0, y1] fits in int32: an edge function
+// is linear, so its extremes over the block are at the corners.
+bool edges_fit_int32(const TriSetup& t, int x0, int x1, int y0, int y1) {
+    const int xs[2] = {x0, x1}, ys[2] = {y0, y1};
+    for (const int x : xs)
+        for (const int y : ys) {
+            std::int64_t e[3];
+            edge_values(t, x, y, e);
+            for (const std::int64_t v : e)
+                if (v < std::numeric_limits<std::int32_t>::min() || v > std::numeric_limits<std::int32_t>::max())
+                    return false;
+        }
+    return true;
+}
+
+// Eight pixels of a row per step. Lane values are computed modulo 2^32 (vector integer adds and
+// multiplies wrap); every lane inside the block holds a value that fits in int32, so it is exact.
+// Lanes past x1 are masked out of every load and store.
+void depth_test_avx2(const TriSetup& t, int X0, int Y0, int stride, int x0, int x1, int y0, int y1, float* zbuf,
+                     TileRef* ids, TileRef ref) {
+    std::int64_t row[3];
+    edge_values(t, x0, y0, row);
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256i off[3], step[3], bias[3];
+    for (int i = 0; i < 3; ++i) {
+        const std::uint32_t sx = std::uint32_t(std::int64_t(t.A[i]) * kSubpixelOne);  // modulo 2^32
+        off[i] = _mm256_mullo_epi32(lane, _mm256_set1_epi32(std::int32_t(sx)));
+        step[i] = _mm256_set1_epi32(std::int32_t(sx * 8u));
+        bias[i] = _mm256_set1_epi32(t.bias[i] - 1);  // e >= bias  <=>  e > bias - 1
+    }
+    const __m256 iw0 = _mm256_set1_ps(t.inv_w[0]), iw1 = _mm256_set1_ps(t.inv_w[1]), iw2 = _mm256_set1_ps(t.inv_w[2]);
+    const __m256 d0 = _mm256_set1_ps(t.depth[0]);
+    const __m256 d10 = _mm256_set1_ps(t.depth[1] - t.depth[0]), d20 = _mm256_set1_ps(t.depth[2] - t.depth[0]);
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256i ref64 = _mm256_set1_epi64x(std::int64_t(std::uint64_t(ref.tri) << 32 | ref.chunk));
+    const int n = x1 - x0 + 1;
+    for (int y = y0; y <= y1; ++y) {
+        __m256i e0 = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(row[0])), off[0]);
+        __m256i e1 = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(row[1])), off[1]);
+        __m256i e2 = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(row[2])), off[2]);
+        const std::size_t li = std::size_t(y - Y0) * stride + (x0 - X0);
+        float* zr = zbuf + li;
+        TileRef* ir = ids + li;
+        for (int k = 0; k < n; k += 8) {
+            __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(e0, bias[0]),
+                                          _mm256_and_si256(_mm256_cmpgt_epi32(e1, bias[1]), _mm256_cmpgt_epi32(e2, bias[2])));
+            if (n - k < 8) in = _mm256_and_si256(in, _mm256_cmpgt_epi32(_mm256_set1_epi32(n - k), lane));
+            if (!_mm256_testz_si256(in, in)) {
+                // perspective_bary, lane by lane: the same operations in the same order.
+                const __m256 q0 = _mm256_mul_ps(_mm256_cvtepi32_ps(e0), iw0);
+                const __m256 q1 = _mm256_mul_ps(_mm256_cvtepi32_ps(e1), iw1);
+                const __m256 q2 = _mm256_mul_ps(_mm256_cvtepi32_ps(e2), iw2);
+                const __m256 r = _mm256_div_ps(one, _mm256_add_ps(_mm256_add_ps(q0, q1), q2));
+                const __m256 b1 = _mm256_mul_ps(q1, r), b2 = _mm256_mul_ps(q2, r);
+                const __m256 depth = _mm256_add_ps(_mm256_add_ps(d0, _mm256_mul_ps(b1, d10)), _mm256_mul_ps(b2, d20));
+                const __m256 z = _mm256_maskload_ps(zr + k, in);
+                const __m256i m = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(depth, z, _CMP_LT_OQ)), in);
+                if (!_mm256_testz_si256(m, m)) {
+                    _mm256_maskstore_ps(zr + k, m, depth);
+                    const __m256i lo = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m));
+                    const __m256i hi = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(m, 1));
+                    _mm256_maskstore_epi64(reinterpret_cast<long long*>(ir + k), lo, ref64);
+                    _mm256_maskstore_epi64(reinterpret_cast<long long*>(ir + k + 4), hi, ref64);
+                }
+            }
+            e0 = _mm256_add_epi32(e0, step[0]);
+            e1 = _mm256_add_epi32(e1, step[1]);
+            e2 = _mm256_add_epi32(e2, step[2]);
+        }
+        for (int i = 0; i < 3; ++i) row[i] += std::int64_t(t.B[i]) * kSubpixelOne;
+    }
+}
+#endif
+
+}  // namespace
+
+void depth_test_triangle(const TriSetup& t, int X0, int Y0, int stride, int x0, int x1, int y0, int y1, float* zbuf,
+                         TileRef* ids, TileRef ref, VisibilitySchedule schedule) {
+    if (x0 > x1 || y0 > y1) return;
+#ifdef __AVX2__
+    // Blocks of a few pixels (dense meshes' triangles) cost less in the plain loop than the vector
+    // setup (BM_RasterFrame, docs/performance.md).
+    const bool small = (x1 - x0 + 1) * (y1 - y0 + 1) <= kPlainPixels;
+    if (schedule == VisibilitySchedule::Fast && !small && edges_fit_int32(t, x0, x1, y0, y1)) {
+        depth_test_avx2(t, X0, Y0, stride, x0, x1, y0, y1, zbuf, ids, ref);
+        return;
+    }
+#else
+    (void)schedule;
+#endif
+    depth_test_plain(t, X0, Y0, stride, x0, x1, y0, y1, zbuf, ids, ref);
+}
+
+}  // namespace aq::raster
