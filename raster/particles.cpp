@@ -6,6 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
 
 #include <tbb/parallel_for.h>
 
@@ -37,6 +42,61 @@ struct Sprite {
     int x0, y0, x1, y1;  // covered pixel range (inclusive), clamped to the raster
     int cls;
 };
+
+#ifdef __AVX2__
+// Exact vector forms of the scalar helpers (compare + blend: the NaN cases of the scalar code).
+inline __m256 sat8(__m256 x) {
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    // x < 0 ? 0 : (x > 1 ? 1 : x)
+    return _mm256_blendv_ps(_mm256_blendv_ps(x, one, _mm256_cmp_ps(x, one, _CMP_GT_OQ)), zero, _mm256_cmp_ps(x, zero, _CMP_LT_OQ));
+}
+inline __m256 smoothstep8(float e0, float e1, __m256 x) {  // stylize::smoothstep
+    const __m256 t = sat8(_mm256_div_ps(_mm256_sub_ps(x, _mm256_set1_ps(e0)), _mm256_set1_ps(e1 - e0)));
+    return _mm256_mul_ps(_mm256_mul_ps(t, t), _mm256_sub_ps(_mm256_set1_ps(3.0f), _mm256_mul_ps(_mm256_set1_ps(2.0f), t)));
+}
+inline __m256 finite8(__m256 x) {  // all bits where x is finite
+    const __m256 abs = _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+    return _mm256_cmp_ps(abs, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ);
+}
+
+// The fragments of sprite s at pixels [xa, xb] of row y, eight per step: render_particles'
+// per-fragment function lane by lane (the same operations in the same order; a lane the scalar
+// code returns early from keeps its value). b: the row of the class map, D: the row of dpix.
+void fragment_row_avx2(const Sprite& s, bool round, float delta, float beta, int y, int xa, int xb, float* b, const float* D) {
+    const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i ilane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
+    const __m256 left = _mm256_set1_ps(s.cx - 0.5f * s.size), size = _mm256_set1_ps(s.size);
+    const float v = ((float(y) + 0.5f) - (s.cy - 0.5f * s.size)) / s.size;
+    const __m256 dv2 = _mm256_set1_ps((v - 0.5f) * (v - 0.5f));
+    const __m256 depth = _mm256_set1_ps(s.depth), vbeta = _mm256_set1_ps(beta);
+    const bool depth_finite = std::isfinite(s.depth);
+    const bool step = !(delta > -delta);  // ld06_step's binary limit (delta = 0)
+    for (int x = xa; x <= xb; x += 8) {
+        const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(xb - x + 1), ilane);  // lanes <= xb
+        const __m256 bv = _mm256_maskload_ps(b + x, in);
+        // if (b >= 1) return;
+        __m256 keep = _mm256_or_ps(_mm256_cmp_ps(bv, one, _CMP_GE_OQ), _mm256_castsi256_ps(_mm256_xor_si256(in, _mm256_set1_epi32(-1))));
+        const __m256 Dv = _mm256_maskload_ps(D + x, in);
+        __m256 shape = one;
+        if (round) {
+            const __m256 fx = _mm256_add_ps(_mm256_set1_ps(float(x)), lane);  // float(x) exactly
+            const __m256 u = _mm256_div_ps(_mm256_sub_ps(_mm256_add_ps(fx, half), left), size);
+            const __m256 du = _mm256_sub_ps(u, half);
+            const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(du, du), dv2));
+            shape = _mm256_sub_ps(one, smoothstep8(0.4f, 0.5f, r));  // particle_shape
+            if (depth_finite)
+                keep = _mm256_or_ps(keep, _mm256_and_ps(_mm256_cmp_ps(shape, _mm256_setzero_ps(), _CMP_EQ_OQ), finite8(Dv)));
+        }
+        if (_mm256_movemask_ps(keep) == 0xff) continue;
+        const __m256 arg = _mm256_add_ps(_mm256_sub_ps(Dv, depth), vbeta);  // blurred_visibility
+        const __m256 fv = step ? _mm256_and_ps(_mm256_cmp_ps(arg, _mm256_set1_ps(-delta), _CMP_GE_OQ), one)
+                               : smoothstep8(-delta, delta, arg);
+        const __m256 nb = sat8(_mm256_add_ps(_mm256_mul_ps(fv, shape), bv));
+        _mm256_maskstore_ps(b + x, _mm256_castps_si256(_mm256_andnot_ps(keep, _mm256_castsi256_ps(in))), nb);
+    }
+}
+#endif
 
 }  // namespace
 
@@ -130,13 +190,14 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
         sprites.push_back(s);
     }
     // D at every pixel of the pass, once (a pure function of the pixel; every fragment of the
-    // pixel used to sample it again): the map resampled to the pass size, then quantised (eq. 3-4).
+    // pixel used to sample it again): the map resampled to the pass size (the stages' rule: the
+    // texel itself at equal sizes, as LD06's 520 px depth map and particle pass are), then
+    // quantised (eq. 3-4).
     const View<const float> D = p.depth_map->view<float>();
     std::vector<float> dpix(std::size_t(W) * H);
     auto sample_row = [&](int y) {
         for (int x = 0; x < W; ++x) {
-            float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
-                                                Border::Clamp);
+            float Dv = stylize::sample_resampled(D, x, y, W, H);
             if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
             dpix[std::size_t(y) * W + x] = Dv;
         }
@@ -191,8 +252,15 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
             const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
             for (std::uint32_t k = offsets[std::size_t(t)]; k < offsets[std::size_t(t) + 1]; ++k) {
                 const Sprite& s = sprites[items[k]];
-                for (int y = std::max(s.y0, Y0); y <= std::min(s.y1, Y1); ++y)
-                    for (int x = std::max(s.x0, X0); x <= std::min(s.x1, X1); ++x) fragment(s, x, y);
+                const int xa = std::max(s.x0, X0), xb = std::min(s.x1, X1);
+                for (int y = std::max(s.y0, Y0); y <= std::min(s.y1, Y1); ++y) {
+#ifdef __AVX2__
+                    const std::size_t row = std::size_t(y) * W;
+                    fragment_row_avx2(s, round, delta, p.beta, y, xa, xb, maps[s.cls] + row, dpix.data() + row);
+#else
+                    for (int x = xa; x <= xb; ++x) fragment(s, x, y);
+#endif
+                }
             }
         });
     });

@@ -3,6 +3,8 @@
 // bounds, and the same bytes for every traversal and thread count.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 
 #include "core/hash.h"
@@ -184,6 +186,50 @@ TEST(Particles, SameBytesForEveryTraversalAndThreadCount) {
             EXPECT_EQ(sha256_hex(q[0]) + sha256_hex(q[1]) + sha256_hex(q[2]), want) << int(t) << " " << threads;
         }
     }
+}
+
+TEST(Particles, NonFiniteDepthsAndSquareSpritesHaveTheReferenceBytes) {
+    // The fast traversal's vector rows keep every early return of the per-fragment function: a
+    // saturated pixel, the blotch's corners only where D is finite, NaN and infinite D, square
+    // sprites (no corners), and the binary limit δ = 0.
+    const scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
+    FoliageParams fp;
+    fp.threshold = 4.0f;
+    const auto a = abstract_foliage(bush, fp);
+    const scene::Camera cam = test::frame_scene(a->scene);
+    PassScene ps = make_pass_scene(a->scene, cam, 203, 157);
+    TrianglePass dp;
+    dp.value = PassValue::Depth;
+    ImageF depth;
+    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity()};
+    for (int y = 0; y < depth.height(); ++y)
+        for (int x = 0; x < depth.width(); ++x)
+            if ((x / 9 + y / 7) % 5 == 0) depth.at(x, y, 0) = specials[(x + y) % 3];
+    ParticleParams p;
+    p.depth_map = &depth;
+    p.quantity = 12;  // dense enough to saturate
+    const std::vector<Particle> qs = place_particles(a->surface, a->height, ps.light_dir, p);
+    for (int shape : {0, 1})
+        for (float delta : {0.0f, 0.05f}) {
+            p.shape = shape;
+            p.delta = delta;
+            p.beta = delta;
+            ImageF r[3], q[3];
+            render_particles(r[0], r[1], r[2], ps, qs, p, Exec::reference());
+            render_particles(q[0], q[1], q[2], ps, qs, p, Exec::fast(2));
+            int saturated = 0, nonfinite = 0;
+            for (int y = 0; y < r[1].height(); ++y)
+                for (int x = 0; x < r[1].width(); ++x) {
+                    saturated += r[1].at(x, y, 0) == 1.0f;
+                    nonfinite += !std::isfinite(r[1].at(x, y, 0));
+                }
+            EXPECT_GT(saturated, 50) << shape << " " << delta;
+            if (delta > 0) EXPECT_GT(nonfinite, 50) << shape;  // NaN D through eq. 1's smoothstep
+            else EXPECT_EQ(nonfinite, 0) << shape;              // the step maps NaN to 0
+            for (int m = 0; m < 3; ++m) EXPECT_EQ(sha256_hex(q[m]), sha256_hex(r[m])) << shape << " " << delta << " map " << m;
+        }
 }
 
 }  // namespace
