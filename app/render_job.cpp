@@ -352,6 +352,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 ro.step_ms = &step_ms;
                 ro.reuse_outputs = !sweeping;
                 ro.release_dead = !o.keep_intermediates;
+                ro.fuse = !o.keep_intermediates;  // fused steps write no intermediate (stage.h Fusion)
                 ro.release_inputs = one_shot_memory;
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {

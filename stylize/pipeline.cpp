@@ -349,6 +349,46 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
     return r;
 }
 
+namespace {
+
+int port_index(const std::vector<Port>& ports, const std::string& name) {
+    for (std::size_t k = 0; k < ports.size(); ++k)
+        if (ports[k].name == name) return int(k);
+    return -1;
+}
+
+// CompiledPipeline::fused_with_next: consecutive stage steps with a registered Fusion whose links
+// carry every output of the first to the second alone.
+void find_fusions(CompiledPipeline& c) {
+    c.fused_with_next.assign(c.steps.size(), nullptr);
+    for (std::size_t i = 0; i + 1 < c.steps.size(); ++i) {
+        const CompiledStep& a = c.steps[i];
+        const CompiledStep& b = c.steps[i + 1];
+        if (a.pass || b.pass || (i > 0 && c.fused_with_next[i - 1])) continue;
+        const Fusion* f = builtin_registry().fusion(a.variant->key(), b.variant->key());
+        if (!f) continue;
+        bool ok = true;
+        std::vector<bool> linked(b.inputs.size(), false);
+        for (const auto& [out, in] : f->links) {
+            const int o = port_index(a.variant->outputs, out), k = port_index(b.variant->inputs, in);
+            if (o < 0 || k < 0) {
+                ok = false;
+                break;
+            }
+            const std::string& t = a.outputs[std::size_t(o)];
+            const auto last = c.last_read.find(t);
+            ok = ok && b.inputs[std::size_t(k)] == t && t != c.output && last != c.last_read.end() && last->second == i + 1;
+            linked[std::size_t(k)] = true;
+        }
+        // The consumer reads the producer's outputs through the links only.
+        for (std::size_t k = 0; ok && k < b.inputs.size(); ++k)
+            ok = linked[k] || std::find(a.outputs.begin(), a.outputs.end(), b.inputs[k]) == a.outputs.end();
+        if (ok) c.fused_with_next[i] = f;
+    }
+}
+
+}  // namespace
+
 CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     CompiledPipeline c;
     c.name = p.name;
@@ -409,6 +449,7 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     }
     if (!produced.count(p.output) && !external_index.count(p.output))
         c.external.push_back({p.output, 0, false, p.source + ": output", ""});
+    find_fusions(c);
     if (gbuffer) check_gbuffer(c, *gbuffer);
     return c;
 }
@@ -489,20 +530,37 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     g.warnings = opt.warnings;
     const int n = int(c.steps.size());
     if (opt.step_ms) opt.step_ms->assign(std::size_t(n), 0.0);
+    auto inputs_of = [&](const CompiledStep& r) {
+        std::vector<const ImageF*> in;
+        for (const std::string& t : r.inputs) in.push_back(targets.has(t) ? &targets.get(t) : nullptr);
+        return in;
+    };
+    const bool fuse = opt.fuse && c.fused_with_next.size() == c.steps.size();
     for (int i = 0; i < n; ++i) {
         const CompiledStep& r = c.steps[std::size_t(i)];
         if (opt.progress) opt.progress(i, n, r.label);
+        if (fuse && c.fused_with_next[std::size_t(i)]) continue;  // runs with step i + 1
+        const Fusion* fused = fuse && i > 0 ? c.fused_with_next[std::size_t(i) - 1] : nullptr;
         const auto t0 = std::chrono::steady_clock::now();
         StageIO io;
         io.globals = &g;
-        for (std::size_t k = 0; k < r.inputs.size(); ++k)
-            io.in.push_back(targets.has(r.inputs[k]) ? &targets.get(r.inputs[k]) : nullptr);
+        io.in = inputs_of(r);
         std::vector<ImageF> outs(r.outputs.size());
         for (std::size_t k = 0; k < outs.size(); ++k)
             if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[k] = std::move(it->second);
         for (auto& o : outs) io.out.push_back(&o);
         try {
-            r.variant->run(io, r.params, opt.exec);
+            if (fused) {
+                const CompiledStep& pr = c.steps[std::size_t(i) - 1];
+                StageIO pio;
+                pio.globals = &g;
+                pio.in = inputs_of(pr);
+                for (const auto& link : fused->links)
+                    io.in[std::size_t(port_index(r.variant->inputs, link.second))] = nullptr;
+                fused->run(pio, pr.params, io, r.params, opt.exec);
+            } else {
+                r.variant->run(io, r.params, opt.exec);
+            }
         } catch (const Error& e) {
             throw Error(r.where + ": " + e.what());
         }
@@ -518,15 +576,18 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
             for (const std::string& t : c.produced) {
                 if (t == c.output || !targets.has(t)) continue;
                 const auto last = c.last_read.find(t);
+                // A fused pair's producer did not run alone: what it read last dies here too.
+                auto read_last_here = [&](std::size_t at) { return at == std::size_t(i) || (fused && at + 1 == std::size_t(i)); };
                 const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
-                                                            : last->second == std::size_t(i);
+                                                            : read_last_here(last->second);
                 if (dead) targets.erase(t);
             }
             if (opt.release_inputs)
                 for (const ExternalInput& x : c.external)
-                    if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target) &&
-                        c.last_read.at(x.target) == std::size_t(i))
-                        targets.erase(x.target);
+                    if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target)) {
+                        const std::size_t at = c.last_read.at(x.target);
+                        if (at == std::size_t(i) || (fused && at + 1 == std::size_t(i))) targets.erase(x.target);
+                    }
         }
     }
 }

@@ -104,8 +104,13 @@ struct RunOptions {
     //! Non-fatal problems reported by steps (may be null).
     std::vector<std::string>* warnings = nullptr;
     //! When set: resized to the step count and filled with each step's wall time in milliseconds
-    //! (benchmarks' per-column splits, reports).
+    //! (benchmarks' per-column splits, reports; a fused pair's time is its consumer's).
     std::vector<double>* step_ms = nullptr;
+    //! Runs the fusable step pairs of CompiledPipeline::fused_with_next as one (stage.h Fusion):
+    //! the same output bytes, but the producers' outputs are never written, so they are not in
+    //! `targets` afterwards. For callers that keep only the output (the render job without
+    //! --targets); off: every step runs alone.
+    bool fuse = false;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and
@@ -141,6 +146,10 @@ struct CompiledPipeline {
     std::vector<std::string> produced;    //!< targets the steps write, in order
     //! Liveness: target -> index of the last step that reads it (intermediates are dead after it).
     std::map<std::string, std::size_t> last_read;
+    //! Per step: the fusion with the next step when they can run as one — every output of this step
+    //! is read by the next step alone, through the fusion's links, and none is the pipeline's
+    //! output; a step is in one pair at most. Null otherwise. Used with RunOptions::fuse.
+    std::vector<const Fusion*> fused_with_next;
     bool has_passes = false;  //!< some step is a raster pass
     raster::FoliageParams foliage;  //!< see Pipeline::foliage
     bool has_foliage = false;

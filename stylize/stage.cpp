@@ -35,6 +35,41 @@ void Registry::add(StageVariant v) {
     variants_.push_back(std::move(v));
 }
 
+void Registry::add_fusion(Fusion f) {
+    const StageVariant* pv = nullptr;
+    const StageVariant* cv = nullptr;
+    for (const StageVariant& v : variants_) {
+        if (v.key() == f.producer) pv = &v;
+        if (v.key() == f.consumer) cv = &v;
+    }
+    if (!pv || !cv) throw Error("fusion " + f.producer + " -> " + f.consumer + ": unknown stage variant");
+    if (!f.run) throw Error("fusion " + f.producer + " -> " + f.consumer + ": no run function");
+    if (fusion(f.producer, f.consumer)) throw Error("fusion " + f.producer + " -> " + f.consumer + " registered twice");
+    auto port = [](const std::vector<Port>& ports, const std::string& name) -> const Port* {
+        for (const Port& p : ports)
+            if (p.name == name) return &p;
+        return nullptr;
+    };
+    for (const auto& [out, in] : f.links) {
+        const Port* o = port(pv->outputs, out);
+        const Port* i = port(cv->inputs, in);
+        if (!o || !i || o->channels != i->channels)
+            throw Error("fusion " + f.producer + " -> " + f.consumer + ": link " + out + " -> " + in + " does not match the ports");
+    }
+    for (const Port& o : pv->outputs) {
+        bool linked = false;
+        for (const auto& l : f.links) linked = linked || l.first == o.name;
+        if (!linked) throw Error("fusion " + f.producer + " -> " + f.consumer + ": output '" + o.name + "' has no link");
+    }
+    fusions_.push_back(std::move(f));
+}
+
+const Fusion* Registry::fusion(const std::string& producer, const std::string& consumer) const {
+    for (const Fusion& f : fusions_)
+        if (f.producer == producer && f.consumer == consumer) return &f;
+    return nullptr;
+}
+
 bool Registry::has(const std::string& stage, const std::string& variant) const {
     for (auto& v : variants_)
         if (v.stage == stage && v.variant == variant) return true;

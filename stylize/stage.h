@@ -128,6 +128,25 @@ struct StageVariant {
     std::string key() const { return stage + "/" + variant; }
 };
 
+//! Two consecutive steps run as one (a fused schedule; docs/stylize.md "Fused steps"): a producer
+//! whose every output is read by the next step alone (the consumer) through the ports `links`
+//! names, so the fused run can compute what the consumer reads without writing the producer's
+//! images (glaze computing its colour-ramp rows from the lighting map instead of reading
+//! color_ramp's four maps). The consumer's outputs are bit for bit the unfused run's
+//! (tests/stylize/fusion_test.cpp). compile_pipeline finds the pairs; run_pipeline fuses them when
+//! RunOptions::fuse is set (the producer's outputs then never exist).
+struct Fusion {
+    std::string producer, consumer;  //!< variant keys, "stage/variant"
+    //! Every producer output port, each with the consumer input port that reads it.
+    std::vector<std::pair<std::string, std::string>> links;
+    std::string doc;
+    //! producer: the producer's inputs (no outputs); consumer: its inputs, those of `links` null,
+    //! and its outputs to fill.
+    std::function<void(const StageIO& producer, const ParamValues& producer_params, StageIO& consumer,
+                       const ParamValues& consumer_params, const Exec& ex)>
+        run;
+};
+
 class Registry {
 public:
     //! Adds a variant; throws aq::Error on duplicate stage/variant.
@@ -145,8 +164,16 @@ public:
     static ParamValues resolve_params(const StageVariant& v, const std::map<std::string, double>& overrides,
                                       const std::string& where);
 
+    //! Adds a fused pair; throws aq::Error when either variant is unknown, a link names a port
+    //! they do not have (channel counts must agree), or some producer output has no link.
+    void add_fusion(Fusion f);
+    //! The fusion of producer -> consumer (variant keys), or null.
+    const Fusion* fusion(const std::string& producer, const std::string& consumer) const;
+    const std::vector<Fusion>& fusions() const { return fusions_; }
+
 private:
     std::vector<StageVariant> variants_;
+    std::vector<Fusion> fusions_;
 };
 
 //! The registry holding every built-in stage variant (built once, thread-safe).

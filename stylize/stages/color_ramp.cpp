@@ -30,37 +30,37 @@ void color_ramp(ImageF* const dst[4], const ImageF& lighting, const ColorRampPar
         }
         return;
     }
-    // Fast: per layer and chunk of a row, ramp_color into R, G, B planes (a loop over x without
-    // branches: vectorised), then stored as RGBA pixels 8 at a time (store_rgba8).
+    // Fast: per layer, row by row (color_ramp_row).
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         const std::size_t r = std::size_t(y) * w;
-        constexpr int kChunk = 64;
-        alignas(32) float R[kChunk], G[kChunk], B[kChunk], A[kChunk];
-        for (int k = 0; k < 4; ++k) {  // one layer at a time
-            const ColorRampLayer l = p.layer[k];
-            const RampColors hue = p.hue;
-            std::fill_n(A, kChunk, l.alpha);
-            float* __restrict o = dst[k]->data() + r * 4;
-            const float* __restrict t = in + r;
-            for (int xs = x0; xs < x1; xs += kChunk) {
-                const int n = std::min(kChunk, x1 - xs);
-                for (int i = 0; i < n; ++i) {
-                    const glm::vec3 c = ramp_color(t[xs + i], l.color, l.dark, l.tone, hue);
-                    R[i] = c.r, G[i] = c.g, B[i] = c.b;
-                }
-                int i = 0;
-                for (; i + 8 <= n; i += 8) store_rgba8(o + std::size_t(xs + i) * 4, R + i, G + i, B + i, A + i);
-                for (; i < n; ++i) {
-                    float* q = o + std::size_t(xs + i) * 4;
-                    q[0] = R[i], q[1] = G[i], q[2] = B[i], q[3] = A[i];
-                }
-            }
-        }
+        for (int k = 0; k < 4; ++k) color_ramp_row(in + r + x0, x1 - x0, p.layer[k], p.hue, dst[k]->data() + (r + x0) * 4);
     });
 }
 
-void register_color_ramp(Registry& r) {
-    using T = ColorRampTable;
+// Per chunk of the row, ramp_color into R, G, B planes (a loop over x without branches: it
+// vectorises), then stored as RGBA pixels 8 at a time (store_rgba8).
+void color_ramp_row(const float* t, int n, const ColorRampLayer& l, const RampColors& hue, float* o) {
+    constexpr int kChunk = 64;
+    alignas(32) float R[kChunk], G[kChunk], B[kChunk], A[kChunk];
+    std::fill_n(A, kChunk, l.alpha);
+    for (int xs = 0; xs < n; xs += kChunk) {
+        const int m = std::min(kChunk, n - xs);
+        for (int i = 0; i < m; ++i) {
+            const glm::vec3 c = ramp_color(t[xs + i], l.color, l.dark, l.tone, hue);
+            R[i] = c.r, G[i] = c.g, B[i] = c.b;
+        }
+        int i = 0;
+        for (; i + 8 <= m; i += 8) store_rgba8(o + std::size_t(xs + i) * 4, R + i, G + i, B + i, A + i);
+        for (; i < m; ++i) {
+            float* q = o + std::size_t(xs + i) * 4;
+            q[0] = R[i], q[1] = G[i], q[2] = B[i], q[3] = A[i];
+        }
+    }
+}
+
+namespace {
+using T = ColorRampTable;
+const ParamTable<T>& table() {
     static const ParamTable<T> t = ParamTable<T>()
         .i("source", &T::source, 0, 2, "where the render job fills the layer colours from: 0 = as given, 1 = scene layers first..first+3, 2 = the foliage layer (particles)")
         .i("first", &T::first, 0, 1 << 24, "scene layer of layer0 for source 1 (as id_layers.first)")
@@ -104,6 +104,25 @@ void register_color_ramp(Registry& r) {
         .f("dark3_b", &T::dark3_b, 0, 1, "layer3 object ramp, unlit end (b; ours: 0.55 x colour)")
         .f("alpha3", &T::alpha3, 0, 1, "layer3 ramp alpha: the wash's opacity (ours: 0.85)")
         .f("tone3", &T::tone3, 0, 4, "layer3 factor on its object ramp (particle layers: darker / brighter tones)");
+    return t;
+}
+}  // namespace
+
+ColorRampParams color_ramp_params(const ParamValues& pv) {
+    const T tp = table().from(pv);
+    ColorRampParams p;
+    p.hue.cool = {tp.cool_r, tp.cool_g, tp.cool_b};
+    p.hue.warm = {tp.warm_r, tp.warm_g, tp.warm_b};
+    p.hue.cool_mix = tp.cool_mix;
+    p.hue.warm_mix = tp.warm_mix;
+    p.layer[0] = {{tp.color0_r, tp.color0_g, tp.color0_b}, {tp.dark0_r, tp.dark0_g, tp.dark0_b}, tp.alpha0, tp.tone0};
+    p.layer[1] = {{tp.color1_r, tp.color1_g, tp.color1_b}, {tp.dark1_r, tp.dark1_g, tp.dark1_b}, tp.alpha1, tp.tone1};
+    p.layer[2] = {{tp.color2_r, tp.color2_g, tp.color2_b}, {tp.dark2_r, tp.dark2_g, tp.dark2_b}, tp.alpha2, tp.tone2};
+    p.layer[3] = {{tp.color3_r, tp.color3_g, tp.color3_b}, {tp.dark3_r, tp.dark3_g, tp.dark3_b}, tp.alpha3, tp.tone3};
+    return p;
+}
+
+void register_color_ramp(Registry& r) {
     StageVariant v;
     v.stage = "color_ramp";
     v.variant = "gooch";
@@ -113,20 +132,10 @@ void register_color_ramp(Registry& r) {
                  {"ramp1", "ld06.ramp.1", 4, false},
                  {"ramp2", "ld06.ramp.2", 4, false},
                  {"ramp3", "ld06.ramp.3", 4, false}};
-    v.params = t.descs();
+    v.params = table().descs();
     v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const T tp = t.from(pv);
-        ColorRampParams p;
-        p.hue.cool = {tp.cool_r, tp.cool_g, tp.cool_b};
-        p.hue.warm = {tp.warm_r, tp.warm_g, tp.warm_b};
-        p.hue.cool_mix = tp.cool_mix;
-        p.hue.warm_mix = tp.warm_mix;
-        p.layer[0] = {{tp.color0_r, tp.color0_g, tp.color0_b}, {tp.dark0_r, tp.dark0_g, tp.dark0_b}, tp.alpha0, tp.tone0};
-        p.layer[1] = {{tp.color1_r, tp.color1_g, tp.color1_b}, {tp.dark1_r, tp.dark1_g, tp.dark1_b}, tp.alpha1, tp.tone1};
-        p.layer[2] = {{tp.color2_r, tp.color2_g, tp.color2_b}, {tp.dark2_r, tp.dark2_g, tp.dark2_b}, tp.alpha2, tp.tone2};
-        p.layer[3] = {{tp.color3_r, tp.color3_g, tp.color3_b}, {tp.dark3_r, tp.dark3_g, tp.dark3_b}, tp.alpha3, tp.tone3};
         ImageF* const out[4] = {io.out[0], io.out[1], io.out[2], io.out[3]};
-        color_ramp(out, *io.in[0], p, ex);
+        color_ramp(out, *io.in[0], color_ramp_params(pv), ex);
     });
     v.reference = StageVariant::Reference::SharedMaths;
     r.add(std::move(v));

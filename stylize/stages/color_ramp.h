@@ -35,6 +35,14 @@ struct ColorRampParams {
 //! dst[k]: 4 channels of lighting's size (layer k's RGB, alpha); lighting: one channel in [0, 1].
 void color_ramp(ImageF* const dst[4], const ImageF& lighting, const ColorRampParams& p, const Exec& ex = {});
 
+//! One row of one layer's ramp: n lighting values `t` to n RGBA pixels `o` (ramp_color, alpha) —
+//! the fast schedule's row kernel, also run by glaze's fused schedule (glaze.h RampInput), which
+//! computes the ramp rows it reads instead of reading color_ramp's images.
+void color_ramp_row(const float* t, int n, const ColorRampLayer& layer, const RampColors& hue, float* o);
+
+//! The ramps a compiled color_ramp step's parameter values describe (what the stage runs with).
+ColorRampParams color_ramp_params(const ParamValues& pv);
+
 //! The parameter table's fields (names: docs via `aquarelle stages color_ramp`).
 struct ColorRampTable {
     int source = 1, first = 0;

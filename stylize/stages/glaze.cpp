@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
@@ -58,16 +59,66 @@ void glaze_row_n(int n, float* o, const float* base, const float* wash, const fl
 
 }  // namespace
 
+namespace {
+
+// The ramps of the fast schedule: the color_ramp images, or computed from the lighting map.
+struct RampSource {
+    const ImageF* const* images = nullptr;  // ramp[4]
+    const ComputedRamps* computed = nullptr;
+    int width() const { return images ? images[0]->width() : computed->lighting->width(); }
+    int height() const { return images ? images[0]->height() : computed->lighting->height(); }
+};
+
+void glaze_impl(ImageF& dst, const ImageF* base, const ImageF& wash, const RampSource& src, glm::vec3 paper_color,
+                bool multiplicative, const Exec& ex);
+
+}  // namespace
+
+void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ComputedRamps& ramps, glm::vec3 paper_color,
+           bool multiplicative, const Exec& ex) {
+    check_input(ramps.lighting, 1, Channels::Exactly, "glaze", "lighting");
+    check_not_alias(dst, ramps.lighting, "glaze", "lighting");
+    // The row skips below rely on finite ramp parameters (the stage's ranges guarantee them); with
+    // others the ramps are computed as images first.
+    bool finite = std::isfinite(ramps.ramps.hue.cool_mix) && std::isfinite(ramps.ramps.hue.warm_mix);
+    for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(ramps.ramps.hue.cool[c]) && std::isfinite(ramps.ramps.hue.warm[c]);
+    for (const ColorRampLayer& l : ramps.ramps.layer) {
+        finite = finite && std::isfinite(l.alpha) && std::isfinite(l.tone);
+        for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(l.color[c]) && std::isfinite(l.dark[c]);
+    }
+    if (ex.traversal == Traversal::Reference || !finite) {  // color_ramp, then glaze
+        ImageF img[4];
+        ImageF* const out[4] = {&img[0], &img[1], &img[2], &img[3]};
+        color_ramp(out, *ramps.lighting, ramps.ramps, ex);
+        const ImageF* const in[4] = {&img[0], &img[1], &img[2], &img[3]};
+        glaze(dst, base, wash, in, paper_color, multiplicative, ex);
+        return;
+    }
+    RampSource s;
+    s.computed = &ramps;
+    glaze_impl(dst, base, wash, s, paper_color, multiplicative, ex);
+}
+
 void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* const ramp[4], glm::vec3 paper_color,
            bool multiplicative, const Exec& ex) {
     static const char* kPorts[4] = {"ramp0", "ramp1", "ramp2", "ramp3"};
-    check_input(&wash, 4, Channels::Exactly, "glaze", "wash");
-    check_not_alias(dst, &wash, "glaze", "wash");
     for (int k = 0; k < 4; ++k) {
         check_input(ramp[k], 4, Channels::Exactly, "glaze", kPorts[k]);
         check_not_alias(dst, ramp[k], "glaze", kPorts[k]);
         if (k) check_same_size(*ramp[k], *ramp[0], "glaze", kPorts[k], "ramp0");
     }
+    RampSource s;
+    s.images = ramp;
+    glaze_impl(dst, base, wash, s, paper_color, multiplicative, ex);
+}
+
+namespace {
+
+void glaze_impl(ImageF& dst, const ImageF* base, const ImageF& wash, const RampSource& src, glm::vec3 paper_color,
+                bool multiplicative, const Exec& ex) {
+    check_input(&wash, 4, Channels::Exactly, "glaze", "wash");
+    check_not_alias(dst, &wash, "glaze", "wash");
+    const ImageF* const* ramp = src.images;
     if (base) {
         check_input(base, 4, Channels::Exactly, "glaze", "color");
         check_same_size(*base, wash, "glaze", "color", "wash");
@@ -76,7 +127,8 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
     const int w = wash.width(), h = wash.height();
     ensure_output(dst, w, h, 4);
     Plane rp[16];
-    for (int c = 0; c < 16; ++c) rp[c] = plane(*ramp[c / 4], c % 4);
+    if (ramp)
+        for (int c = 0; c < 16; ++c) rp[c] = plane(*ramp[c / 4], c % 4);
     const float* wd = wash.data();
     const float* bd = base ? base->data() : nullptr;
     float* od = dst.data();
@@ -90,7 +142,7 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
         }
         od[i * 4] = c.r, od[i * 4 + 1] = c.g, od[i * 4 + 2] = c.b, od[i * 4 + 3] = 1.0f;
     };
-    if (ex.traversal == Traversal::Reference) {
+    if (ex.traversal == Traversal::Reference) {  // images only (ComputedRamps' reference runs color_ramp first)
         plain_loop(w, h, [&](int x, int y) {
             px(x, y, [&](const Plane& p, int sx, int sy) { return sample_resampled_plane(p, sx, sy, w, h); });
         });
@@ -104,17 +156,42 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
     // image when its wash is 0 everywhere (the empty slots of an ID pack), else in each row where
     // its wash is 0 (LD06's layers cover parts of the picture: 52-68 % of the oak's layer rows).
     // Over is not skipped (dst + c·0 can turn -0 into +0).
+    //
+    // Computed ramps (ComputedRamps): ramp_color is sat(·) of finite parameters, so a ramp texel is
+    // NaN where its lighting texel is NaN and in [0, 1] otherwise, and alpha is a parameter in
+    // [0, 1]: a computed ramp row lies within ±kRampBound exactly where its lighting row has no NaN
+    // (all_within with an infinite bound), which is checked instead of computing the row.
     const std::uint32_t painted = multiplicative ? nonzero_channels(ex, wash) : 0xfu;
+    const int rw = src.width(), rh = src.height();
+    const float* light = src.computed ? src.computed->lighting->data() : nullptr;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
     int used[4], n = 0;
     for (int k = 0; k < 4; ++k) {
-        const bool skip = !(painted >> k & 1u) && !any_beyond(ex, ramp[k]->data(), ramp[k]->num_values(), kRampBound);
+        const bool bounded = light ? !any_beyond(ex, light, std::size_t(rw) * rh, kInf)
+                                   : !any_beyond(ex, ramp[k]->data(), ramp[k]->num_values(), kRampBound);
+        const bool skip = !(painted >> k & 1u) && bounded;
         if (!skip) used[n++] = k;
     }
-    const int rw = ramp[0]->width(), rh = ramp[0]->height();
     const ResampleAxis ax(w, rw), ay(h, rh);
     for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<RowResampler<4>> up;
-        for (int j = 0; j < n; ++j) up.emplace_back(ramp[used[j]]->data(), rw, w, ax, ay);
+        std::vector<std::vector<float>> ramp_rows(light ? std::size_t(n) : 0);  // computed ramps: one row each
+        for (int j = 0; j < n; ++j) {
+            if (!light) {
+                up.emplace_back(ramp[used[j]]->data(), rw, w, ax, ay);
+                continue;
+            }
+            std::vector<float>& buf = ramp_rows[std::size_t(j)];
+            buf.resize(std::size_t(rw) * 4);
+            const ColorRampLayer& layer = src.computed->ramps.layer[used[j]];
+            const RampColors& hue = src.computed->ramps.hue;
+            up.emplace_back(
+                [&buf, &layer, &hue, light, rw](int r) {
+                    color_ramp_row(light + std::size_t(r) * rw, rw, layer, hue, buf.data());
+                    return static_cast<const float*>(buf.data());
+                },
+                rw, w, ax, ay);
+        }
         std::vector<float> rows(std::size_t(w) * 4 * std::size_t(std::max(n, 1))), paper_row;
         if (!bd) {  // no picture yet: a row of the paper colour
             paper_row.resize(std::size_t(w) * 4);
@@ -126,7 +203,9 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
         std::vector<std::int8_t> bounded(std::size_t(n) * std::size_t(rh), -1);
         auto row_bounded = [&](int j, int r) {
             std::int8_t& b = bounded[std::size_t(j) * std::size_t(rh) + std::size_t(r)];
-            if (b < 0) b = all_within(ramp[used[j]]->data() + std::size_t(r) * rw * 4, std::size_t(rw) * 4, kRampBound);
+            if (b < 0)
+                b = light ? all_within(light + std::size_t(r) * rw, std::size_t(rw), kInf)
+                          : all_within(ramp[used[j]]->data() + std::size_t(r) * rw * 4, std::size_t(rw) * 4, kRampBound);
             return b == 1;
         };
         for (int y = y0; y < y1; ++y) {
@@ -148,6 +227,8 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* co
     });
 }
 
+}  // namespace
+
 void register_glaze(Registry& r) {
     for (bool mul : {true, false}) {
         StageVariant v;
@@ -165,6 +246,22 @@ void register_glaze(Registry& r) {
         });
         v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));
+        // color_ramp -> glaze: the ramp rows computed where glaze reads them (ComputedRamps).
+        Fusion f;
+        f.producer = "color_ramp/gooch";
+        f.consumer = "glaze/" + std::string(mul ? "multiplicative" : "over");
+        f.links = {{"ramp0", "ramp0"}, {"ramp1", "ramp1"}, {"ramp2", "ramp2"}, {"ramp3", "ramp3"}};
+        f.doc = "glaze computes the colour-ramp rows it reads from the lighting map (no ramp image; rows of skipped layers never computed)";
+        f.run = [mul](const StageIO& producer, const ParamValues& pp, StageIO& io, const ParamValues&, const Exec& ex) {
+            if (producer.in.size() != 1 || io.in.size() != 6 || io.out.size() != 1 || !io.out[0])
+                throw Error("glaze (fused with color_ramp): unexpected ports");
+            if (!io.in[1] || io.in[1]->empty()) throw Error("glaze: required input 'wash' is missing or empty");
+            ComputedRamps ramps;
+            ramps.lighting = producer.in[0];
+            ramps.ramps = color_ramp_params(pp);
+            glaze(*io.out[0], io.in[0], *io.in[1], ramps, globals_of(io).substrate_color, mul, ex);
+        };
+        r.add_fusion(std::move(f));
     }
 }
 

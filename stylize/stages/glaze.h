@@ -8,6 +8,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "stylize/stage.h"
+#include "stylize/stages/color_ramp.h"
 
 namespace aq::stylize {
 
@@ -15,6 +16,18 @@ namespace aq::stylize {
 //! colour `paper_color`) glazed with layer k's ramp colour ramp[k].rgb at opacity
 //! sat(ramp[k].a · wash[k]), k = 0..3. ramp[k]: 4 channels, all of one (any) size.
 void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ImageF* const ramp[4], glm::vec3 paper_color,
+           bool multiplicative, const Exec& ex = {});
+
+//! The ramps glaze reads, as color_ramp would write them from `lighting` (1 channel) with `ramps`:
+//! the fused schedule of color_ramp -> glaze (stylize/stage.h Fusion) computes each ramp row it
+//! needs (color_ramp_row) while glazing — rows of layers it skips are never computed, and no
+//! ramp image is written. The bytes are those of color_ramp then glaze, for both traversals
+//! (the reference runs exactly that).
+struct ComputedRamps {
+    const ImageF* lighting = nullptr;
+    ColorRampParams ramps;
+};
+void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ComputedRamps& ramps, glm::vec3 paper_color,
            bool multiplicative, const Exec& ex = {});
 
 void register_glaze(Registry& r);

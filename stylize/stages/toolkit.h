@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -417,18 +418,27 @@ void resample_row(const float* s, int sw, float* o, int w, const ResampleAxis& a
 //! (an upsampling by 2 reads every source row for up to four output rows), and the vertical step
 //! runs over contiguous rows, so it vectorises. Values: exactly resample_row's (the same
 //! horizontal lerps, then the same vertical one).
+//! The source may also be computed row by row (a fused schedule: `generate(j)` returns source row j
+//! — sw pixels of S channels — valid until its next call; each row is asked for once per cache
+//! miss), so a producer's image need not exist.
 template <int C, int S = C>
 class RowResampler {
 public:
+    using Generator = std::function<const float*(int j)>;
     RowResampler(const float* s, int sw, int w, const ResampleAxis& ax, const ResampleAxis& ay)
         : s_(s), sw_(sw), w_(w), ax_(ax), ay_(ay) {
         if (!identity())
             for (auto& b : buf_) b.resize(std::size_t(w) * C);
     }
+    RowResampler(Generator generate, int sw, int w, const ResampleAxis& ax, const ResampleAxis& ay)
+        : RowResampler(nullptr, sw, w, ax, ay) {
+        gen_ = std::move(generate);
+    }
     //! Writes output row y (w * C values) to o.
     void row(int y, float* o) {
         if (identity()) {
-            resample_row<C, S>(s_, sw_, o, w_, ax_, ay_, y);
+            if (gen_) resample_row<C, S>(gen_(y), sw_, o, w_, ax_, ay_, 0);  // row 0 of the generated row
+            else resample_row<C, S>(s_, sw_, o, w_, ax_, ay_, y);
             return;
         }
         const float ty = ay_.t[std::size_t(y)];
@@ -442,7 +452,7 @@ public:
     //! Output row y without a copy where it exists as is (the identity of a C-channel source): a
     //! pointer into the source; otherwise row(y, buf) and buf. buf holds w * C values.
     const float* row_or_source(int y, float* buf) {
-        if (identity() && C == S) return s_ + std::size_t(y) * sw_ * S;
+        if (identity() && C == S) return gen_ ? gen_(y) : s_ + std::size_t(y) * sw_ * S;
         row(y, buf);
         return buf;
     }
@@ -457,7 +467,7 @@ private:
         next_ = 1 - k;
         key_[k] = j;
         float* h = buf_[k].data();
-        const float* r = s_ + std::size_t(j) * sw_ * S;
+        const float* r = gen_ ? gen_(j) : s_ + std::size_t(j) * sw_ * S;
         for (int x = 0; x < w_; ++x) {
             const std::size_t a0 = std::size_t(ax_.i0[std::size_t(x)]) * S, a1 = std::size_t(ax_.i1[std::size_t(x)]) * S;
             lerp_pixel<C>(r + a0, r + a1, ax_.t[std::size_t(x)], h + std::size_t(x) * C);
@@ -465,6 +475,7 @@ private:
         return h;
     }
     const float* s_;
+    Generator gen_;
     int sw_, w_;
     const ResampleAxis& ax_;
     const ResampleAxis& ay_;
