@@ -152,18 +152,22 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
         std::sort(sil_ordered.begin(), sil_ordered.end());
         std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
         for (const auto& s2 : sil_ordered) sil.push_back(s2.second);
-        // Vertex -> incident silhouette edges (sorted pairs).
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> inc;
-        for (std::uint32_t k = 0; k < sil.size(); ++k) {
-            inc.push_back({sil[k].first, k});
-            inc.push_back({sil[k].second, k});
+        // Vertex -> incident silhouette edges in increasing edge order (a CSR table by counting
+        // sort: edge k is appended to its two vertices' lists in order of k).
+        std::vector<std::uint32_t> inc_begin(std::size_t(nv) + 1, 0), inc(2 * sil.size());
+        for (const auto& e : sil) ++inc_begin[e.first + 1], ++inc_begin[e.second + 1];
+        for (std::uint32_t v = 0; v < nv; ++v) inc_begin[v + 1] += inc_begin[v];
+        {
+            std::vector<std::uint32_t> fill(inc_begin.begin(), inc_begin.end() - 1);
+            for (std::uint32_t k = 0; k < sil.size(); ++k) {  // (silhouette edges join vertices < nv:
+                inc[fill[sil[k].first]++] = k;                 // their triangles passed the index check)
+                inc[fill[sil[k].second]++] = k;
+            }
         }
-        std::sort(inc.begin(), inc.end());
-        auto incident = [&](std::uint32_t v) {
-            auto lo = std::lower_bound(inc.begin(), inc.end(), std::make_pair(v, 0u));
-            auto hi = std::upper_bound(inc.begin(), inc.end(), std::make_pair(v, ~0u));
-            return std::make_pair(lo, hi);
+        struct Range {
+            const std::uint32_t *lo, *hi;
         };
+        auto incident = [&](std::uint32_t v) { return Range{inc.data() + inc_begin[v], inc.data() + inc_begin[v + 1]}; };
         std::vector<char> used(sil.size(), 0);
         auto extend = [&](std::vector<std::uint32_t>& chain) {
             for (;;) {
@@ -172,7 +176,7 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
                 if (hi - lo != 2) return;  // an end, or a junction of 3+ contour edges
                 std::size_t next = sil.size();
                 for (auto it = lo; it != hi; ++it)
-                    if (!used[it->second]) next = std::min<std::size_t>(next, it->second);
+                    if (!used[*it]) next = std::min<std::size_t>(next, *it);
                 if (next == sil.size()) return;
                 used[next] = 1;
                 chain.push_back(sil[next].first == v ? sil[next].second : sil[next].first);
