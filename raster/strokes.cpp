@@ -136,9 +136,12 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
             if (!std::isfinite(f) || f == 0.0f) continue;
             facing[t] = f > 0.0f ? 1 : -1;
         }
-        // Silhouette edges (a front and a back triangle share them), in order of first use.
-        std::vector<std::pair<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>> sil_ordered;
-        for (const ContourCache::Edge& e : m.edges) {
+        // Silhouette edges (a front and a back triangle share them), in order of first use. A use
+        // (3 x triangle + edge slot) belongs to one edge only, so the first uses are distinct and
+        // the order is that of a table indexed by first use (no sort).
+        std::vector<std::uint32_t> by_first(prim.indices.size(), ~0u);
+        for (std::uint32_t ei = 0; ei < m.edges.size(); ++ei) {
+            const ContourCache::Edge& e = m.edges[ei];
             bool front = false, back = false;
             std::uint32_t first = ~0u;
             for (std::uint32_t k = e.uses_begin; k < e.uses_end; ++k) {
@@ -147,11 +150,11 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
                 first = std::min(first, m.uses[k]);
                 (f > 0 ? front : back) = true;
             }
-            if (front && back) sil_ordered.push_back({first, {e.a, e.b}});
+            if (front && back) by_first[first] = ei;
         }
-        std::sort(sil_ordered.begin(), sil_ordered.end());
         std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
-        for (const auto& s2 : sil_ordered) sil.push_back(s2.second);
+        for (const std::uint32_t ei : by_first)
+            if (ei != ~0u) sil.push_back({m.edges[ei].a, m.edges[ei].b});
         // Vertex -> incident silhouette edges in increasing edge order (a CSR table by counting
         // sort: edge k is appended to its two vertices' lists in order of k).
         std::vector<std::uint32_t> inc_begin(std::size_t(nv) + 1, 0), inc(2 * sil.size());

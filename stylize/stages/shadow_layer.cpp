@@ -24,11 +24,9 @@ void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const 
     const float* c = color.data();
     float* o = dst.data();
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) {
-            const std::size_t i = std::size_t(y) * w + x;
-            const glm::vec3 r = glaze_px(glm::vec3(c[i * 4], c[i * 4 + 1], c[i * 4 + 2]), p.color, sat(p.alpha * a[i * 4]), multiplicative);
-            o[i * 4] = r.r, o[i * 4 + 1] = r.g, o[i * 4 + 2] = r.b, o[i * 4 + 3] = c[i * 4 + 3];
-        }
+        const std::size_t i = (std::size_t(y) * w + x0) * 4;
+        if (multiplicative) glaze_row_of<true>(o + i, c + i, a + i, 4, x1 - x0, p.color, p.alpha);
+        else glaze_row_of<false>(o + i, c + i, a + i, 4, x1 - x0, p.color, p.alpha);
     });
 }
 

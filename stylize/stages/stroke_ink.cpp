@@ -28,9 +28,16 @@ void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const Strok
         plain_loop(w, h, [&](int x, int y) { px(x, y, sample_resampled_plane(ip, x, y, w, h)); });
         return;
     }
-    const Resampler rs(w, h, ink.width(), ink.height());
-    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) px(x, y, rs.sample(ip, x, y));
+    // Fast: the ink row resampled once (RowResampler; the ink itself at the same size), then the
+    // row glazed in registers (glaze_row_of: glaze_px's values).
+    const ResampleAxis ax(w, ink.width()), ay(h, ink.height());
+    for_each_row_block(ex, h, [&](int y0, int y1) {
+        RowResampler<1> up(ink.data(), ink.width(), w, ax, ay);
+        std::vector<float> buf(static_cast<std::size_t>(w));
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t r = std::size_t(y) * w * 4;
+            glaze_row_of<false>(o + r, c + r, up.row_or_source(y, buf.data()), 1, w, p.color, p.alpha);
+        }
     });
 }
 

@@ -4,9 +4,12 @@
 // ld06_wash.glsl).
 #pragma once
 
+#include <cstring>
+
 #include <glm/glm.hpp>
 
 #include "stylize/kernels.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -51,6 +54,25 @@ inline float wash_amount(float I, float rho, float h, const WashShape& s) {
 //! Multiplicative (subtractive-like, the watercolor default): dst·(1 - k·(1 - c)); over: mix(dst, c, k).
 inline glm::vec3 glaze_px(glm::vec3 dst, glm::vec3 c, float k, bool multiplicative) {
     return multiplicative ? dst * (1.0f - k * (1.0f - c)) : dst * (1.0f - k) + c * k;
+}
+
+//! glaze_px of one colour over a row of w RGBA pixels: o[x].rgb = glaze_px(dst[x].rgb, c,
+//! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer, stroke_ink). A pixel's
+//! RGB in one 4-lane register: glaze_px's operations lane by lane (bit for bit its vec3 form).
+template <bool Multiplicative>
+inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const float* __restrict p, std::size_t stride,
+                         int w, glm::vec3 c, float alpha) {
+    const toolkit::v4f col = {c.r, c.g, c.b, 0.0f};
+    for (int x = 0; x < w; ++x) {
+        toolkit::v4f d;
+        std::memcpy(&d, dst + std::size_t(x) * 4, sizeof d);
+        const float k = sat(alpha * p[std::size_t(x) * stride]);
+        toolkit::v4f r;
+        if constexpr (Multiplicative) r = d * (1.0f - k * (1.0f - col));
+        else r = d * (1.0f - k) + col * k;
+        r[3] = d[3];
+        std::memcpy(o + std::size_t(x) * 4, &r, sizeof r);
+    }
 }
 
 //! LD06 §3.2 colour of a layer at lighting-map value t (Gooch et al. 1998 with the object colour
