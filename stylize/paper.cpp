@@ -10,12 +10,14 @@
 #include "stylize/paper.h"
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 
 #include "core/io.h"
 #include "stylize/kernels.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -170,6 +172,32 @@ ImageF flat_paper(int width, int height) {
     // MNPR layout: normal x, normal y, height; the flat paper's values are named in paper.h.
     static_assert(kFlatPaperNormal == kFlatPaperHeight, "one fill value serves all three channels");
     return ImageF(width, height, 3, kFlatPaperNormal);
+}
+
+float paper_height_spread(const ImageF& paper, const Exec& ex) {
+    if (paper.channels() < 3) throw Error("paper: no height channel");
+    const int w = paper.width(), h = paper.height();
+    const std::size_t pc = std::size_t(paper.channels());
+    std::vector<float> row_max(std::size_t(std::max(h, 0)), 0.0f);  // per row: NaN wins, then the maximum
+    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            const float* r = paper.data() + std::size_t(y) * w * pc + 2;
+            float m = 0.0f;
+            bool nan = false;
+            for (int x = 0; x < w; ++x) {
+                const float d = std::abs(r[std::size_t(x) * pc] - 0.5f);
+                nan |= d != d;
+                m = d > m ? d : m;
+            }
+            row_max[std::size_t(y)] = nan ? std::numeric_limits<float>::quiet_NaN() : m;
+        }
+    });
+    float m = 0.0f;
+    for (const float v : row_max) {
+        if (v != v) return v;
+        m = v > m ? v : m;
+    }
+    return m;
 }
 
 }  // namespace aq::stylize

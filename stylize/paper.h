@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "core/exec.h"
 #include "core/image.h"
 
 namespace aq::stylize {
@@ -30,5 +31,11 @@ void clear_paper_cache();
 
 //! A flat paper (normal (0,0,1) -> 0.5, 0.5; height 0.5) for pipelines without a paper file.
 ImageF flat_paper(int width, int height);
+
+//! max |h - ½| over the paper's heights (channel 2), NaN when some height is NaN: how far the
+//! paper can move a wash's border (layer_wash's test for layers that wash to exactly 0). Exact (a
+//! maximum), the same on every traversal. run_pipeline computes it once per run for the stages
+//! that ask (Globals::paper_height_spread).
+float paper_height_spread(const ImageF& paper, const Exec& ex = {});
 
 }  // namespace aq::stylize

@@ -87,6 +87,9 @@ struct Globals {
     const raster::PassScene* scene = nullptr;
     //! Non-fatal problems a step reports (a pass that draws nothing); may be null.
     std::vector<std::string>* warnings = nullptr;
+    //! paper_height_spread(*paper), computed by the first stage that asks (paper_spread_of) and
+    //! kept for the run: the paper does not change while a pipeline runs. Negative: not yet.
+    mutable float paper_spread = -1.0f;
 };
 
 // ---------------------------------------------------------------------------------------------

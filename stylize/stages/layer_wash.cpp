@@ -45,7 +45,7 @@ void shape_row(float* o, const float* I, const float* R, const float* H, std::si
 }  // namespace
 
 void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h,
-                const LayerWashParams& p, const Exec& ex) {
+                const LayerWashParams& p, const Exec& ex, float paper_spread) {
     static const char* kPorts[4] = {"layer0", "layer1", "layer2", "layer3"};
     const ImageF* first = nullptr;
     for (int k = 0; k < 4; ++k) {
@@ -89,15 +89,15 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
     // height can lift ρ' = 0 + border·(h - ½) above κ - w (then a = 0, e = 0, p = 0): it is
     // skipped like an absent one. The reference computes it; the registry-wide test and
     // LayerWash.EmptyLayersAreSkippedWithTheSameBytes compare the two.
-    // κ - w >= border·|h - ½| at every paper texel (false for NaN), i.e. >= border·max|h - ½|.
+    // κ - w >= border·|h - ½| at every paper texel (false for NaN), i.e. >= border·max|h - ½|
+    // (paper_height_spread: border >= 0, and rounding is monotone, so the maximum of the products
+    // is the product with the maximum; a NaN or, at border 0, an infinite spread fails the test as
+    // a NaN or infinite texel does).
     const float room = p.shape.kappa - p.shape.width;
     bool empty_is_zero = room >= 0.0f;
     if (empty_is_zero && paper && p.shape.paper_before) {
-        const float* pd = paper->data();
-        const std::size_t pc = std::size_t(paper->channels());
-        empty_is_zero = !any_index(ex, std::size_t(out_w) * out_h, [&](std::size_t i) {
-            return !(room >= p.shape.border * std::abs(pd[i * pc + 2] - 0.5f));
-        });
+        const bool known = paper_spread >= 0.0f || paper_spread != paper_spread;
+        empty_is_zero = room >= p.shape.border * (known ? paper_spread : paper_height_spread(*paper, ex));
     }
     bool use[4];
     int P = 0;
@@ -208,7 +208,7 @@ void register_layer_wash(Registry& r) {
             const ImageF* paper = globals_of(io).paper;
             const ImageF* layers[4] = {io.in[0], io.in[1], io.in[2], io.in[3]};
             const int w = paper ? paper->width() : io.in[0]->width(), h = paper ? paper->height() : io.in[0]->height();
-            layer_wash(*io.out[0], layers, paper, w, h, p, ex);
+            layer_wash(*io.out[0], layers, paper, w, h, p, ex, paper_spread_of(globals_of(io), ex));
         });
         v.reference = StageVariant::Reference::PlainLoop;
         r.add(std::move(v));

@@ -24,8 +24,10 @@ struct LayerWashParams {
 //! dst (4 channels, out_w x out_h): channel k = wash_amount of layers[k] (0 where layers[k] is
 //! null). layers: one channel each, all of one size; paper: the prepared paper (height in channel
 //! 2) of size out_w x out_h, or null (flat).
+//! paper_spread: paper_height_spread(*paper) when the caller knows it (a pipeline run computes it
+//! once), negative: computed here when needed.
 void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h,
-                const LayerWashParams& p, const Exec& ex = {});
+                const LayerWashParams& p, const Exec& ex = {}, float paper_spread = -1.0f);
 
 //! The blur both layer_wash and shadow_layer apply to an intensity map (radius 0: a copy).
 void wash_blur(ImageF& dst, const ImageF& src, int radius, float sigma, const Exec& ex);

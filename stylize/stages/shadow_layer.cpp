@@ -9,7 +9,7 @@ namespace aq::stylize {
 using namespace toolkit;
 
 void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const ImageF* paper, const ShadowLayerParams& p,
-                  bool multiplicative, const Exec& ex) {
+                  bool multiplicative, const Exec& ex, float paper_spread) {
     check_input(&color, 4, Channels::Exactly, "shadow_layer", "color");
     check_input(&shadow, 1, Channels::Exactly, "shadow_layer", "shadow");
     check_not_alias(dst, &color, "shadow_layer", "color");
@@ -18,7 +18,7 @@ void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const 
     const int w = color.width(), h = color.height();
     ImageF amount;
     const ImageF* layers[4] = {&shadow, nullptr, nullptr, nullptr};
-    layer_wash(amount, layers, paper, w, h, p.wash, ex);  // both traversals follow ex
+    layer_wash(amount, layers, paper, w, h, p.wash, ex, paper_spread);  // both traversals follow ex
     ensure_output(dst, w, h, 4);
     const float* a = amount.data();
     const float* c = color.data();
@@ -69,7 +69,7 @@ void register_shadow_layer(Registry& r) {
             p.wash.shape = {tp.kappa, tp.width, tp.edge, tp.border, tp.granulation, true, false};
             p.color = {tp.color_r, tp.color_g, tp.color_b};
             p.alpha = tp.alpha;
-            shadow_layer(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, p, mul, ex);
+            shadow_layer(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, p, mul, ex, paper_spread_of(globals_of(io), ex));
         });
         v.reference = StageVariant::Reference::SharedMaths;
         r.add(std::move(v));

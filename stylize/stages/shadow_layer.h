@@ -24,7 +24,7 @@ struct ShadowLayerParams {
 //! dst (4 channels, color's size): color glazed with the shadow wash. shadow: one channel, any
 //! size; paper: the prepared paper of color's size or null.
 void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const ImageF* paper, const ShadowLayerParams& p,
-                  bool multiplicative, const Exec& ex = {});
+                  bool multiplicative, const Exec& ex = {}, float paper_spread = -1.0f);  // layer_wash's paper_spread
 
 void register_shadow_layer(Registry& r);
 

@@ -19,6 +19,7 @@
 #include "core/image.h"
 #include "stylize/fastmath.h"
 #include "stylize/kernels.h"
+#include "stylize/paper.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize::toolkit {
@@ -98,6 +99,14 @@ inline RunFn with_port_check(const StageVariant& v, RunFn fn) {
 inline const Globals& globals_of(const StageIO& io) {
     static const Globals kDefault{};
     return io.globals ? *io.globals : kDefault;
+}
+
+//! The run's paper_height_spread (Globals::paper_spread, computed once per run), or a negative
+//! value without a paper.
+inline float paper_spread_of(const Globals& g, const Exec& ex) {
+    if (!g.paper) return -1.0f;
+    if (!(g.paper_spread >= 0.0f) && g.paper_spread == g.paper_spread) g.paper_spread = paper_height_spread(*g.paper, ex);
+    return g.paper_spread;
 }
 
 // ---- outputs ---------------------------------------------------------------------------------

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "stylize/paper.h"
 #include "stylize/stages/color_ramp.h"
 #include "stylize/stages/glaze.h"
 #include "stylize/stages/id_layers.h"
@@ -183,6 +184,34 @@ TEST(LayerWash, EmptyLayersAreSkippedWithTheSameBytes) {
     layer_wash(r, layers, &paper, 72, 72, p, Exec::reference());
     layer_wash(f, layers, &paper, 72, 72, p, Exec::fast(2));
     ASSERT_EQ(0, std::memcmp(r.data(), f.data(), r.num_values() * sizeof(float))) << "NaN paper";
+    // The spread a pipeline run computes once and hands in gives the same bytes.
+    layer_wash(f, layers, &paper, 72, 72, p, Exec::fast(2), paper_height_spread(paper));
+    ASSERT_EQ(0, std::memcmp(r.data(), f.data(), r.num_values() * sizeof(float))) << "NaN paper, spread given";
+}
+
+TEST(Paper, HeightSpreadIsTheMaximumDistanceFromOneHalf) {
+    // Against the plain definition: max |h - 1/2| over the height channel (the other channels are
+    // ignored), NaN when a height is NaN, infinite for an infinite height; any traversal.
+    for (int channels : {3, 4}) {
+        ImageF paper(37, 23, channels, 0.5f);
+        for (int y = 0; y < 23; ++y)
+            for (int x = 0; x < 37; ++x) {
+                paper.at(x, y, 2) = float((x * 7 + y * 13) % 17) / 20.0f;  // 0 .. 0.8
+                paper.at(x, y, 0) = 9.0f;                                 // not a height
+            }
+        paper.at(30, 20, 2) = -0.25f;  // |h - 1/2| = 0.75, the maximum
+        double want = 0;
+        for (int y = 0; y < 23; ++y)
+            for (int x = 0; x < 37; ++x) want = std::max(want, std::abs(double(paper.at(x, y, 2)) - 0.5));
+        for (const Exec& ex : {Exec::reference(), Exec::fast(1), Exec::fast(2), Exec::fast(8)}) {
+            EXPECT_EQ(paper_height_spread(paper, ex), float(want));
+            ImageF p2 = paper;
+            p2.at(3, 17, 2) = std::numeric_limits<float>::infinity();
+            EXPECT_EQ(paper_height_spread(p2, ex), std::numeric_limits<float>::infinity());
+            p2.at(36, 0, 2) = std::numeric_limits<float>::quiet_NaN();
+            EXPECT_TRUE(std::isnan(paper_height_spread(p2, ex)));
+        }
+    }
 }
 
 TEST(ColorRamp, GoochEndsAndAlpha) {
