@@ -358,8 +358,23 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                 const PStroke& st = ps_strokes[items[it]];
                 const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
                 const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
-                for (int y = y0; y <= y1; ++y)
-                    for (int x = x0; x <= x1; ++x) best[(y - Y0) * kTile + (x - X0)] = std::numeric_limits<float>::infinity();
+                // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
+                // only it is initialised and scanned (outside it no segment is near, best stays
+                // +inf and nothing is drawn, as over the whole stroke bounds).
+                int lo[kTile], hi[kTile];
+                for (int y = y0; y <= y1; ++y) lo[y - Y0] = x1 + 1, hi[y - Y0] = x1;
+                auto touch = [&](int y, int a, int b) {
+                    float* brow = best + (y - Y0) * kTile - X0;
+                    int& l = lo[y - Y0];
+                    int& h = hi[y - Y0];
+                    if (l > h) {
+                        std::fill(brow + a, brow + b + 1, std::numeric_limits<float>::infinity());
+                        l = a, h = b;
+                        return;
+                    }
+                    if (a < l) std::fill(brow + a, brow + l, std::numeric_limits<float>::infinity()), l = a;
+                    if (b > h) std::fill(brow + h + 1, brow + b + 1, std::numeric_limits<float>::infinity()), h = b;
+                };
                 // Segments in order, each over its own capsule bounds: the same minimum (first on
                 // a tie) as the reference's loop over all segments per pixel.
                 for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
@@ -368,7 +383,9 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                     const int sx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
                     const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
                     const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
+                    if (sx0 > sx1) continue;
                     for (int y = sy0; y <= sy1; ++y) {
+                        touch(y, sx0, sx1);
                         // Selects, not a branch: the row loop vectorises (no-trapping-math above);
                         // the same strict < (first segment on a tie; NaN never wins).
                         float* __restrict brow = best + (y - Y0) * kTile;
@@ -387,7 +404,7 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                     }
                 }
                 for (int y = y0; y <= y1; ++y)
-                    for (int x = x0; x <= x1; ++x) {
+                    for (int x = lo[y - Y0]; x <= hi[y - Y0]; ++x) {
                         const int li = (y - Y0) * kTile + (x - X0);
                         if (best[li] <= r2) shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
                     }
