@@ -77,6 +77,7 @@ void fragment_row_avx2(const Sprite& s, bool round, float delta, float beta, int
         const __m256 bv = _mm256_maskload_ps(b + x, in);
         // if (b >= 1) return;
         __m256 keep = _mm256_or_ps(_mm256_cmp_ps(bv, one, _CMP_GE_OQ), _mm256_castsi256_ps(_mm256_xor_si256(in, _mm256_set1_epi32(-1))));
+        if (_mm256_movemask_ps(keep) == 0xff) continue;  // all saturated (dense crowns): nothing to compute
         const __m256 Dv = _mm256_maskload_ps(D + x, in);
         __m256 shape = one;
         if (round) {
