@@ -154,21 +154,30 @@ TEST(Particles, BoundsAreRefusedBeforeDrawing) {
     EXPECT_THROW(render_particles(a, b, c, f.ps, many, p), Error) << "no depth map";
 }
 
-TEST(Particles, SameBytesForEveryTraversalAndThreadCount) {
-    const scene::Scene oak = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
-    FoliageParams fp;
-    fp.threshold = 4.0f;
-    const auto a = abstract_foliage(oak, fp);
-    const scene::Camera cam = test::frame_scene(a->scene);
-    PassScene ps = make_pass_scene(a->scene, cam, 200, 160);
-    TrianglePass dp;
-    dp.value = PassValue::Depth;
+// The shared bush abstracted to its implicit surface, seen at w x h, with its camera depth map.
+struct BushView {
+    std::shared_ptr<const AbstractedScene> a;
+    PassScene ps;
     ImageF depth;
-    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    BushView(int w, int h) {
+        static const scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
+        FoliageParams fp;
+        fp.threshold = 4.0f;
+        a = abstract_foliage(bush, fp);
+        ps = make_pass_scene(a->scene, test::frame_scene(a->scene), w, h);
+        TrianglePass dp;
+        dp.value = PassValue::Depth;
+        render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    }
+};
+
+TEST(Particles, SameBytesForEveryTraversalAndThreadCount) {
+    BushView v(200, 160);
+    const PassScene& ps = v.ps;
     ParticleParams p;
-    p.depth_map = &depth;
+    p.depth_map = &v.depth;
     p.quantity = 8;
-    const std::vector<Particle> qs = place_particles(a->surface, a->height, ps.light_dir, p);
+    const std::vector<Particle> qs = place_particles(v.a->surface, v.a->height, ps.light_dir, p);
     ASSERT_GT(qs.size(), 4000u);
     for (DepthTest t : {DepthTest::Blurred, DepthTest::BlurredRgba8, DepthTest::Binary}) {
         p.test = t;
@@ -192,16 +201,9 @@ TEST(Particles, NonFiniteDepthsAndSquareSpritesHaveTheReferenceBytes) {
     // The fast traversal's vector rows keep every early return of the per-fragment function: a
     // saturated pixel, the blotch's corners only where D is finite, NaN and infinite D, square
     // sprites (no corners), and the binary limit δ = 0.
-    const scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
-    FoliageParams fp;
-    fp.threshold = 4.0f;
-    const auto a = abstract_foliage(bush, fp);
-    const scene::Camera cam = test::frame_scene(a->scene);
-    PassScene ps = make_pass_scene(a->scene, cam, 203, 157);
-    TrianglePass dp;
-    dp.value = PassValue::Depth;
-    ImageF depth;
-    render_triangle_pass(depth, ps, dp, Exec::fast(2));
+    BushView v(203, 157);
+    const PassScene& ps = v.ps;
+    ImageF& depth = v.depth;
     const float specials[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
                               -std::numeric_limits<float>::infinity()};
     for (int y = 0; y < depth.height(); ++y)
@@ -210,7 +212,7 @@ TEST(Particles, NonFiniteDepthsAndSquareSpritesHaveTheReferenceBytes) {
     ParticleParams p;
     p.depth_map = &depth;
     p.quantity = 12;  // dense enough to saturate
-    const std::vector<Particle> qs = place_particles(a->surface, a->height, ps.light_dir, p);
+    const std::vector<Particle> qs = place_particles(v.a->surface, v.a->height, ps.light_dir, p);
     for (int shape : {0, 1})
         for (float delta : {0.0f, 0.05f}) {
             p.shape = shape;
