@@ -3,9 +3,11 @@
 // made of washes — paper around it, the plant darker than the paper, not the G-buffer colour —
 // with the same float bytes at 1, 2 and 8 threads; a model without foliage, δ = 0 (the binary
 // limit) and a folded layer pack render; out-of-range layer colours fail with a message naming the
-// parameter and leave no output file.
+// parameter and leave no output file; --targets writes the colour-ramp maps that the fused render
+// never writes, with the same image.
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -83,6 +85,22 @@ TEST(Ld06Cli, BarePlantIsPaintedWithTheSameBytesForAnyThreadCount) {
     ASSERT_GT(covered, 500);
     EXPECT_GT(double(painted) / covered, 0.5) << "most of the plant is painted";
     EXPECT_GT(diff / covered, 0.03) << "the washes are not the G-buffer colour";
+}
+
+TEST(Ld06Cli, TheRampMapsAreWrittenWhenAskedForAndTheFusedRenderHasTheSameBytes) {
+    // Without --targets, each color_ramp runs inside its glaze (stylize/stage.h Fusion) and writes
+    // no map; with --targets the steps run one by one and every ramp map is written. The image is
+    // the same float bytes either way.
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(render("procedural:tree", "ld06", dir + "/fused.exr", "", &log), 0) << log;
+    ASSERT_EQ(render("procedural:tree", "ld06", dir + "/kept.exr", "--targets " + shell_quote(dir + "/targets"), &log), 0) << log;
+    const ImageF fused = read_image(dir + "/fused.exr"), kept = read_image(dir + "/kept.exr");  // pixels: the
+    ASSERT_TRUE(fused.same_size(kept));                                                         // files' manifests
+    EXPECT_EQ(0, std::memcmp(fused.data(), kept.data(), fused.num_values() * sizeof(float)))    // name the options
+        << "fused and unfused renders differ";
+    for (const char* t : {"ld06.ramp.0", "ld06.ramp.3", "ld06.particles.ramp.0", "ld06.particles.ramp.3", "ld06.wash"})
+        EXPECT_TRUE(std::filesystem::exists(dir + "/targets/" + t + ".exr")) << t;
 }
 
 TEST(Ld06Cli, NoFoliageTheBinaryLimitAndAFoldedLayerPackRender) {
