@@ -44,17 +44,8 @@ struct Sprite {
 };
 
 #ifdef __AVX2__
-// Exact vector forms of the scalar helpers (compare + blend: the NaN cases of the scalar code).
-inline __m256 sat8(__m256 x) {
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-    // x < 0 ? 0 : (x > 1 ? 1 : x)
-    return _mm256_blendv_ps(_mm256_blendv_ps(x, one, _mm256_cmp_ps(x, one, _CMP_GT_OQ)), zero, _mm256_cmp_ps(x, zero, _CMP_LT_OQ));
-}
-inline __m256 smoothstep8(float e0, float e1, __m256 x) {  // stylize::smoothstep
-    const __m256 t = sat8(_mm256_div_ps(_mm256_sub_ps(x, _mm256_set1_ps(e0)), _mm256_set1_ps(e1 - e0)));
-    return _mm256_mul_ps(_mm256_mul_ps(t, t), _mm256_sub_ps(_mm256_set1_ps(3.0f), _mm256_mul_ps(_mm256_set1_ps(2.0f), t)));
-}
-inline __m256 finite8(__m256 x) {  // all bits where x is finite
+// All bits where x is finite.
+inline __m256 finite8(__m256 x) {
     const __m256 abs = _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
     return _mm256_cmp_ps(abs, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ);
 }
@@ -85,15 +76,15 @@ void fragment_row_avx2(const Sprite& s, bool round, float delta, float beta, int
             const __m256 u = _mm256_div_ps(_mm256_sub_ps(_mm256_add_ps(fx, half), left), size);
             const __m256 du = _mm256_sub_ps(u, half);
             const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(du, du), dv2));
-            shape = _mm256_sub_ps(one, smoothstep8(0.4f, 0.5f, r));  // particle_shape
+            shape = _mm256_sub_ps(one, stylize::smoothstep8(0.4f, 0.5f, r));  // particle_shape
             if (depth_finite)
                 keep = _mm256_or_ps(keep, _mm256_and_ps(_mm256_cmp_ps(shape, _mm256_setzero_ps(), _CMP_EQ_OQ), finite8(Dv)));
         }
         if (_mm256_movemask_ps(keep) == 0xff) continue;
         const __m256 arg = _mm256_add_ps(_mm256_sub_ps(Dv, depth), vbeta);  // blurred_visibility
         const __m256 fv = step ? _mm256_and_ps(_mm256_cmp_ps(arg, _mm256_set1_ps(-delta), _CMP_GE_OQ), one)
-                               : smoothstep8(-delta, delta, arg);
-        const __m256 nb = sat8(_mm256_add_ps(_mm256_mul_ps(fv, shape), bv));
+                               : stylize::smoothstep8(-delta, delta, arg);
+        const __m256 nb = stylize::sat8(_mm256_add_ps(_mm256_mul_ps(fv, shape), bv));
         _mm256_maskstore_ps(b + x, _mm256_castps_si256(_mm256_andnot_ps(keep, _mm256_castsi256_ps(in))), nb);
     }
 }

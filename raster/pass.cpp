@@ -395,16 +395,11 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             for (const Chunk& ch : fr.chunks)
                 for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
                     const TriSetup& t = ch.tris[ch.bin_items[k]];
-                    const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-                    const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
-                    for (int y = y0; y <= y1; ++y)
-                        for (int x = x0; x <= x1; ++x) {
-                            std::int64_t e[3];
-                            edge_values(t, x, y, e);
-                            if (!inside(t, e)) continue;
-                            fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x,
-                                     &zbuf[(y - Y0) * kTile + (x - X0)]);
-                        }
+                    for_each_inside(t, std::max(t.x0, X0), std::min(t.x1, X1), std::max(t.y0, Y0), std::min(t.y1, Y1),
+                                    [&](int x, int y, const std::int64_t* e) {
+                                        fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x,
+                                                 &zbuf[(y - Y0) * kTile + (x - X0)]);
+                                    });
                 }
         });
     };

@@ -52,6 +52,27 @@ inline bool inside(const TriSetup& t, const std::int64_t e[3]) {
     return e[0] >= t.bias[0] && e[1] >= t.bias[1] && e[2] >= t.bias[2];
 }
 
+//! Calls f(x, y, e) for every pixel of [x0, x1] x [y0, y1] whose centre is inside t, row by row,
+//! with its exact edge values (stepped in integers from edge_values at (x0, y0): the same values).
+template <class F>
+inline void for_each_inside(const TriSetup& t, int x0, int x1, int y0, int y1, F&& f) {
+    if (x0 > x1 || y0 > y1) return;
+    std::int64_t row[3];
+    edge_values(t, x0, y0, row);
+    const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
+                                std::int64_t(t.A[2]) * kSubpixelOne};
+    const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
+                                std::int64_t(t.B[2]) * kSubpixelOne};
+    for (int y = y0; y <= y1; ++y) {
+        std::int64_t e[3] = {row[0], row[1], row[2]};
+        for (int x = x0; x <= x1; ++x) {
+            if (inside(t, e)) f(x, y, static_cast<const std::int64_t*>(e));
+            e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
+        }
+        row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
+    }
+}
+
 //! Perspective-correct weights of the setup vertices and the interpolated linear depth.
 //! The one floating-point path from exact edge values to a fragment; both traversals call it.
 struct Bary {

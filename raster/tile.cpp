@@ -190,18 +190,14 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
                 continue;
             }
             // Alpha-masked: the material's alpha per pixel, after the depth test (as the reference).
-            for (int y = y0; y <= y1; ++y)
-                for (int x = x0; x <= x1; ++x) {
-                    std::int64_t e[3];
-                    edge_values(t, x, y, e);
-                    if (!inside(t, e)) continue;
-                    const int li = (y - Y0) * kTile + (x - X0);
-                    const Bary b = perspective_bary(t, e);
-                    if (b.depth < zbuf[li] && alpha_pass(fr, ch, t, b)) {
-                        zbuf[li] = b.depth;
-                        ids[li] = {ci, ti};
-                    }
+            for_each_inside(t, x0, x1, y0, y1, [&](int x, int y, const std::int64_t* e) {
+                const int li = (y - Y0) * kTile + (x - X0);
+                const Bary b = perspective_bary(t, e);
+                if (b.depth < zbuf[li] && alpha_pass(fr, ch, t, b)) {
+                    zbuf[li] = b.depth;
+                    ids[li] = {ci, ti};
                 }
+            });
         }
     }
 }
@@ -220,22 +216,11 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         ids[i].chunk = kNoChunk;
     }
     if (count) {  // overdraw: every covered sample of every triangle, no depth test
-        const std::int64_t step = kSubpixelOne;
         for (const Chunk& ch : fr.chunks)
             for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
                 const TriSetup& t = ch.tris[ch.bin_items[k]];
-                const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-                const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
-                std::int64_t row[3];
-                edge_values(t, x0, y0, row);
-                for (int y = y0; y <= y1; ++y) {
-                    std::int64_t e[3] = {row[0], row[1], row[2]};
-                    for (int x = x0; x <= x1; ++x) {
-                        if (inside(t, e)) count[std::size_t(y) * W + x] += 1.0f;
-                        for (int i = 0; i < 3; ++i) e[i] += t.A[i] * step;
-                    }
-                    for (int i = 0; i < 3; ++i) row[i] += t.B[i] * step;
-                }
+                for_each_inside(t, std::max(t.x0, X0), std::min(t.x1, X1), std::max(t.y0, Y0), std::min(t.y1, Y1),
+                                [&](int x, int y, const std::int64_t*) { count[std::size_t(y) * W + x] += 1.0f; });
             }
         return;
     }

@@ -13,31 +13,17 @@ namespace {
 
 constexpr int kPlainPixels = 4;
 
-// The plain loop: the reference traversal's per-pixel test, with the edge values stepped exactly
-// in integers (the values edge_values gives).
+// The plain loop: the reference traversal's per-pixel test over for_each_inside's exact edge values.
 void depth_test_plain(const TriSetup& t, int X0, int Y0, int stride, int x0, int x1, int y0, int y1, float* zbuf,
                       TileRef* ids, TileRef ref) {
-    std::int64_t row[3];
-    edge_values(t, x0, y0, row);
-    const std::int64_t sx[3] = {std::int64_t(t.A[0]) * kSubpixelOne, std::int64_t(t.A[1]) * kSubpixelOne,
-                                std::int64_t(t.A[2]) * kSubpixelOne};
-    const std::int64_t sy[3] = {std::int64_t(t.B[0]) * kSubpixelOne, std::int64_t(t.B[1]) * kSubpixelOne,
-                                std::int64_t(t.B[2]) * kSubpixelOne};
-    for (int y = y0; y <= y1; ++y) {
-        std::int64_t e[3] = {row[0], row[1], row[2]};
-        for (int x = x0; x <= x1; ++x) {
-            if (inside(t, e)) {
-                const int li = (y - Y0) * stride + (x - X0);
-                const Bary b = perspective_bary(t, e);
-                if (b.depth < zbuf[li]) {
-                    zbuf[li] = b.depth;
-                    ids[li] = ref;
-                }
-            }
-            e[0] += sx[0], e[1] += sx[1], e[2] += sx[2];
+    for_each_inside(t, x0, x1, y0, y1, [&](int x, int y, const std::int64_t* e) {
+        const int li = (y - Y0) * stride + (x - X0);
+        const Bary b = perspective_bary(t, e);
+        if (b.depth < zbuf[li]) {
+            zbuf[li] = b.depth;
+            ids[li] = ref;
         }
-        row[0] += sy[0], row[1] += sy[1], row[2] += sy[2];
-    }
+    });
 }
 
 #ifdef __AVX2__

@@ -8,6 +8,10 @@
 
 #include <glm/glm.hpp>
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
 #include "core/image.h"
 
 namespace aq::stylize {
@@ -21,6 +25,19 @@ inline float smoothstep(float e0, float e1, float x) {
     const float t = sat((x - e0) / (e1 - e0));
     return t * t * (3.0f - 2.0f * t);
 }
+#ifdef __AVX2__
+//! sat and smoothstep on eight lanes: the scalar forms' operations lane by lane (compare + blend,
+//! so a NaN stays NaN as in the scalar code), bit for bit.
+inline __m256 sat8(__m256 x) {
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256 v = _mm256_blendv_ps(x, one, _mm256_cmp_ps(x, one, _CMP_GT_OQ));
+    return _mm256_blendv_ps(v, zero, _mm256_cmp_ps(x, zero, _CMP_LT_OQ));
+}
+inline __m256 smoothstep8(float e0, float e1, __m256 x) {
+    const __m256 t = sat8(_mm256_div_ps(_mm256_sub_ps(x, _mm256_set1_ps(e0)), _mm256_set1_ps(e1 - e0)));
+    return _mm256_mul_ps(_mm256_mul_ps(t, t), _mm256_sub_ps(_mm256_set1_ps(3.0f), _mm256_mul_ps(_mm256_set1_ps(2.0f), t)));
+}
+#endif
 //! Rec. ITU-R BT.709 luma weights (MNPR's luminance(), reference/shaders/common.glsl).
 inline constexpr float kLumaR = 0.2126f, kLumaG = 0.7152f, kLumaB = 0.0722f;
 inline float luminance(float r, float g, float b) { return kLumaR * r + kLumaG * g + kLumaB * b; }

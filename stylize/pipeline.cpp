@@ -47,12 +47,6 @@ double get_number(const json& j, const std::string& src, const std::string& key)
     return JsonReader{src}.number_or_flag(j, key);
 }
 
-const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
-    for (auto& p : ports)
-        if (p.name == name) return &p;
-    return nullptr;
-}
-
 std::string port_list(const std::vector<Port>& ports) {
     std::string s;
     for (auto& p : ports) s += (s.empty() ? "" : ", ") + p.name;
@@ -351,10 +345,10 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
 
 namespace {
 
+//! The index of the port called `name` in `ports` (find_port), or -1.
 int port_index(const std::vector<Port>& ports, const std::string& name) {
-    for (std::size_t k = 0; k < ports.size(); ++k)
-        if (ports[k].name == name) return int(k);
-    return -1;
+    const Port* p = find_port(ports, name);
+    return p ? int(p - ports.data()) : -1;
 }
 
 // CompiledPipeline::fused_with_next: consecutive stage steps with a registered Fusion whose links

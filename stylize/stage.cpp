@@ -35,6 +35,12 @@ void Registry::add(StageVariant v) {
     variants_.push_back(std::move(v));
 }
 
+const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
+    for (const Port& p : ports)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
 void Registry::add_fusion(Fusion f) {
     const StageVariant* pv = nullptr;
     const StageVariant* cv = nullptr;
@@ -45,14 +51,9 @@ void Registry::add_fusion(Fusion f) {
     if (!pv || !cv) throw Error("fusion " + f.producer + " -> " + f.consumer + ": unknown stage variant");
     if (!f.run) throw Error("fusion " + f.producer + " -> " + f.consumer + ": no run function");
     if (fusion(f.producer, f.consumer)) throw Error("fusion " + f.producer + " -> " + f.consumer + " registered twice");
-    auto port = [](const std::vector<Port>& ports, const std::string& name) -> const Port* {
-        for (const Port& p : ports)
-            if (p.name == name) return &p;
-        return nullptr;
-    };
     for (const auto& [out, in] : f.links) {
-        const Port* o = port(pv->outputs, out);
-        const Port* i = port(cv->inputs, in);
+        const Port* o = find_port(pv->outputs, out);
+        const Port* i = find_port(cv->inputs, in);
         if (!o || !i || o->channels != i->channels)
             throw Error("fusion " + f.producer + " -> " + f.consumer + ": link " + out + " -> " + in + " does not match the ports");
     }

@@ -102,6 +102,9 @@ struct Port {
     bool optional = false;       //!< inputs only: may be absent (stage documents its fallback)
 };
 
+//! The port called `name` in `ports`, or null.
+const Port* find_port(const std::vector<Port>& ports, const std::string& name);
+
 //! What a stage sees when it runs: resolved inputs (nullptr for an absent optional input) and the
 //! outputs it must fill (it allocates them, choosing their size, e.g. half resolution).
 struct StageIO {

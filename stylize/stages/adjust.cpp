@@ -69,7 +69,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     const float k = p.contrast * 0.5f + 0.5f;
     const float b = p.brightness - 1.0f;
     const __m256 vsat = _mm256_set1_ps(p.saturation), vk = _mm256_set1_ps(k), vb = _mm256_set1_ps(b);
-    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
+    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
     const __m256 lr = _mm256_set1_ps(kLumaR), lg = _mm256_set1_ps(kLumaG), lb = _mm256_set1_ps(kLumaB);
     const __m256 sub = _mm256_setr_ps(substrate[0], substrate[1], substrate[2], 0.0f, substrate[0], substrate[1],
                                       substrate[2], 0.0f);
@@ -88,9 +88,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
             const __m256 s = _mm256_add_ps(luma, _mm256_mul_ps(_mm256_sub_ps(c, luma), vsat));
             const __m256 ct = _mm256_add_ps(half, _mm256_mul_ps(_mm256_sub_ps(s, half), vk));
             const __m256 x = _mm256_add_ps(ct, vb);
-            // sat: x < 0 ? 0 : (x > 1 ? 1 : x)  (NaN stays NaN)
-            __m256 v = _mm256_blendv_ps(x, one, _mm256_cmp_ps(x, one, _CMP_GT_OQ));
-            v = _mm256_blendv_ps(v, zero, _mm256_cmp_ps(x, zero, _CMP_LT_OQ));
+            const __m256 v = sat8(x);  // kernels.h: NaN stays NaN
             // mix(substrate, v, a) = substrate * (1 - a) + v * a
             const __m256 m = _mm256_add_ps(_mm256_mul_ps(sub, _mm256_sub_ps(one, a)), _mm256_mul_ps(v, a));
             _mm256_storeu_ps(cout + 4 * i, _mm256_blend_ps(m, c, 0x88));  // alpha copied

@@ -28,8 +28,7 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
                const float* __restrict rows, int w, const int* ch) {
     int c4[N > 0 ? N : 1];
     for (int j = 0; j < N; ++j) c4[j] = ch[j];
-    // A pixel's RGB in the first three lanes of a 4-lane register: glaze_px's operations lane by
-    // lane (the same IEEE operations as its vec3 form; the fourth lane is computed and replaced).
+    // A pixel's RGB in one 4-lane register (glaze_px4; the fourth lane is replaced).
     for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(x) * 4;
         v4f c;
@@ -37,9 +36,7 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
         for (int j = 0; j < N; ++j) {
             v4f col;
             std::memcpy(&col, rows + (std::size_t(j) * w + x) * 4, sizeof col);
-            const float k = sat(col[3] * wash[i + std::size_t(c4[j])]);
-            if constexpr (Mul) c = c * (1.0f - k * (1.0f - col));
-            else c = c * (1.0f - k) + col * k;
+            c = glaze_px4<Mul>(c, col, sat(col[3] * wash[i + std::size_t(c4[j])]));
         }
         c[3] = 1.0f;
         std::memcpy(o + i, &c, sizeof c);
@@ -56,10 +53,6 @@ void glaze_row_n(int n, float* o, const float* base, const float* wash, const fl
         default: glaze_row<Mul, 4>(o, base, wash, rows, w, ch); break;
     }
 }
-
-}  // namespace
-
-namespace {
 
 // The ramps of the fast schedule: the color_ramp images, or computed from the lighting map.
 struct RampSource {

@@ -56,9 +56,17 @@ inline glm::vec3 glaze_px(glm::vec3 dst, glm::vec3 c, float k, bool multiplicati
     return multiplicative ? dst * (1.0f - k * (1.0f - c)) : dst * (1.0f - k) + c * k;
 }
 
+//! glaze_px with a pixel's RGB in the first three lanes of a 4-lane register: its operations lane by
+//! lane, bit for bit its vec3 form (the fourth lane is computed; callers replace it).
+template <bool Multiplicative>
+inline toolkit::v4f glaze_px4(toolkit::v4f dst, toolkit::v4f c, float k) {
+    if constexpr (Multiplicative) return dst * (1.0f - k * (1.0f - c));
+    else return dst * (1.0f - k) + c * k;
+}
+
 //! glaze_px of one colour over a row of w RGBA pixels: o[x].rgb = glaze_px(dst[x].rgb, c,
-//! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer, stroke_ink). A pixel's
-//! RGB in one 4-lane register: glaze_px's operations lane by lane (bit for bit its vec3 form).
+//! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer, stroke_ink), through
+//! glaze_px4.
 template <bool Multiplicative>
 inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const float* __restrict p, std::size_t stride,
                          int w, glm::vec3 c, float alpha) {
@@ -66,10 +74,7 @@ inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const
     for (int x = 0; x < w; ++x) {
         toolkit::v4f d;
         std::memcpy(&d, dst + std::size_t(x) * 4, sizeof d);
-        const float k = sat(alpha * p[std::size_t(x) * stride]);
-        toolkit::v4f r;
-        if constexpr (Multiplicative) r = d * (1.0f - k * (1.0f - col));
-        else r = d * (1.0f - k) + col * k;
+        toolkit::v4f r = glaze_px4<Multiplicative>(d, col, sat(alpha * p[std::size_t(x) * stride]));
         r[3] = d[3];
         std::memcpy(o + std::size_t(x) * 4, &r, sizeof r);
     }
