@@ -143,7 +143,7 @@ void BM_Ld06_Strokes(benchmark::State& st) {
     std::size_t vertices = 0;
     ImageF out;
     for (auto _ : st) {
-        const std::vector<Stroke> s = contour_strokes(ps);  // facing and chaining: part of every frame
+        const std::vector<Stroke> s = contour_strokes(ps, Exec::fast(threads));  // facing and chaining: part of every frame
         vertices = 0;
         for (const Stroke& k : s) vertices += k.points.size();
         render_strokes(out, ps, s, p, Exec::fast(threads));

@@ -23,6 +23,8 @@ namespace aq::raster {
 namespace {
 
 constexpr int kTile = 64;
+constexpr int kGroup = 8;  // pixels per vector step of the capsule scan (AVX2 lanes)
+static_assert(kTile % kGroup == 0);
 
 // One projected segment: screen end points (pixels), view-space end points and normals.
 struct Seg {
@@ -110,12 +112,23 @@ ContourCache build_contour_cache(const scene::Scene& sc) {
     return cache;
 }
 
-std::vector<Stroke> contour_strokes(const PassScene& ps) {
-    if (ps.contours) return contour_strokes(ps, *ps.contours);
-    return contour_strokes(ps, build_contour_cache(*ps.scene));
+std::vector<Stroke> contour_strokes(const PassScene& ps, const Exec& ex) {
+    if (ps.contours) return contour_strokes(ps, *ps.contours, ex);
+    return contour_strokes(ps, build_contour_cache(*ps.scene), ex);
 }
 
-std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache) {
+std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache, const Exec& ex) {
+    // f(begin, end) over [0, n): blocks on oneTBB for the fast traversal (each index writes only
+    // its own entries), one loop for the reference.
+    auto over = [&](std::size_t n, auto&& f) {
+        constexpr std::size_t kBlock = kContourBlock;
+        if (ex.traversal == Traversal::Reference || n <= kBlock) return f(std::size_t(0), n);
+        with_arena(ex, [&] {
+            tbb::parallel_for(std::size_t(0), (n + kBlock - 1) / kBlock, [&](std::size_t b) {
+                f(b * kBlock, std::min(n, (b + 1) * kBlock));
+            });
+        });
+    };
     std::vector<Stroke> out;
     const glm::mat4 inv_view = glm::inverse(ps.camera.view);
     const glm::vec3 eye(inv_view[3]);
@@ -127,31 +140,35 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
         // Facing of every triangle from this view: +1 front, -1 back, 0 edge-on or not finite (unused).
         const std::size_t nt = prim.indices.size() / 3;
         std::vector<std::int8_t> facing(nt, 0);
-        for (std::size_t t = 0; t < nt; ++t) {
-            const std::uint32_t i[3] = {prim.indices[3 * t], prim.indices[3 * t + 1], prim.indices[3 * t + 2]};
-            if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
-            const glm::vec3 n = glm::cross(world[i[1]] - world[i[0]], world[i[2]] - world[i[0]]);
-            const glm::vec3 to_eye = ps.camera.orthographic ? -fwd : eye - world[i[0]];
-            const float f = glm::dot(n, to_eye);
-            if (!std::isfinite(f) || f == 0.0f) continue;
-            facing[t] = f > 0.0f ? 1 : -1;
-        }
+        over(nt, [&](std::size_t t0, std::size_t t1) {
+            for (std::size_t t = t0; t < t1; ++t) {
+                const std::uint32_t i[3] = {prim.indices[3 * t], prim.indices[3 * t + 1], prim.indices[3 * t + 2]};
+                if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
+                const glm::vec3 n = glm::cross(world[i[1]] - world[i[0]], world[i[2]] - world[i[0]]);
+                const glm::vec3 to_eye = ps.camera.orthographic ? -fwd : eye - world[i[0]];
+                const float f = glm::dot(n, to_eye);
+                if (!std::isfinite(f) || f == 0.0f) continue;
+                facing[t] = f > 0.0f ? 1 : -1;
+            }
+        });
         // Silhouette edges (a front and a back triangle share them), in order of first use. A use
         // (3 x triangle + edge slot) belongs to one edge only, so the first uses are distinct and
         // the order is that of a table indexed by first use (no sort).
         std::vector<std::uint32_t> by_first(prim.indices.size(), ~0u);
-        for (std::uint32_t ei = 0; ei < m.edges.size(); ++ei) {
-            const ContourCache::Edge& e = m.edges[ei];
-            bool front = false, back = false;
-            std::uint32_t first = ~0u;
-            for (std::uint32_t k = e.uses_begin; k < e.uses_end; ++k) {
-                const std::int8_t f = facing[m.uses[k] / 3];
-                if (f == 0) continue;
-                first = std::min(first, m.uses[k]);
-                (f > 0 ? front : back) = true;
+        over(m.edges.size(), [&](std::size_t e0, std::size_t e1) {
+            for (std::size_t ei = e0; ei < e1; ++ei) {
+                const ContourCache::Edge& e = m.edges[ei];
+                bool front = false, back = false;
+                std::uint32_t first = ~0u;
+                for (std::uint32_t k = e.uses_begin; k < e.uses_end; ++k) {
+                    const std::int8_t f = facing[m.uses[k] / 3];
+                    if (f == 0) continue;
+                    first = std::min(first, m.uses[k]);
+                    (f > 0 ? front : back) = true;
+                }
+                if (front && back) by_first[first] = std::uint32_t(ei);  // distinct first uses: one writer
             }
-            if (front && back) by_first[first] = ei;
-        }
+        });
         std::vector<std::pair<std::uint32_t, std::uint32_t>> sil;
         for (const std::uint32_t ei : by_first)
             if (ei != ~0u) sil.push_back({m.edges[ei].a, m.edges[ei].b});
@@ -377,30 +394,41 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                 };
                 // Segments in order, each over its own capsule bounds: the same minimum (first on
                 // a tie) as the reference's loop over all segments per pixel.
+                // A segment's span is widened to whole 8-pixel groups of the tile row (within the
+                // tile): its distances there are exact too, and a pixel farther than half + 1 from it
+                // is either not drawn or nearer to another segment, so the minimum is the reference's
+                // (which tries every segment at every pixel of the stroke's bounds). The groups run
+                // as one 8-lane step each, without the short rows' scalar remainders.
                 for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
                     const Seg& g = segs[k];
-                    const int sx0 = std::max(x0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
-                    const int sx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
                     const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
                     const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
-                    if (sx0 > sx1) continue;
+                    const int cx0 = std::max(x0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
+                    const int cx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
+                    if (cx0 > cx1 || sy0 > sy1) continue;
+                    const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
+                    const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
+                    const int groups_end = sx0 + ((sx1 - sx0 + 1) & ~(kGroup - 1));
                     for (int y = sy0; y <= sy1; ++y) {
                         touch(y, sx0, sx1);
-                        // Selects, not a branch: the row loop vectorises (no-trapping-math above);
-                        // the same strict < (first segment on a tie; NaN never wins).
-                        float* __restrict brow = best + (y - Y0) * kTile;
-                        float* __restrict trow = bt + (y - Y0) * kTile;
-                        std::uint32_t* __restrict srow = bs + (y - Y0) * kTile;
+                        // Selects, not a branch: the groups vectorise (no-trapping-math above); the
+                        // same strict < (first segment on a tie; NaN never wins).
+                        float* __restrict brow = best + (y - Y0) * kTile - X0;
+                        float* __restrict trow = bt + (y - Y0) * kTile - X0;
+                        std::uint32_t* __restrict srow = bs + (y - Y0) * kTile - X0;
                         const float py = float(y) + 0.5f;
-                        for (int x = sx0; x <= sx1; ++x) {
+                        auto nearer = [&](int x) {
                             float t;
                             const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
-                            const int lx = x - X0;
-                            const bool win = d2 < brow[lx];
-                            brow[lx] = win ? d2 : brow[lx];
-                            trow[lx] = win ? t : trow[lx];
-                            srow[lx] = win ? k : srow[lx];
-                        }
+                            const bool win = d2 < brow[x];
+                            brow[x] = win ? d2 : brow[x];
+                            trow[x] = win ? t : trow[x];
+                            srow[x] = win ? k : srow[x];
+                        };
+                        int x = sx0;
+                        for (; x < groups_end; x += kGroup)
+                            for (int l = 0; l < kGroup; ++l) nearer(x + l);
+                        for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
                     }
                 }
                 for (int y = y0; y <= y1; ++y)

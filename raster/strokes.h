@@ -24,6 +24,9 @@ inline constexpr float kMaxStrokeWidthPx = 64.0f;
 //! Stroke widths are given in pixels at a 720-pixel-wide raster (LD06's output) and scaled.
 inline constexpr int kLd06SizeReferenceStrokes = 720;
 
+//! Triangles (and welded edges) per task of contour extraction's facing and silhouette tests.
+inline constexpr std::size_t kContourBlock = 1024;
+
 //! A stroke is the scene's (scenes/scene.h): points, optional normals, hatching flag.
 using Stroke = scene::Stroke;
 
@@ -44,8 +47,9 @@ struct StrokeParams {
 //! split vertices) — chained into polylines in a deterministic order (instance, primitive,
 //! triangle). Open boundary edges are not contours. Contour strokes carry no normals (no n·v fade:
 //! a silhouette's n·v is 0 by definition).
-//! Uses ps.contours when set (built once per job), else builds the cache for this call.
-std::vector<Stroke> contour_strokes(const PassScene& ps);
+//! Uses ps.contours when set (built once per job), else builds the cache for this call. The facing
+//! and silhouette tests run on ex's threads (the same strokes for any traversal and thread count).
+std::vector<Stroke> contour_strokes(const PassScene& ps, const Exec& ex = {});
 
 //! What contour extraction needs that does not depend on the view, per non-foliage primitive:
 //! world positions, vertices welded by exact position, and the welded edges (sorted pairs) with
@@ -66,7 +70,7 @@ struct ContourCache {
 };
 ContourCache build_contour_cache(const scene::Scene& sc);
 //! contour_strokes from a cache of ps.scene (the same strokes as building it anew).
-std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache);
+std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache, const Exec& ex = {});
 
 //! Draws `strokes` in order into `out` (1 channel at the pass size, background 0): per stroke, every
 //! covered pixel once, a = alpha·f_v·fades, dst = a + dst·(1 - a) (an ink-coverage map, "over").

@@ -62,7 +62,7 @@ void register_stroke_pass(Registry& r) {
             std::vector<raster::Stroke> strokes;
             if (ps.strokes) strokes = *ps.strokes;
             if (tp.contours) {
-                std::vector<raster::Stroke> c = raster::contour_strokes(ps);
+                std::vector<raster::Stroke> c = raster::contour_strokes(ps, ex);
                 strokes.insert(strokes.end(), std::make_move_iterator(c.begin()), std::make_move_iterator(c.end()));
             }
             std::size_t dropped = 0;

@@ -155,8 +155,19 @@ TEST(Strokes, SameBytesForEveryTraversalAndThreadCount) {
     dp.value = PassValue::Depth;
     ImageF depth;
     render_triangle_pass(depth, ps, dp, Exec::fast(2));
-    std::vector<Stroke> strokes = contour_strokes(ps);
+    std::vector<Stroke> strokes = contour_strokes(ps, Exec::reference());
     ASSERT_GT(strokes.size(), 3u);
+    // The facing and silhouette tests run in blocks on the fast traversal: the trunk has
+    // more triangles than one block, and every thread count chains the same strokes.
+    const ContourCache cache = build_contour_cache(a->scene);
+    std::size_t trunk_tris = 0;
+    for (const ContourCache::Mesh& m : cache.meshes) trunk_tris += m.prim->indices.size() / 3;
+    EXPECT_GT(trunk_tris, 2 * kContourBlock);
+    for (int threads : {1, 2, 8}) {
+        const std::vector<Stroke> c = contour_strokes(ps, cache, Exec::fast(threads));
+        ASSERT_EQ(c.size(), strokes.size()) << threads;
+        for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].points, strokes[i].points) << threads << " " << i;
+    }
     // Plus a hatching stroke with normals.
     strokes.push_back({a->surface.positions.size() > 10
                            ? std::vector<glm::vec3>(a->surface.positions.begin(), a->surface.positions.begin() + 10)
