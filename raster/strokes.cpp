@@ -431,11 +431,20 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
                         for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
                     }
                 }
-                for (int y = y0; y <= y1; ++y)
+                // The drawn pixels of each row are listed first, without a branch per pixel (which
+                // ones are drawn is irregular along a thin stroke), then shaded.
+                for (int y = y0; y <= y1; ++y) {
+                    int xs[kTile], n = 0;
+                    const float* brow = best + (y - Y0) * kTile - X0;
                     for (int x = lo[y - Y0]; x <= hi[y - Y0]; ++x) {
-                        const int li = (y - Y0) * kTile + (x - X0);
-                        if (best[li] <= r2) shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
+                        xs[n] = x;
+                        n += brow[x] <= r2;
                     }
+                    for (int i = 0; i < n; ++i) {
+                        const int x = xs[i], li = (y - Y0) * kTile + (x - X0);
+                        shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
+                    }
+                }
             }
         });
     });
