@@ -60,6 +60,7 @@ void BM_Ld06Frame(benchmark::State& st, const std::string& model, int threads) {
     ro.step_ms = &ms;
     ro.reuse_outputs = true;  // as an animation's frames
     ro.fuse = true;           // as the render job without --targets
+    ro.in_place = true;
     stylize::run_pipeline(job.compiled[0], t, ro);  // warm-up: buffers, paper
     std::map<std::string, double> sum, step;
     const bool per_step = std::getenv("AQ_BENCH_STEPS") != nullptr;  // also one counter per step

@@ -381,6 +381,25 @@ void find_fusions(CompiledPipeline& c) {
     }
 }
 
+// CompiledPipeline::in_place (after find_fusions).
+void find_in_place(CompiledPipeline& c) {
+    c.in_place.assign(c.steps.size(), -1);
+    for (std::size_t i = 0; i < c.steps.size(); ++i) {
+        const CompiledStep& r = c.steps[i];
+        const StageVariant& v = *r.variant;
+        if (r.pass || v.in_place_input.empty() || c.fused_with_next[i] || (i > 0 && c.fused_with_next[i - 1])) continue;
+        const int k = port_index(v.inputs, v.in_place_input);
+        if (k < 0 || port_index(v.outputs, v.in_place_output) < 0) continue;
+        const std::string& t = r.inputs[std::size_t(k)];
+        const auto last = c.last_read.find(t);
+        const bool intermediate = std::find(c.produced.begin(), c.produced.end(), t) != c.produced.end();
+        if (!intermediate || t == c.output || last == c.last_read.end() || last->second != i ||
+            std::count(r.inputs.begin(), r.inputs.end(), t) != 1)
+            continue;
+        c.in_place[i] = k;
+    }
+}
+
 }  // namespace
 
 CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
@@ -444,6 +463,7 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     if (!produced.count(p.output) && !external_index.count(p.output))
         c.external.push_back({p.output, 0, false, p.source + ": output", ""});
     find_fusions(c);
+    find_in_place(c);
     if (gbuffer) check_gbuffer(c, *gbuffer);
     return c;
 }
@@ -530,6 +550,7 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
         return in;
     };
     const bool fuse = opt.fuse && c.fused_with_next.size() == c.steps.size();
+    const bool in_place = opt.in_place && c.in_place.size() == c.steps.size();
     for (int i = 0; i < n; ++i) {
         const CompiledStep& r = c.steps[std::size_t(i)];
         if (opt.progress) opt.progress(i, n, r.label);
@@ -543,6 +564,14 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
         for (std::size_t k = 0; k < outs.size(); ++k)
             if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[k] = std::move(it->second);
         for (auto& o : outs) io.out.push_back(&o);
+        if (const int k = in_place ? c.in_place[std::size_t(i)] : -1; k >= 0) {
+            // The dead input's image becomes the output; the stage writes what changes.
+            const std::string& t = r.inputs[std::size_t(k)];
+            ImageF& o = outs[std::size_t(port_index(r.variant->outputs, r.variant->in_place_output))];
+            o = std::move(targets.get_mut(t));
+            targets.erase(t);
+            io.in[std::size_t(k)] = &o;
+        }
         try {
             if (fused) {
                 const CompiledStep& pr = c.steps[std::size_t(i) - 1];

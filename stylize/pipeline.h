@@ -111,6 +111,10 @@ struct RunOptions {
     //! `targets` afterwards. For callers that keep only the output (the render job without
     //! --targets); off: every step runs alone.
     bool fuse = false;
+    //! Runs the steps of CompiledPipeline::in_place on their input's image (stage.h
+    //! StageVariant::in_place_input): the same output bytes, but that input is not in `targets`
+    //! afterwards. For the same callers as `fuse`.
+    bool in_place = false;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and
@@ -150,6 +154,11 @@ struct CompiledPipeline {
     //! is read by the next step alone, through the fusion's links, and none is the pipeline's
     //! output; a step is in one pair at most. Null otherwise. Used with RunOptions::fuse.
     std::vector<const Fusion*> fused_with_next;
+    //! Per step: the index of the input port whose image the step may compute its in-place output
+    //! over, or -1 — the variant declares the pair, the input is an intermediate (written by an
+    //! earlier step, not the pipeline's output) that no other port of the step and no later step
+    //! reads, and the step is in no fused pair. Used with RunOptions::in_place.
+    std::vector<int> in_place;
     bool has_passes = false;  //!< some step is a raster pass
     raster::FoliageParams foliage;  //!< see Pipeline::foliage
     bool has_foliage = false;

@@ -131,6 +131,10 @@ struct StageVariant {
         SameKernel,   //!< the fast row kernel on one thread: not independent (listed as pending)
     };
     Reference reference = Reference::SameKernel;
+    //! Input and output ports (names) the stage can compute in place (docs/stylize.md "In-place
+    //! steps"): handed one image as both, it writes only the pixels that change, with the bytes of
+    //! the run on separate images. Empty: never in place.
+    std::string in_place_input, in_place_output;
     std::string key() const { return stage + "/" + variant; }
 };
 

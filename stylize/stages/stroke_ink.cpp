@@ -2,6 +2,9 @@
 // resampling; fast: oneTBB rows with precomputed taps (the same values).
 #include "stylize/stages/stroke_ink.h"
 
+#include <algorithm>
+#include <cstring>
+
 #include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
 
@@ -12,31 +15,55 @@ using namespace toolkit;
 void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const StrokeInkParams& p, const Exec& ex) {
     check_input(&color, 4, Channels::Exactly, "stroke_ink", "color");
     check_input(&ink, 1, Channels::Exactly, "stroke_ink", "ink");
-    check_not_alias(dst, &color, "stroke_ink", "color");
     check_not_alias(dst, &ink, "stroke_ink", "ink");
+    const bool in_place = &dst == &color;  // only the inked pixels are written
     const int w = color.width(), h = color.height();
-    ensure_output(dst, w, h, 4);
+    if (!in_place) ensure_output(dst, w, h, 4);
     const Plane ip = plane(ink, 0);
     const float* c = color.data();
     float* o = dst.data();
-    auto px = [&](int x, int y, float cov) {
-        const std::size_t i = std::size_t(y) * w + x;
-        const glm::vec3 r = glaze_px(glm::vec3(c[i * 4], c[i * 4 + 1], c[i * 4 + 2]), p.color, sat(p.alpha * cov), false);
-        o[i * 4] = r.r, o[i * 4 + 1] = r.g, o[i * 4 + 2] = r.b, o[i * 4 + 3] = c[i * 4 + 3];
-    };
     if (ex.traversal == Traversal::Reference) {
-        plain_loop(w, h, [&](int x, int y) { px(x, y, sample_resampled_plane(ip, x, y, w, h)); });
+        plain_loop(w, h, [&](int x, int y) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const float k = ink_opacity(p.alpha, sample_resampled_plane(ip, x, y, w, h));
+            const glm::vec3 d(c[i * 4], c[i * 4 + 1], c[i * 4 + 2]);
+            const glm::vec3 r = k == 0.0f ? d : glaze_px(d, p.color, k, false);
+            o[i * 4] = r.r, o[i * 4 + 1] = r.g, o[i * 4 + 2] = r.b, o[i * 4 + 3] = c[i * 4 + 3];
+        });
         return;
     }
     // Fast: the ink row resampled once (RowResampler; the ink itself at the same size), then the
-    // row glazed in registers (glaze_row_of: glaze_px's values).
+    // row glazed in registers (glaze_px4: glaze_px's values); in place, uninked pixels untouched.
     const ResampleAxis ax(w, ink.width()), ay(h, ink.height());
+    const v4f col = {p.color.r, p.color.g, p.color.b, 0.0f};
+    constexpr int kGroup = 8;
     for_each_row_block(ex, h, [&](int y0, int y1) {
         RowResampler<1> up(ink.data(), ink.width(), w, ax, ay);
         std::vector<float> buf(static_cast<std::size_t>(w));
         for (int y = y0; y < y1; ++y) {
-            const std::size_t r = std::size_t(y) * w * 4;
-            glaze_row_of<false>(o + r, c + r, up.row_or_source(y, buf.data()), 1, w, p.color, p.alpha);
+            const float* cov = up.row_or_source(y, buf.data());
+            const float* src = c + std::size_t(y) * w * 4;
+            float* out = o + std::size_t(y) * w * 4;
+            for (int x0 = 0; x0 < w; x0 += kGroup) {
+                const int x1 = std::min(w, x0 + kGroup);
+                if (in_place && x1 - x0 == kGroup) {  // skip 8 uninked pixels at once (sat(v) == 0 iff v <= 0)
+                    bool none = true;
+                    for (int l = 0; l < kGroup; ++l) none &= p.alpha * cov[x0 + l] <= 0.0f;
+                    if (none) continue;
+                }
+                for (int x = x0; x < x1; ++x) {
+                    const float k = ink_opacity(p.alpha, cov[x]);
+                    if (in_place && k == 0.0f) continue;
+                    v4f d;
+                    std::memcpy(&d, src + std::size_t(x) * 4, sizeof d);
+                    if (k != 0.0f) {
+                        const float a = d[3];
+                        d = glaze_px4<false>(d, col, k);
+                        d[3] = a;
+                    }
+                    std::memcpy(out + std::size_t(x) * 4, &d, sizeof d);
+                }
+            }
         }
     });
 }
@@ -59,6 +86,8 @@ void register_stroke_ink(Registry& r) {
     v.doc = "LD06 §4.4: the strokes' ink coverage painted last, over the washes, in one ink colour";
     v.inputs = {{"color", "color.shadowed", 4, false}, {"ink", "ld06.strokes", 1, false}};
     v.outputs = {{"color", "color.inked", 4, false}};
+    v.in_place_input = "color";  // strokes cover a few per cent of the image
+    v.in_place_output = "color";
     v.params = t.descs();
     v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         const auto tp = t.from(pv);

@@ -3,7 +3,7 @@
 // two steps run one after the other — lighting maps with NaN rows and infinities, ramps resampled
 // from another size or read at the same size, both glaze variants, with and without a picture
 // underneath, every traversal and thread count — and compile_pipeline fuses a pair only when
-// nothing else needs the producer's outputs.
+// nothing else needs the producer's outputs. In-place steps: when a step may write over its input.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +14,7 @@
 #include "stylize/pipeline.h"
 #include "stylize/stages/color_ramp.h"
 #include "stylize/stages/glaze.h"
+#include "stylize/stages/stroke_ink.h"
 
 namespace aq::stylize {
 namespace {
@@ -163,6 +164,50 @@ TEST(Fusion, APairIsNotFusedWhenItsIntermediatesAreNeeded) {
     ro.fuse = true;
     run_pipeline(read_later, t, ro);
     EXPECT_TRUE(t.has("r0") && t.has("out2"));
+}
+
+// In-place steps (StageVariant::in_place_input; stroke_ink declares color -> color): a step runs on
+// its input's image only when that input is an intermediate no one reads afterwards, and the
+// output has the bytes of the run on separate images.
+Pipeline two_inks(const std::string& extra, const std::string& output = "out") {
+    return parse_pipeline(R"({"name": "t", "output": ")" + output + R"(", "steps": [
+      { "stage": "stroke_ink", "id": "first", "in": { "color": "base", "ink": "ink1" }, "out": { "color": "inked" } },
+      { "stage": "stroke_ink", "id": "second", "in": { "color": "inked", "ink": "ink2" }, "out": { "color": "out" } })" +
+                              extra + "]}",
+                          "fusion_test");
+}
+
+TEST(InPlace, AStepRunsOnItsInputsImageOnlyWhenTheInputIsADeadIntermediate) {
+    const CompiledPipeline c = compile_pipeline(two_inks(""));
+    ASSERT_EQ(c.in_place.size(), 2u);
+    EXPECT_EQ(c.in_place[0], -1) << "a G-buffer target is not overwritten";
+    EXPECT_EQ(c.in_place[1], 0) << "'inked' is read by the second step alone";
+    EXPECT_EQ(compile_pipeline(two_inks(R"(,
+      { "stage": "stroke_ink", "id": "third", "in": { "color": "inked", "ink": "ink1" }, "out": { "color": "out2" } })"))
+                  .in_place[1], -1) << "read later";
+    EXPECT_EQ(compile_pipeline(two_inks("", "inked")).in_place[1], -1) << "the pipeline's output";
+
+    const Inputs in = inputs(37, 31, 37, 31, false);
+    for (int threads : {1, 2, 8}) {
+        Targets plain, in_place;
+        for (Targets* t : {&plain, &in_place}) {
+            t->set("base", in.base);
+            ImageF ink1(37, 31, 1, 0.0f), ink2(37, 31, 1, 0.0f);
+            for (int y = 0; y < 31; ++y) ink1.at(y % 37, y, 0) = 0.7f;
+            for (int x = 0; x < 37; x += 2) ink2.at(x, 7, 0) = 1.0f;
+            t->set("ink1", std::move(ink1));
+            t->set("ink2", std::move(ink2));
+        }
+        RunOptions ro;
+        ro.exec = Exec::fast(threads);
+        run_pipeline(c, plain, ro);
+        ro.in_place = true;
+        run_pipeline(c, in_place, ro);
+        EXPECT_TRUE(same_bytes(in_place.get("out"), plain.get("out"))) << threads;
+        EXPECT_TRUE(plain.has("inked"));
+        EXPECT_FALSE(in_place.has("inked")) << "its image became the output";
+        EXPECT_TRUE(same_bytes(in_place.get("base"), in.base)) << "the G-buffer is untouched";
+    }
 }
 
 TEST(Fusion, RegistryRefusesFusionsThatDropAnOutputOrMismatchAPort) {

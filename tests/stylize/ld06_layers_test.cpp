@@ -5,6 +5,7 @@
 // values come from the spec's formulas evaluated here, not from the implementation's output.
 #include <cmath>
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -403,6 +404,46 @@ TEST(ShadowLayerAndInk, NothingToPaintLeavesThePictureUnchanged) {
     ip.alpha = 1.0f;
     stroke_ink(k, color, full, ip, Exec::reference());
     for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(k.at(5, 5, c), ip.color[c]);
+}
+
+// In place (the pipeline hands stroke_ink one image as colour and output): only inked pixels are
+// written, with the bytes of the run on separate images — also for -0, inf and NaN colours (kept
+// exactly where the opacity is 0, sat(alpha * coverage) == 0: coverage 0, -0 or negative), NaN and
+// partial coverage, a resampled ink map and widths that are not a multiple of 8.
+TEST(ShadowLayerAndInk, InkInPlaceHasTheBytesOfInkOnSeparateImages) {
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    for (const auto& [w, h, iw, ih] : {std::array<int, 4>{37, 11, 37, 11}, {29, 9, 17, 6}, {64, 5, 64, 5}}) {
+        ImageF color(w, h, 4);
+        const float odd[5] = {-0.0f, inf, nan, -inf, 0.0f};
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 4; ++c)
+                    color.at(x, y, c) = (x + 3 * y + c) % 7 == 0 ? odd[(x + y + c) % 5] : 0.05f * float((x * 5 + y + c) % 19);
+        ImageF ink(iw, ih, 1, 0.0f);
+        const float cov[8] = {0.0f, -0.0f, -0.5f, 0.3f, 1.0f, 2.0f, nan, 0.0f};
+        for (int y = 0; y < ih; ++y)
+            for (int x = 0; x < iw; ++x)
+                if ((x / 3 + y) % 4 == 1) ink.at(x, y, 0) = cov[(x + 2 * y) % 8];
+        for (const Exec& ex : {Exec::reference(), Exec::fast(1), Exec::fast(2), Exec::fast(8)}) {
+            ImageF separate;
+            stroke_ink(separate, color, ink, StrokeInkParams{}, ex);
+            ImageF in_place = color;
+            stroke_ink(in_place, in_place, ink, StrokeInkParams{}, ex);
+            ASSERT_EQ(0, std::memcmp(separate.data(), in_place.data(), color.num_values() * sizeof(float))) << w << "x" << h;
+            // Uninked pixels keep every bit (-0 included); inked ones change.
+            int kept = 0, changed = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const bool same = std::memcmp(&separate.at(x, y, 0), &color.at(x, y, 0), 4 * sizeof(float)) == 0;
+                    kept += same, changed += !same;
+                    if (iw == w && ih == h && ink.at(x, y, 0) <= 0.0f) EXPECT_TRUE(same) << x << "," << y;
+                }
+            EXPECT_GT(kept, w * h / 2);
+            EXPECT_GT(changed, 0);
+        }
+    }
+    ImageF ink(4, 4, 1, 1.0f);
+    EXPECT_THROW(stroke_ink(ink, ImageF(4, 4, 4, 0.5f), ink, StrokeInkParams{}), Error) << "output over the ink";
 }
 
 }  // namespace
