@@ -47,9 +47,14 @@ void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const Strok
             for (int x0 = 0; x0 < w; x0 += kGroup) {
                 const int x1 = std::min(w, x0 + kGroup);
                 if (in_place && x1 - x0 == kGroup) {  // skip 8 uninked pixels at once (sat(v) == 0 iff v <= 0)
+#ifdef __AVX2__
+                    const __m256 v = _mm256_mul_ps(_mm256_set1_ps(p.alpha), _mm256_loadu_ps(cov + x0));
+                    if (_mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_LE_OQ)) == 0xFF) continue;
+#else
                     bool none = true;
                     for (int l = 0; l < kGroup; ++l) none &= p.alpha * cov[x0 + l] <= 0.0f;
                     if (none) continue;
+#endif
                 }
                 for (int x = x0; x < x1; ++x) {
                     const float k = ink_opacity(p.alpha, cov[x]);
