@@ -7,6 +7,8 @@
 //                       17,000-particle Fig. 8 tree and the 64,209-particle tree 13d)
 //   strokes             BM_Ld06_Strokes: trunk contours, the per-frame part (contour adjacency is
 //                       built once per job, as the render job does) (paper 1.4-3.3 ms)
+//                       BM_Ld06_StrokesPaperLoad/V: with crown hatching up to V vertices (the
+//                       paper's loads: plants 12,687-27,513, trees 30,144-46,544)
 //   BM_Ld06_Abstraction: the implicit surface of the oak's 58,560 foliage triangles (preprocessing)
 // Each at 720 x 720 with 520 x 520 passes and at 1920 x 1080 with full-size passes; 1 and 2
 // threads. Inputs (scene, abstraction, depth map, particles) are built once, outside the timing.
@@ -153,6 +155,53 @@ void BM_Ld06_Strokes(benchmark::State& st) {
     label(st, setting, threads);
 }
 
+// Hatching strokes over the crown (3 vertices, about 1.5 % of the tree height, along a tangent of
+// the implicit surface, its normals; every second one lit-side faded) so that, with the trunk
+// contours, `vertices` stroke vertices are drawn: the paper's Table 2 stroke loads (12,687 -
+// 46,544 vertices) rather than our trunk contours alone.
+std::vector<Stroke> crown_hatching(std::size_t vertices, std::size_t contour_vertices) {
+    const ImplicitSurface& s = abstracted().surface;
+    const std::size_t n = vertices > contour_vertices ? (vertices - contour_vertices) / 3 : 0;
+    const float len = 0.0075f * abstracted().height;
+    std::vector<Stroke> out;
+    for (std::size_t k = 0; k < n && !s.positions.empty(); ++k) {
+        const std::size_t i = (k * 7919) % s.positions.size();  // spread over the surface, deterministic
+        const glm::vec3 p = s.positions[i], nrm = s.normals[i];
+        glm::vec3 t = glm::cross(nrm, glm::vec3(0.3f, 1.0f, 0.2f));
+        t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1, 0, 0);
+        out.push_back(Stroke{{p - len * t, p, p + len * t}, {nrm, nrm, nrm}, k % 2 == 1});
+    }
+    return out;
+}
+
+// The strokes column at the paper's stroke loads: hatching (above) then the trunk contours, as the
+// strokes pass orders them, 720 x 720, 1 and 2 threads.
+void BM_Ld06_StrokesPaperLoad(benchmark::State& st) {
+    const int vertices = int(st.range(0)), threads = int(st.range(1));
+    PassScene ps = pass_scene(0);
+    static const ContourCache contours = build_contour_cache(abstracted().scene);
+    ps.contours = &contours;
+    StrokeParams p;
+    p.scale = kSettings[0].scale;
+    p.depth_map = &blurred_depth(0);
+    std::size_t contour_vertices = 0;
+    for (const Stroke& k : contour_strokes(ps)) contour_vertices += k.points.size();
+    const std::vector<Stroke> hatching = crown_hatching(std::size_t(vertices), contour_vertices);
+    std::size_t drawn = 0;
+    ImageF out;
+    for (auto _ : st) {
+        const std::vector<Stroke> c = contour_strokes(ps, Exec::fast(threads));
+        const std::vector<Stroke>* lists[2] = {&hatching, &c};  // as the strokes pass draws them
+        drawn = 0;
+        for (const auto* l : lists)
+            for (const Stroke& k : *l) drawn += k.points.size();
+        render_strokes(out, ps, lists, p, Exec::fast(threads));
+        benchmark::DoNotOptimize(out.data());
+    }
+    st.counters["stroke_vertices"] = double(drawn);
+    label(st, 0, threads);
+}
+
 void BM_Ld06_Abstraction(benchmark::State& st) {
     const int threads = int(st.range(0));
     std::size_t tris = 0;
@@ -169,4 +218,5 @@ void BM_Ld06_Abstraction(benchmark::State& st) {
 BENCHMARK(BM_Ld06_LightShadowDepth)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Ld06_Particles)->ArgsProduct({{0, 1}, {1, 2}, {17000, 64209}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Ld06_Strokes)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Ld06_StrokesPaperLoad)->ArgsProduct({{12687, 27513, 46544}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Ld06_Abstraction)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

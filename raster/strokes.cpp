@@ -220,6 +220,12 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
 
 void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>& strokes, const StrokeParams& p,
                     const Exec& ex, std::size_t* dropped) {
+    const std::vector<Stroke>* one[1] = {&strokes};
+    render_strokes(out, ps, one, p, ex, dropped);
+}
+
+void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vector<Stroke>* const> lists,
+                    const StrokeParams& p, const Exec& ex, std::size_t* dropped) {
     auto finite_in = [](float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; };
     if (!(std::isfinite(p.width_px) && p.width_px > 0.0f && p.width_px <= kMaxStrokeWidthPx))
         throw Error("strokes: width must be in (0, 64] pixels");
@@ -228,9 +234,12 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
     for (float v : {p.fade_near, p.fade_far, p.nv_lo, p.nv_hi})
         if (!finite_in(v, 0, 1)) throw Error("strokes: fades must be in [0, 1]");
     if (!finite_in(p.nl_lo, -1, 1) || !finite_in(p.nl_hi, -1, 1)) throw Error("strokes: n.l fades must be in [-1, 1]");
-    if (strokes.size() > kMaxStrokes) throw Error("strokes: " + std::to_string(strokes.size()) + " strokes exceed the limit");
-    std::size_t total = 0;
-    for (const Stroke& s : strokes) total += s.points.size();
+    std::size_t count = 0, total = 0;
+    for (const std::vector<Stroke>* l : lists) {
+        count += l->size();
+        for (const Stroke& s : *l) total += s.points.size();
+    }
+    if (count > kMaxStrokes) throw Error("strokes: " + std::to_string(count) + " strokes exceed the limit");
     if (total > kMaxStrokeVertices)
         throw Error("strokes: " + std::to_string(total) + " stroke vertices exceed the limit of " + std::to_string(kMaxStrokeVertices));
     if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
@@ -255,7 +264,8 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
         *x = (c.x / c.w + 1.0f) * 0.5f * float(W);
         *y = (1.0f - c.y / c.w) * 0.5f * float(H);
     };
-    for (const Stroke& s : strokes) {
+    for (const std::vector<Stroke>* l : lists)
+    for (const Stroke& s : *l) {
         PStroke q{std::uint32_t(segs.size()), 0, 1 << 30, 1 << 30, -1, -1, s.light_dependent};
         const bool normals = s.normals.size() == s.points.size();
         for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {

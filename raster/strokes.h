@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -78,5 +79,8 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
 //! invalid parameters or counts beyond the documented limits.
 void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>& strokes, const StrokeParams& p,
                     const Exec& ex = {}, std::size_t* dropped = nullptr);
+//! The strokes of several lists, in list order (the scene's, then the contours: no copy per frame).
+void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vector<Stroke>* const> lists,
+                    const StrokeParams& p, const Exec& ex = {}, std::size_t* dropped = nullptr);
 
 }  // namespace aq::raster

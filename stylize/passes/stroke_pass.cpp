@@ -59,14 +59,12 @@ void register_stroke_pass(Registry& r) {
             p.nl_hi = tp.nl_hi;
             p.alpha = tp.alpha;
             p.depth_map = io.in[0];
-            std::vector<raster::Stroke> strokes;
-            if (ps.strokes) strokes = *ps.strokes;
-            if (tp.contours) {
-                std::vector<raster::Stroke> c = raster::contour_strokes(ps, ex);
-                strokes.insert(strokes.end(), std::make_move_iterator(c.begin()), std::make_move_iterator(c.end()));
-            }
+            std::vector<raster::Stroke> contours;
+            if (tp.contours) contours = raster::contour_strokes(ps, ex);
+            const std::vector<raster::Stroke> none;
+            const std::vector<raster::Stroke>* lists[2] = {ps.strokes ? ps.strokes : &none, &contours};
             std::size_t dropped = 0;
-            raster::render_strokes(*io.out[0], ps, strokes, p, ex, &dropped);
+            raster::render_strokes(*io.out[0], ps, lists, p, ex, &dropped);
             if (std::vector<std::string>* w = passes::warnings_of(io); dropped && w)
                 w->push_back("strokes: " + std::to_string(dropped) +
                                                 " segment(s) with non-finite points dropped");

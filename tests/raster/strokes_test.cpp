@@ -133,11 +133,11 @@ TEST(Strokes, BadInputIsDroppedOrRefused) {
     render_strokes(out, f.ps, {Stroke{{{0, 0, 0}, {NAN, 0, 0}, {1, 1, 0}, {1, 0, 0}}, {}, false}}, p, Exec::fast(2), &dropped);
     EXPECT_EQ(dropped, 2u) << "both segments touching the NaN point";
     p.width_px = 0;
-    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error);
+    EXPECT_THROW(render_strokes(out, f.ps, std::vector<Stroke>{}, p), Error);
     p.width_px = 1000;
-    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error);
+    EXPECT_THROW(render_strokes(out, f.ps, std::vector<Stroke>{}, p), Error);
     p = {};
-    EXPECT_THROW(render_strokes(out, f.ps, {}, p), Error) << "blurred test without a depth map";
+    EXPECT_THROW(render_strokes(out, f.ps, std::vector<Stroke>{}, p), Error) << "blurred test without a depth map";
     p.test = DepthTest::Binary;
     std::vector<Stroke> many(kMaxStrokes + 1);
     EXPECT_THROW(render_strokes(out, f.ps, many, p), Error);
@@ -188,6 +188,14 @@ TEST(Strokes, SameBytesForEveryTraversalAndThreadCount) {
             ImageF fast;
             render_strokes(fast, ps, strokes, p, Exec::fast(threads));
             EXPECT_EQ(sha256_hex(fast), sha256_hex(ref)) << int(t) << " " << threads;
+        }
+        // The same strokes split over two lists (the strokes pass: the scene's, then the contours).
+        const std::vector<Stroke> head(strokes.begin(), strokes.begin() + 2), tail(strokes.begin() + 2, strokes.end());
+        const std::vector<Stroke>* lists[2] = {&head, &tail};
+        for (const Exec& ex : {Exec::reference(), Exec::fast(2)}) {
+            ImageF split;
+            render_strokes(split, ps, lists, p, ex);
+            EXPECT_EQ(sha256_hex(split), sha256_hex(ref)) << int(t) << " two lists";
         }
     }
 }
