@@ -165,7 +165,7 @@ std::vector<Stroke> crown_hatching(std::size_t vertices, std::size_t contour_ver
     const float len = 0.0075f * abstracted().height;
     std::vector<Stroke> out;
     for (std::size_t k = 0; k < n && !s.positions.empty(); ++k) {
-        const std::size_t i = (k * 7919) % s.positions.size();  // spread over the surface, deterministic
+        const std::size_t i = k * s.positions.size() / n;  // spread over the surface in its order (as leaf strokes come, leaf by leaf)
         const glm::vec3 p = s.positions[i], nrm = s.normals[i];
         glm::vec3 t = glm::cross(nrm, glm::vec3(0.3f, 1.0f, 0.2f));
         t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1, 0, 0);

@@ -9,7 +9,7 @@
 //   strokes_ms strokes: the strokes pass and stroke_ink
 // The G-buffer is not rendered (ld06 reads none); file encoding is not included (BM_Cli_* measure
 // whole CLI runs). Run: aquarelle_bench --benchmark_filter=BM_Ld06Frame (AQ_BENCH_STEPS=1: a
-// counter per step as well)
+// counter per step as well; AQ_NO_IN_PLACE=1: in-place steps off, to compare)
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -60,7 +60,7 @@ void BM_Ld06Frame(benchmark::State& st, const std::string& model, int threads) {
     ro.step_ms = &ms;
     ro.reuse_outputs = true;  // as an animation's frames
     ro.fuse = true;           // as the render job without --targets
-    ro.in_place = true;
+    ro.in_place = std::getenv("AQ_NO_IN_PLACE") == nullptr;
     stylize::run_pipeline(job.compiled[0], t, ro);  // warm-up: buffers, paper
     std::map<std::string, double> sum, step;
     const bool per_step = std::getenv("AQ_BENCH_STEPS") != nullptr;  // also one counter per step
