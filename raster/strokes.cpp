@@ -23,7 +23,8 @@ namespace aq::raster {
 namespace {
 
 constexpr int kTile = 64;
-constexpr int kGroup = 8;  // pixels per vector step of the capsule scan (AVX2 lanes)
+constexpr int kGroup = 8;
+constexpr std::size_t kProjectBlock = 512;  // strokes per projection task  // pixels per vector step of the capsule scan (AVX2 lanes)
 static_assert(kTile % kGroup == 0);
 
 // One projected segment: screen end points (pixels), view-space end points and normals.
@@ -32,13 +33,25 @@ struct Seg {
     glm::vec3 pa, pb;   // view space
     glm::vec3 na, nb;   // view space, unit (zero: no normal)
     bool has_normal;
+    bool valid = false;  // false: a dropped or clipped-away segment's slot (skipped)
 };
 
 struct PStroke {
-    std::uint32_t first, count;  // into segs
+    std::uint32_t first, count;  // slots in segs (one per segment; invalid ones skipped)
     int bx0, by0, bx1, by1;      // covered pixel bounds (inclusive)
     bool light_dependent;
 };
+
+// f(begin, end) over [0, n) in blocks of `block` on oneTBB for the fast traversal (each index
+// writes only its own entries), one call for the reference traversal or a single block.
+template <class F>
+void for_blocks(const Exec& ex, std::size_t n, std::size_t block, F&& f) {
+    if (ex.traversal == Traversal::Reference || n <= block) return f(std::size_t(0), n);
+    with_arena(ex, [&] {
+        tbb::parallel_for(std::size_t(0), (n + block - 1) / block,
+                          [&](std::size_t b) { f(b * block, std::min(n, (b + 1) * block)); });
+    });
+}
 
 // Squared distance from pixel centre (px, py) to the segment and the screen parameter of the
 // nearest point (the one distance function of both traversals).
@@ -118,17 +131,7 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const Exec& ex) {
 }
 
 std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache, const Exec& ex) {
-    // f(begin, end) over [0, n): blocks on oneTBB for the fast traversal (each index writes only
-    // its own entries), one loop for the reference.
-    auto over = [&](std::size_t n, auto&& f) {
-        constexpr std::size_t kBlock = kContourBlock;
-        if (ex.traversal == Traversal::Reference || n <= kBlock) return f(std::size_t(0), n);
-        with_arena(ex, [&] {
-            tbb::parallel_for(std::size_t(0), (n + kBlock - 1) / kBlock, [&](std::size_t b) {
-                f(b * kBlock, std::min(n, (b + 1) * kBlock));
-            });
-        });
-    };
+    auto over = [&](std::size_t n, auto&& f) { for_blocks(ex, n, kContourBlock, f); };
     std::vector<Stroke> out;
     const glm::mat4 inv_view = glm::inverse(ps.camera.view);
     const glm::vec3 eye(inv_view[3]);
@@ -254,26 +257,34 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     const glm::mat3 vrot(view.camera.view);
     const glm::vec3 light_view = glm::normalize(vrot * ps.light_dir);
     const float znear = view.camera.znear;
-    std::size_t drop = 0;
 
-    // Project (clip at the near plane in view space).
-    std::vector<Seg> segs;
-    std::vector<PStroke> ps_strokes;
+    // Project (clip at the near plane in view space). Strokes in parallel: each fills its own slots
+    // of `segs` (one per segment; a dropped or clipped-away one stays invalid) and its bounds.
+    std::vector<const Stroke*> all;
+    all.reserve(count);
+    for (const std::vector<Stroke>* l : lists)
+        for (const Stroke& s : *l) all.push_back(&s);
+    std::vector<std::uint32_t> slot(all.size() + 1, 0);
+    for (std::size_t i = 0; i < all.size(); ++i)
+        slot[i + 1] = slot[i] + std::uint32_t(all[i]->points.size() > 1 ? all[i]->points.size() - 1 : 0);
+    std::vector<Seg> segs(slot.back());
+    std::vector<PStroke> projected(all.size());
+    std::vector<std::uint32_t> valid_count(all.size(), 0), drops(all.size(), 0);
     auto to_px = [&](glm::vec3 v, float* x, float* y) {
         const glm::vec4 c = proj * glm::vec4(v, 1.0f);
         *x = (c.x / c.w + 1.0f) * 0.5f * float(W);
         *y = (1.0f - c.y / c.w) * 0.5f * float(H);
     };
-    for (const std::vector<Stroke>* l : lists)
-    for (const Stroke& s : *l) {
-        PStroke q{std::uint32_t(segs.size()), 0, 1 << 30, 1 << 30, -1, -1, s.light_dependent};
+    auto project = [&](std::size_t si) {
+        const Stroke& s = *all[si];
+        PStroke q{slot[si], slot[si + 1] - slot[si], 1 << 30, 1 << 30, -1, -1, s.light_dependent};
         const bool normals = s.normals.size() == s.points.size();
         for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
             glm::vec3 a = glm::vec3(view.camera.view * glm::vec4(s.points[i], 1.0f));
             glm::vec3 b = glm::vec3(view.camera.view * glm::vec4(s.points[i + 1], 1.0f));
             glm::vec3 na = normals ? vrot * s.normals[i] : glm::vec3(0), nb = normals ? vrot * s.normals[i + 1] : glm::vec3(0);
             if (!std::isfinite(a.x + a.y + a.z + b.x + b.y + b.z + na.x + na.y + na.z + nb.x + nb.y + nb.z)) {
-                ++drop;
+                ++drops[si];
                 continue;
             }
             if (!view.camera.orthographic) {
@@ -292,7 +303,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             to_px(b, &g.x1, &g.y1);
             if (!std::isfinite(g.x0 + g.y0 + g.x1 + g.y1) || std::abs(g.x0) > 1e7f || std::abs(g.y0) > 1e7f ||
                 std::abs(g.x1) > 1e7f || std::abs(g.y1) > 1e7f) {
-                ++drop;
+                ++drops[si];
                 continue;
             }
             g.pa = a;
@@ -301,18 +312,29 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             g.has_normal = normals && la > 0.0f && lb > 0.0f;
             g.na = g.has_normal ? na / la : glm::vec3(0);
             g.nb = g.has_normal ? nb / lb : glm::vec3(0);
+            g.valid = true;
             q.bx0 = std::min(q.bx0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
             q.by0 = std::min(q.by0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
             q.bx1 = std::max(q.bx1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
             q.by1 = std::max(q.by1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
-            segs.push_back(g);
+            segs[slot[si] + i] = g;
+            ++valid_count[si];
         }
-        q.count = std::uint32_t(segs.size()) - q.first;
         q.bx0 = std::max(q.bx0, 0);
         q.by0 = std::max(q.by0, 0);
         q.bx1 = std::min(q.bx1, W - 1);
         q.by1 = std::min(q.by1, H - 1);
-        if (q.count > 0 && q.bx0 <= q.bx1 && q.by0 <= q.by1) ps_strokes.push_back(q);
+        projected[si] = q;
+    };
+    for_blocks(ex, all.size(), kProjectBlock, [&](std::size_t s0, std::size_t s1) {
+        for (std::size_t si = s0; si < s1; ++si) project(si);
+    });
+    std::vector<PStroke> ps_strokes;
+    std::size_t drop = 0;
+    for (std::size_t si = 0; si < all.size(); ++si) {
+        const PStroke& q = projected[si];
+        drop += drops[si];
+        if (valid_count[si] > 0 && q.bx0 <= q.bx1 && q.by0 <= q.by1) ps_strokes.push_back(q);
     }
     if (dropped) *dropped = drop;
     View<const float> D;
@@ -355,6 +377,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                     float best = std::numeric_limits<float>::infinity(), bt = 0;
                     std::uint32_t bs = 0;
                     for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                        if (!segs[k].valid) continue;
                         float t;
                         const float d2 = seg_dist2(segs[k], px, py, &t);
                         if (d2 < best) best = d2, bt = t, bs = k;
@@ -411,6 +434,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 // as one 8-lane step each, without the short rows' scalar remainders.
                 for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
                     const Seg& g = segs[k];
+                    if (!g.valid) continue;
                     const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
                     const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
                     const int cx0 = std::max(x0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
