@@ -368,6 +368,84 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         }
         *dst = a + *dst * (1.0f - a);
     };
+#ifdef __AVX2__
+    // `shade`'s alpha for eight drawn pixels of one stroke (lane l: pixel (xs[l], ys[l]), segment
+    // ks[l], screen parameter ts[l]; n <= 8 lanes used, the others repeat lane 0): its operations
+    // lane by lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by 1 / sqrt).
+    const bool tested = D.data != nullptr;
+    const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
+    auto alpha8 = [&](const PStroke& st, const int* xs, const int* ys, const std::uint32_t* ks, const float* ts, int n,
+                      float* out_a) {
+        alignas(32) float f[17][8];  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal
+        bool any_normal = false;
+        for (int l = 0; l < 8; ++l) {
+            const int j = l < n ? l : 0;
+            const Seg& g = segs[ks[j]];
+            f[0][l] = ts[j];
+            f[1][l] = g.pa.x, f[2][l] = g.pa.y, f[3][l] = g.pa.z;
+            f[4][l] = g.pb.x, f[5][l] = g.pb.y, f[6][l] = g.pb.z;
+            f[7][l] = g.na.x, f[8][l] = g.na.y, f[9][l] = g.na.z;
+            f[10][l] = g.nb.x, f[11][l] = g.nb.y, f[12][l] = g.nb.z;
+            float Dv = 0.0f;
+            if (tested) {
+                Dv = stylize::sample_bilinear(D, stylize::texel_coord(xs[j], W, D.width),
+                                              stylize::texel_coord(ys[j], H, D.height), Border::Clamp);
+                if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
+            }
+            f[13][l] = Dv;
+            f[14][l] = g.has_normal ? 1.0f : 0.0f;
+            any_normal = any_normal || g.has_normal;
+        }
+        auto ld = [&](int k) { return _mm256_load_ps(f[k]); };
+        auto set = [](float v) { return _mm256_set1_ps(v); };
+        const __m256 one = set(1.0f), zero = _mm256_setzero_ps(), sign = set(-0.0f);
+        const __m256 s = ld(0);
+        __m256 t = s;
+        if (!view.camera.orthographic) {
+            const __m256 za = _mm256_xor_ps(ld(3), sign), zb = _mm256_xor_ps(ld(6), sign);
+            const __m256 q = _mm256_div_ps(s, zb);
+            t = _mm256_div_ps(q, _mm256_add_ps(_mm256_div_ps(_mm256_sub_ps(one, s), za), q));
+        }
+        auto lerp = [&](int a, int b) { return _mm256_add_ps(ld(a), _mm256_mul_ps(_mm256_sub_ps(ld(b), ld(a)), t)); };
+        const __m256 pvx = lerp(1, 4), pvy = lerp(2, 5), pvz = lerp(3, 6);
+        const __m256 fd = _mm256_div_ps(_mm256_sub_ps(_mm256_xor_ps(pvz, sign), set(view.depth_near)),
+                                        set(view.depth_far - view.depth_near));
+        __m256 fv = one;
+        if (tested) {
+            const __m256 x = _mm256_add_ps(_mm256_sub_ps(ld(13), fd), set(p.beta));
+            fv = delta > -delta ? stylize::smoothstep8(-delta, delta, x)
+                                : _mm256_and_ps(_mm256_cmp_ps(x, set(-delta), _CMP_GE_OQ), one);
+        }
+        __m256 a = _mm256_mul_ps(_mm256_mul_ps(set(p.alpha), fv), _mm256_sub_ps(one, stylize::smoothstep8(p.fade_near, p.fade_far, fd)));
+        if (any_normal) {
+            auto dot = [](__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
+                return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
+            };
+            __m256 nx = lerp(7, 10), ny = lerp(8, 11), nz = lerp(9, 12);
+            const __m256 ln = _mm256_sqrt_ps(dot(nx, ny, nz, nx, ny, nz));
+            const __m256 pos = _mm256_cmp_ps(ln, zero, _CMP_GT_OQ);
+            nx = _mm256_blendv_ps(nx, _mm256_div_ps(nx, ln), pos);
+            ny = _mm256_blendv_ps(ny, _mm256_div_ps(ny, ln), pos);
+            nz = _mm256_blendv_ps(nz, _mm256_div_ps(nz, ln), pos);
+            __m256 vx = zero, vy = zero, vz = one;
+            if (!view.camera.orthographic) {
+                const __m256 wx = _mm256_xor_ps(pvx, sign), wy = _mm256_xor_ps(pvy, sign), wz = _mm256_xor_ps(pvz, sign);
+                const __m256 inv = _mm256_div_ps(one, _mm256_sqrt_ps(dot(wx, wy, wz, wx, wy, wz)));
+                vx = _mm256_mul_ps(wx, inv), vy = _mm256_mul_ps(wy, inv), vz = _mm256_mul_ps(wz, inv);
+            }
+            const __m256 nv = _mm256_andnot_ps(sign, dot(nx, ny, nz, vx, vy, vz));
+            __m256 an = _mm256_mul_ps(a, stylize::smoothstep8(p.nv_lo, p.nv_hi, nv));
+            if (st.light_dependent) {
+                const __m256 nl = dot(nx, ny, nz, set(light_view.x), set(light_view.y), set(light_view.z));
+                an = _mm256_mul_ps(an, _mm256_sub_ps(one, stylize::smoothstep8(p.nl_lo, p.nl_hi, nl)));
+            }
+            a = _mm256_blendv_ps(a, an, _mm256_cmp_ps(ld(14), zero, _CMP_GT_OQ));
+        }
+        alignas(32) float r[8];
+        _mm256_store_ps(r, a);
+        for (int l = 0; l < n; ++l) out_a[l] = r[l];
+    };
+#endif
     float* img = out.data();
     if (ex.traversal == Traversal::Reference) {
         for (const PStroke& st : ps_strokes)
@@ -404,6 +482,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
             float best[kTile * kTile], bt[kTile * kTile];
             std::uint32_t bs[kTile * kTile];
+            int dxs[kTile * kTile], dys[kTile * kTile];  // a stroke's drawn pixels in the tile
             for (std::uint32_t it = offsets[std::size_t(tile)]; it < offsets[std::size_t(tile) + 1]; ++it) {
                 const PStroke& st = ps_strokes[items[it]];
                 const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
@@ -467,6 +546,31 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 }
                 // The drawn pixels of each row are listed first, without a branch per pixel (which
                 // ones are drawn is irregular along a thin stroke), then shaded.
+#ifdef __AVX2__
+                // Eight drawn pixels of the stroke in the tile at a time (alpha8), then "over".
+                int n = 0;
+                for (int y = y0; y <= y1; ++y) {
+                    const float* brow = best + (y - Y0) * kTile - X0;
+                    for (int x = lo[y - Y0]; x <= hi[y - Y0]; ++x) {
+                        dxs[n] = x, dys[n] = y;
+                        n += brow[x] <= r2;
+                    }
+                }
+                for (int i0 = 0; i0 < n; i0 += 8) {
+                    const int m = std::min(8, n - i0);
+                    std::uint32_t ks[8];
+                    float ts[8], av[8];
+                    for (int l = 0; l < m; ++l) {
+                        const int li = (dys[i0 + l] - Y0) * kTile + (dxs[i0 + l] - X0);
+                        ks[l] = bs[li], ts[l] = bt[li];
+                    }
+                    alpha8(st, dxs + i0, dys + i0, ks, ts, m, av);
+                    for (int l = 0; l < m; ++l) {
+                        float* dst = img + std::size_t(dys[i0 + l]) * W + dxs[i0 + l];
+                        *dst = av[l] + *dst * (1.0f - av[l]);
+                    }
+                }
+#else
                 for (int y = y0; y <= y1; ++y) {
                     int xs[kTile], n = 0;
                     const float* brow = best + (y - Y0) * kTile - X0;
@@ -479,6 +583,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
                     }
                 }
+#endif
             }
         });
     });
