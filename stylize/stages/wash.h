@@ -65,7 +65,7 @@ inline toolkit::v4f glaze_px4(toolkit::v4f dst, toolkit::v4f c, float k) {
 }
 
 //! glaze_px of one colour over a row of w RGBA pixels: o[x].rgb = glaze_px(dst[x].rgb, c,
-//! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer, stroke_ink), through
+//! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer), through
 //! glaze_px4.
 template <bool Multiplicative>
 inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const float* __restrict p, std::size_t stride,
