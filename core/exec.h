@@ -6,6 +6,8 @@
 // on the thread count.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -50,6 +52,21 @@ template <class F>
 void with_arena(const Exec& ex, F&& body) {
     const int n = ex.threads > 0 ? ex.threads : tbb::this_task_arena::max_concurrency();
     arena_for(n).execute([&] { body(); });
+}
+
+//! Calls f(begin, end) over [0, n) in blocks of `block` indices: one call for Reference (or when
+//! n <= block), oneTBB tasks for Fast. f must write only what its own indices own (then the result
+//! does not depend on the traversal or the thread count).
+template <class F>
+void for_each_block(const Exec& ex, std::size_t n, std::size_t block, F&& f) {
+    if (ex.traversal == Traversal::Reference || n <= block) {
+        f(std::size_t(0), n);
+        return;
+    }
+    with_arena(ex, [&] {
+        tbb::parallel_for(std::size_t(0), (n + block - 1) / block,
+                          [&](std::size_t b) { f(b * block, std::min(n, (b + 1) * block)); });
+    });
 }
 
 //! Calls f(Roi tile) over roi: one row-major loop for Reference, tiles on oneTBB for Fast.

@@ -23,8 +23,8 @@ namespace aq::raster {
 namespace {
 
 constexpr int kTile = 64;
-constexpr int kGroup = 8;
-constexpr std::size_t kProjectBlock = 512;  // strokes per projection task  // pixels per vector step of the capsule scan (AVX2 lanes)
+constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
+constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
 static_assert(kTile % kGroup == 0);
 
 // One projected segment: screen end points (pixels), view-space end points and normals.
@@ -41,17 +41,6 @@ struct PStroke {
     int bx0, by0, bx1, by1;      // covered pixel bounds (inclusive)
     bool light_dependent;
 };
-
-// f(begin, end) over [0, n) in blocks of `block` on oneTBB for the fast traversal (each index
-// writes only its own entries), one call for the reference traversal or a single block.
-template <class F>
-void for_blocks(const Exec& ex, std::size_t n, std::size_t block, F&& f) {
-    if (ex.traversal == Traversal::Reference || n <= block) return f(std::size_t(0), n);
-    with_arena(ex, [&] {
-        tbb::parallel_for(std::size_t(0), (n + block - 1) / block,
-                          [&](std::size_t b) { f(b * block, std::min(n, (b + 1) * block)); });
-    });
-}
 
 // Squared distance from pixel centre (px, py) to the segment and the screen parameter of the
 // nearest point (the one distance function of both traversals).
@@ -131,7 +120,6 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const Exec& ex) {
 }
 
 std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cache, const Exec& ex) {
-    auto over = [&](std::size_t n, auto&& f) { for_blocks(ex, n, kContourBlock, f); };
     std::vector<Stroke> out;
     const glm::mat4 inv_view = glm::inverse(ps.camera.view);
     const glm::vec3 eye(inv_view[3]);
@@ -143,7 +131,7 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
         // Facing of every triangle from this view: +1 front, -1 back, 0 edge-on or not finite (unused).
         const std::size_t nt = prim.indices.size() / 3;
         std::vector<std::int8_t> facing(nt, 0);
-        over(nt, [&](std::size_t t0, std::size_t t1) {
+        for_each_block(ex, nt, kContourBlock, [&](std::size_t t0, std::size_t t1) {
             for (std::size_t t = t0; t < t1; ++t) {
                 const std::uint32_t i[3] = {prim.indices[3 * t], prim.indices[3 * t + 1], prim.indices[3 * t + 2]};
                 if (i[0] >= nv || i[1] >= nv || i[2] >= nv) continue;
@@ -158,7 +146,7 @@ std::vector<Stroke> contour_strokes(const PassScene& ps, const ContourCache& cac
         // (3 x triangle + edge slot) belongs to one edge only, so the first uses are distinct and
         // the order is that of a table indexed by first use (no sort).
         std::vector<std::uint32_t> by_first(prim.indices.size(), ~0u);
-        over(m.edges.size(), [&](std::size_t e0, std::size_t e1) {
+        for_each_block(ex, m.edges.size(), kContourBlock, [&](std::size_t e0, std::size_t e1) {
             for (std::size_t ei = e0; ei < e1; ++ei) {
                 const ContourCache::Edge& e = m.edges[ei];
                 bool front = false, back = false;
@@ -326,7 +314,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         q.by1 = std::min(q.by1, H - 1);
         projected[si] = q;
     };
-    for_blocks(ex, all.size(), kProjectBlock, [&](std::size_t s0, std::size_t s1) {
+    for_each_block(ex, all.size(), kProjectBlock, [&](std::size_t s0, std::size_t s1) {
         for (std::size_t si = s0; si < s1; ++si) project(si);
     });
     std::vector<PStroke> ps_strokes;
@@ -340,8 +328,16 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     View<const float> D;
     if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) D = p.depth_map->view<float>();
 
-    // The pixel's value once its nearest segment is known: eq. 2 visibility and the §4.4 fades.
-    auto shade = [&](const PStroke& st, const Seg& g, float ts, int x, int y, float* dst) {
+    // The pixel's value once its nearest segment is known: eq. 2 visibility and the §4.4 fades,
+    // alpha_of(...) composited "over" the stroke map (over). depth_at: the depth map at a pixel.
+    const bool tested = D.data != nullptr;
+    const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
+    auto depth_at = [&](int x, int y) {
+        const float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width),
+                                                  stylize::texel_coord(y, H, D.height), Border::Clamp);
+        return p.test == DepthTest::BlurredRgba8 ? quantize_depth_rgba8(Dv) : Dv;
+    };
+    auto alpha_of = [&](const PStroke& st, const Seg& g, float ts, int x, int y) {
         // Screen parameter -> view-space parameter (perspective-correct through the depths).
         float t = ts;
         if (!view.camera.orthographic) {
@@ -350,13 +346,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         }
         const glm::vec3 pv = g.pa + (g.pb - g.pa) * t;
         const float fd = view.normalized(-pv.z);
-        float fv = 1.0f;
-        if (D.data) {
-            float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width), stylize::texel_coord(y, H, D.height),
-                                                Border::Clamp);
-            if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
-            fv = blurred_visibility(Dv, fd, p.test == DepthTest::Binary ? 0.0f : p.delta, p.beta);
-        }
+        const float fv = tested ? blurred_visibility(depth_at(x, y), fd, delta, p.beta) : 1.0f;
         float a = p.alpha * fv * (1.0f - stylize::smoothstep(p.fade_near, p.fade_far, fd));
         if (g.has_normal) {
             glm::vec3 n = g.na + (g.nb - g.na) * t;
@@ -366,36 +356,31 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             a *= stylize::smoothstep(p.nv_lo, p.nv_hi, std::abs(glm::dot(n, v)));
             if (st.light_dependent) a *= 1.0f - stylize::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
         }
-        *dst = a + *dst * (1.0f - a);
+        return a;
     };
+    auto over = [](float* dst, float a) { *dst = a + *dst * (1.0f - a); };
 #ifdef __AVX2__
-    // `shade`'s alpha for eight drawn pixels of one stroke (lane l: pixel (xs[l], ys[l]), segment
-    // ks[l], screen parameter ts[l]; n <= 8 lanes used, the others repeat lane 0): its operations
-    // lane by lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by 1 / sqrt).
-    const bool tested = D.data != nullptr;
-    const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
+    // alpha_of for eight drawn pixels of one stroke (lane l: pixel (xs[l], ys[l]), segment ks[l],
+    // screen parameter ts[l]; n <= 8 lanes used, the others copy lane 0): its operations lane by
+    // lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by 1 / sqrt).
     auto alpha8 = [&](const PStroke& st, const int* xs, const int* ys, const std::uint32_t* ks, const float* ts, int n,
                       float* out_a) {
-        alignas(32) float f[17][8];  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal
+        constexpr int kFields = 15;  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal
+        alignas(32) float f[kFields][8];
         bool any_normal = false;
-        for (int l = 0; l < 8; ++l) {
-            const int j = l < n ? l : 0;
-            const Seg& g = segs[ks[j]];
-            f[0][l] = ts[j];
+        for (int l = 0; l < n; ++l) {
+            const Seg& g = segs[ks[l]];
+            f[0][l] = ts[l];
             f[1][l] = g.pa.x, f[2][l] = g.pa.y, f[3][l] = g.pa.z;
             f[4][l] = g.pb.x, f[5][l] = g.pb.y, f[6][l] = g.pb.z;
             f[7][l] = g.na.x, f[8][l] = g.na.y, f[9][l] = g.na.z;
             f[10][l] = g.nb.x, f[11][l] = g.nb.y, f[12][l] = g.nb.z;
-            float Dv = 0.0f;
-            if (tested) {
-                Dv = stylize::sample_bilinear(D, stylize::texel_coord(xs[j], W, D.width),
-                                              stylize::texel_coord(ys[j], H, D.height), Border::Clamp);
-                if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
-            }
-            f[13][l] = Dv;
+            f[13][l] = tested ? depth_at(xs[l], ys[l]) : 0.0f;
             f[14][l] = g.has_normal ? 1.0f : 0.0f;
             any_normal = any_normal || g.has_normal;
         }
+        for (int k = 0; k < kFields; ++k)
+            for (int l = n; l < 8; ++l) f[k][l] = f[k][0];
         auto ld = [&](int k) { return _mm256_load_ps(f[k]); };
         auto set = [](float v) { return _mm256_set1_ps(v); };
         const __m256 one = set(1.0f), zero = _mm256_setzero_ps(), sign = set(-0.0f);
@@ -460,7 +445,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         const float d2 = seg_dist2(segs[k], px, py, &t);
                         if (d2 < best) best = d2, bt = t, bs = k;
                     }
-                    if (best <= r2) shade(st, segs[bs], bt, x, y, img + std::size_t(y) * W + x);
+                    if (best <= r2) over(img + std::size_t(y) * W + x, alpha_of(st, segs[bs], bt, x, y));
                 }
         return;
     }
@@ -544,10 +529,8 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
                     }
                 }
-                // The drawn pixels of each row are listed first, without a branch per pixel (which
-                // ones are drawn is irregular along a thin stroke), then shaded.
-#ifdef __AVX2__
-                // Eight drawn pixels of the stroke in the tile at a time (alpha8), then "over".
+                // The drawn pixels are listed first, without a branch per pixel (which ones are drawn
+                // is irregular along a thin stroke), then shaded: eight at a time with AVX2.
                 int n = 0;
                 for (int y = y0; y <= y1; ++y) {
                     const float* brow = best + (y - Y0) * kTile - X0;
@@ -556,33 +539,19 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         n += brow[x] <= r2;
                     }
                 }
+                auto li_of = [&](int i) { return (dys[i] - Y0) * kTile + (dxs[i] - X0); };
+#ifdef __AVX2__
                 for (int i0 = 0; i0 < n; i0 += 8) {
                     const int m = std::min(8, n - i0);
                     std::uint32_t ks[8];
                     float ts[8], av[8];
-                    for (int l = 0; l < m; ++l) {
-                        const int li = (dys[i0 + l] - Y0) * kTile + (dxs[i0 + l] - X0);
-                        ks[l] = bs[li], ts[l] = bt[li];
-                    }
+                    for (int l = 0; l < m; ++l) ks[l] = bs[li_of(i0 + l)], ts[l] = bt[li_of(i0 + l)];
                     alpha8(st, dxs + i0, dys + i0, ks, ts, m, av);
-                    for (int l = 0; l < m; ++l) {
-                        float* dst = img + std::size_t(dys[i0 + l]) * W + dxs[i0 + l];
-                        *dst = av[l] + *dst * (1.0f - av[l]);
-                    }
+                    for (int l = 0; l < m; ++l) over(img + std::size_t(dys[i0 + l]) * W + dxs[i0 + l], av[l]);
                 }
 #else
-                for (int y = y0; y <= y1; ++y) {
-                    int xs[kTile], n = 0;
-                    const float* brow = best + (y - Y0) * kTile - X0;
-                    for (int x = lo[y - Y0]; x <= hi[y - Y0]; ++x) {
-                        xs[n] = x;
-                        n += brow[x] <= r2;
-                    }
-                    for (int i = 0; i < n; ++i) {
-                        const int x = xs[i], li = (y - Y0) * kTile + (x - X0);
-                        shade(st, segs[bs[li]], bt[li], x, y, img + std::size_t(y) * W + x);
-                    }
-                }
+                for (int i = 0; i < n; ++i)
+                    over(img + std::size_t(dys[i]) * W + dxs[i], alpha_of(st, segs[bs[li_of(i)]], bt[li_of(i)], dxs[i], dys[i]));
 #endif
             }
         });

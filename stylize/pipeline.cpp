@@ -388,8 +388,7 @@ void find_in_place(CompiledPipeline& c) {
         const CompiledStep& r = c.steps[i];
         const StageVariant& v = *r.variant;
         if (r.pass || v.in_place_input.empty() || c.fused_with_next[i] || (i > 0 && c.fused_with_next[i - 1])) continue;
-        const int k = port_index(v.inputs, v.in_place_input);
-        if (k < 0 || port_index(v.outputs, v.in_place_output) < 0) continue;
+        const int k = port_index(v.inputs, v.in_place_input);  // both ports exist (Registry::add)
         const std::string& t = r.inputs[std::size_t(k)];
         const auto last = c.last_read.find(t);
         const bool intermediate = std::find(c.produced.begin(), c.produced.end(), t) != c.produced.end();

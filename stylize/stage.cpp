@@ -9,6 +9,13 @@ namespace aq::stylize {
 void Registry::add(StageVariant v) {
     if (has(v.stage, v.variant)) throw Error("stage variant '" + v.key() + "' registered twice");
     if (!v.run) throw Error("stage variant '" + v.key() + "' has no run function");
+    if (!v.in_place_input.empty() || !v.in_place_output.empty()) {
+        const Port* in = find_port(v.inputs, v.in_place_input);
+        const Port* out = find_port(v.outputs, v.in_place_output);
+        if (!in || !out || in->channels != out->channels)
+            throw Error("stage variant '" + v.key() + "': in place from input '" + v.in_place_input + "' to output '" +
+                        v.in_place_output + "' needs both ports, with the same channel count");
+    }
     // Framework entry check, shared by every stage: the number of inputs/outputs, required inputs
     // present and non-empty, and every input's channel count as declared by its port. Stages still
     // check what only they know (sizes, resolutions), once, at their own entry.

@@ -210,6 +210,25 @@ TEST(InPlace, AStepRunsOnItsInputsImageOnlyWhenTheInputIsADeadIntermediate) {
     }
 }
 
+TEST(InPlace, RegistryRefusesAPairOfPortsItDoesNotHave) {
+    auto variant = [](const std::string& in, const std::string& out, int out_channels) {
+        StageVariant v;
+        v.stage = "t";
+        v.variant = in + "_" + out;
+        v.inputs = {{"color", "color", 4, false}};
+        v.outputs = {{"color", "out", out_channels, false}};
+        v.run = [](StageIO&, const ParamValues&, const Exec&) {};
+        v.in_place_input = in;
+        v.in_place_output = out;
+        return v;
+    };
+    Registry r;
+    EXPECT_NO_THROW(r.add(variant("color", "color", 4)));
+    EXPECT_THROW(r.add(variant("colour", "color", 4)), Error) << "no such input";
+    EXPECT_THROW(r.add(variant("color", "", 4)), Error) << "no output named";
+    EXPECT_THROW(r.add(variant("color", "color", 1)), Error) << "channel counts differ";
+}
+
 TEST(Fusion, RegistryRefusesFusionsThatDropAnOutputOrMismatchAPort) {
     Registry r = builtin_registry();
     Fusion f;

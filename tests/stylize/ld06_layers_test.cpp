@@ -436,7 +436,9 @@ TEST(ShadowLayerAndInk, InkInPlaceHasTheBytesOfInkOnSeparateImages) {
                 for (int x = 0; x < w; ++x) {
                     const bool same = std::memcmp(&separate.at(x, y, 0), &color.at(x, y, 0), 4 * sizeof(float)) == 0;
                     kept += same, changed += !same;
-                    if (iw == w && ih == h && ink.at(x, y, 0) <= 0.0f) EXPECT_TRUE(same) << x << "," << y;
+                    if (iw == w && ih == h && ink.at(x, y, 0) <= 0.0f) {
+                        EXPECT_TRUE(same) << x << "," << y;
+                    }
                 }
             EXPECT_GT(kept, w * h / 2);
             EXPECT_GT(changed, 0);
