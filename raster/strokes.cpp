@@ -54,6 +54,23 @@ inline float seg_dist2(const Seg& s, float px, float py, float* t) {
     return ex * ex + ey * ey;
 }
 
+// The pixels whose centre seg_dist2 can put within `half` of the segment: a centre farther than
+// half + margin from the segment's box in x or in y has a computed distance above half, because
+// the computed nearest point lies in that box up to the rounding of its three operations (a few
+// ulps of the largest coordinate: kCapsuleMarginRel) and the squares' rounding is covered by
+// kCapsuleMarginAbs (2·half·1e-3 > half²·2^-22 for half < 8000 px). Both traversals' bounds.
+constexpr float kCapsuleMarginAbs = 1e-3f;
+constexpr float kCapsuleMarginRel = 1e-6f;  // > 6·2^-24 with room for the bounds' own rounding
+struct PxBox {
+    int x0, y0, x1, y1;  // inclusive; empty when x0 > x1 or y0 > y1
+};
+inline PxBox capsule_box(const Seg& s, float half) {
+    const float big = std::max({std::abs(s.x0), std::abs(s.y0), std::abs(s.x1), std::abs(s.y1), half});
+    const float reach = half + kCapsuleMarginAbs + kCapsuleMarginRel * big + 0.5f;  // + 0.5: centre -> index
+    return {int(std::ceil(std::min(s.x0, s.x1) - reach)), int(std::ceil(std::min(s.y0, s.y1) - reach)),
+            int(std::floor(std::max(s.x0, s.x1) + reach - 1.0f)), int(std::floor(std::max(s.y0, s.y1) + reach - 1.0f))};
+}
+
 }  // namespace
 
 ContourCache build_contour_cache(const scene::Scene& sc) {
@@ -301,10 +318,11 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             g.na = g.has_normal ? na / la : glm::vec3(0);
             g.nb = g.has_normal ? nb / lb : glm::vec3(0);
             g.valid = true;
-            q.bx0 = std::min(q.bx0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
-            q.by0 = std::min(q.by0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
-            q.bx1 = std::max(q.bx1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
-            q.by1 = std::max(q.by1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
+            const PxBox box = capsule_box(g, half);
+            q.bx0 = std::min(q.bx0, box.x0);
+            q.by0 = std::min(q.by0, box.y0);
+            q.bx1 = std::max(q.bx1, box.x1);
+            q.by1 = std::max(q.by1, box.y1);
             segs[slot[si] + i] = g;
             ++valid_count[si];
         }
@@ -492,17 +510,16 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 // Segments in order, each over its own capsule bounds: the same minimum (first on
                 // a tie) as the reference's loop over all segments per pixel.
                 // A segment's span is widened to whole 8-pixel groups of the tile row (within the
-                // tile): its distances there are exact too, and a pixel farther than half + 1 from it
-                // is either not drawn or nearer to another segment, so the minimum is the reference's
+                // tile): its distances there are exact too, and a pixel outside its capsule_box is
+                // either not drawn or nearer to another segment, so the minimum is the reference's
                 // (which tries every segment at every pixel of the stroke's bounds). The groups run
                 // as one 8-lane step each, without the short rows' scalar remainders.
                 for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
                     const Seg& g = segs[k];
                     if (!g.valid) continue;
-                    const int sy0 = std::max(y0, int(std::floor(std::min(g.y0, g.y1) - half - 1.0f)));
-                    const int sy1 = std::min(y1, int(std::ceil(std::max(g.y0, g.y1) + half + 1.0f)));
-                    const int cx0 = std::max(x0, int(std::floor(std::min(g.x0, g.x1) - half - 1.0f)));
-                    const int cx1 = std::min(x1, int(std::ceil(std::max(g.x0, g.x1) + half + 1.0f)));
+                    const PxBox b = capsule_box(g, half);
+                    const int sy0 = std::max(y0, b.y0), sy1 = std::min(y1, b.y1);
+                    const int cx0 = std::max(x0, b.x0), cx1 = std::min(x1, b.x1);
                     if (cx0 > cx1 || sy0 > sy1) continue;
                     const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
                     const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
