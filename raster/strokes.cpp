@@ -347,12 +347,12 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) D = p.depth_map->view<float>();
 
     // The pixel's value once its nearest segment is known: eq. 2 visibility and the §4.4 fades,
-    // alpha_of(...) composited "over" the stroke map (over). depth_at: the depth map at a pixel.
+    // alpha_of(...) composited "over" the stroke map (over). depth_at: the depth map at a pixel
+    // (the texel itself when the map has the pass's size, as the toolkit resamples).
     const bool tested = D.data != nullptr;
     const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
     auto depth_at = [&](int x, int y) {
-        const float Dv = stylize::sample_bilinear(D, stylize::texel_coord(x, W, D.width),
-                                                  stylize::texel_coord(y, H, D.height), Border::Clamp);
+        const float Dv = stylize::sample_resampled(D, x, y, W, H);
         return p.test == DepthTest::BlurredRgba8 ? quantize_depth_rgba8(Dv) : Dv;
     };
     auto alpha_of = [&](const PStroke& st, const Seg& g, float ts, int x, int y) {

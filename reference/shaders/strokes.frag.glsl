@@ -43,7 +43,9 @@ void main() {
     float fd = (-pv.z - u_depth_near) / (u_depth_far - u_depth_near);
     float fv = 1.0;
     if (u_has_depth) {
-        float D = texture(s_depth, p / u_size).r;
+        // The texel itself at equal sizes (the toolkit's resampling identity rule), else bilinear.
+        float D = textureSize(s_depth, 0) == ivec2(u_size) ? texelFetch(s_depth, ivec2(p), 0).r
+                                                           : texture(s_depth, p / u_size).r;
         if (u_test == 2) D = rgba8(D);
         fv = visibility(D, fd, u_test == 0 ? 0.0 : u_delta, u_beta);
     }
