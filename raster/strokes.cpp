@@ -284,10 +284,27 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         const Stroke& s = *all[si];
         PStroke q{slot[si], slot[si + 1] - slot[si], 1 << 30, 1 << 30, -1, -1, s.light_dependent};
         const bool normals = s.normals.size() == s.points.size();
+        // Each point is transformed once (a segment's end is the next one's start); a segment end
+        // moved by near-plane clipping is projected anew.
+        struct End {
+            glm::vec3 v, n;  // view space
+            float x, y;      // pixels
+            float ln;        // |n|
+        };
+        auto end_of = [&](std::size_t i) {
+            End e;
+            e.v = glm::vec3(view.camera.view * glm::vec4(s.points[i], 1.0f));
+            e.n = normals ? vrot * s.normals[i] : glm::vec3(0);
+            to_px(e.v, &e.x, &e.y);
+            e.ln = glm::length(e.n);
+            return e;
+        };
+        End eb = s.points.size() > 1 ? end_of(0) : End{};
         for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
-            glm::vec3 a = glm::vec3(view.camera.view * glm::vec4(s.points[i], 1.0f));
-            glm::vec3 b = glm::vec3(view.camera.view * glm::vec4(s.points[i + 1], 1.0f));
-            glm::vec3 na = normals ? vrot * s.normals[i] : glm::vec3(0), nb = normals ? vrot * s.normals[i + 1] : glm::vec3(0);
+            const End ea = eb;
+            eb = end_of(i + 1);
+            glm::vec3 a = ea.v, b = eb.v, na = ea.n, nb = eb.n;
+            bool a_moved = false, b_moved = false;
             if (!std::isfinite(a.x + a.y + a.z + b.x + b.y + b.z + na.x + na.y + na.z + nb.x + nb.y + nb.z)) {
                 ++drops[si];
                 continue;
@@ -299,13 +316,15 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                     const float t = (znear - da) / (db - da);
                     const glm::vec3 c = a + (b - a) * t;
                     const glm::vec3 nc = na + (nb - na) * t;
-                    if (da < znear) a = c, na = nc;
-                    else b = c, nb = nc;
+                    if (da < znear) a = c, na = nc, a_moved = true;
+                    else b = c, nb = nc, b_moved = true;
                 }
             }
             Seg g;
-            to_px(a, &g.x0, &g.y0);
-            to_px(b, &g.x1, &g.y1);
+            if (a_moved) to_px(a, &g.x0, &g.y0);
+            else g.x0 = ea.x, g.y0 = ea.y;
+            if (b_moved) to_px(b, &g.x1, &g.y1);
+            else g.x1 = eb.x, g.y1 = eb.y;
             if (!std::isfinite(g.x0 + g.y0 + g.x1 + g.y1) || std::abs(g.x0) > 1e7f || std::abs(g.y0) > 1e7f ||
                 std::abs(g.x1) > 1e7f || std::abs(g.y1) > 1e7f) {
                 ++drops[si];
@@ -313,7 +332,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             }
             g.pa = a;
             g.pb = b;
-            const float la = glm::length(na), lb = glm::length(nb);
+            const float la = a_moved ? glm::length(na) : ea.ln, lb = b_moved ? glm::length(nb) : eb.ln;
             g.has_normal = normals && la > 0.0f && lb > 0.0f;
             g.na = g.has_normal ? na / la : glm::vec3(0);
             g.nb = g.has_normal ? nb / lb : glm::vec3(0);

@@ -123,6 +123,36 @@ TEST(Strokes, ShortStrokesAtSubpixelPositionsCoverTheirCapsules) {
     EXPECT_GT(checked, covered);
 }
 
+// A stroke from a point in view to one behind the camera is clipped at the near plane: what is
+// drawn runs from the visible point towards the clipped end's side of the screen (x grows; the
+// point behind the camera would project mirrored, to the left), to the image edge.
+TEST(Strokes, AStrokeCrossingTheNearPlaneRunsFromItsVisibleEndToTheClippedEnd) {
+    Fixture f;
+    StrokeParams p;
+    p.test = DepthTest::Binary;
+    p.width_px = 3.0f * 720.0f / 160.0f;
+    p.fade_near = p.fade_far = 1.0f;
+    const glm::vec3 seen(0.5f, 0.0f, 0.0f), behind(0.5f, 0.0f, 7.0f);  // the camera is at (0, 0, 6)
+    const glm::vec2 c = f.px(seen);
+    for (const Exec& ex : {Exec::reference(), Exec::fast(2)}) {
+        for (const bool reversed : {false, true}) {
+            ImageF out;
+            std::size_t dropped = 0;
+            const std::vector<glm::vec3> pts = reversed ? std::vector<glm::vec3>{behind, seen} : std::vector<glm::vec3>{seen, behind};
+            render_strokes(out, f.ps, {Stroke{pts, {}, false}}, p, ex, &dropped);
+            EXPECT_EQ(dropped, 0u);
+            const int y = int(c.y);
+            int right = 0, left = 0;
+            for (int x = 0; x < 160; ++x) {
+                right += x > int(c.x) + 3 && out.at(x, y, 0) > 0.0f;
+                left += x < int(c.x) - 3 && out.at(x, y, 0) > 0.0f;
+            }
+            EXPECT_EQ(right, 160 - (int(c.x) + 4)) << "the clipped end lies right of the image: drawn to the edge";
+            EXPECT_EQ(left, 0) << "nothing left of the visible end";
+        }
+    }
+}
+
 TEST(Strokes, FadesFollowTheirDefinitions) {
     Fixture f;
     StrokeParams p;
