@@ -25,6 +25,23 @@ namespace {
 constexpr int kTile = 64;
 constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
 constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
+constexpr int kShadeBatch = 256;            // drawn pixels gathered across strokes before shading
+constexpr int kPending = kShadeBatch + kTile * kTile + 8;  // + one stroke's tile + a vector's overrun
+
+// For each 8-bit mask, the indices of its set bits in increasing order, one per byte (the lanes
+// the drawn-pixel list keeps, for _mm256_permutevar8x32).
+struct CompressTable {
+    std::uint64_t lanes[256];
+    constexpr CompressTable() : lanes{} {
+        for (int m = 0; m < 256; ++m) {
+            std::uint64_t v = 0;
+            for (int b = 0, k = 0; b < 8; ++b)
+                if (m & (1 << b)) v |= std::uint64_t(b) << (8 * k++);
+            lanes[m] = v;
+        }
+    }
+};
+constexpr CompressTable kCompress;
 static_assert(kTile % kGroup == 0);
 
 // One projected segment: screen end points (pixels), view-space end points and normals.
@@ -374,7 +391,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         const float Dv = stylize::sample_resampled(D, x, y, W, H);
         return p.test == DepthTest::BlurredRgba8 ? quantize_depth_rgba8(Dv) : Dv;
     };
-    auto alpha_of = [&](const PStroke& st, const Seg& g, float ts, int x, int y) {
+    auto alpha_of = [&](bool light_dependent, const Seg& g, float ts, int x, int y) {
         // Screen parameter -> view-space parameter (perspective-correct through the depths).
         float t = ts;
         if (!view.camera.orthographic) {
@@ -391,20 +408,21 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             n = ln > 0.0f ? n / ln : n;
             const glm::vec3 v = view.camera.orthographic ? glm::vec3(0, 0, 1) : glm::normalize(-pv);
             a *= stylize::smoothstep(p.nv_lo, p.nv_hi, std::abs(glm::dot(n, v)));
-            if (st.light_dependent) a *= 1.0f - stylize::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
+            if (light_dependent) a *= 1.0f - stylize::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
         }
         return a;
     };
     auto over = [](float* dst, float a) { *dst = a + *dst * (1.0f - a); };
 #ifdef __AVX2__
-    // alpha_of for eight drawn pixels of one stroke (lane l: pixel (xs[l], ys[l]), segment ks[l],
-    // screen parameter ts[l]; n <= 8 lanes used, the others copy lane 0): its operations lane by
-    // lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by 1 / sqrt).
-    auto alpha8 = [&](const PStroke& st, const int* xs, const int* ys, const std::uint32_t* ks, const float* ts, int n,
-                      float* out_a) {
-        constexpr int kFields = 15;  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal
+    // alpha_of for eight drawn pixels (lane l: pixel (xs[l], ys[l]), segment ks[l], screen parameter
+    // ts[l], a hatching stroke's when lights[l]; n <= 8 lanes used, the others copy lane 0): its
+    // operations lane by lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by
+    // 1 / sqrt).
+    auto alpha8 = [&](const int* xs, const int* ys, const std::uint32_t* ks, const float* ts,
+                      const std::uint8_t* lights, int n, float* out_a) {
+        constexpr int kFields = 16;  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal, light
         alignas(32) float f[kFields][8];
-        bool any_normal = false;
+        bool any_normal = false, any_light = false;
         for (int l = 0; l < n; ++l) {
             const Seg& g = segs[ks[l]];
             f[0][l] = ts[l];
@@ -414,7 +432,9 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             f[10][l] = g.nb.x, f[11][l] = g.nb.y, f[12][l] = g.nb.z;
             f[13][l] = tested ? depth_at(xs[l], ys[l]) : 0.0f;
             f[14][l] = g.has_normal ? 1.0f : 0.0f;
+            f[15][l] = lights[l] ? 1.0f : 0.0f;
             any_normal = any_normal || g.has_normal;
+            any_light = any_light || lights[l];
         }
         for (int k = 0; k < kFields; ++k)
             for (int l = n; l < 8; ++l) f[k][l] = f[k][0];
@@ -457,9 +477,10 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             }
             const __m256 nv = _mm256_andnot_ps(sign, dot(nx, ny, nz, vx, vy, vz));
             __m256 an = _mm256_mul_ps(a, stylize::smoothstep8(p.nv_lo, p.nv_hi, nv));
-            if (st.light_dependent) {
+            if (any_light) {
                 const __m256 nl = dot(nx, ny, nz, set(light_view.x), set(light_view.y), set(light_view.z));
-                an = _mm256_mul_ps(an, _mm256_sub_ps(one, stylize::smoothstep8(p.nl_lo, p.nl_hi, nl)));
+                const __m256 lit = _mm256_mul_ps(an, _mm256_sub_ps(one, stylize::smoothstep8(p.nl_lo, p.nl_hi, nl)));
+                an = _mm256_blendv_ps(an, lit, _mm256_cmp_ps(ld(15), zero, _CMP_GT_OQ));
             }
             a = _mm256_blendv_ps(a, an, _mm256_cmp_ps(ld(14), zero, _CMP_GT_OQ));
         }
@@ -482,7 +503,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         const float d2 = seg_dist2(segs[k], px, py, &t);
                         if (d2 < best) best = d2, bt = t, bs = k;
                     }
-                    if (best <= r2) over(img + std::size_t(y) * W + x, alpha_of(st, segs[bs], bt, x, y));
+                    if (best <= r2) over(img + std::size_t(y) * W + x, alpha_of(st.light_dependent, segs[bs], bt, x, y));
                 }
         return;
     }
@@ -504,7 +525,28 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
             float best[kTile * kTile], bt[kTile * kTile];
             std::uint32_t bs[kTile * kTile];
-            int dxs[kTile * kTile], dys[kTile * kTile];  // a stroke's drawn pixels in the tile
+            // Drawn pixels waiting to be shaded, in drawing order (strokes in order, each row by row):
+            // their alphas do not depend on the order, so they are computed eight at a time across
+            // strokes, then composited "over" in this order. Flushed at kShadeBatch and at the end.
+            alignas(32) int px[kPending], py[kPending];
+            alignas(32) std::uint32_t pk[kPending];
+            alignas(32) float pt[kPending];
+            std::uint8_t plight[kPending];
+            int np = 0;
+            auto flush = [&] {
+#ifdef __AVX2__
+                for (int i0 = 0; i0 < np; i0 += 8) {
+                    const int m = std::min(8, np - i0);
+                    float av[8];
+                    alpha8(px + i0, py + i0, pk + i0, pt + i0, plight + i0, m, av);
+                    for (int l = 0; l < m; ++l) over(img + std::size_t(py[i0 + l]) * W + px[i0 + l], av[l]);
+                }
+#else
+                for (int i = 0; i < np; ++i)
+                    over(img + std::size_t(py[i]) * W + px[i], alpha_of(plight[i] != 0, segs[pk[i]], pt[i], px[i], py[i]));
+#endif
+                np = 0;
+            };
             for (std::uint32_t it = offsets[std::size_t(tile)]; it < offsets[std::size_t(tile) + 1]; ++it) {
                 const PStroke& st = ps_strokes[items[it]];
                 const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
@@ -565,31 +607,37 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
                     }
                 }
-                // The drawn pixels are listed first, without a branch per pixel (which ones are drawn
-                // is irregular along a thin stroke), then shaded: eight at a time with AVX2.
-                int n = 0;
+                // The drawn pixels are listed without a branch per pixel (which ones are drawn is
+                // irregular along a thin stroke): with AVX2, eight at a time, compressed by a table.
+                const std::uint8_t light = st.light_dependent ? 1 : 0;
                 for (int y = y0; y <= y1; ++y) {
                     const float* brow = best + (y - Y0) * kTile - X0;
-                    for (int x = lo[y - Y0]; x <= hi[y - Y0]; ++x) {
-                        dxs[n] = x, dys[n] = y;
-                        n += brow[x] <= r2;
-                    }
-                }
-                auto li_of = [&](int i) { return (dys[i] - Y0) * kTile + (dxs[i] - X0); };
+                    const float* trow = bt + (y - Y0) * kTile - X0;
+                    const std::uint32_t* srow = bs + (y - Y0) * kTile - X0;
+                    int x = lo[y - Y0];
+                    const int h = hi[y - Y0];
 #ifdef __AVX2__
-                for (int i0 = 0; i0 < n; i0 += 8) {
-                    const int m = std::min(8, n - i0);
-                    std::uint32_t ks[8];
-                    float ts[8], av[8];
-                    for (int l = 0; l < m; ++l) ks[l] = bs[li_of(i0 + l)], ts[l] = bt[li_of(i0 + l)];
-                    alpha8(st, dxs + i0, dys + i0, ks, ts, m, av);
-                    for (int l = 0; l < m; ++l) over(img + std::size_t(dys[i0 + l]) * W + dxs[i0 + l], av[l]);
-                }
-#else
-                for (int i = 0; i < n; ++i)
-                    over(img + std::size_t(dys[i]) * W + dxs[i], alpha_of(st, segs[bs[li_of(i)]], bt[li_of(i)], dxs[i], dys[i]));
+                    const __m256 r2v = _mm256_set1_ps(r2);
+                    for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
+                        const int mask = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
+                        if (mask == 0) continue;
+                        const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
+                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(px + np), _mm256_add_epi32(idx, _mm256_set1_epi32(x)));
+                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(py + np), _mm256_set1_epi32(y));
+                        _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(_mm256_loadu_ps(trow + x), idx));
+                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np),
+                                            _mm256_permutevar8x32_epi32(
+                                                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), idx));
+                        std::memset(plight + np, light, kGroup);
+                        np += __builtin_popcount(unsigned(mask));
+                    }
 #endif
+                    for (; x <= h; ++x)
+                        if (brow[x] <= r2) px[np] = x, py[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
+                }
+                if (np >= kShadeBatch) flush();
             }
+            flush();
         });
     });
 }
