@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstddef>
 #include <cstring>
 #include <tuple>
 
@@ -52,6 +53,10 @@ struct Seg {
     bool has_normal;
     bool valid = false;  // false: a dropped or clipped-away segment's slot (skipped)
 };
+
+// alpha8 reads pa, pb, na.xy as eight floats from pa and na.z, nb as four from na.z.
+static_assert(offsetof(Seg, pb) == offsetof(Seg, pa) + 12 && offsetof(Seg, na) == offsetof(Seg, pa) + 24 &&
+              offsetof(Seg, nb) == offsetof(Seg, pa) + 36 && offsetof(Seg, has_normal) >= offsetof(Seg, pa) + 48);
 
 struct PStroke {
     std::uint32_t first, count;  // slots in segs (one per segment; invalid ones skipped)
@@ -420,25 +425,43 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     // 1 / sqrt).
     auto alpha8 = [&](const int* xs, const int* ys, const std::uint32_t* ks, const float* ts,
                       const std::uint8_t* lights, int n, float* out_a) {
-        constexpr int kFields = 16;  // ts, pa.xyz, pb.xyz, na.xyz, nb.xyz, D, has_normal, light
-        alignas(32) float f[kFields][8];
+        // Fields, one register each: ts, pa.xyz, pb.xyz, na.xyz, nb.xyz (transposed from the
+        // lanes' segments: 8 x 8 and 8 x 4 floats), D, has_normal, light.
+        alignas(32) float f0[8], f13[8], f14[8], f15[8];
+        const Seg* g8[8];
         bool any_normal = false, any_light = false;
-        for (int l = 0; l < n; ++l) {
-            const Seg& g = segs[ks[l]];
-            f[0][l] = ts[l];
-            f[1][l] = g.pa.x, f[2][l] = g.pa.y, f[3][l] = g.pa.z;
-            f[4][l] = g.pb.x, f[5][l] = g.pb.y, f[6][l] = g.pb.z;
-            f[7][l] = g.na.x, f[8][l] = g.na.y, f[9][l] = g.na.z;
-            f[10][l] = g.nb.x, f[11][l] = g.nb.y, f[12][l] = g.nb.z;
-            f[13][l] = tested ? depth_at(xs[l], ys[l]) : 0.0f;
-            f[14][l] = g.has_normal ? 1.0f : 0.0f;
-            f[15][l] = lights[l] ? 1.0f : 0.0f;
+        for (int l = 0; l < 8; ++l) {
+            const int src = l < n ? l : 0;  // unused lanes copy lane 0
+            const Seg& g = segs[ks[src]];
+            g8[l] = &g;
+            f0[l] = ts[src];
+            f13[l] = !tested ? 0.0f : (l < n ? depth_at(xs[l], ys[l]) : f13[0]);
+            f14[l] = g.has_normal ? 1.0f : 0.0f;
+            f15[l] = lights[src] ? 1.0f : 0.0f;
             any_normal = any_normal || g.has_normal;
-            any_light = any_light || lights[l];
+            any_light = any_light || lights[src];
         }
-        for (int k = 0; k < kFields; ++k)
-            for (int l = n; l < 8; ++l) f[k][l] = f[k][0];
-        auto ld = [&](int k) { return _mm256_load_ps(f[k]); };
+        __m256 F[16];
+        F[0] = _mm256_load_ps(f0), F[13] = _mm256_load_ps(f13), F[14] = _mm256_load_ps(f14), F[15] = _mm256_load_ps(f15);
+        {
+            __m256 r[8], t[8];
+            for (int l = 0; l < 8; ++l) r[l] = _mm256_loadu_ps(&g8[l]->pa.x);  // pa, pb, na.xy
+            for (int l = 0; l < 8; l += 2) t[l] = _mm256_unpacklo_ps(r[l], r[l + 1]), t[l + 1] = _mm256_unpackhi_ps(r[l], r[l + 1]);
+            for (int l = 0; l < 8; l += 4) {
+                r[l] = _mm256_shuffle_ps(t[l], t[l + 2], 0x44), r[l + 1] = _mm256_shuffle_ps(t[l], t[l + 2], 0xEE);
+                r[l + 2] = _mm256_shuffle_ps(t[l + 1], t[l + 3], 0x44), r[l + 3] = _mm256_shuffle_ps(t[l + 1], t[l + 3], 0xEE);
+            }
+            for (int c = 0; c < 4; ++c)
+                F[1 + c] = _mm256_permute2f128_ps(r[c], r[c + 4], 0x20), F[5 + c] = _mm256_permute2f128_ps(r[c], r[c + 4], 0x31);
+            __m256 q[4];
+            for (int l = 0; l < 4; ++l)  // na.z, nb: lane l in the low half, lane l + 4 in the high half
+                q[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(&g8[l]->na.z)), _mm_loadu_ps(&g8[l + 4]->na.z), 1);
+            const __m256 u0 = _mm256_unpacklo_ps(q[0], q[1]), u1 = _mm256_unpackhi_ps(q[0], q[1]);
+            const __m256 u2 = _mm256_unpacklo_ps(q[2], q[3]), u3 = _mm256_unpackhi_ps(q[2], q[3]);
+            F[9] = _mm256_shuffle_ps(u0, u2, 0x44), F[10] = _mm256_shuffle_ps(u0, u2, 0xEE);
+            F[11] = _mm256_shuffle_ps(u1, u3, 0x44), F[12] = _mm256_shuffle_ps(u1, u3, 0xEE);
+        }
+        auto ld = [&](int k) { return F[k]; };
         auto set = [](float v) { return _mm256_set1_ps(v); };
         const __m256 one = set(1.0f), zero = _mm256_setzero_ps(), sign = set(-0.0f);
         const __m256 s = ld(0);
