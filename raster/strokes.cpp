@@ -26,6 +26,7 @@ namespace {
 constexpr int kTile = 64;
 constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
 constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
+constexpr std::uint32_t kPrefetchAhead = 4;  // strokes of a tile fetched ahead of the scan
 constexpr int kShadeBatch = 256;            // drawn pixels gathered across strokes before shading
 constexpr int kPending = kShadeBatch + kTile * kTile + 8;  // + one stroke's tile + a vector's overrun
 
@@ -570,8 +571,16 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
 #endif
                 np = 0;
             };
-            for (std::uint32_t it = offsets[std::size_t(tile)]; it < offsets[std::size_t(tile) + 1]; ++it) {
+            const std::uint32_t it_end = offsets[std::size_t(tile) + 1];
+            for (std::uint32_t it = offsets[std::size_t(tile)]; it < it_end; ++it) {
                 const PStroke& st = ps_strokes[items[it]];
+                if (it + kPrefetchAhead < it_end) {  // the strokes of a tile lie apart in memory
+                    const PStroke& ahead = ps_strokes[items[it + kPrefetchAhead]];
+                    __builtin_prefetch(&segs[ahead.first]);
+                    __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 64);
+                    __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 128);
+                }
+                if (it + 2 * kPrefetchAhead < it_end) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
                 const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
                 const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
                 // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
