@@ -27,7 +27,9 @@ constexpr int kTile = 64;
 constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
 constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
 constexpr std::uint32_t kPrefetchAhead = 4;  // strokes of a tile fetched ahead of the scan
-constexpr int kShadeBatch = 256;            // drawn pixels gathered across strokes before shading
+constexpr int kShadeBatch = 256;
+constexpr std::uint32_t kDirectSegments = 4;  // strokes of at most this many segments and
+constexpr int kDirectSpan = 24;               // bounds (in the tile) within this many pixels: one pass            // drawn pixels gathered across strokes before shading
 constexpr int kPending = kShadeBatch + kTile * kTile + 8;  // + one stroke's tile + a vector's overrun
 
 // For each 8-bit mask, the indices of its set bits in increasing order, one per byte (the lanes
@@ -54,6 +56,33 @@ struct Seg {
     bool has_normal;
     bool valid = false;  // false: a dropped or clipped-away segment's slot (skipped)
 };
+
+#ifdef __AVX2__
+// One segment's seg_dist2 for eight pixel centres, operation for operation (bit for bit).
+struct SegLanes {
+    __m256 x0, y0, dx, dy, len2;
+    bool has_len;
+    __m256i k;
+    SegLanes() = default;
+    SegLanes(const Seg& s, std::uint32_t index) {
+        const float ddx = s.x1 - s.x0, ddy = s.y1 - s.y0, l2 = ddx * ddx + ddy * ddy;
+        x0 = _mm256_set1_ps(s.x0), y0 = _mm256_set1_ps(s.y0), dx = _mm256_set1_ps(ddx), dy = _mm256_set1_ps(ddy);
+        len2 = _mm256_set1_ps(l2), has_len = l2 > 0.0f, k = _mm256_set1_epi32(int(index));
+    }
+    __m256 dist2(__m256 px, __m256 py, __m256* t) const {
+        const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+        __m256 u = zero;
+        if (has_len)
+            u = _mm256_div_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(px, x0), dx), _mm256_mul_ps(_mm256_sub_ps(py, y0), dy)), len2);
+        u = _mm256_blendv_ps(u, zero, _mm256_cmp_ps(u, zero, _CMP_LT_OQ));
+        u = _mm256_blendv_ps(u, one, _mm256_cmp_ps(u, one, _CMP_GT_OQ));
+        const __m256 ex = _mm256_sub_ps(_mm256_add_ps(x0, _mm256_mul_ps(dx, u)), px);
+        const __m256 ey = _mm256_sub_ps(_mm256_add_ps(y0, _mm256_mul_ps(dy, u)), py);
+        *t = u;
+        return _mm256_add_ps(_mm256_mul_ps(ex, ex), _mm256_mul_ps(ey, ey));
+    }
+};
+#endif
 
 // alpha8 reads pa, pb, na.xy as eight floats from pa and na.z, nb as four from na.z.
 static_assert(offsetof(Seg, pb) == offsetof(Seg, pa) + 12 && offsetof(Seg, na) == offsetof(Seg, pa) + 24 &&
@@ -552,7 +581,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             // Drawn pixels waiting to be shaded, in drawing order (strokes in order, each row by row):
             // their alphas do not depend on the order, so they are computed eight at a time across
             // strokes, then composited "over" in this order. Flushed at kShadeBatch and at the end.
-            alignas(32) int px[kPending], py[kPending];
+            alignas(32) int qx[kPending], qy[kPending];
             alignas(32) std::uint32_t pk[kPending];
             alignas(32) float pt[kPending];
             std::uint8_t plight[kPending];
@@ -562,12 +591,12 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 for (int i0 = 0; i0 < np; i0 += 8) {
                     const int m = std::min(8, np - i0);
                     float av[8];
-                    alpha8(px + i0, py + i0, pk + i0, pt + i0, plight + i0, m, av);
-                    for (int l = 0; l < m; ++l) over(img + std::size_t(py[i0 + l]) * W + px[i0 + l], av[l]);
+                    alpha8(qx + i0, qy + i0, pk + i0, pt + i0, plight + i0, m, av);
+                    for (int l = 0; l < m; ++l) over(img + std::size_t(qy[i0 + l]) * W + qx[i0 + l], av[l]);
                 }
 #else
                 for (int i = 0; i < np; ++i)
-                    over(img + std::size_t(py[i]) * W + px[i], alpha_of(plight[i] != 0, segs[pk[i]], pt[i], px[i], py[i]));
+                    over(img + std::size_t(qy[i]) * W + qx[i], alpha_of(plight[i] != 0, segs[pk[i]], pt[i], qx[i], qy[i]));
 #endif
                 np = 0;
             };
@@ -583,6 +612,51 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 if (it + 2 * kPrefetchAhead < it_end) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
                 const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
                 const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
+                const std::uint8_t light = st.light_dependent ? 1 : 0;
+#ifdef __AVX2__
+                // A short stroke (hatching: a few segments over a few pixels) in one pass over its
+                // bounds: per group of eight pixels, every segment in order (the strict < of
+                // nearest(), first on a tie) in registers, the drawn lanes listed at once. Pixels
+                // of the bounds outside every capsule_box are not drawn, as in the reference.
+                if (st.count <= kDirectSegments && x1 - x0 < kDirectSpan && y1 - y0 < kDirectSpan) {
+                    int nseg = 0;
+                    SegLanes sl[kDirectSegments];
+                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k)
+                        if (segs[k].valid) sl[nseg++] = SegLanes(segs[k], k);
+                    const int gx0 = X0 + ((x0 - X0) & ~(kGroup - 1));
+                    const __m256 r2v = _mm256_set1_ps(r2), inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+                    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+                    for (int y = y0; y <= y1; ++y) {
+                        const __m256 vpy = _mm256_set1_ps(float(y) + 0.5f);
+                        for (int gx = gx0; gx <= x1; gx += kGroup) {
+                            const __m256i xs = _mm256_add_epi32(_mm256_set1_epi32(gx), lanes);
+                            const __m256 vpx = _mm256_add_ps(_mm256_cvtepi32_ps(xs), _mm256_set1_ps(0.5f));
+                            __m256 best8 = inf, bu = _mm256_setzero_ps();
+                            __m256i bk = _mm256_setzero_si256();
+                            for (int i = 0; i < nseg; ++i) {
+                                __m256 u;
+                                const __m256 d2 = sl[i].dist2(vpx, vpy, &u);
+                                const __m256 win = _mm256_cmp_ps(d2, best8, _CMP_LT_OQ);
+                                best8 = _mm256_blendv_ps(best8, d2, win);
+                                bu = _mm256_blendv_ps(bu, u, win);
+                                bk = _mm256_blendv_epi8(bk, sl[i].k, _mm256_castps_si256(win));
+                            }
+                            const __m256 in_tile = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(X1 + 1), xs));
+                            const int mask = _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(best8, r2v, _CMP_LE_OQ), in_tile));
+                            if (mask == 0) continue;
+                            const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
+                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_permutevar8x32_epi32(xs, idx));
+                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
+                            _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(bu, idx));
+                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np), _mm256_permutevar8x32_epi32(bk, idx));
+                            std::memset(plight + np, light, kGroup);
+                            np += __builtin_popcount(unsigned(mask));
+                        }
+                    }
+                    if (np >= kShadeBatch) flush();
+                    continue;
+                }
+#endif
                 // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
                 // only it is initialised and scanned (outside it no segment is near, best stays
                 // +inf and nothing is drawn, as over the whole stroke bounds).
@@ -641,7 +715,6 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 }
                 // The drawn pixels are listed without a branch per pixel (which ones are drawn is
                 // irregular along a thin stroke): with AVX2, eight at a time, compressed by a table.
-                const std::uint8_t light = st.light_dependent ? 1 : 0;
                 for (int y = y0; y <= y1; ++y) {
                     const float* brow = best + (y - Y0) * kTile - X0;
                     const float* trow = bt + (y - Y0) * kTile - X0;
@@ -654,8 +727,8 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         const int mask = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
                         if (mask == 0) continue;
                         const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
-                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(px + np), _mm256_add_epi32(idx, _mm256_set1_epi32(x)));
-                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(py + np), _mm256_set1_epi32(y));
+                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_add_epi32(idx, _mm256_set1_epi32(x)));
+                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
                         _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(_mm256_loadu_ps(trow + x), idx));
                         _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np),
                                             _mm256_permutevar8x32_epi32(
@@ -665,7 +738,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                     }
 #endif
                     for (; x <= h; ++x)
-                        if (brow[x] <= r2) px[np] = x, py[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
+                        if (brow[x] <= r2) qx[np] = x, qy[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
                 }
                 if (np >= kShadeBatch) flush();
             }

@@ -77,50 +77,63 @@ TEST(Strokes, CoverageIsTheUnionOfCapsulesWithoutGapsOrDoubleHitsAtJoints) {
 // the width of a segment (the drawn pixels come from per-segment bounds, which must not lose any).
 TEST(Strokes, ShortStrokesAtSubpixelPositionsCoverTheirCapsules) {
     Fixture f;
-    const PassViewSetup v = pass_view(f.ps, PassView::Camera, 1.0f);
-    const glm::mat4 inv = glm::inverse(projection_matrix(v.camera, 160.0f / 120.0f) * v.camera.view);
-    auto world_of = [&](glm::dvec2 px) {  // the pixel position on the plane z = 0 (a ray hit)
-        const glm::vec2 ndc(float(px.x / 80.0 - 1.0), float(1.0 - px.y / 60.0));
-        const glm::vec4 a = inv * glm::vec4(ndc, -1.0f, 1.0f), b = inv * glm::vec4(ndc, 1.0f, 1.0f);
-        const glm::vec3 pa = glm::vec3(a) / a.w, pb = glm::vec3(b) / b.w;
-        return pa + (pb - pa) * (-pa.z / (pb.z - pa.z));
-    };
     std::uint32_t seed = 12345u;
     auto uniform = [&](double lo, double hi) {  // a fixed LCG: the same strokes on every platform
         seed = seed * 1664525u + 1013904223u;
         return lo + (hi - lo) * double(seed >> 8) / double(1u << 24);
     };
-    int covered = 0, mismatches = 0, checked = 0;
-    for (int k = 0; k < 60; ++k) {
-        const double width = uniform(0.6, 6.0);
-        std::vector<glm::vec3> pts;
-        glm::dvec2 c(uniform(8, 152), uniform(8, 112));
-        for (int i = 0; i < 3; ++i, c += glm::dvec2(uniform(-4, 4), uniform(-4, 4))) pts.push_back(world_of(c));
-        std::vector<glm::dvec2> s;
-        for (const glm::vec3& q : pts) s.push_back(glm::dvec2(f.px(q)));
-        StrokeParams p;
-        p.test = DepthTest::Binary;
-        p.width_px = float(width * 720.0 / 160.0);
-        p.fade_near = p.fade_far = 1.0f;
-        const double half = 0.5 * double(p.width_px) * 160.0 / 720.0;
-        for (const Exec& ex : {Exec::reference(), Exec::fast(2)}) {
-            ImageF out;
-            render_strokes(out, f.ps, {Stroke{pts, {}, false}}, p, ex);
-            for (int y = 0; y < 120; ++y)
-                for (int x = 0; x < 160; ++x) {
-                    const glm::dvec2 q(x + 0.5, y + 0.5);
-                    const double d = std::min(dist(q, s[0], s[1]), dist(q, s[1], s[2]));
-                    if (std::abs(d - half) < 1e-4) continue;  // on the border: float rounding may go either way
-                    const bool drawn = out.at(x, y, 0) != 0.0f;
-                    mismatches += (d <= half) != drawn;
-                    covered += drawn;
-                    checked += d < half + 1.0;
-                }
+    // A size in whole 8-pixel groups and one that is not (the right and bottom tiles end mid-group);
+    // strokes anywhere, crossing the image's edges too.
+    for (const glm::ivec2 size : {glm::ivec2(160, 120), glm::ivec2(157, 117)}) {
+        const int W = size.x, H = size.y;
+        const PassScene ps = make_pass_scene(f.sc, f.cam, W, H);
+        const PassViewSetup v = pass_view(ps, PassView::Camera, 1.0f);
+        const glm::mat4 vp = projection_matrix(v.camera, float(W) / float(H)) * v.camera.view;
+        const glm::mat4 inv = glm::inverse(vp);
+        auto world_of = [&](glm::dvec2 px) {  // the pixel position on the plane z = 0 (a ray hit)
+            const glm::vec2 ndc(float(px.x / (0.5 * W) - 1.0), float(1.0 - px.y / (0.5 * H)));
+            const glm::vec4 a = inv * glm::vec4(ndc, -1.0f, 1.0f), b = inv * glm::vec4(ndc, 1.0f, 1.0f);
+            const glm::vec3 pa = glm::vec3(a) / a.w, pb = glm::vec3(b) / b.w;
+            return pa + (pb - pa) * (-pa.z / (pb.z - pa.z));
+        };
+        auto px_of = [&](glm::vec3 w) {
+            const glm::vec4 c = vp * glm::vec4(w, 1.0f);
+            return glm::dvec2((c.x / c.w + 1.0f) * 0.5f * float(W), (1.0f - c.y / c.w) * 0.5f * float(H));
+        };
+        int covered = 0, mismatches = 0, checked = 0, at_edges = 0;
+        for (int k = 0; k < 80; ++k) {
+            const double width = uniform(0.6, 6.0);
+            std::vector<glm::vec3> pts;
+            glm::dvec2 c(uniform(-3, W + 3), uniform(-3, H + 3));
+            for (int i = 0; i < 3; ++i, c += glm::dvec2(uniform(-4, 4), uniform(-4, 4))) pts.push_back(world_of(c));
+            std::vector<glm::dvec2> s;
+            for (const glm::vec3& q : pts) s.push_back(px_of(q));
+            StrokeParams p;
+            p.test = DepthTest::Binary;
+            p.width_px = float(width * 720.0 / W);
+            p.fade_near = p.fade_far = 1.0f;
+            const double half = 0.5 * double(p.width_px) * W / 720.0;
+            for (const Exec& ex : {Exec::reference(), Exec::fast(2)}) {
+                ImageF out;
+                render_strokes(out, ps, {Stroke{pts, {}, false}}, p, ex);
+                for (int y = 0; y < H; ++y)
+                    for (int x = 0; x < W; ++x) {
+                        const glm::dvec2 q(x + 0.5, y + 0.5);
+                        const double d = std::min(dist(q, s[0], s[1]), dist(q, s[1], s[2]));
+                        if (std::abs(d - half) < 1e-4) continue;  // on the border: float rounding may go either way
+                        const bool drawn = out.at(x, y, 0) != 0.0f;
+                        mismatches += (d <= half) != drawn;
+                        covered += drawn;
+                        checked += d < half + 1.0;
+                        at_edges += drawn && (x == W - 1 || y == H - 1);
+                    }
+            }
         }
+        EXPECT_EQ(mismatches, 0) << W << " x " << H;
+        EXPECT_GT(covered, 1000);
+        EXPECT_GT(checked, covered);
+        EXPECT_GT(at_edges, 10) << "strokes crossing the right and bottom edges";
     }
-    EXPECT_EQ(mismatches, 0);
-    EXPECT_GT(covered, 1000);
-    EXPECT_GT(checked, covered);
 }
 
 // A stroke from a point in view to one behind the camera is clipped at the near plane: what is
