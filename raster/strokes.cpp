@@ -3,7 +3,9 @@
 // tie) gives the depth and normal at the pixel. Strokes are binned into 64 x 64 tiles in creation
 // order and each tile is written by one task, so the "over" compositing gives the same bytes for
 // any thread count; the reference traversal visits each stroke's whole bounding box on the whole
-// image with the same distance and shading functions.
+// image with the same distance and shading functions. In a tile, a short stroke is scanned in one
+// pass over its bounds (every segment per 8-pixel group, in registers), a longer one segment by
+// segment over each capsule_box; drawn pixels are shaded eight at a time across strokes.
 #pragma GCC optimize("no-trapping-math")  // lets the capsule row loop if-convert and vectorise; values unchanged
 #include "raster/strokes.h"
 
@@ -600,6 +602,19 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
 #endif
                 np = 0;
             };
+#ifdef __AVX2__
+            // Appends the lanes of `mask` (pixels xs on row y, screen parameters u, segments k) to
+            // the drawn-pixel list, in lane order: a table gives the kept lanes' indices.
+            auto list8 = [&](int mask, __m256i xs, int y, __m256 u, __m256i k, std::uint8_t light) {
+                const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_permutevar8x32_epi32(xs, idx));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
+                _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(u, idx));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np), _mm256_permutevar8x32_epi32(k, idx));
+                std::memset(plight + np, light, kGroup);
+                np += __builtin_popcount(unsigned(mask));
+            };
+#endif
             const std::uint32_t it_end = offsets[std::size_t(tile) + 1];
             for (std::uint32_t it = offsets[std::size_t(tile)]; it < it_end; ++it) {
                 const PStroke& st = ps_strokes[items[it]];
@@ -643,14 +658,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                             }
                             const __m256 in_tile = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(X1 + 1), xs));
                             const int mask = _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(best8, r2v, _CMP_LE_OQ), in_tile));
-                            if (mask == 0) continue;
-                            const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
-                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_permutevar8x32_epi32(xs, idx));
-                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
-                            _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(bu, idx));
-                            _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np), _mm256_permutevar8x32_epi32(bk, idx));
-                            std::memset(plight + np, light, kGroup);
-                            np += __builtin_popcount(unsigned(mask));
+                            if (mask != 0) list8(mask, xs, y, bu, bk, light);
                         }
                     }
                     if (np >= kShadeBatch) flush();
@@ -725,16 +733,9 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                     const __m256 r2v = _mm256_set1_ps(r2);
                     for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
                         const int mask = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
-                        if (mask == 0) continue;
-                        const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
-                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_add_epi32(idx, _mm256_set1_epi32(x)));
-                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
-                        _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(_mm256_loadu_ps(trow + x), idx));
-                        _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np),
-                                            _mm256_permutevar8x32_epi32(
-                                                _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), idx));
-                        std::memset(plight + np, light, kGroup);
-                        np += __builtin_popcount(unsigned(mask));
+                        if (mask != 0)
+                            list8(mask, _mm256_add_epi32(_mm256_set1_epi32(x), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)), y,
+                                  _mm256_loadu_ps(trow + x), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), light);
                     }
 #endif
                     for (; x <= h; ++x)
