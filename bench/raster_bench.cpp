@@ -10,7 +10,10 @@
 //                    an animation (no allocation of the 108 B/px G-buffer per frame);
 //   BM_RasterCold  — render_gbuffer(): allocates and zero-fills fresh targets every call (the
 //                    page faults of ~224 MB at 1080p are part of the time);
-//   BM_RasterFrameCull — BM_RasterFrame with cull_backfaces (dragons only, 1080p).
+//   BM_RasterFrameCull — BM_RasterFrame with cull_backfaces (dragons only, 1080p);
+//   BM_RasterFrameTargets — BM_RasterFrame writing a subset of the targets (set 0: all ten, 108
+//                    B/px; 1: what WC18 reads, colour + four controls + depth, 84 B/px; 2: colour +
+//                    depth, 20 B/px): what the G-buffer's bytes cost, for issue 13's compact formats.
 // Run only these: aquarelle_bench --benchmark_filter=BM_Raster
 #include <benchmark/benchmark.h>
 
@@ -61,7 +64,17 @@ aq::scene::Camera framing_camera(const aq::scene::Scene& s, float aspect) {
     return cam;
 }
 
-void run(benchmark::State& state, bool reuse, bool cull = false) {
+// The target sets of BM_RasterFrameTargets (bits over target::kGBufferLayout).
+std::uint32_t target_set(int i) {
+    using namespace aq::target;
+    const std::uint32_t color_depth = gbuffer_bit(kColor) | gbuffer_bit(kDepthLinear);
+    if (i == 1)
+        return color_depth | gbuffer_bit(kCtrlPigment) | gbuffer_bit(kCtrlSubstrate) | gbuffer_bit(kCtrlEdge) |
+               gbuffer_bit(kCtrlAbstraction);
+    return i == 2 ? color_depth : kAllGBufferTargets;
+}
+
+void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0) {
     const int mi = int(state.range(0));
     const int w = int(state.range(1)), h = int(state.range(2)), threads = int(state.range(3));
     const aq::scene::Scene& s = model(mi);
@@ -72,6 +85,7 @@ void run(benchmark::State& state, bool reuse, bool cull = false) {
     st.exec = aq::Exec::fast(threads);
     st.frame = 1;
     st.cull_backfaces = cull;
+    st.targets = target_set(targets);
     aq::Targets out;
     if (reuse) aq::raster::render_gbuffer_into(out, s, cam, st);  // first frame: allocation
     for (auto _ : state) {
@@ -93,6 +107,7 @@ void run(benchmark::State& state, bool reuse, bool cull = false) {
 void BM_RasterFrame(benchmark::State& state) { run(state, true); }
 void BM_RasterCold(benchmark::State& state) { run(state, false); }
 void BM_RasterFrameCull(benchmark::State& state) { run(state, true, true); }
+void BM_RasterFrameTargets(benchmark::State& state) { run(state, true, false, int(state.range(4))); }
 
 void args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"model", "w", "h", "threads"});
@@ -113,5 +128,10 @@ BENCHMARK(BM_RasterFrameCull)
     ->Args({1, 1920, 1080, 2})
     ->Args({2, 1920, 1080, 1})
     ->Args({2, 1920, 1080, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_RasterFrameTargets)
+    ->ArgNames({"model", "w", "h", "threads", "set"})
+    ->ArgsProduct({{0, 2}, {1920}, {1080}, {1, 2}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
