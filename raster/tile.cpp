@@ -115,7 +115,9 @@ inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
 inline void stream_floats(float* dst, const float* src, std::size_t n) {
     std::size_t i = 0;
     for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 31) != 0; ++i) dst[i] = src[i];
+#ifdef __AVX__
     for (; i + 8 <= n; i += 8) _mm256_stream_ps(dst + i, _mm256_loadu_ps(src + i));
+#endif
     for (; i < n; ++i) dst[i] = src[i];
 }
 
