@@ -57,13 +57,19 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     const float* zin = depth_linear.data();
     float* cout = color_out.data();
     float* zout = depth_out.data();
-    if (kAtmosphere || ex.traversal == Traversal::Reference) {
+#ifdef __AVX2__
+    constexpr bool kVector = true;
+#else
+    constexpr bool kVector = false;  // the AQ_NATIVE_SIMD=OFF build: the plain loop
+#endif
+    if (kAtmosphere || ex.traversal == Traversal::Reference || !kVector) {
         toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
             for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i)
                 adjust_pixel<kAtmosphere>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
         });
         return;
     }
+#ifdef __AVX2__
     // Fast, no atmosphere: adjust_pixel two pixels per AVX register (RGBA RGBA), the same IEEE
     // operations in the same order per value (GCC does not vectorise the interleaved scalar loop).
     const float k = p.contrast * 0.5f + 0.5f;
@@ -109,6 +115,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
             zout[j] = finite ? zn : 1.0f;
         }
     });
+#endif
 }
 
 }  // namespace

@@ -222,6 +222,10 @@ inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
 //! 128-bit permutes: values moved, never computed). For row kernels that compute channels as
 //! separate vectorised planes and store interleaved pixels.
 inline void store_rgba8(float* o, const float* r, const float* g, const float* b, const float* a) {
+#ifndef __AVX__
+    for (int i = 0; i < 8; ++i) std::memcpy(o + 4 * i, r + i, 4), std::memcpy(o + 4 * i + 1, g + i, 4),
+                                std::memcpy(o + 4 * i + 2, b + i, 4), std::memcpy(o + 4 * i + 3, a + i, 4);
+#else
     const __m256 vr = _mm256_loadu_ps(r), vg = _mm256_loadu_ps(g), vb = _mm256_loadu_ps(b), va = _mm256_loadu_ps(a);
     const __m256 rg_lo = _mm256_unpacklo_ps(vr, vg), rg_hi = _mm256_unpackhi_ps(vr, vg);  // r0 g0 r1 g1 | r4 g4 r5 g5
     const __m256 ba_lo = _mm256_unpacklo_ps(vb, va), ba_hi = _mm256_unpackhi_ps(vb, va);
@@ -231,6 +235,7 @@ inline void store_rgba8(float* o, const float* r, const float* g, const float* b
     _mm256_storeu_ps(o + 8, _mm256_permute2f128_ps(p2, p3, 0x20));
     _mm256_storeu_ps(o + 16, _mm256_permute2f128_ps(p0, p1, 0x31));
     _mm256_storeu_ps(o + 24, _mm256_permute2f128_ps(p2, p3, 0x31));
+#endif
 }
 
 //! Bit k set when channel k (C <= 8) of the n values at d (C channels interleaved, d at a channel-0
