@@ -11,9 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -29,9 +29,9 @@ constexpr int kTile = 64;
 constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
 constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
 constexpr std::uint32_t kPrefetchAhead = 4;  // strokes of a tile fetched ahead of the scan
-constexpr int kShadeBatch = 256;
+constexpr int kShadeBatch = 256;             // drawn pixels gathered across strokes before shading
 constexpr std::uint32_t kDirectSegments = 4;  // strokes of at most this many segments and
-constexpr int kDirectSpan = 24;               // bounds (in the tile) within this many pixels: one pass            // drawn pixels gathered across strokes before shading
+constexpr int kDirectSpan = 24;               // bounds (in the tile) within this many pixels: one pass
 constexpr int kPending = kShadeBatch + kTile * kTile + 8;  // + one stroke's tile + a vector's overrun
 
 // For each 8-bit mask, the indices of its set bits in increasing order, one per byte (the lanes
