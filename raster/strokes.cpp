@@ -603,6 +603,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 np = 0;
             };
 #ifdef __AVX2__
+            const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
             // Appends the lanes of `mask` (pixels xs on row y, screen parameters u, segments k) to
             // the drawn-pixel list, in lane order: a table gives the kept lanes' indices.
             auto list8 = [&](int mask, __m256i xs, int y, __m256 u, __m256i k, std::uint8_t light) {
@@ -640,7 +641,6 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                         if (segs[k].valid) sl[nseg++] = SegLanes(segs[k], k);
                     const int gx0 = X0 + ((x0 - X0) & ~(kGroup - 1));
                     const __m256 r2v = _mm256_set1_ps(r2), inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-                    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
                     for (int y = y0; y <= y1; ++y) {
                         const __m256 vpy = _mm256_set1_ps(float(y) + 0.5f);
                         for (int gx = gx0; gx <= x1; gx += kGroup) {
@@ -661,85 +661,88 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                             if (mask != 0) list8(mask, xs, y, bu, bk, light);
                         }
                     }
-                    if (np >= kShadeBatch) flush();
-                    continue;
-                }
+                } else
 #endif
-                // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
-                // only it is initialised and scanned (outside it no segment is near, best stays
-                // +inf and nothing is drawn, as over the whole stroke bounds).
-                int lo[kTile], hi[kTile];
-                for (int y = y0; y <= y1; ++y) lo[y - Y0] = x1 + 1, hi[y - Y0] = x1;
-                auto touch = [&](int y, int a, int b) {
-                    float* brow = best + (y - Y0) * kTile - X0;
-                    int& l = lo[y - Y0];
-                    int& h = hi[y - Y0];
-                    if (l > h) {
-                        std::fill(brow + a, brow + b + 1, std::numeric_limits<float>::infinity());
-                        l = a, h = b;
-                        return;
+                {  // A longer stroke, segment by segment.
+                    // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
+                    // only it is initialised and scanned (outside it no segment is near, best stays
+                    // +inf and nothing is drawn, as over the whole stroke bounds).
+                    int lo[kTile], hi[kTile];
+                    for (int y = y0; y <= y1; ++y) lo[y - Y0] = x1 + 1, hi[y - Y0] = x1;
+                    auto touch = [&](int y, int a, int b) {
+                        float* brow = best + (y - Y0) * kTile - X0;
+                        int& l = lo[y - Y0];
+                        int& h = hi[y - Y0];
+                        if (l > h) {
+                            std::fill(brow + a, brow + b + 1, std::numeric_limits<float>::infinity());
+                            l = a, h = b;
+                            return;
+                        }
+                        if (a < l) std::fill(brow + a, brow + l, std::numeric_limits<float>::infinity()), l = a;
+                        if (b > h) std::fill(brow + h + 1, brow + b + 1, std::numeric_limits<float>::infinity()), h = b;
+                    };
+                    // Segments in order, each over its own capsule bounds: the same minimum (first on
+                    // a tie) as the reference's loop over all segments per pixel.
+                    // A segment's span is widened to whole 8-pixel groups of the tile row (within the
+                    // tile): its distances there are exact too, and a pixel outside its capsule_box is
+                    // either not drawn or nearer to another segment, so the minimum is the reference's
+                    // (which tries every segment at every pixel of the stroke's bounds). The groups run
+                    // as one 8-lane step each, without the short rows' scalar remainders.
+                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                        const Seg& g = segs[k];
+                        if (!g.valid) continue;
+                        const PxBox b = capsule_box(g, half);
+                        const int sy0 = std::max(y0, b.y0), sy1 = std::min(y1, b.y1);
+                        const int cx0 = std::max(x0, b.x0), cx1 = std::min(x1, b.x1);
+                        if (cx0 > cx1 || sy0 > sy1) continue;
+                        const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
+                        const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
+                        const int groups_end = sx0 + ((sx1 - sx0 + 1) & ~(kGroup - 1));
+                        for (int y = sy0; y <= sy1; ++y) {
+                            touch(y, sx0, sx1);
+                            // Selects, not a branch: the groups vectorise (no-trapping-math above); the
+                            // same strict < (first segment on a tie; NaN never wins).
+                            float* __restrict brow = best + (y - Y0) * kTile - X0;
+                            float* __restrict trow = bt + (y - Y0) * kTile - X0;
+                            std::uint32_t* __restrict srow = bs + (y - Y0) * kTile - X0;
+                            const float py = float(y) + 0.5f;
+                            auto nearer = [&](int x) {
+                                float t;
+                                const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
+                                const bool win = d2 < brow[x];
+                                brow[x] = win ? d2 : brow[x];
+                                trow[x] = win ? t : trow[x];
+                                srow[x] = win ? k : srow[x];
+                            };
+                            int x = sx0;
+                            for (; x < groups_end; x += kGroup)
+                                for (int l = 0; l < kGroup; ++l) nearer(x + l);
+                            for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
+                        }
                     }
-                    if (a < l) std::fill(brow + a, brow + l, std::numeric_limits<float>::infinity()), l = a;
-                    if (b > h) std::fill(brow + h + 1, brow + b + 1, std::numeric_limits<float>::infinity()), h = b;
-                };
-                // Segments in order, each over its own capsule bounds: the same minimum (first on
-                // a tie) as the reference's loop over all segments per pixel.
-                // A segment's span is widened to whole 8-pixel groups of the tile row (within the
-                // tile): its distances there are exact too, and a pixel outside its capsule_box is
-                // either not drawn or nearer to another segment, so the minimum is the reference's
-                // (which tries every segment at every pixel of the stroke's bounds). The groups run
-                // as one 8-lane step each, without the short rows' scalar remainders.
-                for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
-                    const Seg& g = segs[k];
-                    if (!g.valid) continue;
-                    const PxBox b = capsule_box(g, half);
-                    const int sy0 = std::max(y0, b.y0), sy1 = std::min(y1, b.y1);
-                    const int cx0 = std::max(x0, b.x0), cx1 = std::min(x1, b.x1);
-                    if (cx0 > cx1 || sy0 > sy1) continue;
-                    const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
-                    const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
-                    const int groups_end = sx0 + ((sx1 - sx0 + 1) & ~(kGroup - 1));
-                    for (int y = sy0; y <= sy1; ++y) {
-                        touch(y, sx0, sx1);
-                        // Selects, not a branch: the groups vectorise (no-trapping-math above); the
-                        // same strict < (first segment on a tie; NaN never wins).
-                        float* __restrict brow = best + (y - Y0) * kTile - X0;
-                        float* __restrict trow = bt + (y - Y0) * kTile - X0;
-                        std::uint32_t* __restrict srow = bs + (y - Y0) * kTile - X0;
-                        const float py = float(y) + 0.5f;
-                        auto nearer = [&](int x) {
-                            float t;
-                            const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
-                            const bool win = d2 < brow[x];
-                            brow[x] = win ? d2 : brow[x];
-                            trow[x] = win ? t : trow[x];
-                            srow[x] = win ? k : srow[x];
-                        };
-                        int x = sx0;
-                        for (; x < groups_end; x += kGroup)
-                            for (int l = 0; l < kGroup; ++l) nearer(x + l);
-                        for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
-                    }
-                }
-                // The drawn pixels are listed without a branch per pixel (which ones are drawn is
-                // irregular along a thin stroke): with AVX2, eight at a time, compressed by a table.
-                for (int y = y0; y <= y1; ++y) {
-                    const float* brow = best + (y - Y0) * kTile - X0;
-                    const float* trow = bt + (y - Y0) * kTile - X0;
-                    const std::uint32_t* srow = bs + (y - Y0) * kTile - X0;
-                    int x = lo[y - Y0];
-                    const int h = hi[y - Y0];
+                    // The drawn pixels are listed: with AVX2 eight at a time, compressed by a table, without
+                    // a branch per pixel (which ones are drawn is irregular along a thin stroke).
+                    for (int y = y0; y <= y1; ++y) {
+                        const float* brow = best + (y - Y0) * kTile - X0;
+                        const float* trow = bt + (y - Y0) * kTile - X0;
+                        const std::uint32_t* srow = bs + (y - Y0) * kTile - X0;
+                        int x = lo[y - Y0];
+                        const int h = hi[y - Y0];
 #ifdef __AVX2__
-                    const __m256 r2v = _mm256_set1_ps(r2);
-                    for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
-                        const int mask = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
-                        if (mask != 0)
-                            list8(mask, _mm256_add_epi32(_mm256_set1_epi32(x), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)), y,
-                                  _mm256_loadu_ps(trow + x), _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), light);
-                    }
+                        const __m256 r2v = _mm256_set1_ps(r2);
+                        for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
+                            const int mask =
+                                _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
+                            if (mask != 0)
+                                list8(mask, _mm256_add_epi32(_mm256_set1_epi32(x), lanes), y,
+                                      _mm256_loadu_ps(trow + x),
+                                      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), light);
+                        }
 #endif
-                    for (; x <= h; ++x)
-                        if (brow[x] <= r2) qx[np] = x, qy[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
+                        for (; x <= h; ++x)
+                            if (brow[x] <= r2)
+                                qx[np] = x, qy[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
+                    }
                 }
                 if (np >= kShadeBatch) flush();
             }
