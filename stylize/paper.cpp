@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <utility>
 
 #include "core/io.h"
 #include "stylize/kernels.h"
@@ -42,7 +43,7 @@ inline int wrap(int i, int n) {
 //! height into B. A flat field gives (0.5, 0.5, h); every value lies in [0,1].
 ImageF derive_normals(const ImageF& src, float strength) {
     const int w = src.width(), h = src.height(), c = src.channels();
-    ImageF out(w, h, 3);
+    ImageF out(w, h, 3, kUninitialized);  // every value is written below
     auto height = [&](int x, int y) { return src.data()[(std::size_t(wrap(y, h)) * w + wrap(x, w)) * c]; };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -56,14 +57,16 @@ ImageF derive_normals(const ImageF& src, float strength) {
     return out;
 }
 
-//! Converts a decoded file to the MNPR layout (3 channels) according to `layout`.
-ImageF to_mnpr_layout(const ImageF& img, const std::string& layout, const std::string& path) {
+//! Converts a decoded file to the MNPR layout (3 channels) according to `layout`. Takes the
+//! decoded image by value: a 3-channel "mnpr" file is moved, not copied (a 2k paper is 50 MB of
+//! floats, and fresh pages cost ~2 ms per MB on our VMs: docs/performance.md "Thirteenth session").
+ImageF to_mnpr_layout(ImageF img, const std::string& layout, const std::string& path) {
     if (layout == "mnpr") {
         if (img.channels() < 3)
             throw Error("paper '" + path + "': layout \"mnpr\" needs 3 channels (RG normal, B height), file has " +
                         std::to_string(img.channels()));
         if (img.channels() == 3) return img;
-        ImageF out(img.width(), img.height(), 3);
+        ImageF out(img.width(), img.height(), 3, kUninitialized);
         for (int y = 0; y < img.height(); ++y)
             for (int x = 0; x < img.width(); ++x)
                 for (int k = 0; k < 3; ++k) out.at(x, y, k) = img.at(x, y, k);
@@ -97,7 +100,7 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
     } catch (const Error& e) {
         throw Error(std::string("paper file '") + path + "' could not be read: " + e.what());
     }
-    auto tex = std::make_shared<const ImageF>(to_mnpr_layout(img, layout, path));
+    auto tex = std::make_shared<const ImageF>(to_mnpr_layout(std::move(img), layout, path));
     std::lock_guard<std::mutex> lock(mu);
     return cache.emplace(key, std::move(tex)).first->second;
 }
@@ -120,7 +123,7 @@ ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
     const ImageF& tex = *tex_ptr;
     const int tw = tex.width(), th = tex.height();
     const float r = spec.roughness;
-    ImageF out(width, height, 3);
+    ImageF out(width, height, 3, kUninitialized);  // both branches below write every value
     const float* t = tex.data();
     float* o = out.data();
     // MNPR's adjust-load: (tex - 0.5) * roughness + 0.5, saturated so the texture stays in [0,1].
