@@ -257,8 +257,28 @@ constexpr const char* kExrCompression = "piz";
     throw Error("write '" + path + "': " + why);
 }
 
-//! Encodes img in the format of the extension into memory (OpenImageIO writer through a proxy).
-std::vector<unsigned char> encode_image(const std::string& path, const ImageF& img, const std::string& description) {
+//! Per-thread encoder scratch, kept between calls: an animation's writer thread encodes every
+//! frame into the same pages instead of faulting ~13 MB of fresh ones per 1080p PNG frame (fresh
+//! pages cost ~2 ms per MB on our VMs; docs/performance.md "Thirteenth session"). Bounded: a buffer
+//! that grew past kKeptScratchBytes is released after the call instead of kept.
+struct EncodeScratch {
+    std::vector<unsigned char> quantised, encoded;
+};
+constexpr std::size_t kKeptScratchBytes = std::size_t(64) << 20;
+
+EncodeScratch& encode_scratch() {
+    thread_local EncodeScratch s;
+    return s;
+}
+
+void trim_scratch(std::vector<unsigned char>& v) {
+    if (v.capacity() > kKeptScratchBytes) std::vector<unsigned char>().swap(v);
+}
+
+//! Encodes img in the format of the extension into `buf` (OpenImageIO writer through a proxy);
+//! `quantised` is scratch for the 8-bit values. Both keep their capacity.
+void encode_image(const std::string& path, const ImageF& img, const std::string& description,
+                  std::vector<unsigned char>& buf, std::vector<unsigned char>& q) {
     const std::string ext = lower_extension(path);
     if (ext.empty()) fail_write(path, "no file extension to choose a format");
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
@@ -281,12 +301,12 @@ std::vector<unsigned char> encode_image(const std::string& path, const ImageF& i
     auto out = OIIO::ImageOutput::create("memory" + ext);
     if (!out) fail_write(path, "no writer for '" + ext + "': " + OIIO::geterror());
     if (!out->supports("ioproxy")) fail_write(path, "the '" + ext + "' writer cannot encode to memory; use .png, .exr, .tif or .jpg");
-    std::vector<unsigned char> buf;
+    buf.clear();
     OIIO::Filesystem::IOVecOutput vec(buf);
     if (!out->set_ioproxy(&vec) || !out->open("memory" + ext, spec)) fail_write(path, out->geterror());
     bool ok;
     if (eight_bit) {
-        std::vector<unsigned char> q(img.num_values());
+        q.resize(img.num_values());  // every value is written below
         const float* p = img.data();
         for (std::size_t i = 0; i < q.size(); ++i) q[i] = to_unorm8(p[i]);
         ok = out->write_image(OIIO::TypeDesc::UINT8, q.data());
@@ -297,7 +317,6 @@ std::vector<unsigned char> encode_image(const std::string& path, const ImageF& i
     ok = out->close() && ok;
     if (!ok) fail_write(path, err.empty() ? out->geterror() : err);
     if (buf.empty()) fail_write(path, "the encoder produced no bytes");
-    return buf;
 }
 
 bool write_all(int fd, const unsigned char* p, std::size_t n, int* err) {
@@ -403,9 +422,17 @@ std::string write_image(const std::string& path, const ImageF& img, const std::s
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail_write(path, "folder '" + dir.string() + "' does not exist");
     if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
-    const std::vector<unsigned char> bytes = encode_image(path, img, description);
-    write_file_atomically(path, bytes.data(), bytes.size());
-    return sha256_hex(bytes.data(), bytes.size());
+    EncodeScratch& scratch = encode_scratch();
+    struct Trim {  // on every exit, a failed encode included
+        EncodeScratch& s;
+        ~Trim() {
+            trim_scratch(s.quantised);
+            trim_scratch(s.encoded);
+        }
+    } trim{scratch};
+    encode_image(path, img, description, scratch.encoded, scratch.quantised);
+    write_file_atomically(path, scratch.encoded.data(), scratch.encoded.size());
+    return sha256_hex(scratch.encoded.data(), scratch.encoded.size());
 }
 
 }  // namespace aq

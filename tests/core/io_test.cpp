@@ -47,6 +47,36 @@ TEST(ImageIO, PngQuantisesAndClamps) {
     EXPECT_FLOAT_EQ(back.at(1, 0, 2), 128.0f / 255.0f);
 }
 
+// The encoder keeps its buffers between writes on a thread (an animation's writer reuses the
+// pages): a file written after a larger one of another format must hold exactly its own bytes —
+// the same bytes as when it was written first — and decode to its own values.
+TEST(ImageIO, EachWriteHoldsOnlyItsOwnBytesWhenTheEncoderReusesItsBuffers) {
+    auto bytes = [](const std::string& path) {
+        std::ifstream f(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    };
+    ImageF small(3, 2, 3), big(640, 480, 4);
+    for (std::size_t i = 0; i < small.num_values(); ++i) small.data()[i] = float(i % 7) / 6.0f;
+    for (std::size_t i = 0; i < big.num_values(); ++i) big.data()[i] = float((i * 2654435761u) % 1000) / 999.0f;
+    const std::string dir = test::output_dir();
+    for (const char* ext : {".png", ".exr"}) {
+        const std::string first = dir + "/reuse_first" + ext, again = dir + "/reuse_again" + ext;
+        write_image(first, small);
+        write_image(dir + "/reuse_big.exr", big);  // grows the encoded buffer past either small file
+        write_image(dir + "/reuse_big.png", big);  // grows the 8-bit scratch too
+        write_image(again, small);
+        EXPECT_EQ(bytes(first), bytes(again)) << ext;
+        const ImageF back = read_image(again);
+        ASSERT_TRUE(back.same_size(small)) << ext;
+        for (int y = 0; y < small.height(); ++y)
+            for (int x = 0; x < small.width(); ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float want = std::string(ext) == ".png" ? float(to_unorm8(small.at(x, y, c))) / 255.0f : small.at(x, y, c);
+                    EXPECT_FLOAT_EQ(back.at(x, y, c), want) << ext << " at " << x << "," << y << "," << c;
+                }
+    }
+}
+
 // Only the documented formats reach a decoder (docs/limits.md "Image formats"): the format comes
 // from the magic bytes where known, else from the extension, and OpenImageIO is not allowed to
 // fall back to trying its other readers.
