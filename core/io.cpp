@@ -23,6 +23,7 @@
 
 #include "core/input.h"
 #include "core/oiio_mem_reader.h"
+#include "core/png.h"
 
 namespace aq {
 namespace fs = std::filesystem;
@@ -239,12 +240,14 @@ namespace {
 
 constexpr const char* kTmpPrefix = ".aqtmp.";  //!< `.aqtmp.PID.N.NAME`: recognisable leftovers
 
-// PNG encoding settings, chosen for speed (issue 13; docs/performance.md "PNG settings"): zlib
-// level 1 and no row filter (libpng's PNG_FILTER_NONE). Measured on WC18 1080p Suzanne frames,
-// 12-frame CLI animation, 2 cores: libpng's defaults (level 6, adaptive filters) 845-911 ms/frame
-// and 2.78 MB/frame; level 1 + adaptive 375-418 ms, 3.09 MB; level 1 + no filter 299-309 ms,
-// 2.86 MB (+3 %). The paper grain makes row filters useless on our images; decoded pixels are
-// identical whatever the setting.
+// PNG: grey and RGB images (every stylised --out image) are encoded by core/png.h (libdeflate; its
+// settings and their measurement are there). Images with alpha (--style none, some targets) go
+// through OpenImageIO's writer, which turns the associated alpha of memory into PNG's unassociated
+// alpha (and its reader back), with these settings, chosen for speed (issue 13): zlib level 1 and
+// no row filter (libpng's PNG_FILTER_NONE). Measured on WC18 1080p Suzanne frames, 12-frame CLI
+// animation, 2 cores: libpng's defaults (level 6, adaptive filters) 845-911 ms/frame and 2.78
+// MB/frame; level 1 + adaptive 375-418 ms, 3.09 MB; level 1 + no filter 299-309 ms, 2.86 MB
+// (+3 %). The paper grain makes row filters useless on our images.
 constexpr int kPngCompressionLevel = 1;
 constexpr int kPngFilterNone = 0x08;
 // OpenEXR compression: PIZ (lossless wavelet + Huffman). Same measurement, .exr output: ZIP (used
@@ -275,12 +278,23 @@ void trim_scratch(std::vector<unsigned char>& v) {
     if (v.capacity() > kKeptScratchBytes) std::vector<unsigned char>().swap(v);
 }
 
-//! Encodes img in the format of the extension into `buf` (OpenImageIO writer through a proxy);
-//! `quantised` is scratch for the 8-bit values. Both keep their capacity.
+//! Encodes img in the format of the extension into `buf`: grey and RGB PNG by core/png.h, every
+//! other image by OpenImageIO's writer through a proxy; `q` is scratch for the 8-bit values (or a PNG's rows).
+//! Both keep their capacity.
 void encode_image(const std::string& path, const ImageF& img, const std::string& description,
                   std::vector<unsigned char>& buf, std::vector<unsigned char>& q) {
     const std::string ext = lower_extension(path);
     if (ext.empty()) fail_write(path, "no file extension to choose a format");
+    if (ext == ".png" && png_encodes(img.channels())) {
+        // 8-bit display images, sRGB-encoded in either working space (docs/look.md): the encoder
+        // tags them so (sRGB chunk).
+        try {
+            encode_png(img, description, buf, q);
+        } catch (const Error& e) {
+            fail_write(path, e.what());
+        }
+        return;
+    }
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
     OIIO::ImageSpec spec(img.width(), img.height(), img.channels(),
                          eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);

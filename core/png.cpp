@@ -1,0 +1,126 @@
+// core/png.cpp — see png.h.
+#include "core/png.h"
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+#include <libdeflate.h>
+
+#include "core/io.h"
+
+namespace aq {
+
+namespace {
+
+constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+//! PNG colour types by channel count (specification 11.2.2): grey (1), RGB (3).
+constexpr unsigned char kColourType[4] = {0, 0, 0, 2};
+//! The chunks that go with sRGB (specification 11.3.3.5): gamma 1/2.2 and the sRGB primaries and
+//! white point (D65), each times 100000.
+constexpr std::uint32_t kSrgbGamma = 45455;
+constexpr std::uint32_t kSrgbChromaticities[8] = {31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000};
+constexpr unsigned char kSrgbIntentPerceptual = 0;
+//! A chunk's data is at most 2^31 - 1 bytes (specification 5.3).
+constexpr std::size_t kMaxChunkBytes = 0x7fffffffu;
+
+void put32(std::vector<unsigned char>& out, std::uint32_t v) {
+    const unsigned char b[4] = {static_cast<unsigned char>(v >> 24), static_cast<unsigned char>(v >> 16),
+                                static_cast<unsigned char>(v >> 8), static_cast<unsigned char>(v)};
+    out.insert(out.end(), b, b + 4);
+}
+
+void store32(unsigned char* p, std::uint32_t v) {
+    p[0] = static_cast<unsigned char>(v >> 24);
+    p[1] = static_cast<unsigned char>(v >> 16);
+    p[2] = static_cast<unsigned char>(v >> 8);
+    p[3] = static_cast<unsigned char>(v);
+}
+
+//! Appends the CRC of the chunk that starts (at its length field) at `start`.
+void finish_chunk(std::vector<unsigned char>& out, std::size_t start) {
+    const unsigned char* type = out.data() + start + 4;
+    put32(out, libdeflate_crc32(0, type, out.size() - start - 4));
+}
+
+void chunk(std::vector<unsigned char>& out, const char type[4], const unsigned char* data, std::size_t n) {
+    const std::size_t start = out.size();
+    put32(out, static_cast<std::uint32_t>(n));
+    out.insert(out.end(), type, type + 4);
+    if (n) out.insert(out.end(), data, data + n);
+    finish_chunk(out, start);
+}
+
+void text_chunk(std::vector<unsigned char>& out, const std::string& key, const std::string& text) {
+    if (text.find('\0') != std::string::npos) throw Error("PNG: a text chunk cannot hold a NUL byte");
+    bool ascii = true;
+    for (unsigned char ch : text) ascii = ascii && ch < 0x80;
+    std::string d = key;
+    d.push_back('\0');
+    // iTXt (UTF-8): compression flag 0, method 0, empty language tag and translated keyword.
+    if (!ascii) d.append(4, '\0');
+    d += text;
+    if (d.size() > kMaxChunkBytes) throw Error("PNG: the description is too long for a text chunk");
+    chunk(out, ascii ? "tEXt" : "iTXt", reinterpret_cast<const unsigned char*>(d.data()), d.size());
+}
+
+struct FreeCompressor {
+    void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
+};
+
+//! One compressor per thread, kept (its tables are allocated once).
+libdeflate_compressor* compressor() {
+    thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> c(libdeflate_alloc_compressor(kPngDeflateLevel));
+    if (!c) throw Error("PNG: libdeflate could not allocate a compressor");
+    return c.get();
+}
+
+}  // namespace
+
+void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
+                std::vector<unsigned char>& rows) {
+    const int w = img.width(), h = img.height(), c = img.channels();
+    if (img.empty() || !png_encodes(c)) throw Error("PNG: needs a non-empty grey or RGB image");
+    // The rows as the zlib stream holds them: a filter-type byte (0, none), then the 8-bit values.
+    const std::size_t row_values = std::size_t(w) * std::size_t(c);
+    rows.resize((row_values + 1) * std::size_t(h));  // every byte is written below
+    const float* p = img.data();
+    for (int y = 0; y < h; ++y) {
+        unsigned char* r = rows.data() + std::size_t(y) * (row_values + 1);
+        const float* s = p + std::size_t(y) * row_values;
+        r[0] = 0;
+        for (std::size_t i = 0; i < row_values; ++i) r[1 + i] = to_unorm8(s[i]);
+    }
+
+    out.assign(kSignature, kSignature + sizeof kSignature);
+    unsigned char ihdr[13];
+    store32(ihdr, std::uint32_t(w));
+    store32(ihdr + 4, std::uint32_t(h));
+    ihdr[8] = 8;  // bit depth
+    ihdr[9] = kColourType[c];
+    ihdr[10] = ihdr[11] = ihdr[12] = 0;  // deflate, adaptive filtering (type 0 used), no interlace
+    chunk(out, "IHDR", ihdr, sizeof ihdr);
+    unsigned char gama[4];
+    store32(gama, kSrgbGamma);
+    chunk(out, "gAMA", gama, 4);
+    chunk(out, "sRGB", &kSrgbIntentPerceptual, 1);
+    unsigned char chrm[32];
+    for (int i = 0; i < 8; ++i) store32(chrm + 4 * i, kSrgbChromaticities[i]);
+    chunk(out, "cHRM", chrm, sizeof chrm);
+    if (!description.empty()) text_chunk(out, "Description", description);
+
+    libdeflate_compressor* z = compressor();
+    const std::size_t bound = libdeflate_zlib_compress_bound(z, rows.size());
+    if (bound > kMaxChunkBytes) throw Error("PNG: the image is too large for one IDAT chunk");
+    const std::size_t start = out.size();
+    out.resize(start + 8 + bound);
+    std::memcpy(out.data() + start + 4, "IDAT", 4);
+    const std::size_t n = libdeflate_zlib_compress(z, rows.data(), rows.size(), out.data() + start + 8, bound);
+    if (n == 0) throw Error("PNG: libdeflate could not compress the rows");
+    out.resize(start + 8 + n);
+    store32(out.data() + start, std::uint32_t(n));
+    finish_chunk(out, start);
+    chunk(out, "IEND", nullptr, 0);
+}
+
+}  // namespace aq

@@ -1,0 +1,38 @@
+// core/png.h — the PNG encoder of display images (issue 13: animations at 1080p).
+//
+// Every other format, and PNG images with alpha, are encoded by OpenImageIO (core/io.cpp): its
+// writer converts memory's associated alpha to PNG's unassociated alpha, and this encoder does not
+// repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
+// deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can only
+// use zlib: libdeflate (a Debian library) compresses our 1080p frames 2.2x faster than zlib at
+// level 1, and smaller (docs/performance.md "Thirteenth session"). The container is the PNG
+// specification's (ISO/IEC 15948, W3C PNG 2nd edition): signature, IHDR, sRGB with the gAMA and
+// cHRM values the specification recommends beside it (11.3.3.5), the description as a tEXt chunk
+// (iTXt when it is not ASCII), one IDAT holding the zlib stream of the rows (filter type 0 on every
+// row: the paper grain makes the predictors useless, the same choice as before), IEND. Files are
+// read back by OpenImageIO like any PNG (tests/core/png_test.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+
+namespace aq {
+
+//! The libdeflate compression level of PNG files (1 = fastest; measured in docs/performance.md
+//! "Thirteenth session": level 1 31 ms and 2.72 MB per WC18 1080p frame, level 2 55 ms 2.63 MB,
+//! level 6 108 ms 2.51 MB; zlib level 1 through libpng, used before, 67 ms 2.86 MB).
+inline constexpr int kPngDeflateLevel = 1;
+
+//! Whether encode_png writes images of `channels` channels: 1 (grey) and 3 (RGB).
+inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
+
+//! Encodes img (1 or 3 channels: grey, RGB) as an 8-bit sRGB PNG into `out`, its
+//! values quantised with to_unorm8 (core/io.h). A non-empty `description` becomes the
+//! "Description" text chunk (what OpenImageIO reads as ImageDescription). `rows` is scratch for the
+//! filtered rows; both vectors keep their capacity for the next call. Throws aq::Error.
+void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
+                std::vector<unsigned char>& rows);
+
+}  // namespace aq
