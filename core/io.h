@@ -56,6 +56,11 @@ inline unsigned char to_unorm8(float v) {
     return static_cast<unsigned char>(i + int(x - float(i) >= 0.5f));
 }
 
+//! dst[i] = to_unorm8(src[i]) for i < n, eight values per AVX2 step where the build has AVX2 (the
+//! scalar function's loop does not vectorise: GCC keeps its float compares as branches because they
+//! may trap). Same bytes either way (tests/core/io_test.cpp).
+void to_unorm8_n(const float* src, unsigned char* dst, std::size_t n);
+
 //! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 

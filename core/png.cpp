@@ -89,7 +89,7 @@ void encode_png(const ImageF& img, const std::string& description, std::vector<u
         unsigned char* r = rows.data() + std::size_t(y) * (row_values + 1);
         const float* s = p + std::size_t(y) * row_values;
         r[0] = 0;
-        for (std::size_t i = 0; i < row_values; ++i) r[1 + i] = to_unorm8(s[i]);
+        to_unorm8_n(s, r + 1, row_values);
     }
 
     out.assign(kSignature, kSignature + sizeof kSignature);

@@ -104,6 +104,36 @@ TEST(ImageIO, Unorm8EqualsLroundOfTheClampedValue) {
         EXPECT_EQ(to_unorm8(v), plain(v)) << v;
 }
 
+// The eight-at-a-time quantisation equals to_unorm8 value by value: every 331st float bit pattern
+// (13 million: negatives, NaNs, infinities, denormals included), the ties, +-0, at unaligned starts
+// and lengths that leave a scalar tail.
+TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
+    std::vector<float> v;
+    for (std::uint64_t b = 0; b <= 0xffffffffu; b += 331) {
+        float f;
+        const std::uint32_t u = std::uint32_t(b);
+        std::memcpy(&f, &u, sizeof f);
+        v.push_back(f);
+    }
+    for (int k = 0; k < 255; ++k) {
+        const float tie = (float(k) + 0.5f) / 255.0f;
+        v.push_back(tie);
+        v.push_back(std::nextafter(tie, 0.0f));
+        v.push_back(std::nextafter(tie, 1.0f));
+    }
+    for (float f : {0.0f, -0.0f, 1.0f, std::nextafter(1.0f, 2.0f), -std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()})
+        v.push_back(f);
+    for (std::size_t start : {std::size_t(0), std::size_t(3)}) {
+        const std::size_t n = v.size() - start - 5;  // a tail of n % 8 values
+        std::vector<unsigned char> got(n + 1, 0xaa);
+        to_unorm8_n(v.data() + start, got.data() + 1, n);
+        EXPECT_EQ(got[0], 0xaa);  // nothing written before dst
+        for (std::size_t i = 0; i < n; ++i)
+            if (got[i + 1] != to_unorm8(v[start + i])) FAIL() << "differs at " << v[start + i] << " (index " << i << ")";
+    }
+}
+
 TEST(ImageIO, OnlyTheDocumentedFormatsAreDecoded) {
     ImageF img(3, 2, 3);
     img.at(1, 1, 2) = 0.5f;
