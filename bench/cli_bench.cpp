@@ -5,6 +5,9 @@
 // pipeline/*, profile/*), docs/performance.md gives the ratio end-to-end / in-memory.
 //
 //   cli/animation/<scene>/1920x1080/wc18/<png|exr>: --frames 0-11; counters frames/s and s/frame
+//   cli/sustained/suzanne/1920x1080/wc18/png: the rate once an animation runs (issue 13 item 2's
+//     "sustained"): each iteration renders --frames 0-11 and --frames 0-35 and times only the
+//     difference, so process start, loading and the first frame's first-touch cost cancel out
 //   cli/oneshot/<model>/1920x1080/wc18/png: one frame of a bare model (the default style)
 // Every cli/ benchmark reports peak_MB, the child process's peak resident memory.
 //
@@ -14,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <algorithm>
 #include <filesystem>
@@ -81,10 +85,45 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
 }
 
 constexpr int kAnimationFrames = 12;
+constexpr int kSustainedFrames = 36;  //!< the longer run of cli/sustained (24 frames more)
 
-std::vector<std::string> animation(const std::string& scene, const std::string& ext) {
-    return {"render", std::string(AQ_SOURCE_DIR) + "/scenes/data/" + scene, "--frames", "0-" + std::to_string(kAnimationFrames - 1),
+std::vector<std::string> animation(const std::string& scene, const std::string& ext, int frames = kAnimationFrames) {
+    return {"render", std::string(AQ_SOURCE_DIR) + "/scenes/data/" + scene, "--frames", "0-" + std::to_string(frames - 1),
             "--width", "1920", "--height", "1080", "--style", "wc18", "--out", "{out}/f_####." + ext, "--quiet"};
+}
+
+//! The sustained rate: the time of the long run minus that of the short one, per extra frame.
+void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, std::vector<std::string> long_run, int extra_frames) {
+    const std::string dir = make_temp_dir();
+    if (dir.empty()) {
+        st.SkipWithError("cannot create a temporary folder");
+        return;
+    }
+    for (auto* args : {&short_run, &long_run})
+        for (auto& a : *args)
+            if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+    long peak_kb = 0, max_peak_kb = 0;
+    auto timed = [&](const std::vector<std::string>& args, double* seconds) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const int rc = run_cli(args, &peak_kb);
+        *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        max_peak_kb = std::max(max_peak_kb, peak_kb);
+        return rc == 0;
+    };
+    for (auto _ : st) {
+        double ts = 0.0, tl = 0.0;
+        if (!timed(short_run, &ts) || !timed(long_run, &tl)) {
+            st.SkipWithError("aquarelle failed (run the command by hand to see why)");
+            break;
+        }
+        st.SetIterationTime(std::max(tl - ts, 1e-6));
+    }
+    st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * extra_frames, benchmark::Counter::kIsRate);
+    st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * extra_frames,
+                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    st.counters["peak_MB"] = benchmark::Counter(double(max_peak_kb) / 1024.0);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
 }
 
 std::vector<std::string> oneshot(const std::string& model) {
@@ -100,6 +139,10 @@ void register_all() {
     benchmark::RegisterBenchmark("cli/animation/dragon_202k/1920x1080/wc18/png", bm_cli,
                                  animation("dragon_202k.json", "png"), kAnimationFrames)
         ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    benchmark::RegisterBenchmark("cli/sustained/suzanne/1920x1080/wc18/png", bm_cli_sustained,
+                                 animation("suzanne.json", "png"), animation("suzanne.json", "png", kSustainedFrames),
+                                 kSustainedFrames - kAnimationFrames)
+        ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
     benchmark::RegisterBenchmark("cli/oneshot/dragon_871k/1920x1080/wc18/png", bm_cli, oneshot("dragon_871k.glb"), 1)
         ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 }
