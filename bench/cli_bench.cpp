@@ -58,6 +58,17 @@ int run_cli(const std::vector<std::string>& args, long* peak_kb) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+//! The counters of a cli/ benchmark (frames per timed second, its inverse, the peak resident memory
+//! of the child processes: issue 13 item 6), then the temporary folder removed.
+void finish(benchmark::State& st, int frames, long max_peak_kb, const std::string& dir) {
+    st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * frames, benchmark::Counter::kIsRate);
+    st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * frames,
+                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    st.counters["peak_MB"] = benchmark::Counter(double(max_peak_kb) / 1024.0);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
 void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
     const std::string dir = make_temp_dir();
     if (dir.empty()) {
@@ -75,13 +86,7 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
             break;
         }
     }
-    st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * frames, benchmark::Counter::kIsRate);
-    st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * frames,
-                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-    // Peak resident memory of the process (the largest over the iterations), issue 13 item 6.
-    st.counters["peak_MB"] = benchmark::Counter(double(max_peak_kb) / 1024.0);
-    std::error_code ec;
-    fs::remove_all(dir, ec);
+    finish(st, frames, max_peak_kb, dir);
 }
 
 constexpr int kAnimationFrames = 12;
@@ -118,12 +123,7 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
         }
         st.SetIterationTime(std::max(tl - ts, 1e-6));
     }
-    st.counters["frames/s"] = benchmark::Counter(double(st.iterations()) * extra_frames, benchmark::Counter::kIsRate);
-    st.counters["s/frame"] = benchmark::Counter(double(st.iterations()) * extra_frames,
-                                                benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-    st.counters["peak_MB"] = benchmark::Counter(double(max_peak_kb) / 1024.0);
-    std::error_code ec;
-    fs::remove_all(dir, ec);
+    finish(st, extra_frames, max_peak_kb, dir);
 }
 
 std::vector<std::string> oneshot(const std::string& model) {
