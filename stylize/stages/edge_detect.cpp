@@ -79,25 +79,36 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
         std::vector<float> buf(pw * 12);
         std::vector<float> hsv(std::size_t(w) * 2);
         auto plane = [&](int r, int c) { return buf.data() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
+        // The three rows live in a ring of slots: moving down one row converts only the new row.
+        auto fill = [&](int slot, int yy) {
+            const std::size_t srow = std::size_t(resolve_border(yy, h, b)) * w;
+            float* pr = plane(slot, 0);
+            float* pg = plane(slot, 1);
+            float* pb = plane(slot, 2);
+            float* pz = plane(slot, 3);
+            for (std::size_t i = 0; i < pw; ++i) {
+                const std::size_t si = srow + std::size_t(xt[i]);
+                pr[i] = cd[4 * si];
+                pg[i] = cd[4 * si + 1];
+                pb[i] = cd[4 * si + 2];
+                pz[i] = zd[si];
+            }
+        };
+        int slot[3] = {0, 1, 2};  // slots of rows y - 1, y, y + 1
         for (int y = y0; y < y1; ++y) {
-            for (int r = 0; r < 3; ++r) {
-                const std::size_t srow = std::size_t(resolve_border(y + r - 1, h, b)) * w;
-                float* pr = plane(r, 0);
-                float* pg = plane(r, 1);
-                float* pb = plane(r, 2);
-                float* pz = plane(r, 3);
-                for (std::size_t i = 0; i < pw; ++i) {
-                    const std::size_t si = srow + std::size_t(xt[i]);
-                    pr[i] = cd[4 * si];
-                    pg[i] = cd[4 * si + 1];
-                    pb[i] = cd[4 * si + 2];
-                    pz[i] = zd[si];
-                }
+            if (y == y0) {
+                for (int r = 0; r < 3; ++r) fill(slot[r], y + r - 1);
+            } else {
+                const int t = slot[0];
+                slot[0] = slot[1];
+                slot[1] = slot[2];
+                slot[2] = t;
+                fill(slot[2], y + 1);
             }
             float* __restrict orow = out + std::size_t(y) * w;
-            const float* T[4] = {plane(0, 0), plane(0, 1), plane(0, 2), plane(0, 3)};
-            const float* M[4] = {plane(1, 0), plane(1, 1), plane(1, 2), plane(1, 3)};
-            const float* B[4] = {plane(2, 0), plane(2, 1), plane(2, 2), plane(2, 3)};
+            const float* T[4] = {plane(slot[0], 0), plane(slot[0], 1), plane(slot[0], 2), plane(slot[0], 3)};
+            const float* M[4] = {plane(slot[1], 0), plane(slot[1], 1), plane(slot[1], 2), plane(slot[1], 3)};
+            const float* B[4] = {plane(slot[2], 0), plane(slot[2], 1), plane(slot[2], 2), plane(slot[2], 3)};
             float* __restrict hsr = hsv.data();
             float* __restrict vsr = hsv.data() + w;
             for (int x = 0; x < w; ++x) {
