@@ -69,14 +69,19 @@ void finish(benchmark::State& st, int frames, long max_peak_kb, const std::strin
     fs::remove_all(dir, ec);
 }
 
+//! Replaces "{out}" in the arguments with the benchmark's temporary folder.
+void set_out_dir(std::vector<std::string>& args, const std::string& dir) {
+    for (auto& a : args)
+        if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+}
+
 void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
     const std::string dir = make_temp_dir();
     if (dir.empty()) {
         st.SkipWithError("cannot create a temporary folder");
         return;
     }
-    for (auto& a : args)
-        if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+    set_out_dir(args, dir);
     long peak_kb = 0, max_peak_kb = 0;
     for (auto _ : st) {
         const int rc = run_cli(args, &peak_kb);
@@ -104,9 +109,8 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
         st.SkipWithError("cannot create a temporary folder");
         return;
     }
-    for (auto* args : {&short_run, &long_run})
-        for (auto& a : *args)
-            if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
+    set_out_dir(short_run, dir);
+    set_out_dir(long_run, dir);
     long peak_kb = 0, max_peak_kb = 0;
     auto timed = [&](const std::vector<std::string>& args, double* seconds) {
         const auto t0 = std::chrono::steady_clock::now();

@@ -303,8 +303,8 @@ void trim_scratch(std::vector<unsigned char>& v) {
 }
 
 //! Encodes img in the format of the extension into `buf`: grey and RGB PNG by core/png.h, every
-//! other image by OpenImageIO's writer through a proxy; `q` is scratch for the 8-bit values (or a PNG's rows).
-//! Both keep their capacity.
+//! other image by OpenImageIO's writer through a proxy; `q` is scratch for the 8-bit values (or a
+//! PNG's rows). Both keep their capacity.
 void encode_image(const std::string& path, const ImageF& img, const std::string& description,
                   std::vector<unsigned char>& buf, std::vector<unsigned char>& q) {
     const std::string ext = lower_extension(path);

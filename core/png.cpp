@@ -24,17 +24,18 @@ constexpr unsigned char kSrgbIntentPerceptual = 0;
 //! A chunk's data is at most 2^31 - 1 bytes (specification 5.3).
 constexpr std::size_t kMaxChunkBytes = 0x7fffffffu;
 
-void put32(std::vector<unsigned char>& out, std::uint32_t v) {
-    const unsigned char b[4] = {static_cast<unsigned char>(v >> 24), static_cast<unsigned char>(v >> 16),
-                                static_cast<unsigned char>(v >> 8), static_cast<unsigned char>(v)};
-    out.insert(out.end(), b, b + 4);
-}
-
+//! A big-endian 32-bit value (PNG's byte order), stored at p or appended to out.
 void store32(unsigned char* p, std::uint32_t v) {
     p[0] = static_cast<unsigned char>(v >> 24);
     p[1] = static_cast<unsigned char>(v >> 16);
     p[2] = static_cast<unsigned char>(v >> 8);
     p[3] = static_cast<unsigned char>(v);
+}
+
+void put32(std::vector<unsigned char>& out, std::uint32_t v) {
+    unsigned char b[4];
+    store32(b, v);
+    out.insert(out.end(), b, b + 4);
 }
 
 //! Appends the CRC of the chunk that starts (at its length field) at `start`.
