@@ -234,13 +234,27 @@ void convert_final(RenderedImage& img, const ImageF& fin, bool linear, bool drop
     if (!linear && !drop_alpha) return;
     const int nc = drop_alpha ? 3 : fin.channels();
     ensure_output(img.converted, fin.width(), fin.height(), nc);
-    for (int y = 0; y < fin.height(); ++y)
-        for (int x = 0; x < fin.width(); ++x)
+    const std::size_t n = std::size_t(fin.width()) * std::size_t(fin.height());
+    const int sc = fin.channels();
+    const float* s = fin.data();
+    float* d = img.converted.data();
+    if (!linear && sc == 4 && nc == 3) {
+        // The usual case (display working space, a stylised painting): RGBA -> RGB, a plain copy
+        // of three of every four values, in one pass the compiler vectorises (issue 13: it runs on
+        // the frame loop's thread between frames).
+        for (std::size_t i = 0; i < n; ++i) {
+            d[3 * i + 0] = s[4 * i + 0];
+            d[3 * i + 1] = s[4 * i + 1];
+            d[3 * i + 2] = s[4 * i + 2];
+        }
+    } else {
+        for (std::size_t i = 0; i < n; ++i)
             for (int c = 0; c < nc; ++c) {
-                const float v = fin.at(x, y, c);
+                const float v = s[i * std::size_t(sc) + std::size_t(c)];
                 // output transform linear -> sRGB on colour, never on alpha
-                img.converted.at(x, y, c) = linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
+                d[i * std::size_t(nc) + std::size_t(c)] = linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
             }
+    }
     img.converted_ = true;
 }
 

@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include "app/render_job.h"
+#include "core/color.h"
 #include "core/hash.h"
 #include "tests/test_support.h"
 
@@ -114,6 +115,50 @@ TEST(GoldenAnimation, OneShotMemoryReleaseChangesNoKeptImage) {
             EXPECT_FALSE(one.count("depth.linear")) << "a G-buffer target was kept after its last reader";
         }
     }
+}
+
+// The image --out receives, by its definition: a stylised painting is written opaque (the final
+// target's RGB), a G-buffer colour (--style none) keeps its alpha; in the linear working space the
+// colour channels are sRGB-encoded after a clamp to [0, 1], alpha never. Checked value by value
+// against the final target for both working spaces, with and without a style.
+TEST(GoldenAnimation, TheOutputImageIsTheFinalTargetConverted) {
+    for (const WorkingSpace ws : {WorkingSpace::Display, WorkingSpace::Linear})
+        for (const char* style : {"wc18", "none"}) {
+            SCOPED_TRACE(std::string(style) + (ws == WorkingSpace::Linear ? " linear" : " display"));
+            RenderOptions o;
+            o.scene = scene_arg("suzanne.json");
+            o.style = style;
+            o.style_given = true;
+            o.width = 97;
+            o.height = 61;
+            o.quiet = true;
+            o.working_space = ws;
+            RenderJob job = prepare_render(o, Reporter{});
+            int calls = 0;
+            run_render(job, [&](RenderedImage& img) {
+                ++calls;
+                const ImageF& fin = img.targets.get(img.final_target);
+                const ImageF& out = img.final_image();
+                const bool stylised = std::string(style) != "none";
+                ASSERT_EQ(fin.channels(), 4);
+                ASSERT_EQ(out.channels(), stylised ? 3 : 4);
+                ASSERT_EQ(out.width(), fin.width());
+                ASSERT_EQ(out.height(), fin.height());
+                int colour_changed = 0;
+                for (int y = 0; y < fin.height(); ++y)
+                    for (int x = 0; x < fin.width(); ++x)
+                        for (int c = 0; c < out.channels(); ++c) {
+                            const float v = fin.at(x, y, c);
+                            const float want = ws == WorkingSpace::Linear && c != 3
+                                                   ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
+                            colour_changed += c != 3 && want != v;
+                            ASSERT_EQ(out.at(x, y, c), want) << x << "," << y << " channel " << c;
+                        }
+                // The linear case must really have encoded something (the test would pass on a copy).
+                if (ws == WorkingSpace::Linear) EXPECT_GT(colour_changed, fin.width() * fin.height() / 4);
+            }, Reporter{});
+            EXPECT_EQ(calls, 1);
+        }
 }
 
 TEST(GoldenAnimation, EveryFrameEqualsTheSameFrameRenderedAlone) {
