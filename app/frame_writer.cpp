@@ -45,7 +45,7 @@ void FrameWriter::run() {
         std::exception_ptr err;
         try {
             std::vector<std::string> sha;
-            for (auto& [path, img] : f.files) sha.push_back(write_image(path, img, f.description));
+            for (auto& [path, img] : f.files) sha.push_back(write_image(path, img, f.description, f.compression));
             if (f.after) f.after(sha);
             if (report_ && !f.done_message.empty()) report_(f.done_message);
         } catch (...) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/io.h"
 
 namespace aq::app {
 
@@ -30,6 +31,7 @@ public:
         std::vector<std::pair<std::string, ImageF>> files;  //!< path -> image, written in order
         std::string done_message;                          //!< reported once every file is written
         std::string description;  //!< embedded in every file (core/io.h write_image), may be empty
+        Compression compression = Compression::Fast;  //!< of every file (core/io.h write_image)
         //! Called on the writer thread once every file is written, with the SHA-256 of each file's
         //! bytes in `files` order (the provenance sidecar, app/manifest.h). A throw stops the job
         //! like a write failure.

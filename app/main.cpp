@@ -88,6 +88,9 @@ options:
                         rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
+  --compression C       fast | none: how PNG and EXR files are compressed, losslessly either way
+                        (default fast: deflate level 1, EXR PIZ). none writes ~2.3x larger 1080p
+                        PNG frames ~10-15 % faster (docs/performance.md "Fourteenth session")
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
   --reference           use the plain reference traversals (slow; the oracle)
   --allow-outside-files let a glTF read buffers and images outside its own folder (by default
@@ -279,6 +282,10 @@ RenderOptions parse_render(Args& a) {
             o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
         } else if (arg == "--ssaa") {
             o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, 4));
+        } else if (arg == "--compression") {
+            const std::string v = a.value(arg);
+            if (v != "fast" && v != "none") throw UsageError("--compression expects fast or none, got '" + v + "'");
+            o.compression = v == "none" ? aq::Compression::None : aq::Compression::Fast;
         } else if (arg == "--reference") {
             o.reference = true;
         } else if (!arg.empty() && arg[0] == '-' && arg != "-") {

@@ -88,6 +88,7 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
         // Provenance (app/manifest.h): embedded in every file without "outputs", then the sidecar.
         nlohmann::json core = manifest_core(job, img);
         frame.description = core.dump();
+        frame.compression = o.compression;
         frame.after = [core = std::move(core), files = std::move(files), sidecar = manifest_path(out)](
                           const std::vector<std::string>& sha) {
             const std::string text = manifest_text(manifest_with_outputs(core, sidecar, files, sha));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/color.h"
+#include "core/io.h"
 #include "core/targets.h"
 #include "raster/foliage.h"
 #include "raster/strokes.h"
@@ -43,6 +44,8 @@ struct RenderOptions {
     //! intermediates are released after their last reader (stylize::RunOptions::release_dead).
     bool keep_intermediates = false;
     WorkingSpace working_space = WorkingSpace::Display;
+    //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
+    Compression compression = Compression::Fast;
     //! `aquarelle grid` (app/grid.h): render these combinations of --variant/--set assignments
     //! from one G-buffer instead of one style (labels name each); empty for render.
     struct Combination {

@@ -306,14 +306,15 @@ void trim_scratch(std::vector<unsigned char>& v) {
 //! other image by OpenImageIO's writer through a proxy; `q` is scratch for the 8-bit values (or a
 //! PNG's rows). Both keep their capacity.
 void encode_image(const std::string& path, const ImageF& img, const std::string& description,
-                  std::vector<unsigned char>& buf, std::vector<unsigned char>& q) {
+                  std::vector<unsigned char>& buf, std::vector<unsigned char>& q, Compression compression) {
+    const bool stored = compression == Compression::None;
     const std::string ext = lower_extension(path);
     if (ext.empty()) fail_write(path, "no file extension to choose a format");
     if (ext == ".png" && png_encodes(img.channels())) {
         // 8-bit display images, sRGB-encoded in either working space (docs/look.md): the encoder
         // tags them so (sRGB chunk).
         try {
-            encode_png(img, description, buf, q);
+            encode_png(img, description, buf, q, stored ? kPngStoredLevel : kPngDeflateLevel);
         } catch (const Error& e) {
             fail_write(path, e.what());
         }
@@ -326,11 +327,11 @@ void encode_image(const std::string& path, const ImageF& img, const std::string&
     // so (the PNG writer emits an sRGB chunk). Float files hold the working-space values untagged.
     if (eight_bit) spec.attribute("oiio:ColorSpace", "sRGB");
     if (ext == ".png") {
-        spec.attribute("png:compressionLevel", kPngCompressionLevel);
+        spec.attribute("png:compressionLevel", stored ? 0 : kPngCompressionLevel);
         spec.attribute("png:filter", kPngFilterNone);
     }
     if (ext == ".exr") {
-        spec.attribute("compression", kExrCompression);
+        spec.attribute("compression", stored ? "none" : kExrCompression);
         // OpenImageIO stamps EXR files with the wall-clock time (capDate) unless DateTime is set;
         // a fixed value keeps "same input, same bytes" true for whole files, not only pixels.
         spec.attribute("DateTime", "1970:01:01 00:00:00");
@@ -453,7 +454,8 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
     }
 }
 
-std::string write_image(const std::string& path, const ImageF& img, const std::string& description) {
+std::string write_image(const std::string& path, const ImageF& img, const std::string& description,
+                        Compression compression) {
     if (img.empty()) fail_write(path, "the image is empty");
     const fs::path dst(path);
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
@@ -468,7 +470,7 @@ std::string write_image(const std::string& path, const ImageF& img, const std::s
             trim_scratch(s.encoded);
         }
     } trim{scratch};
-    encode_image(path, img, description, scratch.encoded, scratch.quantised);
+    encode_image(path, img, description, scratch.encoded, scratch.quantised, compression);
     write_file_atomically(path, scratch.encoded.data(), scratch.encoded.size());
     return sha256_hex(scratch.encoded.data(), scratch.encoded.size());
 }

@@ -40,11 +40,19 @@ struct DecodeBudget {
     std::string what;  //!< named in the error, e.g. "the scene's textures (1 GiB)"
 };
 
+//! How image files are compressed (lossless either way: the same pixels; only file size and
+//! writing time differ; measured in docs/performance.md "Fourteenth session").
+enum class Compression {
+    Fast,  //!< PNG: deflate level 1 (libdeflate, or zlib through OpenImageIO for alpha); EXR: PIZ
+    None,  //!< PNG: stored deflate blocks (~2.3x larger WC18 frames); EXR: uncompressed
+};
+
 //! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). A non-empty
 //! `description` is embedded as the standard ImageDescription attribute (PNG tEXt "Description",
-//! EXR/TIFF header; the provenance manifest, app/manifest.h). Returns the SHA-256 (hex) of the
-//! bytes written. Throws aq::Error.
-std::string write_image(const std::string& path, const ImageF& img, const std::string& description = {});
+//! EXR/TIFF header; the provenance manifest, app/manifest.h). `compression` applies to PNG and EXR.
+//! Returns the SHA-256 (hex) of the bytes written. Throws aq::Error.
+std::string write_image(const std::string& path, const ImageF& img, const std::string& description = {},
+                        Compression compression = Compression::Fast);
 
 //! The 8-bit code of a display value as PNG/JPEG files store it: NaN -> 0, clamped to [0, 1], then
 //! std::lround(v * 255) (round half away from zero), computed as trunc + (fraction >= 1/2), which

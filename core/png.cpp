@@ -69,17 +69,20 @@ struct FreeCompressor {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-//! One compressor per thread, kept (its tables are allocated once).
-libdeflate_compressor* compressor() {
-    thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> c(libdeflate_alloc_compressor(kPngDeflateLevel));
-    if (!c) throw Error("PNG: libdeflate could not allocate a compressor");
-    return c.get();
+//! One compressor per thread and level, kept (its tables are allocated once).
+libdeflate_compressor* compressor(int level) {
+    if (level != kPngDeflateLevel && level != kPngStoredLevel) throw Error("PNG: unsupported deflate level");
+    thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> c[2];
+    auto& slot = c[level == kPngStoredLevel ? 1 : 0];
+    if (!slot) slot.reset(libdeflate_alloc_compressor(level));
+    if (!slot) throw Error("PNG: libdeflate could not allocate a compressor");
+    return slot.get();
 }
 
 }  // namespace
 
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows) {
+                std::vector<unsigned char>& rows, int level) {
     const int w = img.width(), h = img.height(), c = img.channels();
     if (img.empty() || !png_encodes(c)) throw Error("PNG: needs a non-empty grey or RGB image");
     // The rows as the zlib stream holds them: a filter-type byte (0, none), then the 8-bit values.
@@ -110,7 +113,7 @@ void encode_png(const ImageF& img, const std::string& description, std::vector<u
     chunk(out, "cHRM", chrm, sizeof chrm);
     if (!description.empty()) text_chunk(out, "Description", description);
 
-    libdeflate_compressor* z = compressor();
+    libdeflate_compressor* z = compressor(level);
     const std::size_t bound = libdeflate_zlib_compress_bound(z, rows.size());
     if (bound > kMaxChunkBytes) throw Error("PNG: the image is too large for one IDAT chunk");
     const std::size_t start = out.size();

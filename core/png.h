@@ -24,6 +24,8 @@ namespace aq {
 //! "Thirteenth session": level 1 31 ms and 2.72 MB per WC18 1080p frame, level 2 55 ms 2.63 MB,
 //! level 6 108 ms 2.51 MB; zlib level 1 through libpng, used before, 67 ms 2.86 MB).
 inline constexpr int kPngDeflateLevel = 1;
+//! The level of Compression::None: libdeflate's stored blocks (a valid stream, no compression).
+inline constexpr int kPngStoredLevel = 0;
 
 //! Whether encode_png writes images of `channels` channels: 1 (grey) and 3 (RGB).
 inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
@@ -31,8 +33,9 @@ inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
 //! Encodes img (1 or 3 channels: grey, RGB) as an 8-bit sRGB PNG into `out`, its
 //! values quantised with to_unorm8 (core/io.h). A non-empty `description` becomes the
 //! "Description" text chunk (what OpenImageIO reads as ImageDescription). `rows` is scratch for the
-//! filtered rows; both vectors keep their capacity for the next call. Throws aq::Error.
+//! filtered rows; both vectors keep their capacity for the next call. `level`: kPngDeflateLevel or
+//! kPngStoredLevel. Throws aq::Error.
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows);
+                std::vector<unsigned char>& rows, int level = kPngDeflateLevel);
 
 }  // namespace aq

@@ -31,6 +31,7 @@ expect_rc "absurd width refused" 2 "$bin" render procedural:swatches --width 100
 expect_rc "absurd total size refused" nonzero "$bin" render procedural:swatches --width 16000 --height 16000 --out "$work/x.png"
 expect_rc "non-numeric height" 2 "$bin" render procedural:swatches --height 12abc --out "$work/x.png"
 expect_rc "ssaa out of range" 2 "$bin" render procedural:swatches --ssaa 9 --out "$work/x.png"
+expect_rc "unknown compression" 2 "$bin" render procedural:swatches --compression zip --out "$work/x.png"
 expect_rc "bad output extension" 2 "$bin" render procedural:swatches --out "$work/x.txt"
 [ ! -e "$work/x.png" ] && ok "no output written by failed renders" || bad "a failed render wrote $work/x.png"
 

@@ -126,6 +126,31 @@ TEST(Manifest, AnimationFramesAndSweepValuesAreReproducedOneByOne) {
     EXPECT_NE(log.find("max_abs"), std::string::npos) << "no pixel metrics: " << log;
 }
 
+// --compression none changes the files' bytes, not their pixels: the request records it, reproduce
+// writes the same bytes again; a manifest from before the option (no key) reproduces as "fast".
+TEST(Manifest, TheCompressionIsRecordedAndReproduced) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--compression none --targets " +
+                              shell_quote(dir + "/t") + " --out " + shell_quote(dir + "/n.png"), &log), 0) << log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--out " + shell_quote(dir + "/f.png"), &log), 0)
+        << log;
+    EXPECT_EQ(load(dir + "/n.png.json").at("request").at("compression"), "none");
+    EXPECT_EQ(load(dir + "/f.png.json").at("request").at("compression"), "fast");
+    EXPECT_GT(file_bytes(dir + "/n.png").size(), file_bytes(dir + "/f.png").size());
+    ASSERT_EQ(reproduce(dir + "/n.png.json", "", &log), 0) << log;
+    EXPECT_NE(log.find("identical"), std::string::npos) << log;
+    json old = load(dir + "/f.png.json");
+    old["request"].erase("compression");
+    write(dir + "/old.json", old.dump());
+    ASSERT_EQ(reproduce(dir + "/old.json", "", &log), 0) << log;
+    json bad = load(dir + "/f.png.json");
+    bad["request"]["compression"] = "zip";
+    write(dir + "/bad.json", bad.dump());
+    EXPECT_EQ(reproduce(dir + "/bad.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("compression 'zip'"), std::string::npos) << log;
+}
+
 TEST(Manifest, AChangedInputByteIsNamedAndAMissingInputRefused) {
     const std::string dir = test::output_dir();
     const std::string gltf = copy_suzanne(dir);

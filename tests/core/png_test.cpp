@@ -142,6 +142,38 @@ TEST(Png, ImagesWithAlphaAreStoredWithUnassociatedAlpha) {
     EXPECT_NEAR(back.at(1, 1, 0), 0.25f, 1.5f / 255.0f);
 }
 
+// Compression::None (--compression none): the same pixels, stored uncompressed — grey and RGB PNG
+// (our encoder: deflate's stored blocks, so the file holds every row byte), PNG with alpha
+// (OpenImageIO, zlib level 0) and EXR (OpenImageIO, no compression, as its header says); the fast
+// files of the same compressible image are far smaller.
+TEST(Png, CompressionNoneStoresTheSamePixelsUncompressed) {
+    const std::string dir = test::output_dir();
+    for (const char* ext : {".png", ".exr"})
+        for (int c : {1, 3, 4}) {
+            SCOPED_TRACE(std::string(ext) + " channels " + std::to_string(c));
+            ImageF img(96, 40, c);
+            for (int y = 0; y < 40; ++y)
+                for (int x = 0; x < 96; ++x)
+                    for (int k = 0; k < c; ++k) img.at(x, y, k) = k == 3 ? 1.0f : float((x / 8 + y / 8 + k) % 4) / 3.0f;
+            const std::string fast = dir + "/fast_" + std::to_string(c) + ext;
+            const std::string none = dir + "/none_" + std::to_string(c) + ext;
+            write_image(fast, img, "d", Compression::Fast);
+            write_image(none, img, "d", Compression::None);
+            const ImageF a = read_image(fast), b = read_image(none);
+            ASSERT_EQ(a.num_values(), b.num_values());
+            EXPECT_TRUE(std::equal(a.data(), a.data() + a.num_values(), b.data()));
+            const std::size_t raw = std::string(ext) == ".png" ? std::size_t(40) * (96 * std::size_t(c) + 1)
+                                                                : img.num_values() * sizeof(float);  // float EXR
+            EXPECT_GT(file_bytes(none).size(), raw);
+            EXPECT_LT(file_bytes(fast).size() * 2, file_bytes(none).size());
+            if (std::string(ext) == ".exr") {
+                auto in = OIIO::ImageInput::open(none);
+                ASSERT_TRUE(in) << OIIO::geterror();
+                EXPECT_EQ(in->spec().get_string_attribute("compression"), "none");
+            }
+        }
+}
+
 // A description the text chunk cannot hold is an error naming the file, not a cut manifest.
 TEST(Png, ADescriptionWithANulByteIsRefused) {
     const std::string path = test::output_dir() + "/nul.png";
