@@ -10,8 +10,8 @@
 // depend on Mesa's shader cache (MESA_SHADER_CACHE_DISABLE is not needed and not set).
 // llvmpipe uses LP_NUM_THREADS rasterizer threads (default: all cores, 2 here).
 // Inputs are exactly those of the paired C++ benchmarks (tests/synthetic_gbuffer.h: the same
-// per-port synthetic targets and seeds, the flat paper for single stages; the preset's paper for
-// pipelines), so both sides process the same data. Results: docs/performance.md
+// per-port synthetic targets and seeds, bench/bench_inputs.h stage_paper for single stages; the
+// preset's paper for pipelines), so both sides process the same data. Results: docs/performance.md
 // "## C++ vs GLSL on llvmpipe".
 #ifdef AQ_HAVE_REFERENCE
 
@@ -22,6 +22,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_inputs.h"
 #include "reference/gl_context.h"
 #include "reference/gl_runner.h"
 #include "reference/stage_twin.h"
@@ -55,7 +56,7 @@ void bm_gl_stage(benchmark::State& st, const stylize::StageVariant* v, Size s) {
         up.push_back(Texture::upload(test::synthetic_target(p.default_target, p.channels, s.w, s.h, seed++)));
         ins.push_back(&up.back());
     }
-    const Texture paper = Texture::upload(stylize::flat_paper(s.w, s.h));
+    const Texture paper = Texture::upload(bench::stage_paper(s.w, s.h));  // as stylize_bench.cpp inputs_for()
     const auto params = stylize::Registry::resolve_params(*v, {}, "bench");
     const StageTwin twin(*v);
     const glm::vec3 substrate(1.0f);  // stylize::Globals default

@@ -16,6 +16,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/bench_inputs.h"
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
 #include "stylize/stage.h"
@@ -45,7 +46,7 @@ const StageInputs& inputs_for(const StageVariant& v, const Size& s) {
         slot = std::make_unique<StageInputs>();
         std::uint32_t seed = 3;
         for (const Port& p : v.inputs) slot->in.push_back(test::synthetic_target(p.default_target, p.channels, s.w, s.h, seed++));
-        slot->paper = flat_paper(s.w, s.h);
+        slot->paper = bench::stage_paper(s.w, s.h);
         slot->g.paper = &slot->paper;
     }
     return *slot;
@@ -178,3 +179,18 @@ const bool kRegistered = [] {
 
 }  // namespace
 }  // namespace aq::stylize
+
+namespace aq::bench {
+
+const ImageF& stage_paper(int w, int h) {
+    static std::map<std::pair<int, int>, ImageF> cache;  // benchmarks are registered and run on one thread
+    auto it = cache.find({w, h});
+    if (it == cache.end()) {
+        const stylize::Pipeline wc18 = stylize::load_pipeline("wc18");
+        it = cache.emplace(std::pair{w, h}, wc18.has_paper ? stylize::prepare_paper(wc18.paper, w, h)
+                                                           : stylize::flat_paper(w, h)).first;
+    }
+    return it->second;
+}
+
+}  // namespace aq::bench

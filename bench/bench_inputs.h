@@ -1,0 +1,16 @@
+// bench/bench_inputs.h — inputs shared by the C++ stage benchmarks (bench/stylize_bench.cpp) and
+// their GLSL twins (bench/reference_bench.cpp), so both sides process the same data.
+#pragma once
+
+#include "core/image.h"
+
+namespace aq::bench {
+
+//! The paper of the single-stage benchmarks at w x h: the WC18 preset's paper (the rough 2k scan
+//! the WC presets use), prepared once per size. With the flat paper, the stages that read it
+//! (substrate distortion and lighting, pigment application) ran their identity paths (zero
+//! offsets, constant height) and the benchmarks timed little more than a copy; numbers from the
+//! fourteenth session on (docs/performance.md) are with this paper.
+const ImageF& stage_paper(int w, int h);
+
+}  // namespace aq::bench
