@@ -14,6 +14,27 @@ namespace aq::stylize {
 
 using namespace toolkit;
 
+namespace {
+
+//! Row y, pixels [x0, x1): c and o are 4-channel rows, paper a row of `pc` channels (R, G = the
+//! normal) or null (the flat paper). Flat loops over arrays with the stride a template constant,
+//! so GCC vectorises them; the per-pixel function is substrate_light_px itself. One compiled body
+//! for both traversals (not inlined into each), so they agree to the bit, NaN payloads included.
+template <int PC>
+[[gnu::noinline]] void light_row(const float* c, const float* paper, float* o, int x0, int x1, glm::vec3 l, float norm,
+                                 const SubstrateLightParams p, bool squared) {
+    for (int x = x0; x < x1; ++x) {
+        const float tr = PC ? paper[std::size_t(x) * PC] : kFlatPaperNormal;
+        const float tg = PC ? paper[std::size_t(x) * PC + 1] : kFlatPaperNormal;
+        const float* ci = c + std::size_t(x) * 4;
+        const glm::vec4 v = substrate_light_px({ci[0], ci[1], ci[2], ci[3]}, tr, tg, l, norm, p, squared);
+        float* oi = o + std::size_t(x) * 4;
+        oi[0] = v.x, oi[1] = v.y, oi[2] = v.z, oi[3] = v.w;
+    }
+}
+
+}  // namespace
+
 void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, const SubstrateLightParams& p,
                      bool squared,  const Exec& ex) {
     const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
@@ -23,14 +44,24 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     check_not_alias(dst, paper, st, "paper");
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
-    const View<const glm::vec4> c = color.view<glm::vec4>();
-    const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatPaperNormal, w, h);
-    const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatPaperNormal, w, h);
     const glm::vec3 l = substrate_light_dir(p);
     const float norm = substrate_light_norm(l, p, squared);
-    const View<glm::vec4> o = dst.view<glm::vec4>();
+    const int pc = paper ? paper->channels() : 0;
+    const View<const glm::vec4> cv = color.view<glm::vec4>();
+    const View<glm::vec4> ov = dst.view<glm::vec4>();
+    const Plane nr = paper ? plane(*paper, 0) : Plane{}, ng = paper ? plane(*paper, 1) : Plane{};
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        for (int x = x0; x < x1; ++x) o(x, y) = substrate_light_px(c(x, y), nr(x, y), ng(x, y), l, norm, p, squared);
+        const std::size_t row = std::size_t(y) * std::size_t(w);
+        const float* c = color.data() + row * 4;
+        float* o = dst.data() + row * 4;
+        const float* pr = paper ? paper->data() + row * std::size_t(pc) : nullptr;
+        switch (pc) {
+            case 0: light_row<0>(c, pr, o, x0, x1, l, norm, p, squared); break;
+            case 3: light_row<3>(c, pr, o, x0, x1, l, norm, p, squared); break;
+            case 4: light_row<4>(c, pr, o, x0, x1, l, norm, p, squared); break;
+            default:  // a paper of more channels (check_paper: >= 3), read through a Plane
+                for (int x = x0; x < x1; ++x) ov(x, y) = substrate_light_px(cv(x, y), nr(x, y), ng(x, y), l, norm, p, squared);
+        }
     });
 }
 

@@ -137,6 +137,34 @@ TEST(SubstrateLight, SlopesFacingTheLightAreBrighter) {
     EXPECT_TRUE(out == color);
 }
 
+// The row loops (templated on the paper's channel count: none, 3, 4) compute substrate_light_px
+// itself, bit for bit, at every pixel, for both curves and with and without normalisation.
+TEST(SubstrateLight, RowsEqualThePerPixelFunctionForEveryPaperLayout) {
+    const int w = 45, h = 13;  // rows not a multiple of any vector width
+    const ImageF color = noise(w, h, 4, 0.0f, 1.0f, 71);
+    const ImageF p3 = noise(w, h, 3, 0.0f, 1.0f, 72), p4 = noise(w, h, 4, 0.0f, 1.0f, 73);
+    for (const ImageF* paper : {static_cast<const ImageF*>(nullptr), &p3, &p4})
+        for (bool squared : {false, true})
+            for (bool normalize : {false, true}) {
+                SubstrateLightParams p;
+                p.normalize = normalize;
+                p.roughness = 1.7f;
+                const glm::vec3 l = substrate_light_dir(p);
+                const float norm = substrate_light_norm(l, p, squared);
+                ImageF out;
+                substrate_light(out, color, paper, p, squared, Exec::fast(2));
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        const float tr = paper ? paper->at(x, y, 0) : 0.5f, tg = paper ? paper->at(x, y, 1) : 0.5f;
+                        const glm::vec4 c(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2), color.at(x, y, 3));
+                        const glm::vec4 want = substrate_light_px(c, tr, tg, l, norm, p, squared);
+                        for (int k = 0; k < 4; ++k)
+                            ASSERT_EQ(out.at(x, y, k), want[k]) << x << "," << y << " channel " << k << " paper "
+                                                                << (paper ? paper->channels() : 0);
+                    }
+            }
+}
+
 TEST(Substrate, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     const int w = 90, h = 70;
     const ImageF paper = testb::poison(noise(w, h, 3, 0.0f, 1.0f, 61), 13);
