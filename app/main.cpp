@@ -90,7 +90,8 @@ options:
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
   --compression C       fast | none: how PNG and EXR files are compressed, losslessly either way
                         (default fast: deflate level 1, EXR PIZ). none writes ~2.3x larger 1080p
-                        PNG frames ~10-15 % faster (docs/performance.md "Fourteenth session")
+                        PNG frames, faster where the disk keeps up (docs/performance.md
+                        "Fourteenth session")
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
   --reference           use the plain reference traversals (slow; the oracle)
   --allow-outside-files let a glTF read buffers and images outside its own folder (by default
@@ -284,8 +285,8 @@ RenderOptions parse_render(Args& a) {
             o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, 4));
         } else if (arg == "--compression") {
             const std::string v = a.value(arg);
-            if (v != "fast" && v != "none") throw UsageError("--compression expects fast or none, got '" + v + "'");
-            o.compression = v == "none" ? aq::Compression::None : aq::Compression::Fast;
+            if (!aq::compression_from_name(v, o.compression))
+                throw UsageError("--compression expects fast or none, got '" + v + "'");
         } else if (arg == "--reference") {
             o.reference = true;
         } else if (!arg.empty() && arg[0] == '-' && arg != "-") {

@@ -58,7 +58,7 @@ json request_json(const RenderJob& job, const RenderedImage& img) {
         {"ssaa", o.ssaa},
         {"control", o.neutral_control ? "neutral" : "default"},
         {"working_space", o.working_space == WorkingSpace::Linear ? "linear" : "display"},
-        {"compression", o.compression == Compression::None ? "none" : "fast"},
+        {"compression", compression_name(o.compression)},
         {"allow_outside_files", o.allow_outside_files},
         {"targets", !o.targets_dir.empty()},
         {"targets_png", !o.targets_png_dir.empty()},
@@ -203,8 +203,7 @@ RenderOptions options_from(const json& m, const std::string& where, const std::s
     o.working_space = ws == "linear" ? WorkingSpace::Linear : WorkingSpace::Display;
     // Manifests written before --compression existed have no key: their files were compressed "fast".
     const std::string comp = r.contains("compression") ? get<std::string>(r, "compression", w) : "fast";
-    if (comp != "fast" && comp != "none") throw Error(w + ": compression '" + comp + "' is not fast or none");
-    o.compression = comp == "none" ? Compression::None : Compression::Fast;
+    if (!compression_from_name(comp, o.compression)) throw Error(w + ": compression '" + comp + "' is not fast or none");
     o.allow_outside_files = get<bool>(r, "allow_outside_files", w);
     const std::string ext = get<std::string>(r, "output_format", w);
     if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff" && ext != ".jpg")

@@ -46,6 +46,14 @@ enum class Compression {
     Fast,  //!< PNG: deflate level 1 (libdeflate, or zlib through OpenImageIO for alpha); EXR: PIZ
     None,  //!< PNG: stored deflate blocks (~2.3x larger WC18 frames); EXR: uncompressed
 };
+//! The name of a Compression on the command line and in manifests: "fast", "none".
+inline const char* compression_name(Compression c) { return c == Compression::None ? "none" : "fast"; }
+//! The Compression called `name`; false (c untouched) for any other name.
+inline bool compression_from_name(const std::string& name, Compression& c) {
+    if (name != "fast" && name != "none") return false;
+    c = name == "none" ? Compression::None : Compression::Fast;
+    return true;
+}
 
 //! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). A non-empty
 //! `description` is embedded as the standard ImageDescription attribute (PNG tEXt "Description",

@@ -46,22 +46,15 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     ensure_output(dst, w, h, 4);
     const glm::vec3 l = substrate_light_dir(p);
     const float norm = substrate_light_norm(l, p, squared);
-    const int pc = paper ? paper->channels() : 0;
-    const View<const glm::vec4> cv = color.view<glm::vec4>();
-    const View<glm::vec4> ov = dst.view<glm::vec4>();
-    const Plane nr = paper ? plane(*paper, 0) : Plane{}, ng = paper ? plane(*paper, 1) : Plane{};
+    const int pc = paper ? paper->channels() : 0;  // 0, 3 or 4 (images hold 1..4; check_paper: >= 3)
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         const std::size_t row = std::size_t(y) * std::size_t(w);
         const float* c = color.data() + row * 4;
         float* o = dst.data() + row * 4;
         const float* pr = paper ? paper->data() + row * std::size_t(pc) : nullptr;
-        switch (pc) {
-            case 0: light_row<0>(c, pr, o, x0, x1, l, norm, p, squared); break;
-            case 3: light_row<3>(c, pr, o, x0, x1, l, norm, p, squared); break;
-            case 4: light_row<4>(c, pr, o, x0, x1, l, norm, p, squared); break;
-            default:  // a paper of more channels (check_paper: >= 3), read through a Plane
-                for (int x = x0; x < x1; ++x) ov(x, y) = substrate_light_px(cv(x, y), nr(x, y), ng(x, y), l, norm, p, squared);
-        }
+        if (pc == 0) light_row<0>(c, pr, o, x0, x1, l, norm, p, squared);
+        else if (pc == 3) light_row<3>(c, pr, o, x0, x1, l, norm, p, squared);
+        else light_row<4>(c, pr, o, x0, x1, l, norm, p, squared);
     });
 }
 
