@@ -132,9 +132,11 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
         for (const Chunk::Segment& sg : c.segments) {
             const DrawVertices& dv = fr.draws[sg.draw];
-            for (std::uint32_t t = sg.begin; t < sg.end; ++t) {
+            for (std::uint32_t t = sg.begin; t < sg.end;) {
+                const std::uint32_t te = std::min(sg.end, t + kSetupBatch);
                 std::size_t k = c.tris.size();
-                setup_triangle(dv, sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+                setup_triangles(dv, sg.draw, t, te, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+                t = te;
                 for (; k < c.tris.size(); ++k) {
                     const TriSetup& st = c.tris[k];
                     for (int ty = st.y0 / kTile; ty <= st.y1 / kTile; ++ty)

@@ -183,11 +183,12 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     }
 }
 
-}  // namespace
 
-void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
-                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
-                    std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+// The setup of one triangle (setup_triangle's definition; setup_triangles inlines it).
+[[gnu::always_inline]] inline void setup_one(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                                             const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                                             std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+
     const auto& idx = dv.prim->indices;
     const std::uint32_t i0 = idx[3 * std::size_t(tri)], i1 = idx[3 * std::size_t(tri) + 1],
                         i2 = idx[3 * std::size_t(tri) + 2];
@@ -226,6 +227,56 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
         return;
     }
     setup_clipped(dv, draw_index, tri, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);
+}
+
+
+// A triangle the batch pre-pass must hand to setup_one: any vertex index out of range, any vertex
+// outside a clip plane or non-finite (setup_one counts, clips or drops it), or bounds that hold a
+// pixel centre. False only for triangles setup_one drops without a trace (the quick reject).
+[[gnu::always_inline]] inline bool needs_setup(const SnapVertex* snap, std::size_t nv, const std::uint32_t* ix) {
+    const bool bad = (ix[0] >= nv) | (ix[1] >= nv) | (ix[2] >= nv);
+    const SnapVertex& s0 = snap[bad ? 0 : ix[0]];
+    const SnapVertex& s1 = snap[bad ? 0 : ix[1]];
+    const SnapVertex& s2 = snap[bad ? 0 : ix[2]];
+    const std::int32_t xmin = min3(s0.x, s1.x, s2.x), xmax = max3(s0.x, s1.x, s2.x);
+    const std::int32_t ymin = min3(s0.y, s1.y, s2.y), ymax = max3(s0.y, s1.y, s2.y);
+    const bool centre = (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((xmax - kSubpixelOne / 2) >> kSubpixelBits)) &
+                        (((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((ymax - kSubpixelOne / 2) >> kSubpixelBits));
+    return bad | ((s0.code | s1.code | s2.code) != 0) | centre;
+}
+
+}  // namespace
+
+void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
+                    const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                    std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+    setup_one(dv, draw_index, tri, vp, opt, out, clip_out, counters);
+}
+
+void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t begin, std::uint32_t end,
+                     const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                     std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+    // Two passes per batch: a branch-free pre-pass lists the triangles that need setup (on dense
+    // meshes most bounds hold no pixel centre, and a per-triangle branch on that mispredicts),
+    // then setup_one runs on the listed ones in order.
+    const std::uint32_t* idx = dv.prim->indices.data();
+    const std::size_t nv = dv.clip.size();
+    const SnapVertex* snap = nv ? &dv.snap[0] : nullptr;
+    std::uint32_t list[kSetupBatch];
+    for (std::uint32_t b = begin; b < end;) {
+        const std::uint32_t e = end - b > kSetupBatch ? b + kSetupBatch : end;
+        std::uint32_t n = 0;
+        if (nv == 0) {
+            for (std::uint32_t t = b; t < e; ++t) list[n++] = t;
+        } else {
+            for (std::uint32_t t = b; t < e; ++t) {
+                list[n] = t;
+                n += needs_setup(snap, nv, idx + 3 * std::size_t(t)) ? 1u : 0u;
+            }
+        }
+        for (std::uint32_t k = 0; k < n; ++k) setup_one(dv, draw_index, list[k], vp, opt, out, clip_out, counters);
+        b = e;
+    }
 }
 
 }  // namespace aq::raster

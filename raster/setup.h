@@ -113,4 +113,11 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
                     const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
                     std::vector<ClipVerts>& clip_out, SetupCounters& counters);
 
+//! Triangles [begin, end) of the batch pre-pass (schedule only): appends exactly what
+//! setup_triangle for tri = begin, ..., end - 1 in order appends, and counts the same.
+inline constexpr std::uint32_t kSetupBatch = 256;
+void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t begin, std::uint32_t end,
+                     const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
+                     std::vector<ClipVerts>& clip_out, SetupCounters& counters);
+
 }  // namespace aq::raster

@@ -1,0 +1,127 @@
+// tests/raster/setup_test.cpp — the batched triangle setup (setup_triangles, the fast traversal's
+// schedule: a branch-free pre-pass, then the setup of the listed triangles) appends exactly what
+// setup_triangle appends triangle by triangle, and counts the same, on a mesh that exercises every
+// path: sub-pixel triangles (quick reject), small and large ones, triangles crossing the near plane
+// and the guard band (clipper), entirely outside one plane, non-finite vertices, out-of-range
+// indices, back faces with culling on and off; for ranges that start and end inside a batch.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "raster/setup.h"
+#include "scenes/scene.h"
+
+namespace aq::raster {
+namespace {
+
+struct Mesh {
+    scene::Primitive prim;
+    scene::Material mat;
+    DrawVertices dv;
+    Viewport vp;
+};
+
+// A jittered grid of vertices over (and beyond) the viewport, some behind the eye or non-finite,
+// and triangles of neighbours (small) and of random vertices (large), some indices out of range.
+void make_mesh(Mesh& m, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const int W = 320, H = 200;
+    m.vp.width = W;
+    m.vp.height = H;
+    m.vp.gb_x = kGuardBandPx / W;
+    m.vp.gb_y = kGuardBandPx / H;
+    const int gx = 480, gy = 300;  // 0.8 px per grid step: most triangles hold no pixel centre
+    const std::size_t nv = std::size_t(gx) * gy;
+    m.prim.positions.resize(nv);
+    m.dv.prim = &m.prim;
+    m.dv.mat = &m.mat;
+    m.dv.clip.resize(nv);
+    m.dv.view.resize(nv);
+    m.dv.snap.resize(nv);
+    for (int j = 0; j < gy; ++j)
+        for (int i = 0; i < gx; ++i) {
+            const std::size_t k = std::size_t(j) * gx + i;
+            const float w = 0.5f + 2.0f * u(rng);
+            float x = (-1.2f + 2.4f * (i + 0.6f * u(rng)) / gx) * w;
+            const float y = (-1.2f + 2.4f * (j + 0.6f * u(rng)) / gy) * w;
+            float z = (-0.8f + 1.6f * u(rng)) * w;
+            const float r = u(rng);
+            if (r < 0.01f) z = -1.5f * w;                                  // in front of near
+            else if (r < 0.015f) x = std::numeric_limits<float>::quiet_NaN();  // non-finite
+            else if (r < 0.02f) x = 3.0e7f * w;                             // beyond the guard band
+            const glm::vec4 c(x, y, z, w);
+            m.dv.clip[k] = c;
+            m.dv.view[k].pos = glm::vec3(0.0f, 0.0f, -w);
+            m.dv.view[k].normal = glm::vec3(0.0f, 0.0f, 1.0f);
+            const std::uint32_t code = outcode(c, m.vp);
+            m.dv.snap[k] = code ? SnapVertex{0, 0, 0.0f, 0.0f, code} : snap_vertex(c, w, m.vp);
+        }
+    std::uniform_int_distribution<std::uint32_t> any(0, std::uint32_t(nv - 1));
+    for (int j = 0; j + 1 < gy; ++j)
+        for (int i = 0; i + 1 < gx; ++i) {
+            const std::uint32_t a = std::uint32_t(j * gx + i), b = a + 1, c = a + gx, d = c + 1;
+            const float r = u(rng);
+            std::uint32_t t[6] = {a, c, b, b, c, d};
+            if (r < 0.3f) std::swap(t[1], t[2]);                 // back face
+            if (r > 0.97f) t[4] = any(rng);                      // a large triangle
+            if (r > 0.995f) t[5] = std::uint32_t(nv + any(rng)); // index out of range
+            m.prim.indices.insert(m.prim.indices.end(), t, t + 6);
+        }
+}
+
+void expect_same_setups(const std::vector<TriSetup>& a, const std::vector<TriSetup>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        const TriSetup& s = a[k];
+        const TriSetup& t = b[k];
+        bool same = s.x0 == t.x0 && s.y0 == t.y0 && s.x1 == t.x1 && s.y1 == t.y1 && s.draw == t.draw &&
+                    s.tri == t.tri && s.clip == t.clip && s.perm == t.perm && s.back == t.back;
+        for (int i = 0; i < 3; ++i)
+            same = same && s.A[i] == t.A[i] && s.B[i] == t.B[i] && s.C[i] == t.C[i] && s.bias[i] == t.bias[i] &&
+                   s.inv_w[i] == t.inv_w[i] && s.depth[i] == t.depth[i];
+        ASSERT_TRUE(same) << "setup " << k << " (triangle " << s.tri << " vs " << t.tri << ")";
+    }
+}
+
+TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
+    for (const std::uint32_t seed : {1u, 2u, 3u}) {
+        Mesh m;
+        make_mesh(m, seed);
+        const std::uint32_t ntri = std::uint32_t(m.prim.indices.size() / 3);
+        for (const bool cull : {false, true}) {
+            SetupOptions opt;
+            opt.cull_backfaces = cull;
+            std::vector<TriSetup> ref, fast;
+            std::vector<ClipVerts> ref_clips, fast_clips;
+            SetupCounters ref_n, fast_n;
+            for (std::uint32_t t = 0; t < ntri; ++t) setup_triangle(m.dv, 5, t, m.vp, opt, ref, ref_clips, ref_n);
+            // Ranges of odd lengths, so that batches start and end anywhere.
+            for (std::uint32_t b = 0; b < ntri;) {
+                const std::uint32_t e = std::min(ntri, b + 1 + (b * 7919u) % (3 * kSetupBatch));
+                setup_triangles(m.dv, 5, b, e, m.vp, opt, fast, fast_clips, fast_n);
+                b = e;
+            }
+            expect_same_setups(ref, fast);
+            ASSERT_EQ(ref_clips.size(), fast_clips.size());
+            for (std::size_t k = 0; k < ref_clips.size(); ++k)
+                for (int j = 0; j < 3; ++j) EXPECT_EQ(ref_clips[k].beta[j], fast_clips[k].beta[j]);
+            EXPECT_EQ(ref_n.non_finite, fast_n.non_finite);
+            EXPECT_EQ(ref_n.bad_index, fast_n.bad_index);
+            EXPECT_EQ(ref_n.clip_unstable, fast_n.clip_unstable);
+            EXPECT_EQ(ref_n.clipped, fast_n.clipped);
+            // The mesh exercises every path: most triangles dropped, some clipped, some counted.
+            EXPECT_LT(ref.size(), ntri / 4) << "seed " << seed;
+            EXPECT_GT(ref.size(), ntri / 100) << "seed " << seed;
+            EXPECT_GT(ref_n.clipped, 10u);
+            EXPECT_GT(ref_n.non_finite, 10u);
+            EXPECT_GT(ref_n.bad_index, 10u);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::raster
