@@ -42,6 +42,10 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             }
             dv.object_id = inst.object_id;
             const std::size_t n = p.positions.size();
+            // The base colour is the draw's constant when interpolate() gives every fragment
+            // COLOR_0 = 1 and no texture colour: computed here once, from such a fragment.
+            dv.const_base = p.colors.size() != n && (p.uv0.size() != n || !texture_of(fr.ctx, dv.mat->base_color_texture));
+            if (dv.const_base) dv.base = base_color_working(fr.ctx, *dv.mat, FragmentInput{});
             dv.clip.resize(n);
             dv.view.resize(n);
             dv.snap.resize(n);

@@ -136,17 +136,21 @@ float material_alpha(const ShadeContext& ctx, const scene::Material& m, const Fr
     return a * in.color.a;
 }
 
-FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
-                              const FragmentInput& in) {
-    FragmentOutput out;
-    const scene::WatercolorMaterial& wc = m.wc;
-    // 1. Base colour: factor x texture x COLOR_0, then into the working space (docs/look.md).
+glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in) {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
             C = C * glm::vec3(sample_texture(t->image, m.base_color_texture.sampler, in.uv));
     C = C * glm::vec3(in.color);
-    C = base_color_to_working(C, m.linear_color, ctx.working_space);
+    return base_color_to_working(C, m.linear_color, ctx.working_space);
+}
+
+FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
+                              const FragmentInput& in) {
+    FragmentOutput out;
+    const scene::WatercolorMaterial& wc = m.wc;
+    // 1. Base colour: factor x texture x COLOR_0, then into the working space (docs/look.md).
+    const glm::vec3 C = in.base ? *in.base : base_color_working(ctx, m, in);
 
     // 2. Normal: normalise, tangent-space normal map, double-sided back faces flipped.
     glm::vec3 N = normalize3(in.normal);

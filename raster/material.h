@@ -89,6 +89,10 @@ struct FragmentInput {
     glm::vec4 color{1};            //!< COLOR_0 (1 if absent)
     glm::vec3 ctrl[scene::kNumControlTargets]{};  //!< interpolated per-vertex control RGB
     bool has_tangent = false, has_uv = false, back = false;
+    //! base_color_working of this fragment computed once for its draw, where it cannot vary over
+    //! the draw (no COLOR_0, no base colour texture or no uv: the draw's constant colour); null:
+    //! computed per fragment. Schedule only: the same value either way.
+    const glm::vec3* base = nullptr;
 };
 
 struct ViewLight {
@@ -116,6 +120,9 @@ struct FragmentOutput {
 
 //! Material alpha: base_color.a * texture.a * COLOR_0.a (for alpha mode MASK).
 float material_alpha(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in);
+
+//! Step 1 of the material: base colour factor x texture x COLOR_0, in the working space.
+glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in);
 
 //! The full watercolor material (docs/raster.md "Material" lists the order of operations).
 FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,

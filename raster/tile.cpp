@@ -48,6 +48,7 @@ FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, c
             in.ctrl[k] = lerp3(glm::vec3(c[i0]), glm::vec3(c[i1]), glm::vec3(c[i2]));
     }
     in.back = t.back != 0;
+    if (dv.const_base) in.base = &dv.base;
     return in;
 }
 

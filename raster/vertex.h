@@ -104,6 +104,9 @@ struct DrawVertices {
     UninitArray<Shading> view;
     UninitArray<glm::vec4> view_tangent; //!< xyz view space, w handedness; empty if none
     UninitArray<SnapVertex> snap;        //!< outcode + snapped position (one cache access in setup)
+    //! The draw's base_color_working where it cannot vary over the draw (FragmentInput::base).
+    bool const_base = false;
+    glm::vec3 base{0};
 };
 
 struct FrameParams {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/io.h"
+#include "raster/material.h"
 #include "raster/raster.h"
 #include "scenes/gltf_loader.h"
 #include "tests/raster/raster_test_util.h"
@@ -157,6 +158,37 @@ TEST(GBuffer, ControlTargetsCombineVertexMaterialAndClamp) {
     EXPECT_FLOAT_EQ(su.at(9, 3, 1), 0.2f);
     EXPECT_FLOAT_EQ(t.get(target::kCtrlPigment).at(9, 3, 0), 0.0f);
     EXPECT_EQ(t.get(target::kCtrlPigment).channels(), 4);
+}
+
+// The base colour (material step 1) per fragment where COLOR_0 or a texture varies it, and the
+// draw's constant otherwise (computed once per draw): both traversals, both working spaces.
+TEST(GBuffer, BaseColourFollowsVertexColoursAndIsTheMaterialsColourWithout) {
+    const int W = 16, H = 16;
+    auto quad = [&](float x0, float x1) {
+        return test::make_prim({px(W, H, x0, 0), px(W, H, x0, 16), px(W, H, x1, 16), px(W, H, x1, 0)},
+                               {0, 1, 2, 0, 2, 3});
+    };
+    scene::Primitive ramp = quad(0, 8), plain = quad(8, 16);
+    ramp.colors = {{1, 0, 0, 1}, {1, 0, 0, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}};  // red at x = 0, blue at 8
+    plain.uv0 = {{0, 0}, {0, 1}, {1, 1}, {1, 0}};  // uv, but the texture index names no texture
+    plain.material = 1;
+    scene::Scene s = test::scene_of({ramp, plain}, test::flat_material(glm::vec4(1.0f)));
+    scene::Material m = test::flat_material(glm::vec4(0.2f, 0.4f, 0.6f, 1.0f));
+    m.base_color_texture.texture = 7;
+    s.materials.push_back(m);
+    for (const WorkingSpace ws : {WorkingSpace::Display, WorkingSpace::Linear})
+        for (const Traversal tr : {Traversal::Fast, Traversal::Reference}) {
+            raster::RenderSettings st = test::plain_settings(W, H);
+            st.exec.traversal = tr;
+            st.working_space = ws;
+            const ImageF& c = raster::render_gbuffer(s, test::pixel_camera(W, H), st).get(target::kColor);
+            EXPECT_GT(c.at(1, 8, 0), c.at(1, 8, 2));  // reddish near x = 0
+            EXPECT_LT(c.at(6, 8, 0), c.at(6, 8, 2));  // bluish near x = 8
+            EXPECT_GT(c.at(3, 8, 0), c.at(4, 8, 0));  // red falls along the ramp
+            const glm::vec3 want = raster::base_color_to_working(glm::vec3(m.base_color), m.linear_color, ws);
+            for (const int x : {9, 12, 15})
+                for (int k = 0; k < 3; ++k) EXPECT_EQ(c.at(x, 8, k), want[k]) << x << " " << k;
+        }
 }
 
 TEST(GBuffer, AlphaMaskDiscards) {
