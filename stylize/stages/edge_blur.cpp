@@ -6,6 +6,8 @@
 // the same taps in the same order per pixel, so bit-identical.
 #include "stylize/stages/edge_blur.h"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -105,6 +107,17 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     // pass 1: the 4-channel control (32 MB at 1080p) is streamed once instead of twice.
     static_assert(4 * 16 <= 255);
     std::unique_ptr<std::uint8_t[]> ktab(new std::uint8_t[std::size_t(w) * std::size_t(h)]);
+    // Zero spans (schedule only): where every value a pixel's taps read is +0 (bit pattern 0),
+    // the delta form gives +0 exactly (0 + w * (0 - 0) for finite w), so only the columns
+    // [lo, hi] of a row are computed and the rest is written +0. Pass 0 finds its span in the
+    // border-resolved row (a pixel x reads pad[x .. x + 2R]); pass 1's span of row y is the
+    // union of the pass-0 spans of the rows its taps read (pass 0 wrote +0 outside them).
+    // Edges are zero wherever colour and depth are flat: most of a frame's background.
+    struct Span {
+        int lo, hi;  // empty when lo > hi
+    };
+    std::vector<Span> span0(static_cast<std::size_t>(h));
+    auto nonzero = [](float v) { return std::bit_cast<std::uint32_t>(v) != 0u; };
     for (int pass = 0; pass < 2; ++pass) {
         const float* s = pass == 0 ? edges.data() : tmp.data();
         float* o = pass == 0 ? tmp.data() : dst.data();
@@ -117,20 +130,46 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                 const std::size_t row = std::size_t(y) * w;
                 const float* __restrict sr = s + row;
                 std::uint8_t* __restrict kb = ktab.get() + row;
-                if (pass == 0) {
-                    kernel_sizes(row, std::size_t(w), krow.data());
-                    for (int x = 0; x < w; ++x) kb[x] = std::uint8_t(krow[std::size_t(x)]);
-                } else {
-                    for (int x = 0; x < w; ++x) krow[std::size_t(x)] = kb[x];
-                }
-                const int* kr = krow.data();
                 float* __restrict orow = o + row;
-                if (pass == 0)
+                Span sp{w, -1};
+                if (pass == 0) {
                     for (int i = 0; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
-                for (int x0 = 0; x0 < w;) {
+                    int pa = 0, pb = w + 2 * R - 1;
+                    while (pa <= pb && !nonzero(pad[std::size_t(pa)])) ++pa;
+                    while (pb >= pa && !nonzero(pad[std::size_t(pb)])) --pb;
+                    if (pa <= pb) sp = {std::max(0, pa - 2 * R), std::min(w - 1, pb)};
+                    span0[std::size_t(y)] = sp;
+                    if (sp.lo <= sp.hi) {
+                        kernel_sizes(row + std::size_t(sp.lo), std::size_t(sp.hi - sp.lo + 1), krow.data() + sp.lo);
+                        for (int x = sp.lo; x <= sp.hi; ++x) kb[x] = std::uint8_t(krow[std::size_t(x)]);
+                    }
+                } else {
+                    for (int i = y; i <= y + 2 * R; ++i) {
+                        const Span& t = span0[std::size_t(yt[std::size_t(i)])];
+                        sp.lo = std::min(sp.lo, t.lo);
+                        sp.hi = std::max(sp.hi, t.hi);
+                    }
+                    // K where pass 0 kept it (its span, inside this one: row y is one of the tap
+                    // rows), computed from the control elsewhere.
+                    const Span& own = span0[std::size_t(y)];
+                    if (sp.lo <= sp.hi) {
+                        const int a0 = own.lo <= own.hi ? own.lo : sp.hi + 1, a1 = own.lo <= own.hi ? own.hi : sp.hi;
+                        if (a0 > sp.lo) kernel_sizes(row + std::size_t(sp.lo), std::size_t(a0 - sp.lo), krow.data() + sp.lo);
+                        for (int x = a0; x <= a1; ++x) krow[std::size_t(x)] = kb[x];
+                        if (a1 < sp.hi) kernel_sizes(row + std::size_t(a1 + 1), std::size_t(sp.hi - a1), krow.data() + a1 + 1);
+                    }
+                }
+                if (sp.lo > sp.hi) {
+                    std::fill_n(orow, w, 0.0f);
+                    continue;
+                }
+                std::fill_n(orow, sp.lo, 0.0f);
+                std::fill_n(orow + sp.hi + 1, w - 1 - sp.hi, 0.0f);
+                const int* kr = krow.data();
+                for (int x0 = sp.lo; x0 <= sp.hi;) {
                     const int k = kr[x0];
                     int x1 = x0 + 1;
-                    while (x1 < w && kr[x1] == k) ++x1;
+                    while (x1 <= sp.hi && kr[x1] == k) ++x1;
                     const float* wk = tab[std::size_t(k)].data();
                     const int taps = 2 * k - 1;
                     for (int ai = 0; ai < taps; ++ai) {  // tap a = ai - (k - 1), aligned with x0

@@ -1,12 +1,15 @@
 // tests/stylize/edge_blur_test.cpp — WC17 5x5 blur, WC18 variable-width edge blur and the extended
 // edges of gaps & overlaps: constants stay constant, impulses reproduce the normalised kernels
 // (computed here independently), painted width widens the kernel, zero edges stay zero.
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "core/exec.h"
 #include "stylize/stages/edge_blur.h"
 #include "stylize/stages/extend_edges.h"
 
@@ -83,6 +86,47 @@ TEST(EdgeBlurWc18, ImpulseReproducesTheKernelOfThePaintedWidth) {
                 EXPECT_NEAR(o.at(c + dx, c + dy, 0), expect, 2e-6) << "K " << K << " at " << dx << "," << dy;
             }
     }
+}
+
+// The fast traversal computes only the columns whose taps can read a non-zero value and writes
+// +0 elsewhere: on sparse edges (blobs at the borders and corners, rows without any edge, -0 and
+// NaN among the zeros) it must still give the reference's bits, for every width and border rule.
+TEST(EdgeBlurWc18, FastEqualsReferenceOnSparseEdges) {
+    const int w = 97, h = 71;
+    ImageF e(w, h, 1, 0.0f), k(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)  // painted width: the widest kernel on the left half, varied on the right
+            k.at(x, y, 1) = x < w / 2 ? 1.0f : float((x * 7 + y * 13) % 21 - 10) / 10.0f;
+    auto blob = [&](int cx, int cy, float v) {
+        for (int y = std::max(0, cy - 2); y <= std::min(h - 1, cy + 2); ++y)
+            for (int x = std::max(0, cx - 1); x <= std::min(w - 1, cx + 3); ++x) e.at(x, y, 0) = v * float(1 + x % 3);
+    };
+    blob(0, 0, 0.5f);
+    blob(w - 1, h - 1, 0.25f);
+    blob(48, 20, 1.0f);
+    blob(3, 40, 0.75f);
+    blob(w - 2, 44, 0.125f);
+    e.at(70, 60, 0) = -0.0f;  // not +0: its row and column are computed
+    e.at(20, 66, 0) = std::numeric_limits<float>::quiet_NaN();
+    for (const int width : {1, 3, 5})
+        for (const Border b : {Border::Clamp, Border::Mirror}) {
+            EdgeBlurWc18Params p;
+            p.width = width;
+            p.border = b;
+            ImageF ref, fast1, fast2;
+            edge_blur_wc18(ref, e, k, p, Exec::reference());
+            edge_blur_wc18(fast1, e, k, p, Exec::fast(1));
+            edge_blur_wc18(fast2, e, k, p, Exec::fast(2));
+            ASSERT_EQ(ref.num_values(), fast1.num_values());
+            int zeros = 0;
+            for (std::size_t i = 0; i < ref.num_values(); ++i) {
+                ASSERT_EQ(std::memcmp(&ref.data()[i], &fast1.data()[i], 4), 0) << "width " << width << " value " << i;
+                ASSERT_EQ(std::memcmp(&ref.data()[i], &fast2.data()[i], 4), 0) << "width " << width << " value " << i;
+                zeros += ref.data()[i] == 0.0f;
+            }
+            EXPECT_GT(zeros, int(ref.num_values() / 3));     // the zero spans are exercised
+            EXPECT_LT(zeros, int(ref.num_values()) - 100);   // and so are the computed ones
+        }
 }
 
 TEST(ExtendEdges, ZeroStaysZeroAndOneStaysOne) {
