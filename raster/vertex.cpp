@@ -2,7 +2,9 @@
 // and WC17 §3.2 bleeding displacement; GL clip conventions; fixed-point snap.
 #include "raster/vertex.h"
 
+#include <bit>
 #include <cmath>
+#include <limits>
 
 #include <immintrin.h>
 
@@ -103,65 +105,259 @@ SnapVertex snap_vertex(const glm::vec4& c, float depth, const Viewport& vp) {
     return s;
 }
 
-void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::mat3& nm,
-                        DrawVertices& dv, std::size_t begin, std::size_t end) {
-    const scene::Primitive& prim = *dv.prim;
+namespace {
+
+// The per-draw constants of the vertex stage.
+struct VertexConsts {
+    const scene::Primitive* prim;
+    const std::vector<glm::vec4>* ctrl_abs;
+    float bleed_const;
+    bool do_bleed, do_tremor, has_normals, has_tan, perspective;
+    float px_x, px_y, phase;
+    TremorParams tp;
+    glm::mat4 mv, proj;
+    glm::mat3 nm;
+    Viewport vp;
+};
+
+VertexConsts vertex_consts(const FrameParams& fp, const glm::mat4& mv, const glm::mat3& nm, const DrawVertices& dv) {
+    VertexConsts k;
+    k.prim = dv.prim;
     const RenderSettings& rs = *fp.settings;
-    const auto& ctrl_abs = prim.control[scene::kCtrlAbstraction];
-    const float bleed_const = dv.mat->wc.control[scene::kCtrlAbstraction].b;
-    const bool do_bleed = rs.bleed_displacement;
-    const bool do_tremor = rs.tremor.enabled && rs.tremor.tremor_px != 0.0f;
-    const bool has_normals = prim.normals.size() == prim.positions.size();
-    const bool has_tan = !dv.view_tangent.empty();
-    const float px_x = 2.0f / float(fp.out_width), px_y = 2.0f / float(fp.out_height);
-    const TremorParams& tp = rs.tremor;
-    const float phase = (fp.time_s * tp.speed) * kTremorSpeedScale;
-    for (std::size_t i = begin; i < end; ++i) {
-        const glm::vec3 p = prim.positions[i];
-        const glm::vec3 n = has_normals ? prim.normals[i] : glm::vec3(0, 0, 1);
-        glm::vec3 pd = p;
-        if (do_bleed) {
-            float cb = bleed_const + (ctrl_abs.empty() ? 0.0f : ctrl_abs[i].b);
-            cb = std::min(std::max(cb, -1.0f), 1.0f);
-            pd = bleed_displace(p, n, cb);
+    k.ctrl_abs = &dv.prim->control[scene::kCtrlAbstraction];
+    k.bleed_const = dv.mat->wc.control[scene::kCtrlAbstraction].b;
+    k.do_bleed = rs.bleed_displacement;
+    k.do_tremor = rs.tremor.enabled && rs.tremor.tremor_px != 0.0f;
+    k.has_normals = dv.prim->normals.size() == dv.prim->positions.size();
+    k.has_tan = !dv.view_tangent.empty();
+    k.perspective = fp.perspective;
+    k.px_x = 2.0f / float(fp.out_width);
+    k.px_y = 2.0f / float(fp.out_height);
+    k.tp = rs.tremor;
+    k.phase = (fp.time_s * k.tp.speed) * kTremorSpeedScale;
+    k.mv = mv;
+    k.proj = fp.proj;
+    k.nm = nm;
+    k.vp = fp.vp;
+    return k;
+}
+
+// The tangent of vertex i (rare: normal-mapped primitives only).
+inline void transform_tangent(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
+    const glm::vec4 t = k.prim->tangents[i];
+    dv.view_tangent[i] = glm::vec4(normalize3(glm::mat3(k.mv) * glm::vec3(t)), t.w);
+}
+
+// Vertex i: the maths of the vertex stage, one vertex at a time (the definition; transform8 is
+// the same operations on eight vertices).
+inline void transform_one(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
+    const scene::Primitive& prim = *k.prim;
+    const TremorParams& tp = k.tp;
+    const glm::vec3 p = prim.positions[i];
+    const glm::vec3 n = k.has_normals ? prim.normals[i] : glm::vec3(0, 0, 1);
+    glm::vec3 pd = p;
+    if (k.do_bleed) {
+        float cb = k.bleed_const + (k.ctrl_abs->empty() ? 0.0f : (*k.ctrl_abs)[i].b);
+        cb = std::min(std::max(cb, -1.0f), 1.0f);
+        pd = bleed_displace(p, n, cb);
+    }
+    const glm::vec4 v = k.mv * glm::vec4(pd, 1.0f);
+    glm::vec4 c = k.proj * v;
+    const glm::vec3 nv = normalize3(k.nm * n);
+    if (k.do_tremor) {
+        const glm::vec3 vdir = k.perspective ? normalize3(-glm::vec3(v)) : glm::vec3(0, 0, 1);
+        // tremor_offset_px inlined, with both sines always evaluated and the zero weight
+        // selected afterwards: the weight test mispredicted along silhouettes (same values;
+        // keep in step with tremor_offset_px).
+        const float ndv = nv.x * vdir.x + nv.y * vdir.y + nv.z * vdir.z;
+        const float w = std::min(sat(kTremorNdotVGain * ndv), 1.0f - tp.front);
+        const float sx = std::sin(k.phase + (p.x * tp.frequency) * kTremorFreqScale);
+        const float sy = std::sin(k.phase + (p.y * tp.frequency) * kTremorFreqScale);
+        const bool on = w > 0.0f;
+        const glm::vec2 off(on ? (sx * tp.tremor_px) * w : 0.0f, on ? (sy * tp.tremor_px) * w : 0.0f);
+        // Pixels -> clip units: one output pixel is 2/W in NDC, times w to survive the divide.
+        c.x = c.x + (off.x * k.px_x) * c.w;
+        c.y = c.y + (off.y * k.px_y) * c.w;
+    }
+    dv.clip[i] = c;
+    dv.view[i].pos = glm::vec3(v);
+    dv.view[i].normal = nv;
+    if (k.has_tan) transform_tangent(k, dv, i);
+    const std::uint32_t code = outcode(c, k.vp);
+    SnapVertex& sv = dv.snap[i];
+    if (code == 0) {
+        snap_into(c, -v.z, k.vp, sv);
+    } else {
+        sv.x = 0;
+        sv.y = 0;
+        sv.inv_w = 0.0f;
+        sv.depth = 0.0f;
+        sv.code = code;
+    }
+}
+
+#ifdef __AVX2__
+// Eight vertices [i, i + 8) with the operations of transform_one, lane by lane and in the same
+// order (IEEE operations round the same in a vector lane; no FMA is emitted, -mno-fma): the same
+// values, except that the payload of a NaN may come from another operand. The sines stay scalar
+// (glibc's sinf).
+using V = __m256;
+inline V bc(float x) { return _mm256_set1_ps(x); }
+inline V add(V a, V b) { return _mm256_add_ps(a, b); }
+inline V sub(V a, V b) { return _mm256_sub_ps(a, b); }
+inline V mul(V a, V b) { return _mm256_mul_ps(a, b); }
+// std::max(x, lo) = (x < lo) ? lo : x and std::min(x, hi) = (hi < x) ? hi : x, NaN x kept.
+inline V max_of(V x, V lo) { return _mm256_max_ps(lo, x); }
+inline V min_of(V x, V hi) { return _mm256_min_ps(hi, x); }
+inline V sat8(V x) { return min_of(max_of(x, bc(0.0f)), bc(1.0f)); }
+inline void normalize8(V& x, V& y, V& z) {
+    const V l2 = add(add(mul(x, x), mul(y, y)), mul(z, z));
+    const V s = _mm256_div_ps(bc(1.0f), _mm256_sqrt_ps(l2));
+    const V ok = _mm256_cmp_ps(l2, bc(0.0f), _CMP_GT_OQ);
+    x = _mm256_blendv_ps(x, mul(x, s), ok);
+    y = _mm256_blendv_ps(y, mul(y, s), ok);
+    z = _mm256_blendv_ps(z, mul(z, s), ok);
+}
+// Row r of m * (x, y, z, w) as glm computes it: (m0 x + m1 y) + (m2 z + m3 w).
+inline V mat4_row(const glm::mat4& m, int r, V x, V y, V z, V w) {
+    return add(add(mul(bc(m[0][r]), x), mul(bc(m[1][r]), y)), add(mul(bc(m[2][r]), z), mul(bc(m[3][r]), w)));
+}
+// Row r of m * (x, y, z) as glm computes it: (m0 x + m1 y) + m2 z.
+inline V mat3_row(const glm::mat3& m, int r, V x, V y, V z) {
+    return add(add(mul(bc(m[0][r]), x), mul(bc(m[1][r]), y)), mul(bc(m[2][r]), z));
+}
+
+void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
+    const scene::Primitive& prim = *k.prim;
+    const TremorParams& tp = k.tp;
+    alignas(32) float a[7][8];  // p.xyz, n.xyz, abstraction control
+    for (int l = 0; l < 8; ++l) {
+        const glm::vec3 p = prim.positions[i + l];
+        const glm::vec3 n = k.has_normals ? prim.normals[i + l] : glm::vec3(0, 0, 1);
+        a[0][l] = p.x, a[1][l] = p.y, a[2][l] = p.z;
+        a[3][l] = n.x, a[4][l] = n.y, a[5][l] = n.z;
+        a[6][l] = k.ctrl_abs->empty() ? 0.0f : (*k.ctrl_abs)[i + l].b;
+    }
+    const V px = _mm256_load_ps(a[0]), py = _mm256_load_ps(a[1]), pz = _mm256_load_ps(a[2]);
+    const V nx = _mm256_load_ps(a[3]), ny = _mm256_load_ps(a[4]), nz = _mm256_load_ps(a[5]);
+    V dx = px, dy = py, dz = pz;
+    if (k.do_bleed) {
+        V cb = add(bc(k.bleed_const), _mm256_load_ps(a[6]));
+        cb = min_of(max_of(cb, bc(-1.0f)), bc(1.0f));
+        const V kk = mul(sat8(sub(cb, bc(kBleedThreshold))), bc(kBleedDistance));
+        dx = add(px, mul(nx, kk));
+        dy = add(py, mul(ny, kk));
+        dz = add(pz, mul(nz, kk));
+    }
+    const V one = bc(1.0f);
+    const V vx = mat4_row(k.mv, 0, dx, dy, dz, one), vy = mat4_row(k.mv, 1, dx, dy, dz, one);
+    const V vz = mat4_row(k.mv, 2, dx, dy, dz, one), vw = mat4_row(k.mv, 3, dx, dy, dz, one);
+    V cx = mat4_row(k.proj, 0, vx, vy, vz, vw), cy = mat4_row(k.proj, 1, vx, vy, vz, vw);
+    const V cz = mat4_row(k.proj, 2, vx, vy, vz, vw), cw = mat4_row(k.proj, 3, vx, vy, vz, vw);
+    V mx = mat3_row(k.nm, 0, nx, ny, nz), my = mat3_row(k.nm, 1, nx, ny, nz), mz = mat3_row(k.nm, 2, nx, ny, nz);
+    normalize8(mx, my, mz);
+    if (k.do_tremor) {
+        V ux = bc(0.0f), uy = bc(0.0f), uz = bc(1.0f);
+        if (k.perspective) {
+            const V sign = bc(-0.0f);
+            ux = _mm256_xor_ps(vx, sign), uy = _mm256_xor_ps(vy, sign), uz = _mm256_xor_ps(vz, sign);
+            normalize8(ux, uy, uz);
         }
-        const glm::vec4 v = mv * glm::vec4(pd, 1.0f);
-        glm::vec4 c = fp.proj * v;
-        const glm::vec3 nv = normalize3(nm * n);
-        if (do_tremor) {
-            const glm::vec3 vdir = fp.perspective ? normalize3(-glm::vec3(v)) : glm::vec3(0, 0, 1);
-            // tremor_offset_px inlined, with both sines always evaluated and the zero weight
-            // selected afterwards: the weight test mispredicted along silhouettes (same values;
-            // keep in step with tremor_offset_px).
-            const float ndv = nv.x * vdir.x + nv.y * vdir.y + nv.z * vdir.z;
-            const float w = std::min(sat(kTremorNdotVGain * ndv), 1.0f - tp.front);
-            const float sx = std::sin(phase + (p.x * tp.frequency) * kTremorFreqScale);
-            const float sy = std::sin(phase + (p.y * tp.frequency) * kTremorFreqScale);
-            const bool on = w > 0.0f;
-            const glm::vec2 off(on ? (sx * tp.tremor_px) * w : 0.0f, on ? (sy * tp.tremor_px) * w : 0.0f);
-            // Pixels -> clip units: one output pixel is 2/W in NDC, times w to survive the divide.
-            c.x = c.x + (off.x * px_x) * c.w;
-            c.y = c.y + (off.y * px_y) * c.w;
-        }
-        dv.clip[i] = c;
-        dv.view[i].pos = glm::vec3(v);
-        dv.view[i].normal = nv;
-        if (has_tan) {
-            const glm::vec4 t = prim.tangents[i];
-            dv.view_tangent[i] = glm::vec4(normalize3(glm::mat3(mv) * glm::vec3(t)), t.w);
-        }
-        const std::uint32_t code = outcode(c, fp.vp);
-        SnapVertex& sv = dv.snap[i];
-        if (code == 0) {
-            snap_into(c, -v.z, fp.vp, sv);
+        const V ndv = add(add(mul(mx, ux), mul(my, uy)), mul(mz, uz));
+        const V w = min_of(sat8(mul(bc(kTremorNdotVGain), ndv)), bc(1.0f - tp.front));
+        alignas(32) float ax[8], ay[8];
+        _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
+        _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
+        for (int l = 0; l < 8; ++l) ax[l] = std::sin(ax[l]), ay[l] = std::sin(ay[l]);
+        const V on = _mm256_cmp_ps(w, bc(0.0f), _CMP_GT_OQ);
+        const V offx = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ax), bc(tp.tremor_px)), w));
+        const V offy = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ay), bc(tp.tremor_px)), w));
+        cx = add(cx, mul(mul(offx, bc(k.px_x)), cw));
+        cy = add(cy, mul(mul(offy, bc(k.px_y)), cw));
+    }
+    // Outcodes (outcode()): non-finite alone, else the planes in double, then w <= 0 as near.
+    const V inf = bc(std::numeric_limits<float>::infinity()), abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    auto finite = [&](V x) { return _mm256_cmp_ps(_mm256_and_ps(x, abs_mask), inf, _CMP_LT_OQ); };
+    const V fin = _mm256_and_ps(_mm256_and_ps(finite(cx), finite(cy)), _mm256_and_ps(finite(cz), finite(cw)));
+    alignas(32) std::int32_t code[8], sxi[8], syi[8];
+    alignas(32) float iwf[8];
+    for (int h = 0; h < 2; ++h) {
+        auto half = [&](V x) { return _mm256_cvtps_pd(h ? _mm256_extractf128_ps(x, 1) : _mm256_castps256_ps128(x)); };
+        const __m256d x = half(cx), y = half(cy), z = half(cz), w = half(cw);
+        const __m256d gx = _mm256_mul_pd(_mm256_set1_pd(k.vp.gb_x), w), gy = _mm256_mul_pd(_mm256_set1_pd(k.vp.gb_y), w);
+        const __m256d ngx = _mm256_mul_pd(_mm256_set1_pd(-k.vp.gb_x), w), ngy = _mm256_mul_pd(_mm256_set1_pd(-k.vp.gb_y), w);
+        const __m256d nw = _mm256_xor_pd(w, _mm256_set1_pd(-0.0));
+        auto bit = [](__m256d m, std::int32_t b) {  // b where the comparison holds, else 0
+            const __m128i one = _mm256_cvtpd_epi32(_mm256_and_pd(m, _mm256_set1_pd(1.0)));  // 1 or 0
+            return _mm_and_si128(_mm_sub_epi32(_mm_setzero_si128(), one), _mm_set1_epi32(b));
+        };
+        __m128i c4 = bit(_mm256_cmp_pd(z, nw, _CMP_LT_OQ), kOutNear);
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(z, w, _CMP_GT_OQ), kOutFar));
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(x, ngx, _CMP_LT_OQ), kOutLeft));
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(x, gx, _CMP_GT_OQ), kOutRight));
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(y, ngy, _CMP_LT_OQ), kOutBottom));
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(y, gy, _CMP_GT_OQ), kOutTop));
+        c4 = _mm_or_si128(c4, bit(_mm256_cmp_pd(w, _mm256_setzero_pd(), _CMP_NGT_UQ), kOutNear));
+        _mm_store_si128(reinterpret_cast<__m128i*>(code + 4 * h), c4);
+        // The snap (snap_into), computed in every lane and kept where the code is 0.
+        const __m256d iw = _mm256_div_pd(_mm256_set1_pd(1.0), w);
+        const __m256d sx = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(x, iw), _mm256_set1_pd(1.0)),
+                                         _mm256_set1_pd(0.5 * k.vp.width));
+        const __m256d sy = _mm256_mul_pd(_mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(y, iw)),
+                                         _mm256_set1_pd(0.5 * k.vp.height));
+        // cvtpd2dq rounds as cvtsd2si (MXCSR, nearest even): inside the guard band the values fit
+        // in 32 bits; other lanes (code != 0) convert to INT_MIN and are not kept.
+        const __m256d one_px = _mm256_set1_pd(double(kSubpixelOne));
+        _mm_store_si128(reinterpret_cast<__m128i*>(sxi + 4 * h), _mm256_cvtpd_epi32(_mm256_mul_pd(sx, one_px)));
+        _mm_store_si128(reinterpret_cast<__m128i*>(syi + 4 * h), _mm256_cvtpd_epi32(_mm256_mul_pd(sy, one_px)));
+        _mm_store_ps(iwf + 4 * h, _mm256_cvtpd_ps(iw));
+    }
+    alignas(32) float o[11][8];
+    _mm256_store_ps(o[0], cx), _mm256_store_ps(o[1], cy), _mm256_store_ps(o[2], cz), _mm256_store_ps(o[3], cw);
+    _mm256_store_ps(o[4], vx), _mm256_store_ps(o[5], vy), _mm256_store_ps(o[6], vz);
+    _mm256_store_ps(o[7], mx), _mm256_store_ps(o[8], my), _mm256_store_ps(o[9], mz);
+    _mm256_store_ps(o[10], fin);
+    for (int l = 0; l < 8; ++l) {
+        const std::size_t j = i + l;
+        dv.clip[j] = glm::vec4(o[0][l], o[1][l], o[2][l], o[3][l]);
+        dv.view[j].pos = glm::vec3(o[4][l], o[5][l], o[6][l]);
+        dv.view[j].normal = glm::vec3(o[7][l], o[8][l], o[9][l]);
+        if (k.has_tan) transform_tangent(k, dv, j);
+        SnapVertex& sv = dv.snap[j];
+        const bool finite_lane = std::bit_cast<std::uint32_t>(o[10][l]) != 0u;
+        const std::uint32_t c = finite_lane ? std::uint32_t(code[l]) : kOutNonFinite;
+        if (c == 0) {
+            sv.x = sxi[l];
+            sv.y = syi[l];
+            sv.inv_w = iwf[l];
+            sv.depth = -o[6][l];
+            sv.code = 0;
         } else {
             sv.x = 0;
             sv.y = 0;
             sv.inv_w = 0.0f;
             sv.depth = 0.0f;
-            sv.code = code;
+            sv.code = c;
         }
     }
+}
+#endif
+
+}  // namespace
+
+void transform_vertex(const FrameParams& fp, const glm::mat4& mv, const glm::mat3& nm, DrawVertices& dv,
+                      std::size_t i) {
+    transform_one(vertex_consts(fp, mv, nm, dv), dv, i);
+}
+
+void transform_vertices(const FrameParams& fp, const glm::mat4& mv, const glm::mat3& nm,
+                        DrawVertices& dv, std::size_t begin, std::size_t end) {
+    const VertexConsts k = vertex_consts(fp, mv, nm, dv);
+    std::size_t i = begin;
+#ifdef __AVX2__
+    for (; i + 8 <= end; i += 8) transform8(k, dv, i);
+#endif
+    for (; i < end; ++i) transform_one(k, dv, i);
 }
 
 }  // namespace aq::raster

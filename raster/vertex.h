@@ -118,8 +118,13 @@ struct FrameParams {
     const RenderSettings* settings = nullptr;
 };
 
-//! Transforms one draw's vertices [begin, end) into dv (already sized).
+//! Transforms one draw's vertices [begin, end) into dv (already sized): eight at a time (AVX2),
+//! each with transform_vertex's operations (schedule only; a NaN's payload may differ).
 void transform_vertices(const FrameParams& fp, const glm::mat4& model_view, const glm::mat3& normal_mat,
                         DrawVertices& dv, std::size_t begin, std::size_t end);
+
+//! Vertex i of the draw, alone: the vertex stage's maths (the plain reference of transform_vertices).
+void transform_vertex(const FrameParams& fp, const glm::mat4& mv, const glm::mat3& nm, DrawVertices& dv,
+                      std::size_t i);
 
 }  // namespace aq::raster
