@@ -113,10 +113,21 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
         int idx[kChunk];
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
+            // A chunk without edges is the colour as it is: an edge of 0 gives E_d = 0 or NaN (0
+            // times a non-finite control or bleeding term), hence the exponent 1, whatever the
+            // other inputs (most of a frame's background).
+            bool any_edge = false;
+            for (int i = 0; i < n; ++i) {
+                ev[i] = e(xs + i, y);
+                any_edge |= ev[i] != 0.0f;
+            }
+            if (!any_edge) {
+                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
+                continue;
+            }
             for (int i = 0; i < n; ++i) {
                 const glm::vec4 cv = c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z;
-                ev[i] = e(xs + i, y);
                 ci[i] = ctrl(xs + i, y);
             }
             for (int i = 0; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);

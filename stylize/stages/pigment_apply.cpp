@@ -94,9 +94,17 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
         const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
+            bool any_covered = false;
             for (int i = 0; i < n; ++i) {
                 const glm::vec4 cv = in.c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z, ca[i] = cv.w;
+                any_covered |= ca[i] >= kPigmentAlphaMask;
+            }
+            if (!any_covered) {  // every pixel uncovered (mode 0 below): the colour as it is
+                for (int i = 0; i < n; ++i) o(xs + i, y) = glm::vec4(cr[i], cg[i], cb[i], ca[i]);
+                continue;
+            }
+            for (int i = 0; i < n; ++i) {
                 ht[i] = in.height(xs + i, y);
                 av[i] = in.ctrl(xs + i, y);
             }

@@ -48,9 +48,13 @@ TEST(RowKernels, EdgeDarkenRgbdEqualsPixelFunction) {
     const glm::vec3 sub(0.95f, 0.9f, 0.85f);
     for (bool bad : {false, true}) {
         ImageF color = noise(kW, kH, 4, -0.1f, 1.1f, 11);
-        ImageF edges = with_zero_band(noise(kW, kH, 1, -0.2f, 1.0f, 12), 20, 110);
+        // Edges zero over [10, 140): the chunk [64, 128) has none (the stage copies such a chunk;
+        // with `bad`, under NaN/Inf control and colour).
+        ImageF edges = noise(kW, kH, 1, -0.2f, 1.0f, 12);
         ImageF ctrl = noise(kW, kH, 4, -1.0f, 1.0f, 13);
         if (bad) color = poison(color, 5), edges = poison(edges, 11), ctrl = poison(ctrl, 13);
+        edges = with_zero_band(edges, 10, 140);
+        for (int y = 0; y < kH; y += 2) edges.at(100, y, 0) = -0.0f;  // -0 is no edge either
         const ImageF bleed_full = noise(kW, kH, 1, 0.0f, 0.5f, 14);
         const ImageF bleed_half = noise((kW + 1) / 2, (kH + 1) / 2, 4, 0.0f, 0.5f, 15);
         for (float intensity : {1.0f, 3.5f}) {
@@ -79,7 +83,7 @@ TEST(RowKernels, PigmentApplyWc18EqualsPixelFunction) {
         ImageF color = noise(kW, kH, 4, -0.05f, 1.05f, 21);
         for (int y = 0; y < kH; ++y)  // uncovered pixels (alpha below the mask) in runs and alone
             for (int x = 0; x < kW; ++x)
-                if ((x > 70 && x < 140) || (x * 7 + y) % 13 == 0) color.at(x, y, 3) = 0.0f;
+                if ((x > 60 && x < 140) || (x * 7 + y) % 13 == 0) color.at(x, y, 3) = 0.0f;  // [64, 128) all
         ImageF ctrl = noise(kW, kH, 4, -1.0f, 1.0f, 22);  // G < -H: dry-brush; else granulation
         ImageF paper = noise(kW, kH, 3, 0.0f, 1.0f, 23);
         if (bad) color = poison(color, 6), ctrl = poison(ctrl, 9), paper = poison(paper, 17);
