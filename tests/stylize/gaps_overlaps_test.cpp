@@ -180,6 +180,36 @@ TEST(GapsOverlaps, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
 }
 
+// Frames are mostly inactive (no edges, no coverage): with such runs (no edges over x in
+// [60, 140), no coverage over [140, 210)), active pixels on both sides of them and a run of faint
+// edges only (x < 60), the fast traversal gives the reference's bits.
+TEST(GapsOverlaps, TraversalsAgreeWithInactiveChunks) {
+    const int w = 230, h = 9;
+    ImageF color = testb::poison(noise(w, h, 4, 0.0f, 1.0f, 81), 13);
+    ImageF edges = noise(w, h, 1, 0.0f, 1.0f, 82);
+    const ImageF ctrl = noise(w, h, 4, -1.0f, 1.0f, 83);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < 60; ++x) edges.at(x, y, 0) *= 0.3f;  // faint: just above the threshold
+        for (int x = 60; x < 140; ++x) edges.at(x, y, 0) = 0.0f;
+        for (int x = 140; x < 210; ++x) color.at(x, y, 3) = 0.0f;
+    }
+    for (const float b : {-1.0f, 1.0f}) {
+        ImageF c = ctrl;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) c.at(x, y, 2) = b * std::fabs(c.at(x, y, 2));  // gaps, then overlaps
+        ImageF a, f;
+        gaps_overlaps(a, color, edges, c, nullptr, kPaper, {}, Exec::reference());
+        gaps_overlaps(f, color, edges, c, nullptr, kPaper, {}, Exec::fast(2));
+        EXPECT_EQ(0, std::memcmp(a.data(), f.data(), a.num_values() * sizeof(float))) << b;
+        EXPECT_FALSE(a == color) << b;  // some pixels change
+        int changed_faint = 0;  // among the faint edges, alone in their chunk
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < 60; ++x)
+                for (int ch = 0; ch < 4; ++ch) changed_faint += std::memcmp(&a.at(x, y, ch), &color.at(x, y, ch), 4) != 0;
+        EXPECT_GT(changed_faint, 0) << b;
+    }
+}
+
 TEST(GapsOverlaps, ChecksInputs) {
     const ImageF color = two_colours(kYellow, kBlue);
     ImageF out;
