@@ -136,7 +136,10 @@ float material_alpha(const ShadeContext& ctx, const scene::Material& m, const Fr
     return a * in.color.a;
 }
 
-glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in) {
+namespace {
+// Step 1 of the material, inlined into shade_fragment (the per-fragment path).
+[[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
+                                                        const FragmentInput& in) {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
@@ -144,13 +147,18 @@ glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, 
     C = C * glm::vec3(in.color);
     return base_color_to_working(C, m.linear_color, ctx.working_space);
 }
+}  // namespace
+
+glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in) {
+    return base_color_step(ctx, m, in);
+}
 
 FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
                               const FragmentInput& in) {
     FragmentOutput out;
     const scene::WatercolorMaterial& wc = m.wc;
     // 1. Base colour: factor x texture x COLOR_0, then into the working space (docs/look.md).
-    const glm::vec3 C = in.base ? *in.base : base_color_working(ctx, m, in);
+    const glm::vec3 C = in.base ? *in.base : base_color_step(ctx, m, in);
 
     // 2. Normal: normalise, tangent-space normal map, double-sided back faces flipped.
     glm::vec3 N = normalize3(in.normal);
