@@ -99,6 +99,17 @@ inline void snap_into(const glm::vec4& c, float depth, const Viewport& vp, SnapV
 }
 }  // namespace
 
+namespace {
+// A vertex outside a clip plane or non-finite: only its outcode is read (setup clips or drops it).
+inline void snap_outside(std::uint32_t code, SnapVertex& s) {
+    s.x = 0;
+    s.y = 0;
+    s.inv_w = 0.0f;
+    s.depth = 0.0f;
+    s.code = code;
+}
+}  // namespace
+
 SnapVertex snap_vertex(const glm::vec4& c, float depth, const Viewport& vp) {
     SnapVertex s;
     snap_into(c, depth, vp, s);
@@ -185,15 +196,8 @@ inline void transform_one(const VertexConsts& k, DrawVertices& dv, std::size_t i
     if (k.has_tan) transform_tangent(k, dv, i);
     const std::uint32_t code = outcode(c, k.vp);
     SnapVertex& sv = dv.snap[i];
-    if (code == 0) {
-        snap_into(c, -v.z, k.vp, sv);
-    } else {
-        sv.x = 0;
-        sv.y = 0;
-        sv.inv_w = 0.0f;
-        sv.depth = 0.0f;
-        sv.code = code;
-    }
+    if (code == 0) snap_into(c, -v.z, k.vp, sv);
+    else snap_outside(code, sv);
 }
 
 #ifdef __AVX2__
@@ -333,11 +337,7 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
             sv.depth = -o[6][l];
             sv.code = 0;
         } else {
-            sv.x = 0;
-            sv.y = 0;
-            sv.inv_w = 0.0f;
-            sv.depth = 0.0f;
-            sv.code = c;
+            snap_outside(c, sv);
         }
     }
 }
