@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "stylize/kernels.h"
 #include "stylize/paper.h"
@@ -16,6 +18,74 @@
 namespace aq::stylize {
 
 using namespace toolkit;
+
+namespace {
+
+//! Per row y: pixels x < lead[y] and x > trail[y] are flat margins (see substrate_distort).
+struct FlatMargins {
+    std::vector<int> lead, trail;
+};
+
+FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const SubstrateDistortParams& p, Border b,
+                         const Exec& ex) {
+    const int w = color.width(), h = color.height();
+    const float* cd = color.data();
+    const float* zd = depth.data();
+    const int zc = depth.channels();
+    // Pixel x of row y equals pixel x0 of the same row (colour and depth bits).
+    auto same = [&](int y, int x, int x0) {
+        const std::size_t i = std::size_t(y) * w;
+        return std::memcmp(cd + 4 * (i + x), cd + 4 * (i + x0), 4 * sizeof(float)) == 0 &&
+               std::memcmp(zd + zc * (i + x), zd + zc * (i + x0), sizeof(float)) == 0;
+    };
+    auto finite = [&](int y, int x) {
+        const std::size_t i = std::size_t(y) * w + x;
+        bool f = std::isfinite(zd[zc * i]);
+        for (int k = 0; k < 4; ++k) f = f && std::isfinite(cd[4 * i + k]);
+        return f;
+    };
+    // The leading / trailing runs equal to the row's first / last pixel (0 when it is not finite).
+    std::vector<int> run_l(static_cast<std::size_t>(h)), run_t(static_cast<std::size_t>(h));
+    for_each_row_block(ex, h, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            int l = 0, t = 0;
+            if (finite(y, 0))
+                while (l < w && same(y, l, 0)) ++l;
+            if (finite(y, w - 1))
+                while (t < w && same(y, w - 1 - t, w - 1)) ++t;
+            run_l[std::size_t(y)] = l;
+            run_t[std::size_t(y)] = t;
+        }
+    });
+    // Reach of the taps: |offset| <= 5 * distortion pixels, the bilinear footprint one more, and
+    // one of margin for the float rounding of the sample position.
+    const float maxoff = std::max(0.0f, p.distortion) * kDistortPixelsPerUnit;
+    const int M = int(std::min(std::ceil(maxoff), 1.0e6f)) + 2;
+    FlatMargins fm;
+    fm.lead.assign(std::size_t(h), 0);
+    fm.trail.assign(std::size_t(h), w - 1);
+    for (int y = 0; y < h; ++y) {
+        int lead = run_l[std::size_t(y)], trail = run_t[std::size_t(y)];
+        const std::size_t first = std::size_t(y) * w, last = first + w - 1;
+        for (int d = -M; d <= M && (lead > 0 || trail > 0); ++d) {
+            const int r = resolve_border(y + d, h, b);
+            const std::size_t rf = std::size_t(r) * w, rl = rf + w - 1;
+            const bool same_first = std::memcmp(cd + 4 * rf, cd + 4 * first, 16) == 0 &&
+                                    std::memcmp(zd + zc * rf, zd + zc * first, 4) == 0;
+            const bool same_last = std::memcmp(cd + 4 * rl, cd + 4 * last, 16) == 0 &&
+                                   std::memcmp(zd + zc * rl, zd + zc * last, 4) == 0;
+            lead = same_first ? std::min(lead, run_l[std::size_t(r)]) : 0;
+            trail = same_last ? std::min(trail, run_t[std::size_t(r)]) : 0;
+        }
+        // x is a margin when its taps' columns [x - M, x + M] (resolved at the border: into
+        // [0, M] or [w - 1 - M, w - 1]) lie in the run of every row in reach.
+        fm.lead[std::size_t(y)] = lead > 2 * M ? lead - M : 0;
+        fm.trail[std::size_t(y)] = trail > 2 * M ? w - 1 - (trail - M) : w - 1;
+    }
+    return fm;
+}
+
+}  // namespace
 
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
                        const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex) {
@@ -52,9 +122,28 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
         });
         return;
     }
+    // Flat margins (schedule only): where every colour and depth tap a pixel can read holds the
+    // pixel's own values (bit for bit, finite), its bilinear samples are those values + 0 (a + (a
+    // - a) t) and its depth step +0, so the result is known without the taps: the colour when
+    // +0 is blocked or the offset is 0, else the colour + 0 (which turns a -0 into +0, as the taps
+    // would). Such pixels are the rows' leading and trailing runs equal to their first / last
+    // pixel, where every row within reach of the offsets (|offset| <= 5 * distortion) has the same
+    // run value over the reach: the background around a model.
+    const FlatMargins fm = flat_margins(color, depth, p, b, ex);
+    const float thr = p.depth_threshold;
+    const bool blocked_flat = p.both_sides ? !(std::fabs(0.0f) <= thr) : (0.0f > thr);
     // Rows in chunks: offsets and bilinear weights in one vectorisable loop (the same operations
     // as substrate_offset and the scalar taps below, value by value), then the taps.
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
+        const int flat_lo = fm.lead[std::size_t(y)], flat_hi = fm.trail[std::size_t(y)];
+        // A margin's value without -0 is its own + 0: there the result is the colour whatever the
+        // offset, and whole chunks are copied without reading the paper and control.
+        auto no_neg_zero = [&](int x) {
+            const glm::vec4 v = c(x, y);
+            return !(std::signbit(v.x) && v.x == 0.0f) && !(std::signbit(v.y) && v.y == 0.0f) &&
+                   !(std::signbit(v.z) && v.z == 0.0f) && !(std::signbit(v.w) && v.w == 0.0f);
+        };
+        const bool copy_lead = flat_lo > 0 && no_neg_zero(0), copy_trail = flat_hi < w - 1 && no_neg_zero(w - 1);
         constexpr int kChunk = 64;
         float tr[kChunk], tg[kChunk], tc[kChunk], ox[kChunk], oy[kChunk], txs[kChunk], tys[kChunk];
         int xas[kChunk], yas[kChunk];
@@ -62,6 +151,10 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
         const float fyc = float(y) + 0.5f;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
+            if ((copy_lead && xs + n <= flat_lo) || (copy_trail && xs > flat_hi)) {
+                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
+                continue;
+            }
             for (int i = 0; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
             for (int i = 0; i < n; ++i) {
                 float vx = tr[i] * 2.0f - 1.0f, vy = tg[i] * 2.0f - 1.0f;
@@ -82,6 +175,10 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
                 const int x = xs + i;
                 if (ox[i] == 0.0f && oy[i] == 0.0f) {
                     o(x, y) = c(x, y);
+                    continue;
+                }
+                if (x < flat_lo || x > flat_hi) {
+                    o(x, y) = blocked_flat ? c(x, y) : c(x, y) + 0.0f;
                     continue;
                 }
                 const float tx = txs[i], ty = tys[i];

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -181,6 +182,55 @@ TEST(Substrate, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     substrate_light(d, color, &paper, {}, false, Exec::fast(2));
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)));
     EXPECT_EQ(0, std::memcmp(c.data(), d.data(), c.num_values() * sizeof(float)));
+}
+
+// A model on a flat background: the fast traversal skips the taps of the background's margins
+// (every tap within reach holds the pixel's own value). It must give the reference's bits for
+// backgrounds with and without -0, a speck near the border, a row whose first pixel differs, a
+// NaN at a row's end, both border rules, both depth rules and a reach of 7 and 52 pixels.
+TEST(SubstrateDistort, FastEqualsReferenceAroundAModelOnAFlatBackground) {
+    const int w = 200, h = 120;
+    // Random normals, and uniform ones with the full control: every offset 4.5 px to the right,
+    // then to the left (the reach of the taps, exactly).
+    const ImageF papers[3] = {noise(w, h, 3, 0.0f, 1.0f, 71), uniform_paper(w, h, 0.95f, 0.5f),
+                              uniform_paper(w, h, 0.05f, 0.5f)};
+    const ImageF ctrls[3] = {noise(w, h, 4, -1.0f, 1.0f, 72), ImageF(w, h, 4, 1.0f), ImageF(w, h, 4, 1.0f)};
+    const ImageF model_c = noise(w, h, 4, 0.0f, 1.0f, 73), model_z = noise(w, h, 1, 0.2f, 0.6f, 74);
+    for (const glm::vec4 bg : {glm::vec4(0.0f), glm::vec4(0.3f, -0.0f, 0.5f, 0.0f), glm::vec4(0.2f, 0.2f, 0.2f, 1.0f)}) {
+        ImageF color = constant(w, h, bg), depth(w, h, 1, 1.0f);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float dx = (x - 110.0f) / 40.0f, dy = (y - 60.0f) / 30.0f;
+                if (dx * dx + dy * dy < 1.0f) {
+                    for (int k = 0; k < 4; ++k) color.at(x, y, k) = model_c.at(x, y, k);
+                    depth.at(x, y, 0) = model_z.at(x, y, 0);
+                }
+            }
+        color.at(3, 50, 0) = 0.9f;                                   // a speck near the left border
+        color.at(0, 30, 1) = 0.7f;                                   // a row whose first pixel differs
+        color.at(w - 1, 90, 2) = std::numeric_limits<float>::quiet_NaN();  // not finite at a row's end
+        depth.at(150, 5, 0) = 0.5f;                                  // a depth step near the top
+        for (int y = 100; y < h; ++y)                                // an infinite corner
+            for (int x = 0; x < 60; ++x) color.at(x, y, 0) = std::numeric_limits<float>::infinity();
+        for (int pc = 0; pc < 3; ++pc)
+        for (const float dist : {1.0f, 10.0f})
+            for (const int border : {0, 1})
+                for (const bool both : {false, true}) {
+                    SubstrateDistortParams p;
+                    p.distortion = dist;
+                    p.border = border;
+                    p.both_sides = both;
+                    p.depth_threshold = both ? 0.0f : 0.01f;
+                    ImageF ref, f1, f2;
+                    substrate_distort(ref, color, depth, ctrls[pc], &papers[pc], p, Exec::reference());
+                    substrate_distort(f1, color, depth, ctrls[pc], &papers[pc], p, Exec::fast(1));
+                    substrate_distort(f2, color, depth, ctrls[pc], &papers[pc], p, Exec::fast(2));
+                    SCOPED_TRACE(::testing::Message() << "paper " << pc << " bg " << bg.x << "," << bg.y << " distortion " << dist
+                                                      << " border " << border << " both " << both);
+                    ASSERT_EQ(0, std::memcmp(ref.data(), f1.data(), ref.num_values() * sizeof(float)));
+                    ASSERT_EQ(0, std::memcmp(ref.data(), f2.data(), ref.num_values() * sizeof(float)));
+                }
+    }
 }
 
 TEST(Substrate, ChecksInputs) {
