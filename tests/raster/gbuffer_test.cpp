@@ -181,7 +181,8 @@ TEST(GBuffer, BaseColourFollowsVertexColoursAndIsTheMaterialsColourWithout) {
             raster::RenderSettings st = test::plain_settings(W, H);
             st.exec.traversal = tr;
             st.working_space = ws;
-            const ImageF& c = raster::render_gbuffer(s, test::pixel_camera(W, H), st).get(target::kColor);
+            const Targets t = raster::render_gbuffer(s, test::pixel_camera(W, H), st);
+            const ImageF& c = t.get(target::kColor);
             EXPECT_GT(c.at(1, 8, 0), c.at(1, 8, 2));  // reddish near x = 0
             EXPECT_LT(c.at(6, 8, 0), c.at(6, 8, 2));  // bluish near x = 8
             EXPECT_GT(c.at(3, 8, 0), c.at(4, 8, 0));  // red falls along the ramp
