@@ -14,6 +14,15 @@ inline T min3(T a, T b, T c) { return std::min(a, std::min(b, c)); }
 template <class T>
 inline T max3(T a, T b, T c) { return std::max(a, std::max(b, c)); }
 
+// The snapped bounds of a triangle hold a pixel centre (c = 256 p + 128, xmin <= c <= xmax): the
+// quick reject of setup_one and of the batch pre-pass (build() computes the clamped bounds).
+inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const SnapVertex& c) {
+    const std::int32_t xmin = min3(a.x, b.x, c.x), xmax = max3(a.x, b.x, c.x);
+    const std::int32_t ymin = min3(a.y, b.y, c.y), ymax = max3(a.y, b.y, c.y);
+    return (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((xmax - kSubpixelOne / 2) >> kSubpixelBits)) &
+           (((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((ymax - kSubpixelOne / 2) >> kSubpixelBits));
+}
+
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
@@ -183,12 +192,10 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     }
 }
 
-
 // The setup of one triangle (setup_triangle's definition; setup_triangles inlines it).
 [[gnu::always_inline]] inline void setup_one(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
                                              const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
                                              std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
-
     const auto& idx = dv.prim->indices;
     const std::uint32_t i0 = idx[3 * std::size_t(tri)], i1 = idx[3 * std::size_t(tri) + 1],
                         i2 = idx[3 * std::size_t(tri) + 2];
@@ -212,11 +219,7 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
         const SnapVertex sv[3] = {s0, s1, s2};
         // Quick reject of triangles whose bounds hold no pixel centre (most of a dense mesh),
         // before anything is written; build() repeats the exact computation.
-        const std::int32_t xmin = min3(sv[0].x, sv[1].x, sv[2].x), xmax = max3(sv[0].x, sv[1].x, sv[2].x);
-        const std::int32_t ymin = min3(sv[0].y, sv[1].y, sv[2].y), ymax = max3(sv[0].y, sv[1].y, sv[2].y);
-        if (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((xmax - kSubpixelOne / 2) >> kSubpixelBits) ||
-            ((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) > ((ymax - kSubpixelOne / 2) >> kSubpixelBits))
-            return;
+        if (!bounds_hold_centre(s0, s1, s2)) return;
         // Built in place, uninitialised (build() writes every field it keeps): a stack copy
         // re-read right after its narrow stores stalls on store forwarding. Dropped on reject.
         TriSetup& t = out.emplace_back(TriSetup::NoInit{});
@@ -229,7 +232,6 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     setup_clipped(dv, draw_index, tri, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);
 }
 
-
 // A triangle the batch pre-pass must hand to setup_one: any vertex index out of range, any vertex
 // outside a clip plane or non-finite (setup_one counts, clips or drops it), or bounds that hold a
 // pixel centre. False only for triangles setup_one drops without a trace (the quick reject).
@@ -238,11 +240,7 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
     const SnapVertex& s0 = snap[bad ? 0 : ix[0]];
     const SnapVertex& s1 = snap[bad ? 0 : ix[1]];
     const SnapVertex& s2 = snap[bad ? 0 : ix[2]];
-    const std::int32_t xmin = min3(s0.x, s1.x, s2.x), xmax = max3(s0.x, s1.x, s2.x);
-    const std::int32_t ymin = min3(s0.y, s1.y, s2.y), ymax = max3(s0.y, s1.y, s2.y);
-    const bool centre = (((xmin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((xmax - kSubpixelOne / 2) >> kSubpixelBits)) &
-                        (((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((ymax - kSubpixelOne / 2) >> kSubpixelBits));
-    return bad | ((s0.code | s1.code | s2.code) != 0) | centre;
+    return bad | ((s0.code | s1.code | s2.code) != 0) | bounds_hold_centre(s0, s1, s2);
 }
 
 }  // namespace

@@ -32,11 +32,10 @@ FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const Substra
     const float* cd = color.data();
     const float* zd = depth.data();
     const int zc = depth.channels();
-    // Pixel x of row y equals pixel x0 of the same row (colour and depth bits).
-    auto same = [&](int y, int x, int x0) {
-        const std::size_t i = std::size_t(y) * w;
-        return std::memcmp(cd + 4 * (i + x), cd + 4 * (i + x0), 4 * sizeof(float)) == 0 &&
-               std::memcmp(zd + zc * (i + x), zd + zc * (i + x0), sizeof(float)) == 0;
+    // Pixels i and j (flat indices) hold the same colour and depth bits.
+    auto same = [&](std::size_t i, std::size_t j) {
+        return std::memcmp(cd + 4 * i, cd + 4 * j, 4 * sizeof(float)) == 0 &&
+               std::memcmp(zd + zc * i, zd + zc * j, sizeof(float)) == 0;
     };
     auto finite = [&](int y, int x) {
         const std::size_t i = std::size_t(y) * w + x;
@@ -48,11 +47,12 @@ FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const Substra
     std::vector<int> run_l(static_cast<std::size_t>(h)), run_t(static_cast<std::size_t>(h));
     for_each_row_block(ex, h, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
+            const std::size_t first = std::size_t(y) * w, last = first + w - 1;
             int l = 0, t = 0;
             if (finite(y, 0))
-                while (l < w && same(y, l, 0)) ++l;
+                while (l < w && same(first + l, first)) ++l;
             if (finite(y, w - 1))
-                while (t < w && same(y, w - 1 - t, w - 1)) ++t;
+                while (t < w && same(last - t, last)) ++t;
             run_l[std::size_t(y)] = l;
             run_t[std::size_t(y)] = t;
         }
@@ -70,12 +70,8 @@ FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const Substra
         for (int d = -M; d <= M && (lead > 0 || trail > 0); ++d) {
             const int r = resolve_border(y + d, h, b);
             const std::size_t rf = std::size_t(r) * w, rl = rf + w - 1;
-            const bool same_first = std::memcmp(cd + 4 * rf, cd + 4 * first, 16) == 0 &&
-                                    std::memcmp(zd + zc * rf, zd + zc * first, 4) == 0;
-            const bool same_last = std::memcmp(cd + 4 * rl, cd + 4 * last, 16) == 0 &&
-                                   std::memcmp(zd + zc * rl, zd + zc * last, 4) == 0;
-            lead = same_first ? std::min(lead, run_l[std::size_t(r)]) : 0;
-            trail = same_last ? std::min(trail, run_t[std::size_t(r)]) : 0;
+            lead = same(rf, first) ? std::min(lead, run_l[std::size_t(r)]) : 0;
+            trail = same(rl, last) ? std::min(trail, run_t[std::size_t(r)]) : 0;
         }
         // x is a margin when its taps' columns [x - M, x + M] (resolved at the border: into
         // [0, M] or [w - 1 - M, w - 1]) lie in the run of every row in reach.
@@ -136,14 +132,14 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     // as substrate_offset and the scalar taps below, value by value), then the taps.
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         const int flat_lo = fm.lead[std::size_t(y)], flat_hi = fm.trail[std::size_t(y)];
-        // A margin's value without -0 is its own + 0: there the result is the colour whatever the
-        // offset, and whole chunks are copied without reading the paper and control.
-        auto no_neg_zero = [&](int x) {
-            const glm::vec4 v = c(x, y);
-            return !(std::signbit(v.x) && v.x == 0.0f) && !(std::signbit(v.y) && v.y == 0.0f) &&
-                   !(std::signbit(v.z) && v.z == 0.0f) && !(std::signbit(v.w) && v.w == 0.0f);
+        // Where a margin's value is its own + 0 (no -0 in it), the result is the colour whatever
+        // the offset: whole chunks are copied without reading the paper and control.
+        auto plus_zero_is_itself = [&](int x) {
+            const glm::vec4 v = c(x, y), v0 = v + 0.0f;
+            return std::memcmp(&v, &v0, sizeof v) == 0;
         };
-        const bool copy_lead = flat_lo > 0 && no_neg_zero(0), copy_trail = flat_hi < w - 1 && no_neg_zero(w - 1);
+        const bool copy_lead = flat_lo > 0 && plus_zero_is_itself(0);
+        const bool copy_trail = flat_hi < w - 1 && plus_zero_is_itself(w - 1);
         constexpr int kChunk = 64;
         float tr[kChunk], tg[kChunk], tc[kChunk], ox[kChunk], oy[kChunk], txs[kChunk], tys[kChunk];
         int xas[kChunk], yas[kChunk];
