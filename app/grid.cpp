@@ -8,13 +8,11 @@
 #include <map>
 #include <set>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include "app/cli_args.h"
 #include "app/visualize.h"
 #include "core/compare.h"
 #include "core/io.h"
+#include "core/oiio.h"
 
 namespace aq::app {
 
@@ -28,27 +26,15 @@ constexpr const char* kLabelFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.
 constexpr int kLabelFontSize = 15, kMinLabelFontSize = 9;
 constexpr int kThumbWidth = 200;  //!< report thumbnails
 
-OIIO::ImageBuf to_buf(const ImageF& img) {
-    OIIO::ImageBuf b(OIIO::ImageSpec(img.width(), img.height(), img.channels(), OIIO::TypeDesc::FLOAT));
-    b.set_pixels(b.roi(), OIIO::TypeDesc::FLOAT, img.data());
-    return b;
-}
-
-ImageF from_buf(const OIIO::ImageBuf& b) {
-    const OIIO::ImageSpec& s = b.spec();
-    ImageF img(s.width, s.height, s.nchannels);
-    b.get_pixels(b.roi(), OIIO::TypeDesc::FLOAT, img.data());
-    return img;
-}
-
 //! A thumbnail kThumbWidth wide (OpenImageIO's resize filter), aspect kept.
 ImageF thumbnail(const ImageF& img) {
     const int tw = std::min(kThumbWidth, img.width());
     const int th = std::max(1, int(std::lround(double(img.height()) * tw / img.width())));
-    OIIO::ImageBuf dst;
-    if (!OIIO::ImageBufAlgo::resize(dst, to_buf(img), "", 0.0f, OIIO::ROI(0, tw, 0, th, 0, 1, 0, img.channels())))
-        throw Error("grid: thumbnail: " + dst.geterror());
-    return from_buf(dst);
+    ImageF dst(tw, th, img.channels(), kUninitialized);
+    if (const std::string e = oiio().resize(img.data(), img.width(), img.height(), img.channels(), tw, th, dst.data());
+        !e.empty())
+        throw Error("grid: thumbnail: " + e);
+    return dst;
 }
 
 std::string html_escape(const std::string& s) {
@@ -144,37 +130,34 @@ ImageF contact_sheet(const std::vector<ImageF>& cells, const std::vector<std::st
                     std::to_string(columns));
     const int w = cells[0].width(), h = cells[0].height();
     const int cw = w + kSheetMargin, ch = h + kSheetLabelHeight + kSheetMargin;
-    OIIO::ImageBuf sheet(OIIO::ImageSpec(columns * cw + kSheetMargin, rows * ch + kSheetMargin, 3, OIIO::TypeDesc::FLOAT));
-    const float white[3] = {1.0f, 1.0f, 1.0f}, black[3] = {0.0f, 0.0f, 0.0f};
-    OIIO::ImageBufAlgo::fill(sheet, white);
+    ImageF sheet(columns * cw + kSheetMargin, rows * ch + kSheetMargin, 3, 1.0f);  // white
+    const float black[3] = {0.0f, 0.0f, 0.0f};
+    const oiio_module::Api& io = oiio();
     std::error_code ec;
     const std::string font = fs::exists(kLabelFont, ec) ? kLabelFont : "DejaVuSans";
     for (std::size_t k = 0; k < cells.size(); ++k) {
         const ImageF& c = cells[k];
         if (c.width() != w || c.height() != h || c.channels() < 3) throw Error("grid: contact sheet: cells of different sizes");
         const int x0 = kSheetMargin + int(k % std::size_t(columns)) * cw, y0 = kSheetMargin + int(k / std::size_t(columns)) * ch;
-        ImageF rgb(w, h, 3);
-        for (int y = 0; y < h; ++y)
+        for (int y = 0; y < h; ++y)  // the cell's RGB below its label
             for (int x = 0; x < w; ++x)
-                for (int i = 0; i < 3; ++i) rgb.at(x, y, i) = c.at(x, y, i);
-        if (!OIIO::ImageBufAlgo::paste(sheet, x0, y0 + kSheetLabelHeight, 0, 0, to_buf(rgb)))
-            throw Error("grid: contact sheet: " + sheet.geterror());
+                for (int i = 0; i < 3; ++i) sheet.at(x0 + x, y0 + kSheetLabelHeight + y, i) = c.at(x, y, i);
         // The label fits the cell: a smaller size first (down to kMinLabelFontSize), then cut
         // with "..." at the end.
         std::string text = labels[k];
         int size = kLabelFontSize;
         auto width_of = [&](const std::string& t, int sz) {
-            const OIIO::ROI r = OIIO::ImageBufAlgo::text_size(t, sz, font);
-            return r.defined() ? r.width() : 0;
+            return std::max(io.text_width(t.c_str(), sz, font.c_str()), 0);
         };
         while (size > kMinLabelFontSize && width_of(text, size) > w - 4) --size;
         while (text.size() > 3 && width_of(text, size) > w - 4) text = text.substr(0, text.size() - (text.size() > 4 && text.compare(text.size() - 3, 3, "...") == 0 ? 4 : 1)) + "...";
-        if (!OIIO::ImageBufAlgo::render_text(sheet, x0 + 2, y0 + kSheetLabelHeight - 7, text, size, font, black,
-                                             OIIO::ImageBufAlgo::TextAlignX::Left, OIIO::ImageBufAlgo::TextAlignY::Baseline, 0,
-                                             OIIO::ROI(x0, x0 + w, y0, y0 + kSheetLabelHeight, 0, 1, 0, 3)))
-            throw Error("grid: cannot draw the labels (" + sheet.geterror() + "); install fonts-dejavu-core (scripts/setup.sh)");
+        if (const std::string e = io.render_text(sheet.data(), sheet.width(), sheet.height(), x0 + 2,
+                                                 y0 + kSheetLabelHeight - 7, text.c_str(), size, font.c_str(), black, x0,
+                                                 x0 + w, y0, y0 + kSheetLabelHeight);
+            !e.empty())
+            throw Error("grid: cannot draw the labels (" + e + "); install fonts-dejavu-core (scripts/setup.sh)");
     }
-    return from_buf(sheet);
+    return sheet;
 }
 
 void run_grid(const GridOptions& g, const Reporter& report) {

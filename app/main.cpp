@@ -22,6 +22,7 @@
 #include "core/color.h"
 #include "core/compare.h"
 #include "core/io.h"
+#include "core/oiio.h"
 #include "raster/raster.h"
 #include "scenes/scene_file.h"
 #include "stylize/pipeline.h"
@@ -314,6 +315,9 @@ RenderOptions parse_render(Args& a) {
 
 int cmd_render(Args& a) {
     const RenderOptions o = parse_render(a);
+    // Nearly every render reads its paper or textures or writes a file through OpenImageIO: its
+    // module loads on a second thread while the scene loads (core/oiio.h).
+    aq::preload_oiio();
     const aq::app::Reporter report = cli_reporter(o.quiet);
     const auto t0 = std::chrono::steady_clock::now();
     // Every name and value is validated before anything is rendered.

@@ -5,17 +5,9 @@
 #include <cstdio>
 #include <limits>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include "core/oiio.h"
 
 namespace aq {
-
-namespace {
-OIIO::ImageBuf wrap(const ImageF& img) {
-    OIIO::ImageSpec spec(img.width(), img.height(), img.channels(), OIIO::TypeDesc::FLOAT);
-    return OIIO::ImageBuf(spec, const_cast<float*>(img.data()));
-}
-}  // namespace
 
 CompareStats compare_images(const ImageF& a, const ImageF& b, double threshold) {
     if (!a.same_size(b) || a.channels() != b.channels())
@@ -23,8 +15,8 @@ CompareStats compare_images(const ImageF& a, const ImageF& b, double threshold) 
                     std::to_string(a.height()) + "x" + std::to_string(a.channels()) + " vs " +
                     std::to_string(b.width()) + "x" + std::to_string(b.height()) + "x" +
                     std::to_string(b.channels()) + ")");
-    OIIO::ImageBuf A = wrap(a), B = wrap(b);
-    auto r = OIIO::ImageBufAlgo::compare(A, B, threshold, threshold);
+    const oiio_module::CompareResult r =
+        oiio().compare(a.data(), b.data(), a.width(), a.height(), a.channels(), threshold);
     CompareStats s;
     s.threshold = threshold;
     s.mean_abs = r.meanerror;
@@ -32,12 +24,10 @@ CompareStats compare_images(const ImageF& a, const ImageF& b, double threshold) 
     s.max_x = r.maxx;
     s.max_y = r.maxy;
     s.max_c = r.maxc;
-    s.psnr = r.PSNR;
-    s.nonfinite = (long long)r.nfail == 0 ? 0 : 0;
+    s.psnr = r.psnr;
     const double n = double(a.num_values());
-    s.frac_over = n > 0 ? double(r.nwarn) / n : 0.0;
-    // OIIO counts pixels (not values) in nwarn; recount values for a channel-exact fraction and
-    // count non-finite values, which OIIO's mean would otherwise swallow.
+    // OIIO counts pixels (not values) over the threshold; values are counted here for a
+    // channel-exact fraction, with the non-finite values, which OIIO's mean would otherwise swallow.
     long long over = 0, nonfinite = 0;
     for (std::size_t i = 0; i < a.num_values(); ++i) {
         const float x = a.data()[i], y = b.data()[i];

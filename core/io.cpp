@@ -1,4 +1,5 @@
-// core/io.cpp — OpenImageIO decoding with header checks; encoding to memory and crash-safe writes.
+// core/io.cpp — decoding with header checks (OpenImageIO's readers, through core/oiio.h); encoding
+// to memory and crash-safe writes.
 #include "core/io.h"
 
 #include "core/hash.h"
@@ -22,11 +23,8 @@
 #include <immintrin.h>
 #endif
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
-
 #include "core/input.h"
-#include "core/oiio_mem_reader.h"
+#include "core/oiio.h"
 #include "core/png.h"
 
 namespace aq {
@@ -149,34 +147,40 @@ bool jpeg_frame_size(const unsigned char* b, std::size_t n, int* width, int* hei
 }
 
 //! Refuses what we do not decode, from the header alone (before any pixel is read).
-void check_spec(const OIIO::ImageSpec& spec, std::size_t encoded_bytes, const std::string& where,
-                DecodeBudget* budget, long max_pixels_per_byte) {
-    if (spec.depth > 1)
-        throw Error(where + ": a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
-    if (spec.deep) throw Error(where + ": deep image data is not supported");
-    if (spec.nchannels < 1 || spec.nchannels > kMaxImageChannels)
-        throw Error(where + ": " + std::to_string(spec.nchannels) + " channels (1.." + std::to_string(kMaxImageChannels) +
+void check_header(const oiio_module::Header& h, std::size_t encoded_bytes, const std::string& where,
+                  DecodeBudget* budget, long max_pixels_per_byte) {
+    if (h.depth > 1)
+        throw Error(where + ": a volume image (depth " + std::to_string(h.depth) + "); only 2D images are read");
+    if (h.deep) throw Error(where + ": deep image data is not supported");
+    if (h.nchannels < 1 || h.nchannels > kMaxImageChannels)
+        throw Error(where + ": " + std::to_string(h.nchannels) + " channels (1.." + std::to_string(kMaxImageChannels) +
                     " are read)");
-    check_dimensions(spec.width, spec.height, encoded_bytes, where, max_pixels_per_byte);
+    check_dimensions(h.width, h.height, encoded_bytes, where, max_pixels_per_byte);
     if (budget) {
-        const std::size_t need = std::size_t(spec.width) * std::size_t(spec.height) * 4 * sizeof(float);
+        const std::size_t need = std::size_t(h.width) * std::size_t(h.height) * 4 * sizeof(float);
         if (need > budget->bytes_left)
-            throw BudgetError(where + ": decoding " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+            throw BudgetError(where + ": decoding " + std::to_string(h.width) + "x" + std::to_string(h.height) +
                         " would exceed the budget for " + budget->what + " (" + std::to_string(budget->bytes_left) +
                         " bytes left; docs/limits.md)");
         budget->bytes_left -= need;
     }
 }
 
-ImageF read_opened(OIIO::ImageInput& in, std::size_t encoded_bytes, const std::string& where, DecodeBudget* budget,
-                   long max_pixels_per_byte) {
-    const OIIO::ImageSpec spec = in.spec();
-    check_spec(spec, encoded_bytes, where, budget, max_pixels_per_byte);
-    const int c = std::min(spec.nchannels, 4);
-    ImageF img(spec.width, spec.height, c);
-    if (!in.read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, img.data())) throw Error(where + ": " + in.geterror());
-    in.close();
-    return img;
+//! What decode_image_oiio's header callback needs.
+struct DecodeTarget {
+    std::size_t encoded_bytes;
+    const std::string& where;
+    DecodeBudget* budget;
+    long max_pixels_per_byte;
+    ImageF img;
+};
+
+//! The header callback (oiio_module::AcceptHeader): checks the header, then allocates the image.
+float* accept_header(void* ctx, const oiio_module::Header& h) {
+    auto& t = *static_cast<DecodeTarget*>(ctx);
+    check_header(h, t.encoded_bytes, t.where, t.budget, t.max_pixels_per_byte);
+    t.img = ImageF(h.width, h.height, std::min(h.nchannels, 4));
+    return t.img.data();
 }
 
 }  // namespace
@@ -196,27 +200,10 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
         if (jpeg_frame_size(bytes, size, &w, &h)) check_dimensions(w, h, size, where + " (JPEG frame header)");
     }
     const std::string fake = "memory" + ext;
-    detail::BoundedMemReader mem(bytes, size);
-    // create() is given the bare format name: for a file name, OpenImageIO 2.4 first asks that
-    // format's reader whether the bytes are valid and, if not, tries every reader it has (DICOM,
-    // FITS, ...), so an allow-listed extension would not keep the other decoders away (found by
-    // fuzzing with those libraries stubbed: fuzz/README.md). OIIO 2.4 honours an in-memory proxy
-    // passed as the "oiio:ioproxy" configuration hint (the ioproxy argument alone is not enough
-    // for its PNG reader).
-    auto in = OIIO::ImageInput::create(format->oiio_format, false, nullptr, &mem);
-    if (!in || in->format_name() != std::string(format->oiio_format)) {
-        std::string e = OIIO::geterror();
-        throw Error(where + ": cannot be decoded" + (e.empty() ? std::string() : ": " + e));
-    }
-    OIIO::ImageSpec config;
-    void* proxy = &mem;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-    OIIO::ImageSpec opened;
-    if (!in->open(fake, opened, config)) {
-        std::string e = in->geterror();
-        throw Error(where + ": cannot be decoded" + (e.empty() ? std::string() : ": " + e));
-    }
-    return read_opened(*in, size, where, budget, format->max_pixels_per_byte);
+    DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}};
+    const std::string e = oiio().decode(bytes, size, format->oiio_format, fake.c_str(), accept_header, &target);
+    if (!e.empty()) throw Error(where + ": cannot be decoded: " + e);
+    return std::move(target.img);
 }
 
 ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name, DecodeBudget* budget) {
@@ -265,20 +252,8 @@ namespace {
 constexpr const char* kTmpPrefix = ".aqtmp.";  //!< `.aqtmp.PID.N.NAME`: recognisable leftovers
 
 // PNG: grey and RGB images (every stylised --out image) are encoded by core/png.h (libdeflate; its
-// settings and their measurement are there). Images with alpha (--style none, some targets) go
-// through OpenImageIO's writer, which turns the associated alpha of memory into PNG's unassociated
-// alpha (and its reader back), with these settings, chosen for speed (issue 13): zlib level 1 and
-// no row filter (libpng's PNG_FILTER_NONE). Measured on WC18 1080p Suzanne frames, 12-frame CLI
-// animation, 2 cores: libpng's defaults (level 6, adaptive filters) 845-911 ms/frame and 2.78
-// MB/frame; level 1 + adaptive 375-418 ms, 3.09 MB; level 1 + no filter 299-309 ms, 2.86 MB
-// (+3 %). The paper grain makes row filters useless on our images.
-constexpr int kPngCompressionLevel = 1;
-constexpr int kPngFilterNone = 0x08;
-// OpenEXR compression: PIZ (lossless wavelet + Huffman). Same measurement, .exr output: ZIP (used
-// before) 852 ms/frame and 18.4 MB/frame, ZIP level 1 807 ms 18.1 MB, PIZ 654 ms 17.6 MB, RLE
-// 462 ms 24.9 MB, none 372 ms 24.9 MB: PIZ is both faster and smaller than ZIP on noisy float
-// images; values are bit-exact in every lossless mode.
-constexpr const char* kExrCompression = "piz";
+// settings and their measurement are there). Images with alpha (--style none, some targets) and
+// every other format go through OpenImageIO's writers (core/oiio_module.cpp, with their settings).
 
 [[noreturn]] void fail_write(const std::string& path, const std::string& why) {
     throw Error("write '" + path + "': " + why);
@@ -321,40 +296,21 @@ void encode_image(const std::string& path, const ImageF& img, const std::string&
         return;
     }
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
-    OIIO::ImageSpec spec(img.width(), img.height(), img.channels(),
-                         eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    // 8-bit images are display images: sRGB-encoded in either working space (docs/look.md), tagged
-    // so (the PNG writer emits an sRGB chunk). Float files hold the working-space values untagged.
-    if (eight_bit) spec.attribute("oiio:ColorSpace", "sRGB");
-    if (ext == ".png") {
-        spec.attribute("png:compressionLevel", stored ? 0 : kPngCompressionLevel);
-        spec.attribute("png:filter", kPngFilterNone);
-    }
-    if (ext == ".exr") {
-        spec.attribute("compression", stored ? "none" : kExrCompression);
-        // OpenImageIO stamps EXR files with the wall-clock time (capDate) unless DateTime is set;
-        // a fixed value keeps "same input, same bytes" true for whole files, not only pixels.
-        spec.attribute("DateTime", "1970:01:01 00:00:00");
-    }
-    if (!description.empty()) spec.attribute("ImageDescription", description);
-    auto out = OIIO::ImageOutput::create("memory" + ext);
-    if (!out) fail_write(path, "no writer for '" + ext + "': " + OIIO::geterror());
-    if (!out->supports("ioproxy")) fail_write(path, "the '" + ext + "' writer cannot encode to memory; use .png, .exr, .tif or .jpg");
-    buf.clear();
-    OIIO::Filesystem::IOVecOutput vec(buf);
-    if (!out->set_ioproxy(&vec) || !out->open("memory" + ext, spec)) fail_write(path, out->geterror());
-    bool ok;
+    oiio_module::EncodeRequest r;
+    r.extension = ext;
+    r.width = img.width();
+    r.height = img.height();
+    r.channels = img.channels();
+    r.description = description;
+    r.stored = stored;
     if (eight_bit) {
         q.resize(img.num_values());  // every value is written below
-        const float* p = img.data();
-        to_unorm8_n(p, q.data(), q.size());
-        ok = out->write_image(OIIO::TypeDesc::UINT8, q.data());
+        to_unorm8_n(img.data(), q.data(), q.size());
+        r.u8 = q.data();
     } else {
-        ok = out->write_image(OIIO::TypeDesc::FLOAT, img.data());
+        r.f32 = img.data();
     }
-    std::string err = ok ? "" : out->geterror();
-    ok = out->close() && ok;
-    if (!ok) fail_write(path, err.empty() ? out->geterror() : err);
+    if (const std::string e = oiio().encode(r, buf); !e.empty()) fail_write(path, e);
     if (buf.empty()) fail_write(path, "the encoder produced no bytes");
 }
 

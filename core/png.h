@@ -1,8 +1,8 @@
 // core/png.h — the PNG encoder of display images (issue 13: animations at 1080p).
 //
-// Every other format, and PNG images with alpha, are encoded by OpenImageIO (core/io.cpp): its
-// writer converts memory's associated alpha to PNG's unassociated alpha, and this encoder does not
-// repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
+// Every other format, and PNG images with alpha, are encoded by OpenImageIO
+// (core/oiio_module.cpp): its writer converts memory's associated alpha to PNG's unassociated
+// alpha, and this encoder does not repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
 // deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can only
 // use zlib: libdeflate (a Debian library) compresses our 1080p frames 2.2x faster than zlib at
 // level 1, and smaller (docs/performance.md "Thirteenth session"). The container is the PNG

@@ -11,6 +11,8 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include "core/oiio.h"
+
 namespace aq::fuzz {
 namespace fs = std::filesystem;
 
@@ -24,6 +26,19 @@ std::string* g_dir = nullptr;
 // replay along the path that found it. Each library's multi-threaded behaviour is tested in the
 // unit tests (same bytes at 1, 2 and 8 threads) and under ASan there (scripts/sanitize.sh).
 const oneapi::tbb::global_control g_one_thread(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+
+// The OpenImageIO module (core/oiio.h) is loaded before fuzzing starts, as a linked library would
+// be: its coverage counters register with libFuzzer at load, so every input runs with the same
+// modules. A target that cannot load it stops here instead of rejecting every image as undecodable.
+const bool g_oiio_loaded = [] {
+    try {
+        aq::oiio();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fuzz: %s\n", e.what());
+        std::abort();
+    }
+    return true;
+}();
 
 void remove_temp_dir() {
     if (!g_dir) return;

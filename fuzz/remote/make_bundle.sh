@@ -21,6 +21,10 @@ for t in gltf scene_file pipeline image; do
     strip "$B/bin/fuzz_$t"
 done
 reference/gpu/bundle_libs.py "$BUILD/fuzz/fuzz_pipeline" "$B/lib" "$B/libcxx"
+# OpenImageIO is the module core/libaq_oiio.so, loaded at start by every target (core/oiio.h,
+# fuzz/fuzz_common.cpp); run.sh points AQ_OIIO_MODULE at this copy.
+cp "$BUILD/core/libaq_oiio.so" "$B/lib/"
+reference/gpu/bundle_libs.py "$BUILD/core/libaq_oiio.so" "$B/lib" "$B/libcxx"
 strip --strip-unneeded "$B"/lib/* "$B"/libcxx/* 2>/dev/null || true
 cp fuzz/remote/run.sh "$B/run.sh"
 # One compressed file to carry (the device tool carries 64 MiB with the working tree).

@@ -16,6 +16,7 @@ mkdir -p "$OUT/artifacts"
 LP=$F/lib
 ldconfig -p | grep -q 'libstdc++.so.6 ' || LP=$LP:$F/libcxx
 export LD_LIBRARY_PATH=$LP${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+export AQ_OIIO_MODULE=$F/lib/libaq_oiio.so   # the bundle's copy (core/oiio.h)
 # The bundle's libraries are stripped and the machine has no llvm-symbolizer, so fuzz/lsan.supp's
 # suppressions by function name cannot match there: its OpenImageIO leak is suppressed by module.
 supp=$(mktemp)

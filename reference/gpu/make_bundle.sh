@@ -21,6 +21,10 @@ mkdir -p "$B/bin" "$B/lib" "$B/libcxx" "$B/src" "$B/shared/assets"
 cp "$BUILD/tests/reference/reference_test" "$B/bin/"
 strip "$B/bin/reference_test"
 "$(dirname "$0")/bundle_libs.py" "$BUILD/tests/reference/reference_test" "$B/lib" "$B/libcxx"
+# OpenImageIO is not linked: it is the module core/libaq_oiio.so, loaded on first use (core/oiio.h);
+# run_on_gpu.sh points AQ_OIIO_MODULE at this copy.
+cp "$BUILD/core/libaq_oiio.so" "$B/lib/"
+"$(dirname "$0")/bundle_libs.py" "$BUILD/core/libaq_oiio.so" "$B/lib" "$B/libcxx"
 strip --strip-unneeded "$B"/lib/* "$B"/libcxx/* 2>/dev/null || true
 # Run-time sources: the binary reads these through its compiled-in source path.
 for d in reference/shaders scenes/data stylize/presets; do

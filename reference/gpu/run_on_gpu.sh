@@ -32,6 +32,7 @@ fi
 LP=$G/lib
 ldconfig -p | grep -q 'libstdc++.so.6 ' || LP=$LP:$G/libcxx
 export LD_LIBRARY_PATH=$LP:/usr/local/nvidia/lib64:/usr/local/nvidia/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+export AQ_OIIO_MODULE=$G/lib/libaq_oiio.so   # the bundle's copy (core/oiio.h)
 echo "LD_LIBRARY_PATH=$LD_LIBRARY_PATH" >>"$E"
 # The binary's compiled-in paths: source tree (scene files, test output) and ../shared beside it.
 SRC=$(cat "$G/src_path")
