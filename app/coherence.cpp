@@ -128,8 +128,7 @@ std::vector<std::string> sequence_in_folder(const std::string& dir) {
     if (!fs::is_directory(dir, ec)) throw Error("coherence: '" + dir + "' is not a folder");
     std::vector<std::string> v;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        std::string ext = it->path().extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const std::string ext = lower_extension(it->path().string());
         if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff" && ext != ".jpg") continue;
         if (fs::is_regular_file(manifest_path(it->path().string()), ec)) v.push_back(it->path().string());
     }

@@ -182,8 +182,7 @@ using aq::app::RenderOptions;
 
 void check_output_path(const std::string& path, const std::string& opt) {
     const fs::path p(path);
-    std::string ext = p.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string ext = aq::lower_extension(path);
     if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff" && ext != ".jpg")
         throw UsageError(opt + ": '" + path + "' must end in .png, .exr, .tif or .jpg");
     const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
@@ -315,9 +314,12 @@ RenderOptions parse_render(Args& a) {
 
 int cmd_render(Args& a) {
     const RenderOptions o = parse_render(a);
-    // Nearly every render reads its paper or textures or writes a file through OpenImageIO: its
-    // module loads on a second thread while the scene loads (core/oiio.h).
-    aq::preload_oiio();
+    // A render that will write through OpenImageIO (EXR, TIFF, JPEG, targets, the RGBA image of
+    // --style none) loads its module on a second thread while the scene loads (core/oiio.h). Grey
+    // and RGB PNG output and JPEG papers do not need it: such a render loads it only if a texture
+    // or paper in another format asks for it (the one-shot of a bare model never does).
+    if (aq::lower_extension(o.out) != ".png" || !o.targets_dir.empty() || !o.targets_png_dir.empty() || (o.style_given && o.style == "none"))
+        aq::preload_oiio();
     const aq::app::Reporter report = cli_reporter(o.quiet);
     const auto t0 = std::chrono::steady_clock::now();
     // Every name and value is validated before anything is rendered.

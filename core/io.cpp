@@ -24,6 +24,7 @@
 #endif
 
 #include "core/input.h"
+#include "core/jpeg.h"
 #include "core/oiio.h"
 #include "core/png.h"
 
@@ -46,13 +47,13 @@ std::string safe_file_name(const std::string& name) {
 
 // --- reading ---------------------------------------------------------------------------------
 
-namespace {
-
 std::string lower_extension(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     return ext;
 }
+
+namespace {
 
 //! The formats read (docs/limits.md "Image formats"): each decoder is attack surface reached by
 //! user and third-party files, so only the ones the project documents are enabled. Keyed by the
@@ -175,6 +176,16 @@ struct DecodeTarget {
     ImageF img;
 };
 
+//! core/jpeg.h's header callback: the same checks.
+void check_jpeg_header(void* ctx, const JpegHeader& h) {
+    auto& t = *static_cast<DecodeTarget*>(ctx);
+    oiio_module::Header header;
+    header.width = h.width;
+    header.height = h.height;
+    header.nchannels = h.channels;
+    check_header(header, t.encoded_bytes, t.where, t.budget, t.max_pixels_per_byte);
+}
+
 //! The header callback (oiio_module::AcceptHeader): checks the header, then allocates the image.
 float* accept_header(void* ctx, const oiio_module::Header& h) {
     auto& t = *static_cast<DecodeTarget*>(ctx);
@@ -195,12 +206,14 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
     if (!format)
         throw Error(where + ": the '" + ext.substr(1) +
                     "' format is not read (PNG, JPEG, OpenEXR, TIFF, Radiance HDR and TGA are; docs/limits.md)");
+    DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}};
     if (std::string(format->oiio_format) == "jpeg") {
         int w = 0, h = 0;
         if (jpeg_frame_size(bytes, size, &w, &h)) check_dimensions(w, h, size, where + " (JPEG frame header)");
+        // Grey and colour JPEG (every paper) without OpenImageIO (core/jpeg.h); CMYK goes on below.
+        if (decode_jpeg(bytes, size, where, check_jpeg_header, &target, target.img)) return std::move(target.img);
     }
     const std::string fake = "memory" + ext;
-    DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}};
     const std::string e = oiio().decode(bytes, size, format->oiio_format, fake.c_str(), accept_header, &target);
     if (!e.empty()) throw Error(where + ": cannot be decoded: " + e);
     return std::move(target.img);

@@ -91,6 +91,9 @@ ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::str
 //! Creates the folder (and parents) if missing. Throws aq::Error.
 void ensure_directory(const std::string& dir);
 
+//! The extension of a path in lower case, with its dot (".png"); empty when it has none.
+std::string lower_extension(const std::string& path);
+
 //! Replaces characters outside [A-Za-z0-9._-] so a target name is a safe file name.
 std::string safe_file_name(const std::string& name);
 

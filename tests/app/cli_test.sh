@@ -64,17 +64,24 @@ grep -q "broken.json" "$work/last.err" && ok "style error names the file" || bad
 [ "$(sha256sum "$work/good.png" | cut -d' ' -f1)" = "$good_sum" ] && ok "good image untouched by failures" || bad "good image was replaced"
 
 # OpenImageIO is a module loaded on first use (core/oiio.h): a command that reads and writes no
-# image through it does not load OpenImageIO's ~260 libraries; one that needs it loads it; a render
-# whose module is missing fails with a message naming it and replaces nothing.
+# image through it does not load OpenImageIO's ~260 libraries (--help; a PNG render whose paper is
+# a JPEG, core/jpeg.h); one that needs it loads it; a render that needs a missing module fails with
+# a message naming it and writes nothing.
 LD_DEBUG=files "$bin" --help >/dev/null 2>"$work/ld_help.txt"
 grep -q "file=libtbb" "$work/ld_help.txt" && ! grep -q "file=libOpenImageIO" "$work/ld_help.txt" \
   && ok "--help does not load OpenImageIO" || bad "--help does not load OpenImageIO"
+LD_DEBUG=files "$bin" render procedural:swatches "${small[@]}" --out "$work/no_oiio.png" 2>"$work/ld_png.txt"
+[ -s "$work/no_oiio.png" ] && grep -q "file=libtbb" "$work/ld_png.txt" && ! grep -q "file=libOpenImageIO" "$work/ld_png.txt" \
+  && ok "a PNG render with a JPEG paper does not load OpenImageIO" || bad "a PNG render with a JPEG paper does not load OpenImageIO"
 LD_DEBUG=files "$bin" compare "$work/good.png" "$work/good.png" >/dev/null 2>"$work/ld_compare.txt"
 grep -q "file=libOpenImageIO" "$work/ld_compare.txt" && ok "compare loads OpenImageIO" || bad "compare loads OpenImageIO"
-expect_rc "render without the OpenImageIO module fails cleanly" 1 env AQ_OIIO_MODULE="$work/no_such_module.so" \
-  "$bin" render procedural:swatches "${small[@]}" --out "$work/good.png"
+expect_rc "EXR render without the OpenImageIO module fails cleanly" 1 env AQ_OIIO_MODULE="$work/no_such_module.so" \
+  "$bin" render procedural:swatches "${small[@]}" --out "$work/no_module.exr"
 grep -q "OpenImageIO module.*no_such_module.so" "$work/last.err" && ok "the error names the module" || bad "the error names the module"
-[ "$(sha256sum "$work/good.png" | cut -d' ' -f1)" = "$good_sum" ] && ok "good image untouched without the module" || bad "good image was replaced"
+[ ! -e "$work/no_module.exr" ] && ok "nothing written without the module" || bad "an EXR was written without the module"
+expect_rc "PNG render without the OpenImageIO module" 0 env AQ_OIIO_MODULE="$work/no_such_module.so" \
+  "$bin" render procedural:swatches "${small[@]}" --out "$work/no_module.png"
+cmp -s "$work/no_module.png" "$work/no_oiio.png" && ok "the same PNG with and without the module" || bad "the same PNG with and without the module"
 
 # Issue 8 regressions: hostile files, full disks, inputs as outputs, stale temporaries.
 # Each reader refuses FIFOs and devices at once (timeout guards a hang: rc 124 would fail "1").

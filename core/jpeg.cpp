@@ -1,0 +1,111 @@
+// core/jpeg.cpp — see jpeg.h.
+//
+// libjpeg reports a fatal error through error_exit, which must not return: the usual setjmp /
+// longjmp. The functions that call setjmp (read_header, decompress) hold no object with a
+// destructor, so the jump skips none; the decompressor is destroyed by Decoder's destructor in
+// the caller, after the jump, whatever happened.
+#include "core/jpeg.h"
+
+#include <csetjmp>
+#include <cstdio>
+
+#include <jpeglib.h>
+
+namespace aq {
+namespace {
+
+struct ErrorManager {
+    jpeg_error_mgr pub;  // first: libjpeg passes &pub
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = {};
+};
+
+[[noreturn]] void on_error(j_common_ptr c) {
+    auto* e = reinterpret_cast<ErrorManager*>(c->err);
+    (*c->err->format_message)(c, e->message);
+    std::longjmp(e->jump, 1);
+}
+
+//! Warnings (corrupt or truncated data, which libjpeg fills in) are not printed and not fatal, as
+//! in OpenImageIO's reader.
+void on_message(j_common_ptr) {}
+
+struct Decoder {
+    jpeg_decompress_struct cinfo{};
+    ErrorManager err;
+    bool created = false;
+    Decoder() {
+        cinfo.err = jpeg_std_error(&err.pub);
+        err.pub.error_exit = on_error;
+        err.pub.output_message = on_message;
+    }
+    ~Decoder() {
+        if (created) jpeg_destroy_decompress(&cinfo);
+    }
+    Decoder(const Decoder&) = delete;
+    Decoder& operator=(const Decoder&) = delete;
+};
+
+bool read_header(Decoder& d, const unsigned char* bytes, std::size_t size) {
+    if (setjmp(d.err.jump)) return false;
+    jpeg_create_decompress(&d.cinfo);
+    d.created = true;
+    jpeg_mem_src(&d.cinfo, bytes, static_cast<unsigned long>(size));
+    jpeg_read_header(&d.cinfo, TRUE);
+    return true;
+}
+
+//! The float of each 8-bit code as OpenImageIO converts UINT8 to FLOAT: v times the float nearest
+//! 1/255 (v / 255 differs in the last bit for some codes; tests/core/jpeg_test.cpp).
+struct Unorm8Table {
+    float v[256];
+    Unorm8Table() {
+        for (int i = 0; i < 256; ++i) v[i] = float(i) * (1.0f / 255.0f);
+    }
+};
+const Unorm8Table kUnorm8;
+
+bool decompress(Decoder& d, float* dst) {
+    if (setjmp(d.err.jump)) return false;
+    jpeg_start_decompress(&d.cinfo);
+    const std::size_t row_values = std::size_t(d.cinfo.output_width) * std::size_t(d.cinfo.output_components);
+    // Freed with the decompressor (libjpeg's image pool).
+    JSAMPARRAY row = (*d.cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&d.cinfo), JPOOL_IMAGE,
+                                                   static_cast<JDIMENSION>(row_values), 1);
+    while (d.cinfo.output_scanline < d.cinfo.output_height) {
+        float* out = dst + std::size_t(d.cinfo.output_scanline) * row_values;
+        if (jpeg_read_scanlines(&d.cinfo, row, 1) != 1) {  // not with a memory source, which never suspends
+            std::snprintf(d.err.message, sizeof d.err.message, "no scanline %u", d.cinfo.output_scanline);
+            return false;
+        }
+        const JSAMPLE* in = row[0];
+        for (std::size_t i = 0; i < row_values; ++i) out[i] = kUnorm8.v[in[i]];
+    }
+    jpeg_finish_decompress(&d.cinfo);
+    return true;
+}
+
+}  // namespace
+
+bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, JpegHeaderCheck check,
+                 void* ctx, ImageF& out) {
+    Decoder d;
+    if (!read_header(d, bytes, size)) throw Error(where + ": cannot be decoded: " + d.err.message);
+    const J_COLOR_SPACE cs = d.cinfo.jpeg_color_space;
+    const int n = d.cinfo.num_components;
+    const bool grey = n == 1 && cs == JCS_GRAYSCALE;
+    const bool colour = n == 3 && (cs == JCS_YCbCr || cs == JCS_RGB);
+    if (!grey && !colour) return false;  // CMYK, YCCK, ...: OpenImageIO's reader
+    d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
+    JpegHeader h;
+    h.width = int(d.cinfo.image_width);
+    h.height = int(d.cinfo.image_height);
+    h.channels = grey ? 1 : 3;
+    check(ctx, h);
+    ImageF img(h.width, h.height, h.channels, kUninitialized);  // every value is written
+    if (!decompress(d, img.data())) throw Error(where + ": cannot be decoded: " + d.err.message);
+    out = std::move(img);
+    return true;
+}
+
+}  // namespace aq

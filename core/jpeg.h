@@ -1,0 +1,37 @@
+// core/jpeg.h — the JPEG decoder of grey and colour (YCbCr/RGB) JPEG files, on libjpeg-turbo (a
+// Debian library; core/io.h's decode_image calls it).
+//
+// Why not OpenImageIO, which reads every other format: the papers of every style are JPEG files
+// (../shared/assets/paper), and loading OpenImageIO costs a process 0.25-0.30 s (core/oiio_module.h).
+// With this decoder a render that writes PNG and reads no other image (a bare model through WC18,
+// the one-shot of issue 13 item 3) never loads it. OpenImageIO's JPEG reader is libjpeg with its
+// defaults (islow IDCT, fancy upsampling, warnings not fatal: a truncated file decodes with the
+// missing part grey), and so is this one: the decoded values are the same floats, v x float(1/255)
+// (tests/core/jpeg_test.cpp compares both on the real papers, grey and colour files and damaged
+// ones). CMYK and YCCK files, and any other component count, are left to OpenImageIO (its CMYK to
+// RGB conversion is not repeated here).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "core/image.h"
+
+namespace aq {
+
+//! What decode_jpeg learned from a file's header before decoding it.
+struct JpegHeader {
+    int width = 0, height = 0, channels = 0;  //!< channels: 1 (grey) or 3 (RGB)
+};
+
+//! Called with the header before any allocation of the image: checks it (throwing aq::Error).
+using JpegHeaderCheck = void (*)(void* ctx, const JpegHeader& header);
+
+//! Decodes a grey or colour JPEG held in memory into `out` (1 or 3 channels, v x float(1/255)).
+//! Returns false, `out` untouched, for a JPEG this decoder leaves to OpenImageIO (CMYK, YCCK, other
+//! component counts). Throws aq::Error (prefixed with `where`) when libjpeg cannot read the file
+//! and whatever `check` throws.
+bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, JpegHeaderCheck check,
+                 void* ctx, ImageF& out);
+
+}  // namespace aq

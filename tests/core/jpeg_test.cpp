@@ -1,0 +1,177 @@
+// tests/core/jpeg_test.cpp — core/jpeg.h's decoder gives OpenImageIO's values, bit for bit, on
+// the real papers and on grey, progressive, damaged and synthetic files; CMYK is left to
+// OpenImageIO.
+#include "core/jpeg.h"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <jpeglib.h>
+
+#include "core/input.h"
+#include "core/io.h"
+#include "core/oiio.h"
+#include "tests/test_support.h"
+
+namespace aq {
+namespace {
+namespace fs = std::filesystem;
+
+void accept_any(void*, const JpegHeader&) {}
+
+//! OpenImageIO's JPEG reader on the same bytes (through the module, as core/io.cpp used to).
+ImageF decode_with_oiio(const std::vector<unsigned char>& bytes) {
+    ImageF img;
+    const auto accept = [](void* ctx, const oiio_module::Header& h) -> float* {
+        auto* out = static_cast<ImageF*>(ctx);
+        *out = ImageF(h.width, h.height, std::min(h.nchannels, 4));
+        return out->data();
+    };
+    const std::string e = oiio().decode(bytes.data(), bytes.size(), "jpeg", "memory.jpg", accept, &img);
+    EXPECT_EQ(e, "");
+    return img;
+}
+
+//! Ours, asserting that ours (not the OpenImageIO fallback) decoded it.
+ImageF decode_with_ours(const std::vector<unsigned char>& bytes) {
+    ImageF img;
+    EXPECT_TRUE(decode_jpeg(bytes.data(), bytes.size(), "test", accept_any, nullptr, img));
+    return img;
+}
+
+void expect_same_values(const ImageF& a, const ImageF& b, const std::string& what) {
+    ASSERT_EQ(a.width(), b.width()) << what;
+    ASSERT_EQ(a.height(), b.height()) << what;
+    ASSERT_EQ(a.channels(), b.channels()) << what;
+    ASSERT_GT(a.num_values(), 0u) << what;
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)), 0) << what;
+}
+
+//! A JPEG written by libjpeg: w x h, `components` of `in_space`, values from `value(x, y, c)`.
+template <class F>
+std::vector<unsigned char> encode_jpeg(int w, int h, int components, J_COLOR_SPACE in_space, bool progressive,
+                                       F value) {
+    jpeg_compress_struct c{};
+    jpeg_error_mgr err;
+    c.err = jpeg_std_error(&err);
+    jpeg_create_compress(&c);
+    unsigned char* mem = nullptr;
+    unsigned long size = 0;
+    jpeg_mem_dest(&c, &mem, &size);
+    c.image_width = JDIMENSION(w);
+    c.image_height = JDIMENSION(h);
+    c.input_components = components;
+    c.in_color_space = in_space;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 90, TRUE);
+    if (progressive) jpeg_simple_progression(&c);
+    jpeg_start_compress(&c, TRUE);
+    std::vector<unsigned char> row(std::size_t(w) * components);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < components; ++k) row[std::size_t(x) * components + k] = value(x, y, k);
+        JSAMPROW r = row.data();
+        jpeg_write_scanlines(&c, &r, 1);
+    }
+    jpeg_finish_compress(&c);
+    std::vector<unsigned char> bytes(mem, mem + size);
+    jpeg_destroy_compress(&c);
+    std::free(mem);
+    return bytes;
+}
+
+TEST(JpegDecoder, GivesOpenImageIOsValuesOnTheRealPapersAndScreenshots) {
+    int files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(test::shared_dir() + "/assets")) {
+        const std::string ext = e.path().extension().string();
+        if (!e.is_regular_file() || (ext != ".jpg" && ext != ".jpeg")) continue;
+        const std::vector<unsigned char> bytes = read_input_file(e.path().string(), kMaxImageFileBytes, "image");
+        expect_same_values(decode_with_ours(bytes), decode_with_oiio(bytes), e.path().string());
+        ++files;
+    }
+    EXPECT_GE(files, 4);  // the four papers at least
+}
+
+TEST(JpegDecoder, GivesOpenImageIOsValuesOnGreyProgressiveAndEveryCode) {
+    // Every 8-bit code in every channel, and edges the IDCT and upsampling must reproduce.
+    const auto pattern = [](int x, int y, int k) { return (unsigned char)((x * 7 + y * 13 + k * 85) & 255); };
+    for (bool progressive : {false, true}) {
+        const std::string what = progressive ? "progressive" : "baseline";
+        const auto rgb = encode_jpeg(301, 173, 3, JCS_RGB, progressive, pattern);
+        const ImageF ours = decode_with_ours(rgb);
+        EXPECT_EQ(ours.channels(), 3);
+        expect_same_values(ours, decode_with_oiio(rgb), what + " RGB");
+        const auto grey = encode_jpeg(64, 257, 1, JCS_GRAYSCALE, progressive, pattern);
+        const ImageF ours_grey = decode_with_ours(grey);
+        EXPECT_EQ(ours_grey.channels(), 1);
+        expect_same_values(ours_grey, decode_with_oiio(grey), what + " grey");
+    }
+    // The table is v / 255: code 255 is exactly 1 and 0 exactly 0.
+    const auto flat = encode_jpeg(16, 16, 1, JCS_GRAYSCALE, false, [](int, int, int) { return (unsigned char)255; });
+    EXPECT_EQ(decode_with_ours(flat).at(3, 3, 0), 1.0f);
+}
+
+TEST(JpegDecoder, DamagedFilesDecodeAsOpenImageIODecodesThem) {
+    const auto pattern = [](int x, int y, int k) { return (unsigned char)((x ^ y) * 3 + k * 40); };
+    for (bool progressive : {false, true}) {
+        const auto full = encode_jpeg(200, 120, 3, JCS_RGB, progressive, pattern);
+        // Truncated: libjpeg warns and fills the rest; neither reader treats the warning as fatal.
+        for (std::size_t keep : {full.size() / 2, full.size() - 3}) {
+            const std::vector<unsigned char> cut(full.begin(), full.begin() + std::ptrdiff_t(keep));
+            expect_same_values(decode_with_ours(cut), decode_with_oiio(cut),
+                               std::string(progressive ? "progressive" : "baseline") + " cut at " + std::to_string(keep));
+        }
+    }
+    // No frame header at all: an aq::Error naming the file.
+    const std::vector<unsigned char> garbage = {0xFF, 0xD8, 0xFF, 0xD9, 0, 1, 2, 3};
+    ImageF img;
+    try {
+        decode_jpeg(garbage.data(), garbage.size(), "image 'x.jpg'", accept_any, nullptr, img);
+        ADD_FAILURE() << "a JPEG without a frame was decoded";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("image 'x.jpg': cannot be decoded"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(img.empty());
+}
+
+TEST(JpegDecoder, TheHeaderIsCheckedBeforeTheImageIsAllocated) {
+    const auto bytes = encode_jpeg(40, 30, 3, JCS_RGB, false, [](int x, int, int) { return (unsigned char)x; });
+    struct Seen {
+        JpegHeader h;
+        bool called = false;
+    } seen;
+    const auto refuse = [](void* ctx, const JpegHeader& h) {
+        static_cast<Seen*>(ctx)->h = h;
+        static_cast<Seen*>(ctx)->called = true;
+        throw Error("refused");
+    };
+    ImageF img;
+    EXPECT_THROW(decode_jpeg(bytes.data(), bytes.size(), "x", refuse, &seen, img), Error);
+    EXPECT_TRUE(seen.called);
+    EXPECT_EQ(seen.h.width, 40);
+    EXPECT_EQ(seen.h.height, 30);
+    EXPECT_EQ(seen.h.channels, 3);
+    EXPECT_TRUE(img.empty());
+    // Through decode_image, the decode budget is such a check.
+    DecodeBudget budget{40 * 30 * 4 * sizeof(float) - 1, "the test's budget"};
+    EXPECT_THROW(decode_image(bytes.data(), bytes.size(), "x.jpg", &budget), BudgetError);
+}
+
+TEST(JpegDecoder, CmykIsLeftToOpenImageIO) {
+    const auto cmyk = encode_jpeg(24, 16, 4, JCS_CMYK, false, [](int x, int y, int k) {
+        return (unsigned char)(k == 3 ? 255 : x * 10 + y);
+    });
+    ImageF img;
+    EXPECT_FALSE(decode_jpeg(cmyk.data(), cmyk.size(), "x", accept_any, nullptr, img));
+    EXPECT_TRUE(img.empty());
+    const ImageF decoded = decode_image(cmyk.data(), cmyk.size(), "cmyk.jpg");  // OpenImageIO's reader
+    EXPECT_EQ(decoded.width(), 24);
+    EXPECT_EQ(decoded.height(), 16);
+}
+
+}  // namespace
+}  // namespace aq
