@@ -82,6 +82,15 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     const auto t0 = std::chrono::steady_clock::now();
     RenderJob job;
     job.options = o;
+    // A bare .gltf/.glb has no scene file to name its style or paper: its paper is known now and
+    // decodes on a second thread while the model loads (issue 13 item 3: the one-shot render's
+    // single-threaded stretches). The same file, decoded once: prepare_paper waits for it.
+    const std::string scene_ext = lower_extension(o.scene);
+    const std::string early_style = o.style_given ? o.style : "wc18";
+    if ((scene_ext == ".gltf" || scene_ext == ".glb") && early_style != "none") {
+        const stylize::Pipeline p = stylize::load_pipeline(early_style);
+        if (p.has_paper) job.paper_prefetch = stylize::prefetch_paper(p.paper);
+    }
     scene::LoadOptions load_options;
     load_options.allow_outside_files = o.allow_outside_files;
     job.desc = scene::load_scene(o.scene, load_options);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -86,6 +87,9 @@ struct RenderJob {
         return !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
     }
     bool consumed = false;
+    //! A bare model's paper, decoding on another thread while its scene loads (prepare_render;
+    //! stylize::prefetch_paper); empty otherwise. Waits for the decode when the job ends.
+    std::future<void> paper_prefetch;
     //! False when every style draws the scene with its own raster passes and reads no G-buffer
     //! target (ld06) and --targets was not asked: the G-buffer is then not rendered. With --targets
     //! it is rendered and written, so `aquarelle coherence` has the depth, normal and object ids

@@ -13,6 +13,8 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <cstdint>
+#include <future>
 #include <mutex>
 #include <utility>
 
@@ -80,29 +82,58 @@ std::mutex& cache_mutex() {
     static std::mutex mu;
     return mu;
 }
-std::map<std::string, std::shared_ptr<const ImageF>>& paper_cache() {
-    static std::map<std::string, std::shared_ptr<const ImageF>> cache;
+
+using PaperFuture = std::shared_future<std::shared_ptr<const ImageF>>;
+//! Decoded paper files by layout|path. An entry is a future: a second reader of a file that is
+//! being decoded (prefetch_paper on another thread) waits for it instead of decoding it again.
+struct CacheEntry {
+    PaperFuture decoded;
+    std::uint64_t serial = 0;  //!< which decode made the entry (a failed one removes only its own)
+};
+std::map<std::string, CacheEntry>& paper_cache() {
+    static std::map<std::string, CacheEntry> cache;
     return cache;
 }
 
+//! The decoded paper file, from the cache or decoded here (the first reader decodes; later and
+//! concurrent readers of the same key wait for it). A failed decode is not kept: its waiters get
+//! the error, the next reader tries again.
 std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::string& layout) {
     std::mutex& mu = cache_mutex();
     auto& cache = paper_cache();
     const std::string key = layout + "|" + path;
+    static std::uint64_t next_serial = 0;  // under mu
+    std::promise<std::shared_ptr<const ImageF>> promise;
+    PaperFuture future;
+    std::uint64_t serial = 0;
+    bool decode_here = false;
     {
         std::lock_guard<std::mutex> lock(mu);
         auto it = cache.find(key);
-        if (it != cache.end()) return it->second;
+        decode_here = it == cache.end();
+        if (decode_here) {
+            serial = ++next_serial;
+            it = cache.emplace(key, CacheEntry{promise.get_future().share(), serial}).first;
+        }
+        future = it->second.decoded;
     }
-    ImageF img;
-    try {
-        img = read_image(path);
-    } catch (const Error& e) {
-        throw Error(std::string("paper file '") + path + "' could not be read: " + e.what());
+    if (decode_here) {
+        try {
+            ImageF img;
+            try {
+                img = read_image(path);
+            } catch (const Error& e) {
+                throw Error(std::string("paper file '") + path + "' could not be read: " + e.what());
+            }
+            promise.set_value(std::make_shared<const ImageF>(to_mnpr_layout(std::move(img), layout, path)));
+        } catch (...) {
+            promise.set_exception(std::current_exception());
+            std::lock_guard<std::mutex> lock(mu);
+            auto it = cache.find(key);
+            if (it != cache.end() && it->second.serial == serial) cache.erase(it);
+        }
     }
-    auto tex = std::make_shared<const ImageF>(to_mnpr_layout(std::move(img), layout, path));
-    std::lock_guard<std::mutex> lock(mu);
-    return cache.emplace(key, std::move(tex)).first->second;
+    return future.get();  // the decoded paper, or the decoder's error
 }
 
 }  // namespace
@@ -110,6 +141,17 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
 void clear_paper_cache() {
     std::lock_guard<std::mutex> lock(cache_mutex());
     paper_cache().clear();
+}
+
+std::future<void> prefetch_paper(const PaperSpec& spec) {
+    if (spec.file.empty()) return {};
+    return std::async(std::launch::async, [file = spec.file, layout = spec.layout] {
+        try {
+            (void)load_cached(file, layout);
+        } catch (...) {
+            // prepare_paper reads the file again and reports the error itself
+        }
+    });
 }
 
 ImageF prepare_paper(const PaperSpec& spec, int width, int height) {

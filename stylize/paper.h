@@ -2,6 +2,7 @@
 // to the output size in the MNPR layout (R,G = normal x,y 0.5-centred; B = height).
 #pragma once
 
+#include <future>
 #include <string>
 
 #include "core/exec.h"
@@ -24,6 +25,13 @@ struct PaperSpec {
 //! Loads (cached per file), converts and tiles the paper to width x height, 3 channels.
 //! Throws aq::Error with the path on unreadable files.
 ImageF prepare_paper(const PaperSpec& spec, int width, int height);
+
+//! Starts decoding spec's paper file into prepare_paper's cache on another thread, so that it
+//! overlaps other work (a one-shot render's scene loading, issue 13 item 3); prepare_paper then
+//! waits for that decode instead of starting its own. The returned future waits for the decode
+//! when destroyed. An error is not reported here: prepare_paper decodes again and reports it. No
+//! value changes: the same file, decoded once.
+std::future<void> prefetch_paper(const PaperSpec& spec);
 
 //! Drops the decoded paper files kept by prepare_paper (one-shot renders: the source image is not
 //! needed once the paper is prepared at the output size; docs/performance.md "Memory").

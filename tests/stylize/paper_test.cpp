@@ -2,6 +2,11 @@
 #include "stylize/paper.h"
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <future>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -122,6 +127,59 @@ TEST(Paper, MissingFileNamesThePath) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
     }
+}
+
+//! A copy of a real paper under a name of this test's own (the decoded-file cache is per path).
+std::string paper_copy(const std::string& name) {
+    const std::string path = test::output_dir() + "/" + name;
+    std::filesystem::copy_file(test::asset(kMnpr), path, std::filesystem::copy_options::overwrite_existing);
+    return path;
+}
+
+bool same_bytes(const ImageF& a, const ImageF& b) {
+    return a.width() == b.width() && a.height() == b.height() && a.channels() == b.channels() &&
+           std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)) == 0;
+}
+
+TEST(Paper, APrefetchedPaperIsThePaperAndIsDecodedOnce) {
+    const std::string path = paper_copy("prefetched.jpg");
+    const PaperSpec spec{path, "mnpr", 1.0f, 0.8f};
+    const ImageF direct = prepare_paper(spec, 301, 97);  // decoded here
+    clear_paper_cache();
+    // The prefetch fills the cache: with the file gone afterwards the paper is still prepared.
+    std::future<void> prefetch = prefetch_paper(spec);
+    ASSERT_TRUE(prefetch.valid());
+    prefetch.get();
+    std::filesystem::remove(path);
+    EXPECT_TRUE(same_bytes(prepare_paper(spec, 301, 97), direct));
+    clear_paper_cache();
+    EXPECT_THROW(prepare_paper(spec, 301, 97), Error);  // without the cache it is not
+    // Readers during the decode wait for it (or decode once themselves) and get the same paper.
+    paper_copy("prefetched.jpg");
+    prefetch = prefetch_paper(spec);
+    std::vector<ImageF> during(3);
+    std::vector<std::thread> readers;
+    for (ImageF& img : during) readers.emplace_back([&img, &spec] { img = prepare_paper(spec, 301, 97); });
+    for (std::thread& t : readers) t.join();
+    prefetch.get();
+    for (const ImageF& img : during) EXPECT_TRUE(same_bytes(img, direct));
+}
+
+TEST(Paper, APrefetchThatFailsLeavesTheErrorToPreparePaper) {
+    const std::string path = test::output_dir() + "/not_there_yet.jpg";
+    const PaperSpec spec{path, "mnpr", 1.0f, 1.0f};
+    std::future<void> prefetch = prefetch_paper(spec);
+    EXPECT_NO_THROW(prefetch.get());
+    try {
+        prepare_paper(spec, 8, 8);
+        ADD_FAILURE() << "no error for a missing paper";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("paper file '" + path + "' could not be read"), std::string::npos) << e.what();
+    }
+    // The failure is not cached: once the file exists it is read.
+    std::filesystem::copy_file(test::asset(kMnpr), path);
+    EXPECT_EQ(prepare_paper(spec, 8, 8).width(), 8);
+    EXPECT_FALSE(prefetch_paper(PaperSpec{}).valid());  // no file, nothing started
 }
 
 TEST(Paper, BadSpecsAreRefused) {
