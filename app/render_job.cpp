@@ -85,11 +85,13 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     // A bare .gltf/.glb has no scene file to name its style or paper: its paper is known now and
     // decodes on a second thread while the model loads (issue 13 item 3: the one-shot render's
     // single-threaded stretches). The same file, decoded once: prepare_paper waits for it.
+    // The style is loaded once: its pipeline is used below.
     const std::string scene_ext = lower_extension(o.scene);
     const std::string early_style = o.style_given ? o.style : "wc18";
+    std::optional<stylize::Pipeline> early_pipeline;
     if ((scene_ext == ".gltf" || scene_ext == ".glb") && early_style != "none") {
-        const stylize::Pipeline p = stylize::load_pipeline(early_style);
-        if (p.has_paper) job.paper_prefetch = stylize::prefetch_paper(p.paper);
+        early_pipeline = stylize::load_pipeline(early_style);
+        if (early_pipeline->has_paper) job.paper_prefetch = stylize::prefetch_paper(early_pipeline->paper);
     }
     scene::LoadOptions load_options;
     load_options.allow_outside_files = o.allow_outside_files;
@@ -115,7 +117,8 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     job.stylize = style != "none";
     stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
     if (job.stylize) {
-        pipeline = stylize::load_pipeline(style);
+        // A bare model has no scene file to name another style: the one loaded above.
+        pipeline = early_pipeline && style == early_style ? std::move(*early_pipeline) : stylize::load_pipeline(style);
         fill_layer_colors(pipeline, desc.scene);
         if (!o.style_given || o.style == desc.style) {
             for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);

@@ -148,7 +148,7 @@ bool jpeg_frame_size(const unsigned char* b, std::size_t n, int* width, int* hei
 }
 
 //! Refuses what we do not decode, from the header alone (before any pixel is read).
-void check_header(const oiio_module::Header& h, std::size_t encoded_bytes, const std::string& where,
+void check_header(const ImageHeader& h, std::size_t encoded_bytes, const std::string& where,
                   DecodeBudget* budget, long max_pixels_per_byte) {
     if (h.depth > 1)
         throw Error(where + ": a volume image (depth " + std::to_string(h.depth) + "); only 2D images are read");
@@ -167,30 +167,24 @@ void check_header(const oiio_module::Header& h, std::size_t encoded_bytes, const
     }
 }
 
-//! What decode_image_oiio's header callback needs.
+//! What accept_header needs, and the image it allocates.
 struct DecodeTarget {
     std::size_t encoded_bytes;
     const std::string& where;
     DecodeBudget* budget;
     long max_pixels_per_byte;
     ImageF img;
+    //! Zero the image first: OpenImageIO's readers (a reader reporting success on damaged data
+    //! must not leave unspecified values); core/jpeg.h writes every value itself.
+    bool zero_first = true;
 };
 
-//! core/jpeg.h's header callback: the same checks.
-void check_jpeg_header(void* ctx, const JpegHeader& h) {
-    auto& t = *static_cast<DecodeTarget*>(ctx);
-    oiio_module::Header header;
-    header.width = h.width;
-    header.height = h.height;
-    header.nchannels = h.channels;
-    check_header(header, t.encoded_bytes, t.where, t.budget, t.max_pixels_per_byte);
-}
-
-//! The header callback (oiio_module::AcceptHeader): checks the header, then allocates the image.
-float* accept_header(void* ctx, const oiio_module::Header& h) {
+//! Both decoders' header callback (core/image_header.h): checks the header, then allocates the image.
+float* accept_header(void* ctx, const ImageHeader& h) {
     auto& t = *static_cast<DecodeTarget*>(ctx);
     check_header(h, t.encoded_bytes, t.where, t.budget, t.max_pixels_per_byte);
-    t.img = ImageF(h.width, h.height, std::min(h.nchannels, 4));
+    const int c = std::min(h.nchannels, 4);
+    t.img = t.zero_first ? ImageF(h.width, h.height, c) : ImageF(h.width, h.height, c, kUninitialized);
     return t.img.data();
 }
 
@@ -206,13 +200,14 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
     if (!format)
         throw Error(where + ": the '" + ext.substr(1) +
                     "' format is not read (PNG, JPEG, OpenEXR, TIFF, Radiance HDR and TGA are; docs/limits.md)");
-    DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}};
     if (std::string(format->oiio_format) == "jpeg") {
         int w = 0, h = 0;
         if (jpeg_frame_size(bytes, size, &w, &h)) check_dimensions(w, h, size, where + " (JPEG frame header)");
         // Grey and colour JPEG (every paper) without OpenImageIO (core/jpeg.h); CMYK goes on below.
-        if (decode_jpeg(bytes, size, where, check_jpeg_header, &target, target.img)) return std::move(target.img);
+        DecodeTarget jpeg{size, where, budget, format->max_pixels_per_byte, {}, false};
+        if (decode_jpeg(bytes, size, where, accept_header, &jpeg)) return std::move(jpeg.img);
     }
+    DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}, true};
     const std::string fake = "memory" + ext;
     const std::string e = oiio().decode(bytes, size, format->oiio_format, fake.c_str(), accept_header, &target);
     if (!e.empty()) throw Error(where + ": cannot be decoded: " + e);

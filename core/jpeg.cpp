@@ -8,8 +8,11 @@
 
 #include <csetjmp>
 #include <cstdio>
+#include <string>
 
 #include <jpeglib.h>
+
+#include "core/image.h"  // aq::Error
 
 namespace aq {
 namespace {
@@ -87,8 +90,8 @@ bool decompress(Decoder& d, float* dst) {
 
 }  // namespace
 
-bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, JpegHeaderCheck check,
-                 void* ctx, ImageF& out) {
+bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, AcceptHeader accept,
+                 void* ctx) {
     Decoder d;
     if (!read_header(d, bytes, size)) throw Error(where + ": cannot be decoded: " + d.err.message);
     const J_COLOR_SPACE cs = d.cinfo.jpeg_color_space;
@@ -97,14 +100,12 @@ bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string
     const bool colour = n == 3 && (cs == JCS_YCbCr || cs == JCS_RGB);
     if (!grey && !colour) return false;  // CMYK, YCCK, ...: OpenImageIO's reader
     d.cinfo.out_color_space = grey ? JCS_GRAYSCALE : JCS_RGB;
-    JpegHeader h;
+    ImageHeader h;
     h.width = int(d.cinfo.image_width);
     h.height = int(d.cinfo.image_height);
-    h.channels = grey ? 1 : 3;
-    check(ctx, h);
-    ImageF img(h.width, h.height, h.channels, kUninitialized);  // every value is written
-    if (!decompress(d, img.data())) throw Error(where + ": cannot be decoded: " + d.err.message);
-    out = std::move(img);
+    h.nchannels = grey ? 1 : 3;
+    float* dst = accept(ctx, h);
+    if (!decompress(d, dst)) throw Error(where + ": cannot be decoded: " + d.err.message);
     return true;
 }
 

@@ -15,23 +15,16 @@
 #include <cstddef>
 #include <string>
 
-#include "core/image.h"
+#include "core/image_header.h"
 
 namespace aq {
 
-//! What decode_jpeg learned from a file's header before decoding it.
-struct JpegHeader {
-    int width = 0, height = 0, channels = 0;  //!< channels: 1 (grey) or 3 (RGB)
-};
-
-//! Called with the header before any allocation of the image: checks it (throwing aq::Error).
-using JpegHeaderCheck = void (*)(void* ctx, const JpegHeader& header);
-
-//! Decodes a grey or colour JPEG held in memory into `out` (1 or 3 channels, v x float(1/255)).
-//! Returns false, `out` untouched, for a JPEG this decoder leaves to OpenImageIO (CMYK, YCCK, other
-//! component counts). Throws aq::Error (prefixed with `where`) when libjpeg cannot read the file
-//! and whatever `check` throws.
-bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, JpegHeaderCheck check,
-                 void* ctx, ImageF& out);
+//! Decodes a grey or colour JPEG held in memory: `accept` (core/image_header.h) checks the header
+//! (1 or 3 channels) and says where the values go (v x float(1/255)). Returns false, without
+//! calling `accept`, for a JPEG this decoder leaves to OpenImageIO (CMYK, YCCK, other component
+//! counts). Throws aq::Error (prefixed with `where`) when libjpeg cannot read the file, and
+//! whatever `accept` throws.
+bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, AcceptHeader accept,
+                 void* ctx);
 
 }  // namespace aq

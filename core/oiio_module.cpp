@@ -52,13 +52,7 @@ std::string decode(const unsigned char* bytes, std::size_t size, const char* for
         return e.empty() ? std::string("cannot be opened") : e;
     }
     const OIIO::ImageSpec& spec = in->spec();
-    Header h;
-    h.width = spec.width;
-    h.height = spec.height;
-    h.depth = spec.depth;
-    h.nchannels = spec.nchannels;
-    h.deep = spec.deep;
-    float* dst = accept(ctx, h);
+    float* dst = accept(ctx, ImageHeader{spec.width, spec.height, spec.depth, spec.nchannels, spec.deep});
     const int c = std::min(spec.nchannels, 4);
     if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, dst)) {
         const std::string e = in->geterror();
@@ -108,14 +102,7 @@ OIIO::ImageBuf wrap(const float* p, int w, int h, int c) {
 CompareResult compare(const float* a, const float* b, int w, int h, int c, double t) {
     const OIIO::ImageBuf A = wrap(a, w, h, c), B = wrap(b, w, h, c);
     const auto r = OIIO::ImageBufAlgo::compare(A, B, float(t), float(t));
-    CompareResult s;
-    s.meanerror = r.meanerror;
-    s.maxerror = r.maxerror;
-    s.psnr = r.PSNR;
-    s.maxx = r.maxx;
-    s.maxy = r.maxy;
-    s.maxc = r.maxc;
-    return s;
+    return {r.meanerror, r.maxerror, r.PSNR, r.maxx, r.maxy, r.maxc};
 }
 
 std::string resize(const float* src, int w, int h, int c, int tw, int th, float* dst) {

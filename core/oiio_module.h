@@ -21,20 +21,11 @@
 #include <string>
 #include <vector>
 
+#include "core/image_header.h"
+
 namespace aq::oiio_module {
 
-inline constexpr int kOiioModuleAbi = 1;
-
-//! An opened image's header, as OpenImageIO's ImageSpec gives it.
-struct Header {
-    int width = 0, height = 0, depth = 1, nchannels = 0;
-    bool deep = false;
-};
-
-//! Called by decode() with the header before any pixel is decoded: checks it (throwing aq::Error,
-//! which passes through the module unchanged) and returns where to decode the first
-//! min(nchannels, 4) channels as float.
-using AcceptHeader = float* (*)(void* ctx, const Header& header);
+inline constexpr int kOiioModuleAbi = 2;
 
 //! One image to encode into memory in the format of `extension` (".exr", ".tif", ".png" with alpha, ...).
 struct EncodeRequest {
@@ -56,7 +47,8 @@ struct Api {
     int abi = kOiioModuleAbi;
     //! Decodes `size` bytes with OpenImageIO's reader named `format` ("png", "jpeg", "openexr",
     //! ...) only, reading through a bounded in-memory proxy (core/oiio_mem_reader.h); `fake_name`
-    //! is the name given to open(). Returns "" when decoded, else the reader's error.
+    //! is the name given to open(); `accept` (core/image_header.h) sees the header first. Returns ""
+    //! when decoded, else the reader's error.
     std::string (*decode)(const unsigned char* bytes, std::size_t size, const char* format, const char* fake_name,
                           AcceptHeader accept, void* ctx);
     //! Encodes into `out` (cleared first). Returns "" or the reason it failed.
