@@ -7,9 +7,9 @@
 // for p in {R, G, B, C}. The reference traversal does exactly that per pixel with border-resolved
 // taps. The fast traversal runs the same expression in the same order per pixel, but over rows:
 // padded row copies (H) or row pointers (V), the x loop innermost so it vectorises, oneTBB row
-// blocks, and rows whose tap window holds no positive control are written as s + 0 (what the full
-// sum yields bit for bit when every delta is zero: it only turns -0 into +0). Hence fast == reference
-// bit for bit.
+// blocks, and rows (or 256-pixel column chunks of a row) whose tap window holds no positive
+// control are written as s + 0 (what the full sum yields bit for bit when every delta is zero: it
+// only turns -0 into +0). Hence fast == reference bit for bit.
 #include "stylize/stages/bleed.h"
 
 #include <algorithm>
@@ -89,67 +89,84 @@ void pass_reference(const Planes& in, const std::vector<float>& ctrl, const std:
 }
 
 // ---- fast: rows, x innermost --------------------------------------------------------------
+// Column chunks of kChunk pixels keep the ~14 streams of a chunk in L1 while all taps run over
+// it; they are also the unit in which a pass skips pixels whose taps see no positive control.
+constexpr int kChunk = 128;
+
+inline int chunk_count(int w) { return (w + kChunk - 1) / kChunk; }
+
+//! Writes s + 0 over [x0, x1): what the taps yield when no tap bleeds (every term is +0), bit for bit.
+inline void plus_zero(const float* const* s, float* const* o, int x0, int x1) {
+    for (int p = 0; p < 4; ++p)
+        for (int x = x0; x < x1; ++x) o[p][x] = s[p][x] + 0.0f;
+}
+
 // One output row. src[p][j] / dst-tap rows are given as pointer tables indexed by tap.
 template <BleedRule R>
 inline void row_kernel(int w, const float* const* s, const float* zs_row, float* const* o, const Kernel& k,
-                       const float* const* d, const float* const* zd, int x_shift_per_tap) {
+                       const float* const* d, const float* const* zd, int x_shift_per_tap, const char* active) {
     // s[p]: source rows (p = 0..3, 3 = control); d[a][p] rows for tap a (H: the padded row with a
-    // shift, V: the tap's row); zd[a]: depth rows of the taps.
-    for (int p = 0; p < 4; ++p)
-        for (int x = 0; x < w; ++x) o[p][x] = s[p][x];
-    // Column chunks of kChunk pixels keep the ~14 streams of a chunk in L1 while all taps run
-    // over it; per pixel the taps still run in ascending order (same sums as the reference).
-    constexpr int kChunk = 256;
-    for (int xc = 0; xc < w; xc += kChunk)
-    for (int ai = 0; ai <= 2 * k.r; ++ai) {
+    // shift, V: the tap's row); zd[a]: depth rows of the taps. active[c] (null: all) is false for a
+    // chunk c none of whose taps reads a positive control: no tap bleeds there (the rules of
+    // JointBilateral and Mnpr need cs > 0 or cd > 0), so it is s + 0 without the taps.
+    for (int xc = 0; xc < w; xc += kChunk) {
         const int xe = std::min(w, xc + kChunk);
-        const float wa = k.w[ai];
-        const float sc = k.scope[ai];
-        const int off = ai * x_shift_per_tap;
-        const float* __restrict dr = d[ai * 4 + 0] + off;
-        const float* __restrict dg = d[ai * 4 + 1] + off;
-        const float* __restrict db = d[ai * 4 + 2] + off;
-        const float* __restrict dc = d[ai * 4 + 3] + off;
-        const float* __restrict dz = zd[ai] + off;
-        const float* __restrict sr = s[0];
-        const float* __restrict sg = s[1];
-        const float* __restrict sb = s[2];
-        const float* __restrict scs = s[3];
-        const float* __restrict zsr = zs_row;
-        float* __restrict o0 = o[0];
-        float* __restrict o1 = o[1];
-        float* __restrict o2 = o[2];
-        float* __restrict o3 = o[3];
-        const float t = k.t;
-        // 8 pixels at a time with GCC vector extensions (lane-wise IEEE ops: the values of the
-        // scalar expression below), then a scalar tail. The difference is computed unconditionally
-        // and selected by the rule mask (bits of +0 where no bleeding), like (b ? d - s : 0).
-        int x = xc;
-        const v8f vt = v8f{} + t, vsc = v8f{} + sc, vwa = v8f{} + wa, vzero = v8f{};
-        for (; x + 8 <= xe; x += 8) {
-            const v8f cs = load8(scs + x), cd = load8(dc + x);
-            v8i b;
-            if constexpr (R == BleedRule::Naive) {
-                b = v8i{} - 1;
-            } else {
-                const v8i behind = (load8(zsr + x) - vt) > load8(dz + x);
-                b = ((cd > vzero) & behind) | ((cs > vzero) & ~behind);
-                if constexpr (R == BleedRule::Mnpr) b &= (cd >= vsc) | (cs >= vsc);
-            }
-            const v8f d0 = load8(dr + x) - load8(sr + x), d1 = load8(dg + x) - load8(sg + x);
-            const v8f d2 = load8(db + x) - load8(sb + x), d3 = cd - cs;
-            store8(o0 + x, load8(o0 + x) + vwa * (v8f)((v8i)d0 & b));
-            store8(o1 + x, load8(o1 + x) + vwa * (v8f)((v8i)d1 & b));
-            store8(o2 + x, load8(o2 + x) + vwa * (v8f)((v8i)d2 & b));
-            if constexpr (R != BleedRule::Naive) store8(o3 + x, load8(o3 + x) + vwa * (v8f)((v8i)d3 & b));
+        if (R != BleedRule::Naive && active && !active[xc / kChunk]) {
+            plus_zero(s, o, xc, xe);
+            continue;
         }
-        for (; x < xe; ++x) {
-            const bool b = bleeds<R>(scs[x], dc[x], zsr[x], dz[x], t, sc);
-            const float d0 = dr[x] - sr[x], d1 = dg[x] - sg[x], d2 = db[x] - sb[x], d3 = dc[x] - scs[x];
-            o0[x] = o0[x] + wa * (b ? d0 : 0.0f);
-            o1[x] = o1[x] + wa * (b ? d1 : 0.0f);
-            o2[x] = o2[x] + wa * (b ? d2 : 0.0f);
-            if constexpr (R != BleedRule::Naive) o3[x] = o3[x] + wa * (b ? d3 : 0.0f);
+        for (int p = 0; p < 4; ++p)
+            for (int x = xc; x < xe; ++x) o[p][x] = s[p][x];
+        // Per pixel the taps run in ascending order (same sums as the reference).
+        for (int ai = 0; ai <= 2 * k.r; ++ai) {
+            const float wa = k.w[ai];
+            const float sc = k.scope[ai];
+            const int off = ai * x_shift_per_tap;
+            const float* __restrict dr = d[ai * 4 + 0] + off;
+            const float* __restrict dg = d[ai * 4 + 1] + off;
+            const float* __restrict db = d[ai * 4 + 2] + off;
+            const float* __restrict dc = d[ai * 4 + 3] + off;
+            const float* __restrict dz = zd[ai] + off;
+            const float* __restrict sr = s[0];
+            const float* __restrict sg = s[1];
+            const float* __restrict sb = s[2];
+            const float* __restrict scs = s[3];
+            const float* __restrict zsr = zs_row;
+            float* __restrict o0 = o[0];
+            float* __restrict o1 = o[1];
+            float* __restrict o2 = o[2];
+            float* __restrict o3 = o[3];
+            const float t = k.t;
+            // 8 pixels at a time with GCC vector extensions (lane-wise IEEE ops: the values of the
+            // scalar expression below), then a scalar tail. The difference is computed unconditionally
+            // and selected by the rule mask (bits of +0 where no bleeding), like (b ? d - s : 0).
+            int x = xc;
+            const v8f vt = v8f{} + t, vsc = v8f{} + sc, vwa = v8f{} + wa, vzero = v8f{};
+            for (; x + 8 <= xe; x += 8) {
+                const v8f cs = load8(scs + x), cd = load8(dc + x);
+                v8i b;
+                if constexpr (R == BleedRule::Naive) {
+                    b = v8i{} - 1;
+                } else {
+                    const v8i behind = (load8(zsr + x) - vt) > load8(dz + x);
+                    b = ((cd > vzero) & behind) | ((cs > vzero) & ~behind);
+                    if constexpr (R == BleedRule::Mnpr) b &= (cd >= vsc) | (cs >= vsc);
+                }
+                const v8f d0 = load8(dr + x) - load8(sr + x), d1 = load8(dg + x) - load8(sg + x);
+                const v8f d2 = load8(db + x) - load8(sb + x), d3 = cd - cs;
+                store8(o0 + x, load8(o0 + x) + vwa * (v8f)((v8i)d0 & b));
+                store8(o1 + x, load8(o1 + x) + vwa * (v8f)((v8i)d1 & b));
+                store8(o2 + x, load8(o2 + x) + vwa * (v8f)((v8i)d2 & b));
+                if constexpr (R != BleedRule::Naive) store8(o3 + x, load8(o3 + x) + vwa * (v8f)((v8i)d3 & b));
+            }
+            for (; x < xe; ++x) {
+                const bool b = bleeds<R>(scs[x], dc[x], zsr[x], dz[x], t, sc);
+                const float d0 = dr[x] - sr[x], d1 = dg[x] - sg[x], d2 = db[x] - sb[x], d3 = dc[x] - scs[x];
+                o0[x] = o0[x] + wa * (b ? d0 : 0.0f);
+                o1[x] = o1[x] + wa * (b ? d1 : 0.0f);
+                o2[x] = o2[x] + wa * (b ? d2 : 0.0f);
+                if constexpr (R != BleedRule::Naive) o3[x] = o3[x] + wa * (b ? d3 : 0.0f);
+            }
         }
     }
 }
@@ -165,22 +182,39 @@ void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::ve
                  const Kernel& k, Border border, const Exec& ex) {
     const int w = in.w, h = in.h, r = k.r;
     const std::vector<int> xt = toolkit::border_table(w, r, border);
-    const int pw = w + 2 * r;
+    const int pw = w + 2 * r, nch = chunk_count(w);
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<float> pad(std::size_t(pw) * 5);
+        std::vector<char> active(std::size_t(nch), 1);
         for (int y = y0; y < y1; ++y) {
             const std::size_t row = std::size_t(y) * w;
             const float* src[4] = {in.p[0].data() + row, in.p[1].data() + row, in.p[2].data() + row, ctrl.data() + row};
             float* o[4] = {out.p[0].data() + row, out.p[1].data() + row, out.p[2].data() + row, out.p[3].data() + row};
             const float* zr = z.data() + row;
             const float* rows5[5] = {src[0], src[1], src[2], src[3], zr};
-            for (int q = 0; q < 5; ++q) {
-                float* pq = pad.data() + std::size_t(q) * pw;
-                for (int i = 0; i < pw; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
+            // The padded control holds values of this row only (clamp or mirror): without a
+            // positive one no tap bleeds and the row is s + 0, unpadded.
+            if (R != BleedRule::Naive && !any_positive(src[3], w)) {
+                plus_zero(src, o, 0, w);
+                continue;
             }
-            if (R != BleedRule::Naive && !any_positive(pad.data() + 3 * std::size_t(pw), pw)) {
-                for (int p = 0; p < 4; ++p)
-                    for (int x = 0; x < w; ++x) o[p][x] = src[p][x] + 0.0f;
+            for (int q = 0; q < 5; ++q) {  // the row itself, then the 2r border texels by the table
+                float* pq = pad.data() + std::size_t(q) * pw;
+                std::memcpy(pq + r, rows5[q], std::size_t(w) * sizeof(float));
+                for (int i = 0; i < r; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
+                for (int i = r + w; i < pw; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
+            }
+            // Chunk c's taps read the padded control over [xc, xe - 1 + 2r].
+            const float* pc = pad.data() + 3 * std::size_t(pw);
+            bool any = R == BleedRule::Naive;
+            if (R != BleedRule::Naive)
+                for (int c = 0; c < nch; ++c) {
+                    const int xc = c * kChunk, xe = std::min(w, xc + kChunk);
+                    active[std::size_t(c)] = any_positive(pc + xc, xe - xc + 2 * r);
+                    any = any || active[std::size_t(c)];
+                }
+            if (!any) {
+                plus_zero(src, o, 0, w);
                 continue;
             }
             // Tap a reads padded index x + a + r: pointer base pad_q + 0, shifted by ai per tap.
@@ -190,7 +224,7 @@ void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::ve
                 for (int q = 0; q < 4; ++q) d[std::size_t(ai) * 4 + q] = pad.data() + std::size_t(q) * pw;
                 zd[std::size_t(ai)] = pad.data() + 4 * std::size_t(pw);
             }
-            row_kernel<R>(w, src, zr, o, k, d.data(), zd.data(), 1);
+            row_kernel<R>(w, src, zr, o, k, d.data(), zd.data(), 1, active.data());
             if (R == BleedRule::Naive)
                 for (int x = 0; x < w; ++x) o[3][x] = src[3][x];
         }
@@ -202,20 +236,35 @@ void pass_fast_v(const Planes& in, const std::vector<float>& ctrl, const std::ve
                  const Kernel& k, Border border, const Exec& ex) {
     const int w = in.w, h = in.h, r = k.r;
     const std::vector<int> yt = toolkit::border_table(h, r, border);
-    std::vector<char> row_pos(std::size_t(h), 0);
+    // pos[y * nch + c]: chunk c of control row y holds a positive value. A chunk of an output row
+    // is active when that of any of its tap rows is (the taps read the same columns).
+    const int nch = chunk_count(w);
+    std::vector<char> pos(R != BleedRule::Naive ? std::size_t(h) * nch : 0, 0);
     if (R != BleedRule::Naive)
-        for (int y = 0; y < h; ++y) row_pos[std::size_t(y)] = any_positive(ctrl.data() + std::size_t(y) * w, w);
+        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
+            for (int y = y0; y < y1; ++y)
+                for (int c = 0; c < nch; ++c) {
+                    const int xc = c * kChunk, xe = std::min(w, xc + kChunk);
+                    pos[std::size_t(y) * nch + c] = any_positive(ctrl.data() + std::size_t(y) * w + xc, xe - xc);
+                }
+        });
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<const float*> d(std::size_t(2 * r + 1) * 4);
         std::vector<const float*> zd(std::size_t(2 * r + 1));
+        std::vector<char> active(std::size_t(nch), 0);
         for (int y = y0; y < y1; ++y) {
             const std::size_t row = std::size_t(y) * w;
             const float* src[4] = {in.p[0].data() + row, in.p[1].data() + row, in.p[2].data() + row, ctrl.data() + row};
             float* o[4] = {out.p[0].data() + row, out.p[1].data() + row, out.p[2].data() + row, out.p[3].data() + row};
             bool any = R == BleedRule::Naive;
+            std::fill(active.begin(), active.end(), char(0));
             for (int ai = 0; ai <= 2 * r; ++ai) {
-                const std::size_t trow = std::size_t(yt[std::size_t(y + ai)]) * w;
-                any = any || row_pos[std::size_t(yt[std::size_t(y + ai)])];
+                const std::size_t ty = std::size_t(yt[std::size_t(y + ai)]), trow = ty * w;
+                if (R != BleedRule::Naive)
+                    for (int c = 0; c < nch; ++c) {
+                        active[std::size_t(c)] |= pos[ty * nch + c];
+                        any = any || active[std::size_t(c)];
+                    }
                 d[std::size_t(ai) * 4 + 0] = in.p[0].data() + trow;
                 d[std::size_t(ai) * 4 + 1] = in.p[1].data() + trow;
                 d[std::size_t(ai) * 4 + 2] = in.p[2].data() + trow;
@@ -223,11 +272,10 @@ void pass_fast_v(const Planes& in, const std::vector<float>& ctrl, const std::ve
                 zd[std::size_t(ai)] = z.data() + trow;
             }
             if (!any) {
-                for (int p = 0; p < 4; ++p)
-                    for (int x = 0; x < w; ++x) o[p][x] = src[p][x] + 0.0f;
+                plus_zero(src, o, 0, w);
                 continue;
             }
-            row_kernel<R>(w, src, z.data() + row, o, k, d.data(), zd.data(), 0);
+            row_kernel<R>(w, src, z.data() + row, o, k, d.data(), zd.data(), 0, active.data());
             if (R == BleedRule::Naive)
                 for (int x = 0; x < w; ++x) o[3][x] = src[3][x];
         }

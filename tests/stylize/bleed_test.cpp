@@ -178,6 +178,36 @@ TEST(Bleed, FastEqualsReferenceOnLargerImagesAndConcurrentCallers) {
         }
 }
 
+// The fast passes skip 256-pixel column chunks whose taps read no positive control (written as
+// s + 0). Bleeding control (1: MNPR's outermost tap needs it) only in single columns exactly at
+// the reach of a chunk (its first tap on the left, its last on the right) and in one short row
+// (the vertical pass's reach), with -0, NaN and infinite colours in the skipped parts: the fast
+// traversal must still equal the reference bit for bit (fails when a reach is one pixel short).
+TEST(Bleed, FastSkipsColumnChunksWithoutControlExactly) {
+    const int w = 1100, h = 90;
+    Scene s(w, h);
+    const int r = full_res().radius;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool band = x == 256 - r ||                      // chunk 1's first tap only (x 256, a = -r)
+                              x == 767 + r ||                          // chunk 2's last tap only (x 767, a = r)
+                              (x >= 1030 && x < 1034 && y == 40);      // one row: the V pass's reach
+            const float c = x % 97 == 5 ? -0.0f : 0.2f + 0.001f * float((x * 13 + y * 7) % 500);
+            s.set(x, y, {c, x % 211 == 17 ? std::nanf("") : 0.5f, x % 307 == 1 ? INFINITY : 0.25f},
+                  0.3f + 0.002f * float((x + 3 * y) % 100), band ? 1.0f : (x % 5 == 0 ? -0.5f : 0.0f));
+        }
+    for (BleedRule rule : {BleedRule::JointBilateral, BleedRule::Mnpr})
+        for (bool half : {false, true}) {
+            BleedParams p = full_res();
+            p.half_res = half;
+            ImageF ref, fast;
+            bleed(ref, s.color, s.depth, s.ctrl, rule, p, Exec::reference());
+            bleed(fast, s.color, s.depth, s.ctrl, rule, p, Exec{2, Traversal::Fast, 8});
+            ASSERT_TRUE(ref.same_size(fast));
+            EXPECT_EQ(std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)), 0) << int(rule) << half;
+        }
+}
+
 TEST(BleedBlend, UpsamplesAHalfResolutionBleedAndRejectsOtherSizes) {
     ImageF c(9, 7, 4, 0.25f), b(5, 4, 4, 0.75f), o;
     for (std::size_t i = 3; i < b.num_values(); i += 4) b.data()[i] = 1.0f;  // mask 1
