@@ -21,6 +21,48 @@ using namespace toolkit;
 
 namespace {
 
+//! The number of pixels, at most n, from flat index i0 in direction dir (+1 or -1) whose colour (4
+//! floats) and depth bits equal those of pixel i0 (memcmp's equality): two colours or eight depths
+//! per compare of their bits, then pixel by pixel where the run ends.
+int equal_run(const float* cd, const float* zd, int zc, std::size_t i0, int n, int dir) {
+    std::uint32_t c0[4], z0;
+    std::memcpy(c0, cd + 4 * i0, sizeof c0);
+    std::memcpy(&z0, zd + std::size_t(zc) * i0, sizeof z0);
+    const v8i cpat{int(c0[0]), int(c0[1]), int(c0[2]), int(c0[3]), int(c0[0]), int(c0[1]), int(c0[2]), int(c0[3])};
+    const v8i zpat = v8i{} + int(z0);
+    auto all_equal = [](v8i v, v8i pat) {
+        const v8i x = v ^ pat;
+        long long q[4];
+        std::memcpy(q, &x, sizeof q);
+        return (q[0] | q[1] | q[2] | q[3]) == 0;
+    };
+    int k = 0;  // pixels i0 + dir * [0, k) are known equal
+    // Colour: pixels i0 + dir*k and i0 + dir*(k + 1) in one register (lowest address first).
+    while (k + 2 <= n) {
+        const std::size_t lo = dir > 0 ? i0 + std::size_t(k) : i0 - std::size_t(k) - 1;
+        v8i v;
+        std::memcpy(&v, cd + 4 * lo, sizeof v);
+        if (!all_equal(v, cpat)) break;
+        k += 2;
+    }
+    // Depth, eight at a time within the colour run: pixels [0, kz) equal in both.
+    int kz = 0;
+    if (zc == 1)
+        while (kz + 8 <= k) {
+            const std::size_t lo = dir > 0 ? i0 + std::size_t(kz) : i0 - std::size_t(kz) - 7;
+            v8i v;
+            std::memcpy(&v, zd + lo, sizeof v);
+            if (!all_equal(v, zpat)) break;
+            kz += 8;
+        }
+    for (k = kz; k < n; ++k) {
+        const std::size_t i = dir > 0 ? i0 + std::size_t(k) : i0 - std::size_t(k);
+        if (std::memcmp(cd + 4 * i, c0, sizeof c0) != 0 || std::memcmp(zd + std::size_t(zc) * i, &z0, sizeof z0) != 0)
+            break;
+    }
+    return k;
+}
+
 //! Per row y: pixels x < lead[y] and x > trail[y] are flat margins (see substrate_distort).
 struct FlatMargins {
     std::vector<int> lead, trail;
@@ -48,13 +90,8 @@ FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const Substra
     for_each_row_block(ex, h, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             const std::size_t first = std::size_t(y) * w, last = first + w - 1;
-            int l = 0, t = 0;
-            if (finite(y, 0))
-                while (l < w && same(first + l, first)) ++l;
-            if (finite(y, w - 1))
-                while (t < w && same(last - t, last)) ++t;
-            run_l[std::size_t(y)] = l;
-            run_t[std::size_t(y)] = t;
+            run_l[std::size_t(y)] = finite(y, 0) ? equal_run(cd, zd, zc, first, w, +1) : 0;
+            run_t[std::size_t(y)] = finite(y, w - 1) ? equal_run(cd, zd, zc, last, w, -1) : 0;
         }
     });
     // Reach of the taps: |offset| <= 5 * distortion pixels, the bilinear footprint one more, and
