@@ -5,6 +5,7 @@
 #include "stylize/stages/edge_detect.h"
 
 #include <cmath>
+#include <cstring>
 #ifdef __AVX__
 #include <immintrin.h>
 #endif
@@ -86,13 +87,21 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             float* pg = plane(slot, 1);
             float* pb = plane(slot, 2);
             float* pz = plane(slot, 3);
-            for (std::size_t i = 0; i < pw; ++i) {
-                const std::size_t si = srow + std::size_t(xt[i]);
+            auto put = [&](std::size_t i, std::size_t si) {
                 pr[i] = cd[4 * si];
                 pg[i] = cd[4 * si + 1];
                 pb[i] = cd[4 * si + 2];
                 pz[i] = zd[si];
+            };
+            put(0, srow + std::size_t(xt[0]));  // the border texels by the table, the row itself in order
+            const float* __restrict c4 = cd + 4 * srow;
+            for (std::size_t i = 0; i < std::size_t(w); ++i) {
+                pr[i + 1] = c4[4 * i];
+                pg[i + 1] = c4[4 * i + 1];
+                pb[i + 1] = c4[4 * i + 2];
             }
+            std::memcpy(pz + 1, zd + srow, std::size_t(w) * sizeof(float));
+            put(pw - 1, srow + std::size_t(xt[pw - 1]));
         };
         int slot[3] = {0, 1, 2};  // slots of rows y - 1, y, y + 1
         for (int y = y0; y < y1; ++y) {
