@@ -30,11 +30,14 @@ void pass_reference(ImageF& dst, const ImageF& src, const std::vector<float>& w,
             }
 }
 
-// Rows of zeros blur to rows of +0 for weights >= 0 (acc = e0 + Σ w·(0 − e0) = ±0 + 0 = +0 for
-// e0 = ±0; a negative weight could keep −0): with such weights a row whose
-// every tap row is zero (±0) is written as +0 without its taps (the layers' intensity maps are
-// zero around the plant). zero[y] (horizontal pass) records the rows it wrote that way, for the
-// vertical pass; a conservative record (computed rows are not marked) keeps the bytes.
+// Zeros blur to +0 for weights >= 0 (acc = e0 + Σ w·(0 − e0) = ±0 + 0 = +0 for e0 = ±0; a
+// negative weight could keep −0): with such weights a row, or a column chunk of kChunk pixels of
+// a row, whose every tap is zero (±0) is written as +0 without its taps (the layers' intensity
+// maps are zero around the plant, the edges around a model). zero[y * chunks + c] (horizontal
+// pass) records the chunks it wrote that way, for the vertical pass; a conservative record
+// (computed chunks are not marked) keeps the bytes.
+constexpr int kChunk = 64;
+
 void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Border b, bool horizontal,
                const Exec& ex, std::vector<std::uint8_t>& zero) {
     const int W = src.width(), H = src.height(), C = src.channels();
@@ -43,9 +46,11 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
     const float* s = src.data();
     float* o = dst.data();
     const std::size_t n = std::size_t(W) * C;
+    const int nch = (W + kChunk - 1) / kChunk;
+    auto chunk_end = [&](int c) { return std::min(W, (c + 1) * kChunk); };
     if (horizontal) {
         const std::vector<int> xt = toolkit::border_table(W, r, b);
-        zero.assign(std::size_t(H), 0);
+        zero.assign(std::size_t(H) * nch, 0);
         const bool skip_zero_rows = std::all_of(w.begin(), w.end(), [](float v) { return v >= 0.0f && v <= 1e30f; });
         toolkit::for_each_row_block(ex, H, [&](int y0, int y1) {
             std::vector<float> pad(std::size_t(W + 2 * r) * C);
@@ -53,15 +58,27 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
             for (int y = y0; y < y1; ++y) {
                 const float* sr = s + std::size_t(y) * n;
                 float* orow = o + std::size_t(y) * n;
+                std::uint8_t* zr = zero.data() + std::size_t(y) * nch;
                 if (skip_zero_rows && toolkit::all_within(sr, n, 0.0f)) {
                     std::fill_n(orow, n, 0.0f);
-                    zero[std::size_t(y)] = 1;
+                    std::fill_n(zr, nch, std::uint8_t(1));
                     continue;
                 }
-                for (int i = 0; i < W + 2 * r; ++i)
+                // The row itself, then its 2r border texels by the table.
+                std::copy_n(sr, n, pad.data() + std::size_t(r) * C);
+                for (int i = 0; i < W + 2 * r; i += (i == r - 1 ? W + 1 : 1))
                     for (int c = 0; c < C; ++c) pad[std::size_t(i) * C + c] = sr[std::size_t(xt[std::size_t(i)]) * C + c];
-                for (int ai = 0; ai <= 2 * r; ++ai) dp[std::size_t(ai)] = pad.data() + std::size_t(ai) * C;
-                accumulate_taps(orow, sr, dp.data(), w.data(), 2 * r + 1, n);
+                for (int k = 0; k < nch; ++k) {
+                    const std::size_t x0 = std::size_t(k) * kChunk, x1 = std::size_t(chunk_end(k));
+                    // Chunk k's taps read padded texels [x0, x1 + 2r).
+                    if (skip_zero_rows && toolkit::all_within(pad.data() + x0 * C, (x1 - x0 + 2 * std::size_t(r)) * C, 0.0f)) {
+                        std::fill(orow + x0 * C, orow + x1 * C, 0.0f);
+                        zr[k] = 1;
+                        continue;
+                    }
+                    for (int ai = 0; ai <= 2 * r; ++ai) dp[std::size_t(ai)] = pad.data() + (x0 + std::size_t(ai)) * C;
+                    accumulate_taps(orow + x0 * C, sr + x0 * C, dp.data(), w.data(), 2 * r + 1, (x1 - x0) * C);
+                }
             }
         });
     } else {
@@ -71,14 +88,19 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
             for (int y = y0; y < y1; ++y) {
                 const float* sr = s + std::size_t(y) * n;
                 float* orow = o + std::size_t(y) * n;
-                bool all_zero = true;
-                for (int ai = 0; ai <= 2 * r && all_zero; ++ai) all_zero = zero[std::size_t(yt[std::size_t(y + ai)])] != 0;
-                if (all_zero) {
-                    std::fill_n(orow, n, 0.0f);
-                    continue;
+                for (int k = 0; k < nch; ++k) {
+                    const std::size_t x0 = std::size_t(k) * kChunk, x1 = std::size_t(chunk_end(k));
+                    bool all_zero = true;
+                    for (int ai = 0; ai <= 2 * r && all_zero; ++ai)
+                        all_zero = zero[std::size_t(yt[std::size_t(y + ai)]) * nch + k] != 0;
+                    if (all_zero) {
+                        std::fill(orow + x0 * C, orow + x1 * C, 0.0f);
+                        continue;
+                    }
+                    for (int ai = 0; ai <= 2 * r; ++ai)
+                        dp[std::size_t(ai)] = s + std::size_t(yt[std::size_t(y + ai)]) * n + x0 * C;
+                    accumulate_taps(orow + x0 * C, sr + x0 * C, dp.data(), w.data(), 2 * r + 1, (x1 - x0) * C);
                 }
-                for (int ai = 0; ai <= 2 * r; ++ai) dp[std::size_t(ai)] = s + std::size_t(yt[std::size_t(y + ai)]) * n;
-                accumulate_taps(orow, sr, dp.data(), w.data(), 2 * r + 1, n);
             }
         });
     }

@@ -88,5 +88,35 @@ TEST(SeparableBlur, ZeroRowsSkippedByTheFastPassesKeepTheBytes) {
     }
 }
 
+// The same within rows: 64-pixel column chunks whose every tap is zero are written as +0. Single
+// values exactly at the reach of a chunk (its first pixel's leftmost tap, its last pixel's
+// rightmost tap), one value whose rows reach a chunk vertically, -0, NaN and a tiny value in other
+// chunks, 1 and 3 channels, both borders: the plain loop's bytes (fails when a reach is one short).
+TEST(SeparableBlur, ZeroColumnChunksSkippedByTheFastPassesKeepTheBytes) {
+    for (int C : {1, 3}) {
+        const int W = 300, H = 40, r = 6;
+        ImageF img(W, H, C, 0.0f);
+        for (int y = 0; y < H; ++y) {
+            img.at(64 - r, y, 0) = 0.5f;           // chunk 1's first tap (x 64, a = -r)
+            img.at(191 + r, y, C - 1) = 0.25f;     // chunk 2's last tap (x 191, a = r)
+            img.at(280 + y % 3, y, 0) = -0.0f;     // -0 in chunk 4
+        }
+        img.at(270, 20, 0) = 1.0f;                 // rows 20 - r .. 20 + r of chunk 4
+        img.at(10, 5, 0) = std::numeric_limits<float>::quiet_NaN();
+        img.at(230, 33, 0) = 1e-30f;
+        for (Border b : {Border::Clamp, Border::Mirror}) {
+            const std::vector<float> w = gaussian_weights(r, 2.5f);
+            ImageF ref, fast;
+            separable_blur(ref, img, w, b, Exec::reference());
+            separable_blur(fast, img, w, b, Exec::fast(2));
+            ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)))
+                << C << " channels, border " << int(b);
+            EXPECT_GT(ref.at(64, 3, 0), 0.0f);     // the reaches do reach
+            EXPECT_GT(ref.at(191, 3, C - 1), 0.0f);
+            EXPECT_GT(ref.at(270, 20 + r, 0), 0.0f);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace aq::stylize
