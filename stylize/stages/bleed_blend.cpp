@@ -14,6 +14,7 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
     toolkit::check_input(&bleed, 4, toolkit::Channels::Exactly, "bleed_blend", "bleed");
     const int w = color.width(), h = color.height();
     toolkit::check_full_or_half(bleed, color, "bleed_blend", "bleed", "color");
+    toolkit::check_not_alias(dst, &bleed, "bleed_blend", "bleed");  // dst may be color (in place)
     toolkit::ensure_output(dst, w, h, 4);
     const float* I = color.data();
     float* o = dst.data();
@@ -64,6 +65,8 @@ void register_bleed_blend(Registry& r) {
     v.doc = "WC17 eq. 7: I_cb = k (B - I) + I, k = sat(gain * mask); half-res bleeds upsampled bilinearly";
     v.inputs = {{"color", "color.density", 4, false}, {"bleed", "bleed", 4, false}};
     v.outputs = {{"color", "color.bled", 4, false}};
+    v.in_place_input = "color";  // pointwise in the colour (the bleed is another image)
+    v.in_place_output = "color";
     v.params = t.descs();
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         bleed_blend(*io.out[0], *io.in[0], *io.in[1], t.from(pv), ex);

@@ -83,10 +83,12 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
             throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
         check_full_or_half(*bleed, color, st, "bleed", "color");
     }
-    check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &edges, st, "edges");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
+    // In place (dst is color: StageVariant::in_place_input): a pixel reads only its own colour,
+    // before its output is written, and unchanged pixels are not written at all.
+    const bool in_place = &dst == &color;
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     const View<const glm::vec4> c = color.view<glm::vec4>();
@@ -122,7 +124,8 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 any_edge |= ev[i] != 0.0f;
             }
             if (!any_edge) {
-                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
+                if (!in_place)
+                    for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
                 continue;
             }
             for (int i = 0; i < n; ++i) {
@@ -144,7 +147,8 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 dexp[3 * k] = dexp[3 * k + 1] = dexp[3 * k + 2] = d[i];
             }
             for (int j = 0; j < 3 * m; ++j) r[j] = pow_c(base[j], dexp[j]);
-            for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
+            if (!in_place)
+                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
             for (int k = 0; k < m; ++k) {
                 const int i = idx[k];
                 o(xs + i, y) = glm::vec4(r[3 * k], r[3 * k + 1], r[3 * k + 2], c(xs + i, y).w);
@@ -189,6 +193,8 @@ void register_edge_darken(Registry& r) {
                     {"ctrl_edge", target::kCtrlEdge, 4, false},
                     {"bleed", "bleed", 4, true}};
         v.outputs = {{"color", "color.darkened", 4, false}};
+        v.in_place_input = "color";  // the background (no edges) is left as it is
+        v.in_place_output = "color";
         v.params = tr.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,

@@ -21,13 +21,14 @@ struct Inputs {
     Plane ctrl, height;
 };
 
-Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper, 
-             const std::string& st) {
+//! in_place: dst may be color (a pointwise schedule that reads a pixel's colour before writing it).
+Inputs check(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
+             const std::string& st, bool in_place = false) {
     check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&ctrl_pigment, 2, Channels::AtLeast, st, "ctrl_pigment");
     check_same_size(ctrl_pigment, color, st, "ctrl_pigment", "color");
     check_paper(paper, color, st, "color");
-    check_not_alias(dst, &color, st, "color");
+    if (!in_place) check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &ctrl_pigment, st, "ctrl_pigment");
     check_not_alias(dst, paper, st, "paper");
     ensure_output(dst, color.width(), color.height(), 4);
@@ -73,7 +74,9 @@ void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
 
 void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, const ImageF* paper,
                         glm::vec3 substrate, const PigmentApplyWc18Params& p,  const Exec& ex) {
-    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18");
+    // In place (dst is color: StageVariant::in_place_input): uncovered pixels are not written.
+    const bool in_place = &dst == &color;
+    const Inputs in = check(dst, color, ctrl_pigment, paper, "pigment_apply/wc18", true);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 1-4 pixel by pixel
         plain_loop(color.width(), color.height(), [&](int x, int y) {
@@ -101,7 +104,8 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                 any_covered |= ca[i] >= kPigmentAlphaMask;
             }
             if (!any_covered) {  // every pixel uncovered (mode 0 below): the colour as it is
-                for (int i = 0; i < n; ++i) o(xs + i, y) = glm::vec4(cr[i], cg[i], cb[i], ca[i]);
+                if (!in_place)
+                    for (int i = 0; i < n; ++i) o(xs + i, y) = glm::vec4(cr[i], cg[i], cb[i], ca[i]);
                 continue;
             }
             for (int i = 0; i < n; ++i) {
@@ -170,6 +174,8 @@ void register_pigment_apply(Registry& r) {
         v.doc = "WC18 eq. 1-4: dry-brush where the paper is below -ctrl.pigment.g, else granulation C^(d_a)";
         v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
         v.outputs = {{"color", "color.pigment", 4, false}};
+        v.in_place_input = "color";  // uncovered pixels (the background) are left as they are
+        v.in_place_output = "color";
         v.params = t18.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             const Globals& g = globals_of(io);

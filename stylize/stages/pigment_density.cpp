@@ -19,6 +19,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "pigment_density", "color");
     toolkit::check_input(&ctrl, 4, toolkit::Channels::Exactly, "pigment_density", "ctrl_pigment");
     toolkit::check_same_size(ctrl, color, "pigment_density", "ctrl_pigment", "color");
+    toolkit::check_not_alias(dst, &ctrl, "pigment_density", "ctrl_pigment");  // dst may be color (in place)
     const int w = color.width(), h = color.height();
     toolkit::ensure_output(dst, w, h, 4);
     const float* c = color.data();
@@ -72,6 +73,8 @@ void register_pigment_density(Registry& r) {
     v.doc = "WC18/MNPR image-space turbulence: d = 1 + ctrl.pigment.b, c' = |c|^d, mix(substrate, c', sat(d))";
     v.inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
     v.outputs = {{"color", "color.density", 4, false}};
+    v.in_place_input = "color";  // pointwise: each chunk's colour is read before it is written
+    v.in_place_output = "color";
     v.params = t.descs();
     v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         pigment_density(*io.out[0], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);

@@ -40,8 +40,7 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
     const std::string st = squared ? "substrate_light/mnpr" : "substrate_light/wc18";
     check_input(&color, 4, Channels::Exactly, st, "color");
     check_paper(paper, color, st, "color");
-    check_not_alias(dst, &color, st, "color");
-    check_not_alias(dst, paper, st, "paper");
+    check_not_alias(dst, paper, st, "paper");  // dst may be color: a pixel is read before it is written
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     const glm::vec3 l = substrate_light_dir(p);
@@ -74,6 +73,8 @@ void register_substrate_light(Registry& r) {
                         : "WC18 eq. 5: C * (1 - (1 - L.(rN)) ds), MNPR light (180 deg, tilt 45, ds 0.5)";
         v.inputs = {{"color", target::kColor, 4, false}};
         v.outputs = {{"color", "color.lit", 4, false}};
+        v.in_place_input = "color";  // pointwise: no second full-frame image (and its first touch)
+        v.in_place_output = "color";
         v.params = tl.descs();
         v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
             substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);

@@ -181,8 +181,8 @@ TEST(EdgeDarken, ChecksInputsAndNeverWritesThem) {
         EXPECT_NE(std::string(e.what()).find("'edges'"), std::string::npos) << e.what();
     }
     EXPECT_THROW(edge_darken_rgbd(out, ImageF(8, 8, 3), ImageF(8, 8, 1), ctrl, nullptr, kWhite, {}), Error);
-    ImageF alias = color;
-    EXPECT_THROW(edge_darken_rgbd(alias, alias, ImageF(8, 8, 1), ctrl, nullptr, kWhite, {}), Error);
+    ImageF alias(8, 8, 1, 0.0f);  // the output may be the colour (in place), never another input
+    EXPECT_THROW(edge_darken_rgbd(alias, color, alias, ctrl, nullptr, kWhite, {}), Error);
     EdgeDarkenDogParams bad;
     bad.smooth_low = bad.smooth_high = 0.2f;
     EXPECT_THROW(edge_darken_dog(out, color, color, ctrl, bad), Error);

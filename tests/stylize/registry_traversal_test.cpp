@@ -103,6 +103,45 @@ TEST_P(EveryVariant, FastEqualsReference) {
     }
 }
 
+// A variant that declares an in-place port pair (StageVariant::in_place_input) must give, handed
+// one image as that input and its output, the bytes of its run on separate images: clean,
+// poisoned (NaN, +-Inf) and background-like inputs (every input zero, -0 in the colour, on the
+// left 40 columns: the chunks a stage leaves unwritten in place), every traversal.
+TEST_P(EveryVariant, InPlaceGivesTheBytesOfSeparateImages) {
+    const StageVariant& v = variant_by_key(GetParam());
+    if (v.in_place_input.empty()) return;  // not an in-place variant: nothing to check
+    std::size_t k_in = 0, k_out = 0;
+    while (v.inputs[k_in].name != v.in_place_input) ++k_in;
+    while (v.outputs[k_out].name != v.in_place_output) ++k_out;
+    for (int mode = 0; mode < 3; ++mode) {
+        VariantRun run(v, mode == 1);
+        if (mode == 2)
+            for (std::size_t k = 0; k < run.inputs.size(); ++k) {
+                ImageF& img = run.inputs[k];
+                for (int y = 0; y < img.height(); ++y)
+                    for (int x = 0; x < std::min(40, img.width()); ++x)
+                        for (int c = 0; c < img.channels(); ++c)
+                            img.at(x, y, c) = k == k_in && c < 3 && (x + y) % 3 == 0 ? -0.0f : 0.0f;
+            }
+        for (const ParamValues& pv : param_sets(v))
+            for (const Exec& ex : {Exec::reference(), Exec{1, Traversal::Fast, 16}, Exec{2, Traversal::Fast, 16}}) {
+                const auto separate = run.exec(v, pv, ex);
+                StageIO io;
+                io.globals = &run.g;
+                for (auto& i : run.inputs) io.in.push_back(&i);
+                std::vector<ImageF> outs(v.outputs.size());
+                outs[k_out] = run.inputs[k_in];  // the input's copy becomes the output
+                io.in[k_in] = &outs[k_out];
+                for (auto& o : outs) io.out.push_back(&o);
+                v.run(io, pv, ex);
+                for (std::size_t k = 0; k < outs.size(); ++k)
+                    EXPECT_EQ(0, std::memcmp(separate[k].data(), outs[k].data(), separate[k].num_values() * sizeof(float)))
+                        << v.key() << " output '" << v.outputs[k].name << "' in place differs (inputs " << mode
+                        << ", traversal " << int(ex.traversal) << ", threads " << ex.threads << ")";
+            }
+    }
+}
+
 TEST_P(EveryVariant, NanAndInfInputsNeverCrash) {
     const StageVariant& v = variant_by_key(GetParam());
     const VariantRun run(v, true);
