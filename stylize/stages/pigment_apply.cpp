@@ -8,6 +8,7 @@
 #include "stylize/paper.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace aq::stylize {
 
@@ -97,16 +98,23 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
         const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
-            bool any_covered = false;
+            // Every pixel uncovered (mode 0 below; NaN alpha is uncovered): the colour as it is.
+            // The alphas are tested two pixels per register (lanes 3 and 7), the chunk copied whole.
+            const float* crow = &in.c(xs, y).x;
+            v8i covered{};
+            const v8i alpha_lanes{0, 0, 0, -1, 0, 0, 0, -1};
+            const v8f mask = v8f{} + kPigmentAlphaMask;
+            int i2 = 0;
+            for (; i2 + 2 <= n; i2 += 2) covered |= (load8(crow + 4 * i2) >= mask) & alpha_lanes;
+            bool any_covered = i2 < n && crow[4 * i2 + 3] >= kPigmentAlphaMask;
+            for (int l = 0; l < 8; ++l) any_covered |= covered[l] != 0;
+            if (!any_covered) {
+                if (!in_place) std::memcpy(&o(xs, y).x, crow, sizeof(float) * 4 * std::size_t(n));
+                continue;
+            }
             for (int i = 0; i < n; ++i) {
                 const glm::vec4 cv = in.c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z, ca[i] = cv.w;
-                any_covered |= ca[i] >= kPigmentAlphaMask;
-            }
-            if (!any_covered) {  // every pixel uncovered (mode 0 below): the colour as it is
-                if (!in_place)
-                    for (int i = 0; i < n; ++i) o(xs + i, y) = glm::vec4(cr[i], cg[i], cb[i], ca[i]);
-                continue;
             }
             for (int i = 0; i < n; ++i) {
                 ht[i] = in.height(xs + i, y);

@@ -136,6 +136,31 @@ TEST(PigmentApply, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     EXPECT_TRUE(testb::same_values(c, d));
 }
 
+// The fast schedule skips 64-pixel chunks without a covered pixel (alpha >= kPigmentAlphaMask),
+// testing the alphas two pixels per register. One covered pixel per chunk, at each position a
+// chunk and a register can put it (first, second, last, odd and even), nearly black (no other
+// channel passes the alpha test), among uncovered pixels whose colour channels would: reference, fast,
+// and fast in place agree bit for bit (fails when a lane other than alpha is tested).
+TEST(PigmentApplyWc18, ChunksWithOneCoveredPixelAreNotSkipped) {
+    const int w = 64 * 4 + 5, h = 6;  // a partial last chunk of 5 (odd) pixels
+    ImageF color = constant(w, h, {0.6f, 0.7f, 0.8f, 0.0f});
+    const int at[] = {0, 64 + 1, 2 * 64 + 63, 3 * 64 + 30, 4 * 64 + 4};
+    for (int y = 0; y < h; ++y)
+        for (int x : at) color.at(x, y, 3) = 1.0f, color.at(x, y, 0) = color.at(x, y, 1) = color.at(x, y, 2) = 0.005f;
+    const ImageF ctrl = noise(w, h, 4, -1.0f, 1.0f, 41), paper = noise(w, h, 3, 0.0f, 1.0f, 42);
+    ImageF ref, fast, in_place = color;
+    pigment_apply_wc18(ref, color, ctrl, &paper, kWhite, {}, Exec::reference());
+    pigment_apply_wc18(fast, color, ctrl, &paper, kWhite, {}, Exec::fast(2));
+    pigment_apply_wc18(in_place, in_place, ctrl, &paper, kWhite, {}, Exec::fast(2));
+    for (int x : at) {
+        bool painted = false;
+        for (int y = 0; y < h; ++y) painted |= ref.at(x, y, 0) != 0.005f;
+        ASSERT_TRUE(painted) << "the covered pixels at x " << x << " change";
+    }
+    EXPECT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(ref.data(), in_place.data(), ref.num_values() * sizeof(float)));
+}
+
 TEST(PigmentApply, ChecksInputs) {
     const ImageF color = constant(8, 8, {0.5f, 0.5f, 0.5f, 1.0f});
     ImageF out;
