@@ -19,11 +19,26 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
     const float* I = color.data();
     float* o = dst.data();
     const float gain = p.gain;
-    // Eq. 7 for the n pixels starting at pixel index i0, with their bleed values in B[0 .. 4n).
+    // Eq. 7 for the n pixels starting at pixel index i0, with their bleed values in B[0 .. 4n):
+    // two pixels per register (lane-wise, the scalar expressions' operations: k = sat(gain * B.a)
+    // of each pixel broadcast over its four lanes, alpha lanes from I), then one pixel at a time.
     auto blend = [&](const float* B, std::size_t i0, std::size_t n) {
         const float* Ii = I + 4 * i0;
         float* oi = o + 4 * i0;
-        for (std::size_t i = 0; i < n; ++i) {
+        using toolkit::v8f;
+        using toolkit::v8i;
+        const v8i alpha = {0, 0, 0, -1, 0, 0, 0, -1};
+        const v8f vgain = v8f{} + gain, zero{}, one = v8f{} + 1.0f;
+        std::size_t i = 0;
+        for (; i + 2 <= n; i += 2) {
+            const v8f b = toolkit::load8(B + 4 * i), c = toolkit::load8(Ii + 4 * i);
+            const v8f g = vgain * b;
+            const v8f s = g < zero ? zero : (g > one ? one : g);  // sat, NaN kept
+            const v8f k = __builtin_shuffle(s, v8i{3, 3, 3, 3, 7, 7, 7, 7});
+            const v8f r = k * (b - c) + c;
+            toolkit::store8(oi + 4 * i, alpha ? c : r);
+        }
+        for (; i < n; ++i) {
             const float k = sat(gain * B[4 * i + 3]);
             oi[4 * i + 0] = k * (B[4 * i + 0] - Ii[4 * i + 0]) + Ii[4 * i + 0];
             oi[4 * i + 1] = k * (B[4 * i + 1] - Ii[4 * i + 1]) + Ii[4 * i + 1];

@@ -34,6 +34,13 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     // Chunks of a row: the exponents, the powers in one vectorised loop (x^1 == x exactly in
     // pow_c, so a chunk without paint skips them and keeps |c| bit for bit), then the blend:
     // value for value the formula of pigment_density.h.
+    using toolkit::load8;
+    using toolkit::store8;
+    using toolkit::v8f;
+    using toolkit::v8i;
+    const v8i alpha = {0, 0, 0, -1, 0, 0, 0, -1};
+    const v8f zero{}, one = v8f{} + 1.0f;
+    const v8f sv = {substrate.x, substrate.y, substrate.z, 0.0f, substrate.x, substrate.y, substrate.z, 0.0f};
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
         float d[kChunk], dexp[3 * kChunk], cp[3 * kChunk];
@@ -55,7 +62,17 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
                     for (int ch = 0; ch < 3; ++ch) dexp[3 * j + ch] = d[j];
                 for (std::size_t q = 0; q < 3 * n; ++q) cp[q] = pow_c(cp[q], dexp[q]);
             }
-            for (std::size_t j = 0; j < n; ++j) {
+            // The blend two pixels per register: mix(s, c', t) = s (1 - t) + c' t lane by lane with
+            // t = sat(d) of each pixel over its lanes, the alpha lanes from the colour; then one pixel.
+            std::size_t j = 0;
+            for (; j + 2 <= n; j += 2) {
+                const v8f dv = v8f{d[j], d[j], d[j], d[j], d[j + 1], d[j + 1], d[j + 1], d[j + 1]};
+                const v8f t = dv < zero ? zero : (dv > one ? one : dv);  // sat, NaN kept
+                const v8f c1 = {cp[3 * j], cp[3 * j + 1], cp[3 * j + 2], 0.0f, cp[3 * j + 3], cp[3 * j + 4], cp[3 * j + 5], 0.0f};
+                const v8f r = sv * (one - t) + c1 * t;
+                store8(oi + 4 * j, alpha ? load8(ci + 4 * j) : r);
+            }
+            for (; j < n; ++j) {
                 const float t = sat(d[j]);
                 for (int ch = 0; ch < 3; ++ch) oi[4 * j + ch] = mix(substrate[ch], cp[3 * j + ch], t);
                 oi[4 * j + 3] = ci[4 * j + 3];
