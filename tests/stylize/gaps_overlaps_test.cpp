@@ -37,10 +37,10 @@ ImageF ramp_edges() {
     return e;
 }
 
-ImageF ctrl_b(float v) {
-    ImageF c(kW, kH, 4, 0.0f);
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) c.at(x, y, 2) = v;
+ImageF ctrl_b(float v, int w = kW, int h = kH) {
+    ImageF c(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) c.at(x, y, 2) = v;
     return c;
 }
 
@@ -207,6 +207,29 @@ TEST(GapsOverlaps, TraversalsAgreeWithInactiveChunks) {
             for (int x = 0; x < 60; ++x)
                 for (int ch = 0; ch < 4; ++ch) changed_faint += std::memcmp(&a.at(x, y, ch), &color.at(x, y, ch), 4) != 0;
         EXPECT_GT(changed_faint, 0) << b;
+    }
+}
+
+// The fast traversal copies 64-pixel chunks whose extended edges are nowhere above the threshold,
+// testing eight edges at a time: one edge pixel per chunk, first, second, last and in a partial
+// last chunk, gaps and overlaps: the reference's bits, and the gaps open there (fails when the
+// test misses a pixel of the chunk).
+TEST(GapsOverlaps, ChunksWithOneEdgePixelAreNotCopied) {
+    const int w = 64 * 3 + 5, h = 7;
+    const ImageF color = noise(w, h, 4, 0.2f, 1.0f, 91);
+    ImageF edges(w, h, 1, 0.0f);
+    const int at[] = {0, 64 + 1, 2 * 64 - 1, 3 * 64 + 3};
+    for (int y = 0; y < h; ++y)
+        for (int x : at) edges.at(x, y, 0) = 0.9f;
+    for (const float b : {-1.0f, 1.0f}) {
+        ImageF a, f;
+        gaps_overlaps(a, color, edges, ctrl_b(b, w, h), nullptr, kPaper, {}, Exec::reference());
+        gaps_overlaps(f, color, edges, ctrl_b(b, w, h), nullptr, kPaper, {}, Exec::fast(2));
+        EXPECT_EQ(0, std::memcmp(a.data(), f.data(), a.num_values() * sizeof(float))) << b;
+        if (b < 0.0f) {  // a lone edge above 2/m is a gap (an overlap needs a gradient)
+            for (int x : at)
+                EXPECT_NE(std::memcmp(&a.data()[(3 * w + x) * 4], &color.data()[(3 * w + x) * 4], 16), 0) << "at " << x;
+        }
     }
 }
 
