@@ -104,13 +104,15 @@ inline void wrap_pair(int i, int n, scene::Wrap w, int& a, int& b) {
 }
 }  // namespace
 
-glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv) {
-    const int w = img.width(), h = img.height();
+namespace {
+//! The sampling maths, once for both texel stores: fetch(x, y) is the widened RGBA texel.
+template <class Fetch>
+inline glm::vec4 sample_with(int w, int h, const scene::Sampler& s, glm::vec2 uv, const Fetch& fetch) {
     const float u = safe_coord(uv.x) * float(w), v = safe_coord(uv.y) * float(h);
     if (s.mag == scene::Filter::Nearest) {
         const int x = wrap_texel(int(std::floor(u)), w, s.wrap_s);
         const int y = wrap_texel(int(std::floor(v)), h, s.wrap_t);
-        return texel(img, x, y);
+        return fetch(x, y);
     }
     const float fx = u - 0.5f, fy = v - 0.5f;
     const float flx = std::floor(fx), fly = std::floor(fy);
@@ -119,9 +121,26 @@ glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 u
     int x0, x1, y0, y1;
     wrap_pair(ix, w, s.wrap_s, x0, x1);
     wrap_pair(iy, h, s.wrap_t, y0, y1);
-    const glm::vec4 top = lerp4(texel(img, x0, y0), texel(img, x1, y0), tx);
-    const glm::vec4 bot = lerp4(texel(img, x0, y1), texel(img, x1, y1), tx);
+    const glm::vec4 top = lerp4(fetch(x0, y0), fetch(x1, y0), tx);
+    const glm::vec4 bot = lerp4(fetch(x0, y1), fetch(x1, y1), tx);
     return lerp4(top, bot, ty);
+}
+}  // namespace
+
+glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv) {
+    return sample_with(img.width(), img.height(), s, uv, [&](int x, int y) { return texel(img, x, y); });
+}
+
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv) {
+    const ImageF& img = t.image;
+    if (t.codes.empty()) return sample_texture(img, s, uv);
+    const std::uint8_t* codes = t.codes.codes.data();
+    const auto& lut = t.codes.lut;
+    const int w = img.width();
+    return sample_with(w, img.height(), s, uv, [&](int x, int y) {
+        const std::uint8_t* c = codes + 4 * (std::size_t(y) * std::size_t(w) + std::size_t(x));
+        return glm::vec4(lut[0][c[0]], lut[1][c[1]], lut[2][c[2]], lut[3][c[3]]);
+    });
 }
 
 ViewLight default_view_light() {
@@ -132,7 +151,7 @@ float material_alpha(const ShadeContext& ctx, const scene::Material& m, const Fr
     float a = m.base_color.a;
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
-            a = a * sample_texture(t->image, m.base_color_texture.sampler, in.uv).a;
+            a = a * sample_texture(*t, m.base_color_texture.sampler, in.uv).a;
     return a * in.color.a;
 }
 
@@ -143,7 +162,7 @@ namespace {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
-            C = C * glm::vec3(sample_texture(t->image, m.base_color_texture.sampler, in.uv));
+            C = C * glm::vec3(sample_texture(*t, m.base_color_texture.sampler, in.uv));
     C = C * glm::vec3(in.color);
     return base_color_to_working(C, m.linear_color, ctx.working_space);
 }
@@ -164,7 +183,7 @@ FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
     glm::vec3 N = normalize3(in.normal);
     if (in.has_uv && in.has_tangent)
         if (const scene::Texture* t = texture_of(ctx, m.normal_texture)) {
-            const glm::vec4 s = sample_texture(t->image, m.normal_texture.sampler, in.uv);
+            const glm::vec4 s = sample_texture(*t, m.normal_texture.sampler, in.uv);
             const float sc = m.normal_texture.scale;
             const glm::vec3 tn((s.x * 2.0f - 1.0f) * sc, (s.y * 2.0f - 1.0f) * sc, s.z * 2.0f - 1.0f);
             const glm::vec3 T = normalize3(glm::vec3(in.tangent));
@@ -206,7 +225,7 @@ FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
         glm::vec3 c = in.ctrl[k] + glm::vec3(wc.control[k]);
         if (in.has_uv)
             if (const scene::Texture* t = texture_of(ctx, wc.control_texture[k])) {
-                const glm::vec4 s = sample_texture(t->image, wc.control_texture[k].sampler, in.uv);
+                const glm::vec4 s = sample_texture(*t, wc.control_texture[k].sampler, in.uv);
                 c = c + (glm::vec3(s) * 2.0f - 1.0f);
             }
         out.ctrl[k] = {clamp1(c.x), clamp1(c.y), clamp1(c.z)};

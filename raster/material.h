@@ -77,6 +77,9 @@ int wrap_texel(int i, int n, scene::Wrap w);
 //! magnification filter is used everywhere. Non-finite uv reads texel (0, 0).
 //! Channels are widened to RGBA: 1 -> (g, g, g, 1), 2 -> (r, g, 0, 1), 3 -> (r, g, b, 1).
 glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv);
+//! The same value for a scene texture, read through its 8-bit codes where it has them
+//! (scene::TextureCodes: a quarter of the bytes, the same texel values).
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv);
 
 // ---- The fragment ------------------------------------------------------------------------------
 

@@ -424,7 +424,9 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
             tex.name = label;
             tex.image = decode_image_bytes(bytes, size, label, &texture_budget_);
             tex.srgb = srgb;
+            tex.codes = texture_codes(tex.image);      // 8-bit files: the texels as codes
             if (srgb) decode_srgb_texture(tex.image);  // glTF §3.9.2: base colour textures are sRGB
+            texture_codes_finish(tex.codes, tex.image);
             scene_.textures.push_back(std::move(tex));
             result = int(scene_.textures.size()) - 1;
         } catch (const BudgetError& e) {

@@ -1,9 +1,13 @@
 // scenes/scene.cpp — scene-wide queries.
+// -fno-trapping-math (FP exception flags only, no value changes) lets GCC vectorise the texture
+// code loops' compares and selects, as in the stylize stages.
+#pragma GCC optimize("no-trapping-math")
 #include "scenes/scene.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 
 namespace aq::scene {
 
@@ -34,6 +38,87 @@ std::size_t Scene::triangle_count() const {
         if (inst.mesh >= 0 && inst.mesh < int(meshes.size()))
             for (const Primitive& p : meshes[inst.mesh].primitives) n += p.indices.size() / 3;
     return n;
+}
+
+namespace {
+//! The image channel lane L of a texel reads (raster/material.cpp texel()), or -1 for a constant.
+int lane_source(int channels, int lane) {
+    if (channels == 1) return lane < 3 ? 0 : -1;
+    if (channels == 2) return lane < 2 ? lane : -1;
+    if (channels == 3) return lane < 3 ? lane : -1;
+    return lane;
+}
+constexpr float kLaneConstant[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // missing G/B: 0, missing alpha: 1
+}  // namespace
+
+TextureCodes texture_codes(const ImageF& decoded) {
+    TextureCodes c;
+    const int nc = decoded.channels();
+    if (decoded.empty() || nc < 1 || nc > 4) return c;
+    const std::size_t n = std::size_t(decoded.width()) * std::size_t(decoded.height());
+    const std::size_t nv = n * std::size_t(nc);
+    // Every value's code, in one flat loop (vectorised): round(v * 255) for v in [0, 1]; any
+    // other value (NaN included) leaves no codes. Then widened to four lanes per texel.
+    std::vector<std::uint8_t> flat(nv);
+    const float* d = decoded.data();
+    int bad = 0;
+    for (std::size_t j = 0; j < nv; ++j) {
+        const float v = d[j];
+        bad |= int(v < 0.0f) | int(v > 1.0f) | int(v != v);
+        const float vc = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  // NaN -> 0: a defined conversion
+        flat[j] = std::uint8_t(int(vc * 255.0f + 0.5f));
+    }
+    if (bad) return c;
+    if (nc == 4) {
+        c.codes = std::move(flat);
+        return c;
+    }
+    c.codes.assign(4 * n, 0);
+    for (int lane = 0; lane < 4; ++lane)
+        if (const int src = lane_source(nc, lane); src >= 0)
+            for (std::size_t i = 0; i < n; ++i) c.codes[4 * i + std::size_t(lane)] = flat[i * std::size_t(nc) + std::size_t(src)];
+    return c;
+}
+
+void texture_codes_finish(TextureCodes& c, const ImageF& img) {
+    const int nc = img.channels();
+    const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
+    if (c.empty() || c.codes.size() != 4 * n || nc < 1 || nc > 4) {
+        c = TextureCodes{};
+        return;
+    }
+    // tab[lane][code]: the bits of the first value with that code; every value must equal its
+    // entry. kUnset (unused codes) is a NaN pattern: a value with those bits leaves no codes.
+    constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
+    std::array<std::uint32_t, 4 * 256> tab;
+    tab.fill(kUnset);
+    const float* d = img.data();
+    const std::uint8_t* k = c.codes.data();
+    bool ok = true;
+    for (int lane = 0; lane < 4; ++lane) {
+        const int src = lane_source(nc, lane);
+        std::uint32_t* t = tab.data() + 256 * lane;
+        if (src < 0) {
+            std::memcpy(&t[0], &kLaneConstant[lane], sizeof(float));  // the only code of a constant lane
+            continue;
+        }
+        // The first value of each code (written last, going backwards), then every value
+        // compared with its code's entry (branch-free).
+        for (std::size_t i = n; i-- > 0;) std::memcpy(&t[k[4 * i + std::size_t(lane)]], &d[i * std::size_t(nc) + std::size_t(src)], sizeof(float));
+        std::uint32_t diff = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            std::uint32_t b;
+            std::memcpy(&b, &d[i * std::size_t(nc) + std::size_t(src)], sizeof b);
+            diff |= (t[k[4 * i + std::size_t(lane)]] ^ b) | std::uint32_t(b == kUnset);
+        }
+        ok = ok && diff == 0;
+    }
+    if (!ok) {
+        c = TextureCodes{};
+        return;
+    }
+    for (int lane = 0; lane < 4; ++lane)
+        for (int q = 0; q < 256; ++q) std::memcpy(&c.lut[std::size_t(lane)][std::size_t(q)], &tab[std::size_t(256 * lane + q)], sizeof(float));
 }
 
 namespace {

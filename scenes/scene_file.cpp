@@ -157,10 +157,12 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
             Texture t;
             t.name = r.file;
             t.image = read_texture_file(r.file);
+            t.codes = texture_codes(t.image);
             float* d = t.image.data();
             // The rasterizer decodes a control texel t as 2t - 1 (raster/material.cpp); store the
             // mapped value v = file*scale + bias as (v + 1) / 2 so it decodes to exactly v.
             for (std::size_t i = 0; i < t.image.num_values(); ++i) d[i] = (d[i] * r.scale + r.bias + 1.0f) * 0.5f;
+            texture_codes_finish(t.codes, t.image);
             scene.textures.push_back(std::move(t));
             ti = int(scene.textures.size()) - 1;
             tex_cache[key] = ti;
@@ -561,6 +563,8 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                 Texture t;
                 t.name = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
                 t.image = read_texture_file(t.name);
+                t.codes = texture_codes(t.image);
+                texture_codes_finish(t.codes, t.image);
                 d.scene.textures.push_back(std::move(t));
                 intensity = int(d.scene.textures.size()) - 1;
             }

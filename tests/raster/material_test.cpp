@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
+#include "core/color.h"
 #include "raster/material.h"
 #include "raster/vertex.h"
 
@@ -117,6 +119,52 @@ TEST(Texture, BilinearSampleEqualsTheDefinitionInEveryWrapMode) {
                 }
             }
     }
+}
+
+// A texture with 8-bit codes (scene::TextureCodes, what the loaders attach to 8-bit files) is
+// sampled through them: the same value as sampling its float image, bit for bit, for 1 to 4
+// channels (the widening: grey, missing blue 0, missing alpha 1), every wrap mode and both filters,
+// inside and outside; sRGB-decoded values (the look-up table is not v / 255) included.
+TEST(Texture, SamplingThroughEightBitCodesEqualsTheFloatImage) {
+    using scene::Wrap;
+    for (int nc = 1; nc <= 4; ++nc) {
+        scene::Texture t;
+        t.image = ImageF(7, 5, nc);
+        for (std::size_t i = 0; i < t.image.num_values(); ++i) t.image.data()[i] = float((i * 53u) % 256u) / 255.0f;
+        t.codes = scene::texture_codes(t.image);
+        for (std::size_t i = 0; i < t.image.num_values(); ++i)
+            if (i % std::size_t(nc) < 3) t.image.data()[i] = srgb_to_linear(t.image.data()[i]);
+        scene::texture_codes_finish(t.codes, t.image);
+        ASSERT_FALSE(t.codes.empty()) << nc << " channels";
+        for (Wrap w : {Wrap::Repeat, Wrap::ClampToEdge, Wrap::MirroredRepeat})
+            for (scene::Filter f : {scene::Filter::Linear, scene::Filter::Nearest}) {
+                scene::Sampler s;
+                s.wrap_s = s.wrap_t = w;
+                s.mag = f;
+                for (int k = 0; k < 1500; ++k) {
+                    const glm::vec2 uv(-1.7f + 0.00291f * float(k), 2.3f - 0.00237f * float(k));
+                    const glm::vec4 want = sample_texture(t.image, s, uv), got = sample_texture(t, s, uv);
+                    ASSERT_EQ(0, std::memcmp(&want, &got, sizeof want)) << nc << " channels, uv " << uv.x << "," << uv.y;
+                }
+            }
+    }
+}
+
+// The codes exist only where they stand for the image exactly: values that are not a function of
+// their code (two floats rounding to one code), NaN, values outside [0, 1] leave none.
+TEST(Texture, EightBitCodesOnlyForEightBitValues) {
+    ImageF img(3, 2, 1, 0.5f);
+    scene::TextureCodes c = scene::texture_codes(img);
+    scene::texture_codes_finish(c, img);
+    EXPECT_FALSE(c.empty());
+    img.at(1, 1, 0) = 0.5001f;  // rounds to the code of 0.5
+    c = scene::texture_codes(img);
+    scene::texture_codes_finish(c, img);
+    EXPECT_TRUE(c.empty());
+    img.at(1, 1, 0) = std::nanf("");
+    EXPECT_TRUE(scene::texture_codes(img).empty());
+    img.at(1, 1, 0) = 1.5f;
+    EXPECT_TRUE(scene::texture_codes(img).empty());
 }
 
 TEST(VertexStage, TremorOffsetAndBleedDisplacement) {

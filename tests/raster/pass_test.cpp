@@ -232,7 +232,7 @@ TEST(RasterPass, IntensityTextureChannelsAreSampledOnTheFrontMostSurface) {
     for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 2; ++x)
             for (int c = 0; c < 3; ++c) img.at(x, y, c) = texels[y][x][c];
-    sc.textures.push_back({"intensity", img, false});
+    sc.textures.push_back({"intensity", img, false, {}});
     textured.intensity_texture.texture = 0;
     textured.intensity_texture.sampler.mag = scene::Filter::Nearest;
     sc.materials.push_back(textured);

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <set>
 
@@ -536,6 +537,28 @@ TEST(Textures, RealModelsDecodeTheirMaps) {
     EXPECT_EQ(s.textures[std::size_t(m.base_color_texture.texture)].image.width(), 2048);
     EXPECT_FALSE(only_primitive(s).tangents.empty());
     EXPECT_TRUE(s.warnings.empty());
+}
+
+// Real 8-bit PNG and JPEG maps (sRGB base colours, linear normal and material maps) keep their
+// texels as 8-bit codes too (scene::TextureCodes), each standing for exactly the image's value.
+TEST(Textures, RealEightBitMapsKeepCodesEqualToTheirImage) {
+    for (const char* model : {"gltf/WaterBottle/glTF/WaterBottle.gltf", "gltf/Suzanne/glTF/Suzanne.gltf"}) {
+        const Scene s = load(model);
+        ASSERT_FALSE(s.textures.empty()) << model;
+        for (const Texture& t : s.textures) {
+            ASSERT_FALSE(t.codes.empty()) << model << " " << t.name;
+            const int nc = t.image.channels();
+            const std::size_t n = std::size_t(t.image.width()) * std::size_t(t.image.height());
+            for (std::size_t i = 0; i < n; i += 7)
+                for (int lane = 0; lane < 4; ++lane) {
+                    const float want = lane < nc ? t.image.data()[i * std::size_t(nc) + std::size_t(lane)]
+                                                 : (nc == 1 && lane < 3 ? t.image.data()[i * std::size_t(nc)]
+                                                                        : (lane == 3 ? 1.0f : 0.0f));
+                    const float got = t.codes.lut[std::size_t(lane)][t.codes.codes[4 * i + std::size_t(lane)]];
+                    ASSERT_EQ(0, std::memcmp(&want, &got, sizeof want)) << model << " " << t.name << " texel " << i << " lane " << lane;
+                }
+        }
+    }
 }
 
 TEST(Textures, RealSamplersMapToWrapAndFilter) {
