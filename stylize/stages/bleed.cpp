@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include "stylize/kernels.h"
@@ -317,24 +318,41 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     Planes& tmp = tl_tmp;
     Planes& out = tl_out;
     src.alloc(wr, hr, 5);
-    {
-        // Half resolution: resample once (toolkit::resample, the sample_resampled convention).
-        ImageF hc, hk, hz;
-        if (p.half_res) {
-            hc = toolkit::resample(color, wr, hr, ex);
-            hk = toolkit::resample_channel(ctrl, control::kAbstractionBleeding.channel, wr, hr, ex);  // bleeding only
-            if (!depth.empty()) hz = toolkit::resample(depth, wr, hr, ex);
-        }
-        const float* cd = p.half_res ? hc.data() : color.data();
-        const float* kd = p.half_res ? hk.data() : ctrl.data() + control::kAbstractionBleeding.channel;
-        const std::size_t ks = p.half_res ? 1 : 4;
-        const float* zd = depth.empty() ? nullptr : (p.half_res ? hz.data() : depth.data());
+    const std::size_t kc = control::kAbstractionBleeding.channel;  // ctrl.abstraction.b = bleeding (spec §1)
+    if (p.half_res) {
+        // Half resolution: each plane row resampled straight from the full-size inputs
+        // (toolkit::RowResampler, the convention of toolkit::resample: the same values), the colour
+        // row through a small buffer: no half-size interleaved images written and read back.
+        const toolkit::ResampleAxis ax(wr, w), ay(hr, h);
+        toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
+            toolkit::RowResampler<4> uc(color.data(), w, wr, ax, ay);
+            toolkit::RowResampler<1, 4> uk(ctrl.data() + kc, w, wr, ax, ay);
+            std::optional<toolkit::RowResampler<1>> uz;
+            if (!depth.empty()) uz.emplace(depth.data(), w, wr, ax, ay);
+            std::vector<float> row(std::size_t(wr) * 4);
+            for (int y = y0; y < y1; ++y) {
+                const std::size_t r0 = std::size_t(y) * wr;
+                uc.row(y, row.data());
+                for (std::size_t x = 0; x < std::size_t(wr); ++x) {
+                    src.p[0][r0 + x] = row[4 * x];
+                    src.p[1][r0 + x] = row[4 * x + 1];
+                    src.p[2][r0 + x] = row[4 * x + 2];
+                }
+                uk.row(y, src.p[3].data() + r0);
+                if (uz) uz->row(y, src.p[4].data() + r0);
+                else std::fill_n(src.p[4].data() + r0, wr, 0.0f);
+            }
+        });
+    } else {
+        const float* cd = color.data();
+        const float* kd = ctrl.data() + kc;
+        const float* zd = depth.empty() ? nullptr : depth.data();
         toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
             for (std::size_t i = std::size_t(y0) * wr; i < std::size_t(y1) * wr; ++i) {
                 src.p[0][i] = cd[4 * i];
                 src.p[1][i] = cd[4 * i + 1];
                 src.p[2][i] = cd[4 * i + 2];
-                src.p[3][i] = kd[ks * i];  // ctrl.abstraction.b = bleeding (spec §1)
+                src.p[3][i] = kd[4 * i];
                 src.p[4][i] = zd ? zd[i] : 0.0f;
             }
         });
