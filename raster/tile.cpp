@@ -243,12 +243,20 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
     // to the targets: every byte of the 108 B/px G-buffer is written once, with non-temporal
     // stores (no read-for-ownership of lines that are overwritten whole). Without `clear` the
     // targets already hold the background and rows with no covered pixel are skipped.
-    RowBuffer rb;
+    // A row without covered pixels is streamed from a background row filled once per tile.
+    RowBuffer rb, bg;
     const TargetPtrs rp = rb.pointers();
+    bool bg_filled = false;
     int k = 0;
     for (int y = Y0; y <= Y1; ++y) {
         const int ly = y - Y0;
-        if (!clear && !(k < nc && covered[k] / kTile == ly)) continue;
+        const bool any = k < nc && covered[k] / kTile == ly;
+        if (!any) {
+            if (!clear) continue;
+            if (!bg_filled) bg.background(tw, fr.background_depth), bg_filled = true;
+            bg.stream_row(tp, X0, y, tw);
+            continue;
+        }
         rb.background(tw, fr.background_depth);
         for (; k < nc && covered[k] / kTile == ly; ++k) {
             if (k + 12 < nc) {
