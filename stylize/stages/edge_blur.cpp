@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -133,9 +134,22 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                 float* __restrict orow = o + row;
                 Span sp{w, -1};
                 if (pass == 0) {
-                    for (int i = 0; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
-                    int pa = 0, pb = w + 2 * R - 1;
+                    // The row itself, then its 2R border texels by the table.
+                    std::memcpy(pad.data() + R, sr, std::size_t(w) * sizeof(float));
+                    for (int i = 0; i < R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
+                    for (int i = R + w; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
+                    // The first and last non-zero bit patterns, eight at a time from each end.
+                    const int np = w + 2 * R;
+                    const std::uint32_t* pu = reinterpret_cast<const std::uint32_t*>(pad.data());
+                    auto zero8 = [&](int i) {
+                        toolkit::v8i v;
+                        std::memcpy(&v, pu + i, sizeof v);
+                        return toolkit::all_zero(v);
+                    };
+                    int pa = 0, pb = np - 1;
+                    while (pa + 8 <= np && zero8(pa)) pa += 8;
                     while (pa <= pb && !nonzero(pad[std::size_t(pa)])) ++pa;
+                    while (pb - 7 >= pa && zero8(pb - 7)) pb -= 8;
                     while (pb >= pa && !nonzero(pad[std::size_t(pb)])) --pb;
                     if (pa <= pb) sp = {std::max(0, pa - 2 * R), std::min(w - 1, pb)};
                     span0[std::size_t(y)] = sp;

@@ -11,10 +11,6 @@
 #include <cstring>
 #include <vector>
 
-#ifdef __AVX__
-#include <immintrin.h>
-#endif
-
 #include "stylize/kernels.h"
 #include "stylize/paper.h"
 #include "stylize/stages/toolkit.h"
@@ -34,16 +30,7 @@ int equal_run(const float* cd, const float* zd, int zc, std::size_t i0, int n, i
     std::memcpy(&z0, zd + std::size_t(zc) * i0, sizeof z0);
     const v8i cpat{int(c0[0]), int(c0[1]), int(c0[2]), int(c0[3]), int(c0[0]), int(c0[1]), int(c0[2]), int(c0[3])};
     const v8i zpat = v8i{} + int(z0);
-    auto all_equal = [](v8i v, v8i pat) {
-        const v8i x = v ^ pat;
-#ifdef __AVX__
-        return _mm256_testz_si256(__m256i(x), __m256i(x)) != 0;  // one vptest
-#else
-        long long q[4];
-        std::memcpy(q, &x, sizeof q);
-        return (q[0] | q[1] | q[2] | q[3]) == 0;
-#endif
-    };
+    auto all_equal = [](v8i v, v8i pat) { return all_zero(v ^ pat); };
     int k = 0;  // pixels i0 + dir * [0, k) are known equal
     // Colour: pixels i0 + dir*k and i0 + dir*(k + 1) in one register (lowest address first).
     while (k + 2 <= n) {

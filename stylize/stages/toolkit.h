@@ -217,6 +217,16 @@ inline v8f load8(const float* p) {
     return v;
 }
 inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+//! True when every bit of v is 0 (one vptest with AVX).
+inline bool all_zero(v8i v) {
+#ifdef __AVX__
+    return _mm256_testz_si256(__m256i(v), __m256i(v)) != 0;
+#else
+    long long q[4];
+    std::memcpy(q, &v, sizeof q);
+    return (q[0] | q[1] | q[2] | q[3]) == 0;
+#endif
+}
 
 //! Eight RGBA pixels from planes: o[4i .. 4i+3] = (r[i], g[i], b[i], a[i]), i < 8 (unpacks and
 //! 128-bit permutes: values moved, never computed). For row kernels that compute channels as

@@ -129,6 +129,23 @@ TEST(EdgeBlurWc18, FastEqualsReferenceOnSparseEdges) {
         }
 }
 
+// Each row's non-zero span is found eight values at a time from both ends: one lone edge per row,
+// at every column (so at every position within a group of eight, near both ends), gives the
+// reference's bits.
+TEST(EdgeBlurWc18, FastEqualsReferenceForALoneEdgeAtEveryColumn) {
+    const int w = 61, h = 2 * 61;
+    ImageF e(w, h, 1, 0.0f), k(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y) e.at(y % w, y, 0) = 0.5f + 0.25f * float(y / w);
+    for (const int width : {1, 3}) {
+        EdgeBlurWc18Params p;
+        p.width = width;
+        ImageF ref, fast;
+        edge_blur_wc18(ref, e, k, p, Exec::reference());
+        edge_blur_wc18(fast, e, k, p, Exec::fast(2));
+        ASSERT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "width " << width;
+    }
+}
+
 TEST(ExtendEdges, ZeroStaysZeroAndOneStaysOne) {
     ImageF z(13, 9, 1, 0.0f), one(13, 9, 1, 1.0f), o;
     extend_edges(o, z, ExtendEdgesParams{}, Exec::reference());
