@@ -51,13 +51,32 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             const float* ki = k + 4 * i0;
             float* oi = o + 4 * i0;
             for (std::size_t j = 0; j < n; ++j) d[j] = 1.0f + p.strength * ki[4 * j + control::kPigmentDensity.channel];
+            // Painted regions are contiguous: a chunk is usually all painted or all unpainted, so
+            // the powers are taken for the whole chunk when any pixel needs one (d != 1, NaN too).
+            v8i ne{};
+            std::size_t jd = 0;
+            for (; jd + 8 <= n; jd += 8) ne |= load8(d + jd) != one;
+            bool any = !toolkit::all_zero(ne);
+            for (; jd < n; ++jd) any |= d[jd] != 1.0f;
+            if (!any) {
+                // Every d is 1: the blend below with t = sat(1) = 1 and c' = |c| (the sign bit
+                // cleared, as fabs), straight from the colour, two pixels per register.
+                std::size_t j = 0;
+                for (; j + 2 <= n; j += 2) {
+                    const v8f cv = load8(ci + 4 * j);
+                    const v8f c1 = (v8f)((v8i)cv & (v8i{} + 0x7fffffff));
+                    const v8f r = sv * (one - one) + c1 * one;
+                    store8(oi + 4 * j, alpha ? cv : r);
+                }
+                for (; j < n; ++j) {
+                    for (int ch = 0; ch < 3; ++ch) oi[4 * j + ch] = mix(substrate[ch], std::fabs(ci[4 * j + ch]), sat(d[j]));
+                    oi[4 * j + 3] = ci[4 * j + 3];
+                }
+                continue;
+            }
             for (std::size_t j = 0; j < n; ++j)
                 for (int ch = 0; ch < 3; ++ch) cp[3 * j + ch] = std::fabs(ci[4 * j + ch]);
-            // Painted regions are contiguous: a chunk is usually all painted or all unpainted, so
-            // the powers are taken for the whole chunk when any pixel needs one.
-            bool any = false;
-            for (std::size_t j = 0; j < n; ++j) any |= d[j] != 1.0f;
-            if (any) {
+            {
                 for (std::size_t j = 0; j < n; ++j)
                     for (int ch = 0; ch < 3; ++ch) dexp[3 * j + ch] = d[j];
                 for (std::size_t q = 0; q < 3 * n; ++q) cp[q] = pow_c(cp[q], dexp[q]);
