@@ -119,6 +119,17 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
         max_peak_kb = std::max(max_peak_kb, peak_kb);
         return rc == 0;
     };
+    // One untimed run first: on these VMs the first process after an idle spell runs up to 2x
+    // slower (the host reclaimed the VM's memory), which made a repetition's short run slower than
+    // its long one (a difference clamped to ~0, docs/performance.md "Seventeenth session").
+    {
+        double warm = 0.0;
+        if (!timed(short_run, &warm)) {
+            st.SkipWithError("aquarelle failed (run the command by hand to see why)");
+            finish(st, extra_frames, max_peak_kb, dir);
+            return;
+        }
+    }
     for (auto _ : st) {
         double ts = 0.0, tl = 0.0;
         if (!timed(short_run, &ts) || !timed(long_run, &tl)) {

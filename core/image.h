@@ -18,6 +18,10 @@
 
 #include <glm/glm.hpp>
 
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
+
 namespace aq {
 
 //! Error raised for invalid input at an API entry (bad sizes, names, ranges, files).
@@ -182,6 +186,26 @@ private:
 //! not filled, so the caller must write every value (stage outputs, the CLI's converted image).
 inline void ensure_output(ImageF& img, int w, int h, int c) {
     if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c, kUninitialized);
+}
+
+//! Copies n floats with non-temporal stores where dst is 32-byte aligned (the ends plain): the
+//! destination's lines are not read first, a third less memory traffic than memcpy for data that
+//! is not read back soon (the G-buffer's row streaming, a stage's copied background chunks). The
+//! caller orders the stores before another thread reads them (stream_fence() at its task's end).
+inline void stream_copy(float* dst, const float* src, std::size_t n) {
+    std::size_t i = 0;
+    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 31) != 0; ++i) dst[i] = src[i];
+#ifdef __AVX__
+    for (; i + 8 <= n; i += 8) _mm256_stream_ps(dst + i, _mm256_loadu_ps(src + i));
+#endif
+    for (; i < n; ++i) dst[i] = src[i];
+}
+
+//! Orders this thread's stream_copy stores before its later stores (sfence).
+inline void stream_fence() {
+#ifdef __AVX__
+    _mm_sfence();
+#endif
 }
 
 }  // namespace aq

@@ -112,15 +112,6 @@ inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
     for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[idx[j]]);  // indices checked in setup
 }
 
-// Streams n floats to dst: 32-byte aligned runs with non-temporal stores, the ends plain.
-inline void stream_floats(float* dst, const float* src, std::size_t n) {
-    std::size_t i = 0;
-    for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 31) != 0; ++i) dst[i] = src[i];
-#ifdef __AVX__
-    for (; i + 8 <= n; i += 8) _mm256_stream_ps(dst + i, _mm256_loadu_ps(src + i));
-#endif
-    for (; i < n; ++i) dst[i] = src[i];
-}
 
 // One tile row of all ten targets (kTile pixels), written by shade_and_write at (x, 0).
 struct RowBuffer {
@@ -151,7 +142,7 @@ struct RowBuffer {
         const std::size_t i = std::size_t(y) * tp.width + x0;
         // Targets the caller did not ask for are null (RenderSettings::targets): not written.
         auto put = [&](float* dst, const float* src, std::size_t m) {
-            if (dst) stream_floats(dst + m * i, src, m * std::size_t(n));
+            if (dst) stream_copy(dst + m * i, src, m * std::size_t(n));
         };
         put(tp.color, color, 4);
         for (int k = 0; k < scene::kNumControlTargets; ++k) put(tp.ctrl[k], ctrl[k], 4);
@@ -276,7 +267,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         }
         rb.stream_row(tp, X0, y, tw);
     }
-    _mm_sfence();  // order the non-temporal stores before the task completes
+    stream_fence();  // order the non-temporal stores before the task completes
 }
 
 }  // namespace aq::raster::detail

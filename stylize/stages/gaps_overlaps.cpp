@@ -150,12 +150,13 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                 for (int l = 0; l < 8; ++l) any |= above[l] != 0;
                 for (; x < xe; ++x) any |= er[x] > p.edge_threshold;
                 if (!any) {
-                    std::memcpy(&o(xs, y).x, &k.c(xs, y).x, sizeof(float) * 4 * std::size_t(xe - xs));
+                    stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
                     continue;
                 }
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
         }
+        stream_fence();  // the copied chunks' non-temporal stores, before the row is done
     });
 }
 
