@@ -82,9 +82,18 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     const __m256 vnear = _mm256_set1_ps(p.depth_near), vinv = _mm256_set1_ps(inv_range);
     const __m256 fmax = _mm256_set1_ps(3.402823466e38f);
     const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    // Outputs written with non-temporal stores where aligned (the usual case: large images are
+    // 2 MiB-aligned): the next stages read them from memory anyway, and the stores need not
+    // read the outputs' lines first.
+    auto store = [](float* d, __m256 v, bool nt) {
+        if (nt) _mm256_stream_ps(d, v);
+        else _mm256_storeu_ps(d, v);
+    };
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t i1 = std::size_t(y1) * w;
         std::size_t i = std::size_t(y0) * w;
+        const bool cnt = (reinterpret_cast<std::uintptr_t>(cout + 4 * i) & 31) == 0;
+        const bool znt = (reinterpret_cast<std::uintptr_t>(zout + i) & 31) == 0;
         for (; i + 2 <= i1; i += 2) {
             const __m256 c = _mm256_loadu_ps(cin + 4 * i);
             const __m256 r = _mm256_permute_ps(c, 0x00), g = _mm256_permute_ps(c, 0x55);
@@ -97,7 +106,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
             const __m256 v = sat8(x);  // kernels.h: NaN stays NaN
             // mix(substrate, v, a) = substrate * (1 - a) + v * a
             const __m256 m = _mm256_add_ps(_mm256_mul_ps(sub, _mm256_sub_ps(one, a)), _mm256_mul_ps(v, a));
-            _mm256_storeu_ps(cout + 4 * i, _mm256_blend_ps(m, c, 0x88));  // alpha copied
+            store(cout + 4 * i, _mm256_blend_ps(m, c, 0x88), cnt);  // alpha copied
         }
         for (; i < i1; ++i)
             adjust_pixel<false>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
@@ -106,7 +115,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
             const __m256 z = _mm256_loadu_ps(zin + j);
             const __m256 finite = _mm256_cmp_ps(_mm256_and_ps(z, absmask), fmax, _CMP_LE_OQ);
             const __m256 zn = _mm256_mul_ps(_mm256_sub_ps(z, vnear), vinv);
-            _mm256_storeu_ps(zout + j, _mm256_blendv_ps(one, zn, finite));
+            store(zout + j, _mm256_blendv_ps(one, zn, finite), znt);
         }
         for (; j < i1; ++j) {
             const float z = zin[j];
@@ -114,6 +123,7 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
             const float zn = (z - p.depth_near) * inv_range;
             zout[j] = finite ? zn : 1.0f;
         }
+        stream_fence();
     });
 #endif
 }

@@ -1,6 +1,7 @@
 // tests/stylize/adjust_test.cpp — spec §4.1: depth normalisation, background = substrate colour,
 // colour operations; §4.3 pigment density.
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -66,6 +67,27 @@ TEST(Adjust, AtmosphereTintsFarPixels) {
     EXPECT_NEAR(co.at(0, 0, 0), 0.2f, 1e-6f);
     EXPECT_NEAR(co.at(1, 0, 0), 0.5f, 1e-6f);
     EXPECT_NEAR(co.at(1, 0, 2), 0.7f, 1e-6f);
+}
+
+// Large outputs (2 MiB-aligned storage) are written with non-temporal stores, small ones with
+// plain stores: both give the reference's bits, NaN and infinite depths and colours included, with
+// widths that are and are not a multiple of 8.
+TEST(Adjust, LargeAndSmallImagesGiveTheReferenceBits) {
+    for (const auto& [w, h] : {std::pair{1024, 640}, std::pair{1023, 641}, std::pair{37, 11}}) {
+        ImageF color(w, h, 4), depth(w, h, 1);
+        for (std::size_t i = 0; i < color.num_values(); ++i) color.data()[i] = float((i * 2654435761u >> 9) % 1000u) / 999.0f;
+        for (std::size_t i = 0; i < depth.num_values(); ++i) depth.data()[i] = 3.0f + float(i % 97);
+        color.data()[5] = std::numeric_limits<float>::quiet_NaN();
+        depth.data()[7] = std::numeric_limits<float>::infinity();
+        AdjustParams p;
+        p.depth_near = 1.0f;
+        p.depth_far = 100.0f;
+        ImageF rc, rz, fc, fz;
+        adjust(rc, rz, color, depth, {0.9f, 0.9f, 0.85f}, p, Exec::reference());
+        adjust(fc, fz, color, depth, {0.9f, 0.9f, 0.85f}, p, Exec::fast(2));
+        EXPECT_EQ(0, std::memcmp(rc.data(), fc.data(), rc.num_values() * sizeof(float))) << w << "x" << h;
+        EXPECT_EQ(0, std::memcmp(rz.data(), fz.data(), rz.num_values() * sizeof(float))) << w << "x" << h;
+    }
 }
 
 TEST(Adjust, SizeMismatchNamesTheTarget) {
