@@ -34,7 +34,7 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
             const v8f b = toolkit::load8(B + 4 * i), c = toolkit::load8(Ii + 4 * i);
             const v8f g = vgain * b;
             const v8f s = g < zero ? zero : (g > one ? one : g);  // sat, NaN kept
-            const v8f k = __builtin_shuffle(s, v8i{3, 3, 3, 3, 7, 7, 7, 7});
+            const v8f k = __builtin_shufflevector(s, s, 3, 3, 3, 3, 7, 7, 7, 7);
             const v8f r = k * (b - c) + c;
             toolkit::store8(oi + 4 * i, alpha ? c : r);
         }
