@@ -98,8 +98,10 @@ void texture_codes_finish(TextureCodes& c, const ImageF& img) {
     for (int lane = 0; lane < 4; ++lane) {
         const int src = lane_source(nc, lane);
         std::uint32_t* t = tab.data() + 256 * lane;
-        if (src < 0) {
-            std::memcpy(&t[0], &kLaneConstant[lane], sizeof(float));  // the only code of a constant lane
+        if (src < 0) {  // a constant lane (its codes are all 0): every entry the constant
+            std::uint32_t b;
+            std::memcpy(&b, &kLaneConstant[lane], sizeof b);
+            std::fill_n(t, 256, b);
             continue;
         }
         // The first value of each code (written last, going backwards), then every value

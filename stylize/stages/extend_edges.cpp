@@ -58,8 +58,7 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
             toolkit::v8i pos{};
             std::size_t j8 = 0;
             for (; j8 + 8 <= n; j8 += 8) pos |= toolkit::load8(di + j8) > toolkit::v8f{};
-            bool any = false;
-            for (int l = 0; l < 8; ++l) any |= pos[l] != 0;
+            bool any = !toolkit::all_zero(pos);
             for (; j8 < n; ++j8) any |= di[j8] > 0.0f;
             if (!any) {
                 for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;

@@ -146,8 +146,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                 v8i above{};
                 int x = xs;
                 for (; x + 8 <= xe; x += 8) above |= load8(er + x) > ethr;
-                bool any = false;
-                for (int l = 0; l < 8; ++l) any |= above[l] != 0;
+                bool any = !all_zero(above);
                 for (; x < xe; ++x) any |= er[x] > p.edge_threshold;
                 if (!any) {
                     stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));

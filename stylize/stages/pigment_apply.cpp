@@ -106,8 +106,7 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
             const v8f mask = v8f{} + kPigmentAlphaMask;
             int i2 = 0;
             for (; i2 + 2 <= n; i2 += 2) covered |= (load8(crow + 4 * i2) >= mask) & alpha_lanes;
-            bool any_covered = i2 < n && crow[4 * i2 + 3] >= kPigmentAlphaMask;
-            for (int l = 0; l < 8; ++l) any_covered |= covered[l] != 0;
+            const bool any_covered = !all_zero(covered) || (i2 < n && crow[4 * i2 + 3] >= kPigmentAlphaMask);
             if (!any_covered) {
                 if (!in_place) std::memcpy(&o(xs, y).x, crow, sizeof(float) * 4 * std::size_t(n));
                 continue;
