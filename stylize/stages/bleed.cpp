@@ -7,7 +7,7 @@
 // for p in {R, G, B, C}. The reference traversal does exactly that per pixel with border-resolved
 // taps. The fast traversal runs the same expression in the same order per pixel, but over rows:
 // padded row copies (H) or row pointers (V), the x loop innermost so it vectorises, oneTBB row
-// blocks, and rows (or 256-pixel column chunks of a row) whose tap window holds no positive
+// blocks, and rows (or 128-pixel column chunks of a row) whose tap window holds no positive
 // control are written as s + 0 (what the full sum yields bit for bit when every delta is zero: it
 // only turns -0 into +0). Hence fast == reference bit for bit.
 #include "stylize/stages/bleed.h"
@@ -172,11 +172,7 @@ inline void row_kernel(int w, const float* const* s, const float* zs_row, float*
     }
 }
 
-inline bool any_positive(const float* v, int n) {
-    bool any = false;
-    for (int i = 0; i < n; ++i) any |= v[i] > 0.0f;
-    return any;
-}
+inline bool any_positive(const float* v, int n) { return toolkit::any_above(v, std::size_t(n), 0.0f); }
 
 template <BleedRule R>
 void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::vector<float>& z, Planes& out,
@@ -199,12 +195,7 @@ void pass_fast_h(const Planes& in, const std::vector<float>& ctrl, const std::ve
                 plus_zero(src, o, 0, w);
                 continue;
             }
-            for (int q = 0; q < 5; ++q) {  // the row itself, then the 2r border texels by the table
-                float* pq = pad.data() + std::size_t(q) * pw;
-                std::memcpy(pq + r, rows5[q], std::size_t(w) * sizeof(float));
-                for (int i = 0; i < r; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
-                for (int i = r + w; i < pw; ++i) pq[i] = rows5[q][xt[std::size_t(i)]];
-            }
+            for (int q = 0; q < 5; ++q) toolkit::pad_row(pad.data() + std::size_t(q) * pw, rows5[q], w, 1, xt, r);
             // Chunk c's taps read the padded control over [xc, xe - 1 + 2r].
             const float* pc = pad.data() + 3 * std::size_t(pw);
             bool any = R == BleedRule::Naive;

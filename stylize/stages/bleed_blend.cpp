@@ -28,12 +28,11 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
         using toolkit::v8f;
         using toolkit::v8i;
         const v8i alpha = {0, 0, 0, -1, 0, 0, 0, -1};
-        const v8f vgain = v8f{} + gain, zero{}, one = v8f{} + 1.0f;
+        const v8f vgain = v8f{} + gain;
         std::size_t i = 0;
         for (; i + 2 <= n; i += 2) {
             const v8f b = toolkit::load8(B + 4 * i), c = toolkit::load8(Ii + 4 * i);
-            const v8f g = vgain * b;
-            const v8f s = g < zero ? zero : (g > one ? one : g);  // sat, NaN kept
+            const v8f s = toolkit::sat(vgain * b);
             const v8f k = __builtin_shufflevector(s, s, 3, 3, 3, 3, 7, 7, 7, 7);
             const v8f r = k * (b - c) + c;
             toolkit::store8(oi + 4 * i, alpha ? c : r);

@@ -64,10 +64,7 @@ void pass_fast(ImageF& dst, const ImageF& src, const std::vector<float>& w, Bord
                     std::fill_n(zr, nch, std::uint8_t(1));
                     continue;
                 }
-                // The row itself, then its 2r border texels by the table.
-                std::copy_n(sr, n, pad.data() + std::size_t(r) * C);
-                for (int i = 0; i < W + 2 * r; i += (i == r - 1 ? W + 1 : 1))
-                    for (int c = 0; c < C; ++c) pad[std::size_t(i) * C + c] = sr[std::size_t(xt[std::size_t(i)]) * C + c];
+                toolkit::pad_row(pad.data(), sr, W, C, xt, r);
                 for (int k = 0; k < nch; ++k) {
                     const std::size_t x0 = std::size_t(k) * kChunk, x1 = std::size_t(chunk_end(k));
                     // Chunk k's taps read padded texels [x0, x1 + 2r).

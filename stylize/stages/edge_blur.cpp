@@ -134,10 +134,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                 float* __restrict orow = o + row;
                 Span sp{w, -1};
                 if (pass == 0) {
-                    // The row itself, then its 2R border texels by the table.
-                    std::memcpy(pad.data() + R, sr, std::size_t(w) * sizeof(float));
-                    for (int i = 0; i < R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
-                    for (int i = R + w; i < w + 2 * R; ++i) pad[std::size_t(i)] = sr[xt[std::size_t(i)]];
+                    toolkit::pad_row(pad.data(), sr, w, 1, xt, R);
                     // The first and last non-zero bit patterns, eight at a time from each end.
                     const int np = w + 2 * R;
                     const std::uint32_t* pu = reinterpret_cast<const std::uint32_t*>(pad.data());

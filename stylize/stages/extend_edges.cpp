@@ -54,13 +54,8 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
         for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
             const std::size_t n = std::min(kChunk, end - i0);
             float* di = d + i0;
-            // No positive value (the background's zeros): only the clamp below, eight at a time.
-            toolkit::v8i pos{};
-            std::size_t j8 = 0;
-            for (; j8 + 8 <= n; j8 += 8) pos |= toolkit::load8(di + j8) > toolkit::v8f{};
-            bool any = !toolkit::all_zero(pos);
-            for (; j8 < n; ++j8) any |= di[j8] > 0.0f;
-            if (!any) {
+            // No positive value (the background's zeros): only the clamp below.
+            if (!toolkit::any_above(di, n, 0.0f)) {
                 for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;
                 continue;
             }

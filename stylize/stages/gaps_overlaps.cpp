@@ -136,22 +136,13 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     // kernel's second test: 64-pixel chunks without such an edge (the background) are copied
     // whole, their one-channel edges tested eight at a time.
     const float* ed = edges_ext.channels() == 1 ? edges_ext.data() : nullptr;
-    const v8f ethr = v8f{} + p.edge_threshold;
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
-            if (ed) {
-                const float* er = ed + std::size_t(y) * w;
-                v8i above{};
-                int x = xs;
-                for (; x + 8 <= xe; x += 8) above |= load8(er + x) > ethr;
-                bool any = !all_zero(above);
-                for (; x < xe; ++x) any |= er[x] > p.edge_threshold;
-                if (!any) {
-                    stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
-                    continue;
-                }
+            if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
+                stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                continue;
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
         }

@@ -39,7 +39,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     using toolkit::v8f;
     using toolkit::v8i;
     const v8i alpha = {0, 0, 0, -1, 0, 0, 0, -1};
-    const v8f zero{}, one = v8f{} + 1.0f;
+    const v8f one = v8f{} + 1.0f;
     const v8f sv = {substrate.x, substrate.y, substrate.z, 0.0f, substrate.x, substrate.y, substrate.z, 0.0f};
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
@@ -86,7 +86,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             std::size_t j = 0;
             for (; j + 2 <= n; j += 2) {
                 const v8f dv = v8f{d[j], d[j], d[j], d[j], d[j + 1], d[j + 1], d[j + 1], d[j + 1]};
-                const v8f t = dv < zero ? zero : (dv > one ? one : dv);  // sat, NaN kept
+                const v8f t = toolkit::sat(dv);
                 const v8f c1 = {cp[3 * j], cp[3 * j + 1], cp[3 * j + 2], 0.0f, cp[3 * j + 3], cp[3 * j + 4], cp[3 * j + 5], 0.0f};
                 const v8f r = sv * (one - t) + c1 * t;
                 store8(oi + 4 * j, alpha ? load8(ci + 4 * j) : r);

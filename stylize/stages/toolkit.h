@@ -127,6 +127,18 @@ inline std::vector<int> border_table(int n, int pad, Border b) {
     return t;
 }
 
+//! A padded row copy: dst[(i + pad) C + c] = src[table[i + pad] C + c] for i in -pad..n-1+pad, with
+//! table = border_table(n, pad, b): the row itself copied in one block (the table is the identity
+//! there), only the 2 pad border texels looked up. C channels interleaved.
+inline void pad_row(float* dst, const float* src, int n, int C, const std::vector<int>& table, int pad) {
+    std::copy_n(src, std::size_t(n) * std::size_t(C), dst + std::size_t(pad) * std::size_t(C));
+    auto border = [&](int i) {
+        for (int c = 0; c < C; ++c) dst[std::size_t(i) * C + c] = src[std::size_t(table[std::size_t(i)]) * C + c];
+    };
+    for (int i = 0; i < pad; ++i) border(i);
+    for (int i = pad + n; i < n + 2 * pad; ++i) border(i);
+}
+
 // ---- the traversal ---------------------------------------------------------------------------
 
 //! Rows per oneTBB task: tile / 8 within [1, 16] (8 at the default tile). At 1080p ~135 tasks,
@@ -217,6 +229,11 @@ inline v8f load8(const float* p) {
     return v;
 }
 inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+//! kernels.h sat lane by lane (x < 0 ? 0 : x > 1 ? 1 : x; NaN and -0 kept), as kernels.h sat8.
+inline v8f sat(v8f x) {
+    const v8f zero{}, one = v8f{} + 1.0f;
+    return x < zero ? zero : (x > one ? one : x);
+}
 //! True when every bit of v is 0 (one vptest with AVX).
 inline bool all_zero(v8i v) {
 #ifdef __AVX__
@@ -289,6 +306,18 @@ inline std::uint32_t nonzero_channels(const Exec& ex, const ImageF& img) {
             tbb::parallel_for(std::size_t(0), nb, [&](std::size_t k) { scan(k * step, std::min(nv, (k + 1) * step)); });
         });
     return mask.load();
+}
+
+//! Whether any of the n values at d is > bound (NaN is not), 8 values per compare, on the calling
+//! thread: the skip tests of row kernels (a chunk with no positive control, no edge above a threshold).
+inline bool any_above(const float* d, std::size_t n, float bound) {
+    const v8f b = v8f{} + bound;
+    v8i above{};
+    std::size_t j = 0;
+    for (; j + 8 <= n; j += 8) above |= load8(d + j) > b;
+    bool any = !all_zero(above);
+    for (; j < n; ++j) any |= d[j] > bound;
+    return any;
 }
 
 //! Whether every one of the n values at d lies in [-bound, bound] (false for NaN), 8 values per

@@ -1,5 +1,5 @@
 // tests/stylize/toolkit_scan_test.cpp — the toolkit's whole-image checks (toolkit.h any_index,
-// nonzero_channels, any_beyond), which stages use to choose a schedule (skip empty layers):
+// nonzero_channels, any_beyond, any_above), which stages use to choose a schedule (skip empty layers):
 // each answer equals a plain scalar scan, for every channel count, for a single telling value at
 // every kind of position (first, inside a vector, the unvectorised tail, a parallel block's edge),
 // on the reference traversal and on 1, 2 and 8 threads.
@@ -61,6 +61,23 @@ TEST(ToolkitScan, AnyBeyondFindsEveryValueOutsideTheBound) {
         }
     }
     for (const Exec& ex : traversals()) EXPECT_FALSE(toolkit::any_beyond(ex, nullptr, 0, 1.0f));
+}
+
+// any_above (the row kernels' skip tests): the plain scan's answer for one value just above the
+// bound at every kind of position (inside a vector, the scalar tail), values at the bound and NaN
+// not counting.
+TEST(ToolkitScan, AnyAboveEqualsThePlainScan) {
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(64), std::size_t(67)})
+        for (float bound : {0.0f, 0.1f})
+            for (std::size_t pos = 0; pos <= n; ++pos) {  // pos == n: no value above
+                std::vector<float> d(n, bound);
+                for (std::size_t j = 0; j < n; j += 3) d[j] = std::numeric_limits<float>::quiet_NaN();
+                if (pos < n) d[pos] = std::nextafter(bound, 1.0f);
+                bool want = false;
+                for (float v : d) want |= v > bound;
+                EXPECT_EQ(toolkit::any_above(d.data(), n, bound), want) << n << " values, bound " << bound << ", at " << pos;
+                EXPECT_EQ(want, pos < n);
+            }
 }
 
 // store_rgba8 writes pixel i as (r[i], g[i], b[i], a[i]), every bit moved (NaN payloads, -0).
