@@ -68,11 +68,14 @@ void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
     st.counters["threads"] = ex.traversal == Traversal::Reference ? 1 : ex.threads;
 }
 
-void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads) {
+//! groups: the compiled pipeline's row groups run band by band (the default, what users get);
+//! off: step by step ("/step_by_step", the same bytes: the fused schedule's before/after pair).
+void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, bool groups) {
     Pipeline p = load_pipeline(preset);
     Targets t = test::synthetic_gbuffer(s.w, s.h);
     RunOptions o;
     o.exec = Exec::fast(threads);
+    o.row_groups = groups;
     o.reuse_outputs = true;  // a frame loop: outputs of the previous frame are reused
     run_pipeline(p, t, o);   // warm-up; prepares and keeps the "paper" target
     for (auto _ : st) {
@@ -104,6 +107,7 @@ void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, b
     RunOptions o;
     o.exec = Exec::fast(threads);
     o.reuse_outputs = reuse;
+    o.row_groups = false;  // step by step: a row group's steps would share one time
     std::vector<std::string> names;
     std::vector<double> ms;
     Clock::time_point last;
@@ -159,11 +163,12 @@ const bool kRegistered = [] {
     for (const std::string& preset : image_presets)
         for (const Size& s : kSizes)
             for (int threads : {1, 2})
-                benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
-                                              std::to_string(threads)).c_str(),
-                                             bm_pipeline, preset, s, threads)
-                    ->Unit(benchmark::kMillisecond)
-                    ->UseRealTime();
+                for (bool groups : {true, false})
+                    benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
+                                                  std::to_string(threads) + (groups ? "" : "/step_by_step")).c_str(),
+                                                 bm_pipeline, preset, s, threads, groups)
+                        ->Unit(benchmark::kMillisecond)
+                        ->UseRealTime();
     for (const std::string& preset : image_presets)
         for (const Size& s : kSizes)
             for (int threads : {1, 2})

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <algorithm>
+#include <climits>
 #include <cstddef>
 #include <memory>
 #include <mutex>
@@ -29,9 +30,21 @@ struct Exec {
     int threads = 0;                        //!< 0 = all hardware threads; >= 1 caps the arena
     Traversal traversal = Traversal::Fast;  //!< Reference forces one thread, row-major
     int tile = 64;                          //!< for_each_tile's tile side; stages run tile / 8 rows per task
+    //! Row window of a fused schedule (stylize/pipeline.h CompiledPipeline::row_groups): only the
+    //! output rows [row_begin, row_end), clipped to the image, are computed, on the calling thread
+    //! (the schedule runs windows of several stripes in parallel). Only variants that declare a row
+    //! halo (stylize/stage.h StageVariant::row_halo) are run with a window. Default: every row.
+    int row_begin = 0, row_end = INT_MAX;
 
     static Exec reference() { return {1, Traversal::Reference, 64}; }
     static Exec fast(int threads = 0) { return {threads, Traversal::Fast, 64}; }
+    //! This policy restricted to output rows [y0, y1).
+    Exec rows(int y0, int y1) const {
+        Exec e = *this;
+        e.row_begin = y0, e.row_end = y1;
+        return e;
+    }
+    bool windowed() const { return row_begin > 0 || row_end < INT_MAX; }
 };
 
 //! The task arena of concurrency n (>= 1), created on first use and kept for the process.

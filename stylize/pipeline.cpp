@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -399,6 +400,50 @@ void find_in_place(CompiledPipeline& c) {
     }
 }
 
+//! Halos above this many rows are not run in bands (a step reading that far is a whole-image step).
+constexpr int kMaxRowHalo = 256;
+
+// CompiledPipeline::row_groups (after find_in_place): maximal runs of two or more consecutive steps
+// whose variants declare a row halo, outside fused pairs and raster passes.
+void find_row_groups(CompiledPipeline& c) {
+    const std::size_t n = c.steps.size();
+    auto groupable = [&](std::size_t i) {
+        const CompiledStep& r = c.steps[i];
+        return !r.pass && r.variant->row_halo && !c.fused_with_next[i] && !(i > 0 && c.fused_with_next[i - 1]) &&
+               r.variant->row_halo(r.params) >= 0 && r.variant->row_halo(r.params) <= kMaxRowHalo;
+    };
+    for (std::size_t i = 0; i < n;) {
+        std::size_t j = i;
+        while (j < n && groupable(j)) ++j;
+        if (j - i >= 2) {
+            RowGroup g;
+            g.first = i, g.last = j - 1;
+            std::map<std::string, int> depth_of;  // in-group output -> depth of the step writing it
+            for (std::size_t s = i; s < j; ++s) {
+                const CompiledStep& r = c.steps[s];
+                const int halo = r.variant->row_halo(r.params);
+                int d = 0;
+                for (const std::string& t : r.inputs)
+                    if (auto it = depth_of.find(t); it != depth_of.end()) d = std::max(d, it->second + halo);
+                // A step computing over its input in place (CompiledPipeline::in_place) overwrites
+                // rows only after every earlier step of the group that reads that input has read
+                // them for the last time: it stays behind each such reader by the reader's halo.
+                if (const int k = c.in_place[s]; k >= 0)
+                    for (std::size_t q = i; q < s; ++q) {
+                        const CompiledStep& rq = c.steps[q];
+                        if (std::find(rq.inputs.begin(), rq.inputs.end(), r.inputs[std::size_t(k)]) != rq.inputs.end())
+                            d = std::max(d, g.depth[q - i] + rq.variant->row_halo(rq.params));
+                    }
+                for (const std::string& t : r.outputs) depth_of[t] = d;
+                g.depth.push_back(d);
+                g.max_depth = std::max(g.max_depth, d);
+            }
+            c.row_groups.push_back(std::move(g));
+        }
+        i = std::max(j, i + 1);
+    }
+}
+
 }  // namespace
 
 CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
@@ -463,6 +508,7 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
         c.external.push_back({p.output, 0, false, p.source + ": output", ""});
     find_fusions(c);
     find_in_place(c);
+    find_row_groups(c);
     if (gbuffer) check_gbuffer(c, *gbuffer);
     return c;
 }
@@ -502,6 +548,131 @@ void validate_pipeline(const Pipeline& p, const Targets* gbuffer) { (void)compil
 void run_pipeline(const Pipeline& p, Targets& targets, const RunOptions& opt) {
     run_pipeline(compile_pipeline(p), targets, opt);
 }
+
+namespace {
+
+//! The check after a step: every output exists with its port's channel count.
+void check_output(const CompiledStep& r, std::size_t k, const ImageF& o) {
+    if (o.empty() || o.channels() != r.variant->outputs[k].channels)
+        throw Error(r.where + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
+                    std::to_string(r.variant->outputs[k].channels) + " channels");
+}
+
+//! Stripes of a row group: at least this many rows, and four times the group's depth (the seams'
+//! windows of neighbouring boundaries and their reads then never meet).
+constexpr int kMinStripeRows = 32;
+//! Stripes per thread: a stalled thread's stripe is taken over by the others (oneTBB stealing).
+constexpr int kStripesPerThread = 4;
+
+//! Runs the steps of a row group band by band (RowGroup); their outputs end in `targets` as if
+//! each step had run alone. `recycled`: the previous frame's outputs (RunOptions::reuse_outputs).
+void run_row_group(const CompiledPipeline& c, const RowGroup& gr, Targets& targets, const Globals& g,
+                   const RunOptions& opt, std::map<std::string, ImageF>& recycled, bool in_place) {
+    const std::size_t n = gr.last - gr.first + 1;
+    std::vector<std::vector<ImageF>> outs(n);
+    std::vector<StageIO> io(n);
+    std::map<std::string, ImageF*> live;  // outputs of the group's steps
+    std::set<std::string> consumed;       // of those, computed over in place by a later step
+    for (std::size_t j = 0; j < n; ++j) {
+        const CompiledStep& r = c.steps[gr.first + j];
+        io[j].globals = &g;
+        for (const std::string& t : r.inputs) {
+            const auto it = live.find(t);
+            io[j].in.push_back(it != live.end() ? it->second : targets.has(t) ? &targets.get(t) : nullptr);
+        }
+        outs[j].resize(r.outputs.size());
+        for (std::size_t k = 0; k < outs[j].size(); ++k)
+            if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[j][k] = std::move(it->second);
+        for (auto& o : outs[j]) io[j].out.push_back(&o);
+        if (const int k = in_place ? c.in_place[gr.first + j] : -1; k >= 0) {
+            // The dead input's image becomes the output (as step by step): the group's own image
+            // when an earlier step of the group writes it.
+            const std::string& t = r.inputs[std::size_t(k)];
+            const std::size_t ko = std::size_t(port_index(r.variant->outputs, r.variant->in_place_output));
+            if (auto it = live.find(t); it != live.end()) {
+                io[j].out[ko] = it->second;
+                consumed.insert(t);
+            } else {
+                const ImageF* was = &targets.get(t);
+                outs[j][ko] = std::move(targets.get_mut(t));
+                targets.erase(t);
+                for (std::size_t q = 0; q < j; ++q)  // earlier steps of the group that read it
+                    for (const ImageF*& in : io[q].in)
+                        if (in == was) in = &outs[j][ko];
+            }
+            io[j].in[std::size_t(k)] = io[j].out[ko];
+        }
+        for (std::size_t k = 0; k < r.outputs.size(); ++k) live[r.outputs[k]] = io[j].out[k];
+    }
+    auto run = [&](std::size_t j, int y0, int y1) {
+        const CompiledStep& r = c.steps[gr.first + j];
+        try {
+            r.variant->run(io[j], r.params, opt.exec.rows(y0, y1));
+        } catch (const Error& e) {
+            throw Error(r.where + ": " + e.what());
+        }
+    };
+    // Checks and allocations in step order (an empty window): the errors of step by step.
+    int W = -1, H = -1;
+    bool same_size = true;
+    for (std::size_t j = 0; j < n; ++j) {
+        run(j, 0, 0);
+        const CompiledStep& r = c.steps[gr.first + j];
+        for (std::size_t k = 0; k < r.outputs.size(); ++k) {
+            const ImageF& o = *io[j].out[k];
+            check_output(r, k, o);
+            if (W < 0) W = o.width(), H = o.height();
+            same_size = same_size && o.width() == W && o.height() == H;
+        }
+    }
+    if (!same_size) {  // outputs of several sizes (not from the built-in variants): step by step
+        for (std::size_t j = 0; j < n; ++j) run(j, 0, INT_MAX);
+    } else {
+        const Exec& ex = opt.exec;
+        const int threads = ex.threads > 0 ? ex.threads : tbb::this_task_arena::max_concurrency();
+        const int min_stripe = std::max(kMinStripeRows, 4 * gr.max_depth + 4);
+        const int S = std::max(1, std::min(kStripesPerThread * threads, H / min_stripe));
+        const int R = std::max(1, opt.band_rows);
+        auto edge = [&](int k) { return int(std::int64_t(H) * k / S); };
+        // Stripe k: each step computes its rows as soon as the rows it reads exist, staying
+        // depth rows inside the stripe's inner boundaries.
+        auto stripe = [&](int k) {
+            const int a = edge(k), b = edge(k + 1);
+            std::vector<int> done(n), end(n);
+            for (std::size_t j = 0; j < n; ++j) {
+                done[j] = a == 0 ? 0 : a + gr.depth[j];
+                end[j] = b == H ? H : b - gr.depth[j];
+            }
+            for (int t = a; t < b;) {
+                t = std::min(b, t + R);
+                for (std::size_t j = 0; j < n; ++j) {
+                    const int target = t == b ? end[j] : std::min(end[j], t - gr.depth[j]);
+                    if (target > done[j]) {
+                        run(j, done[j], target);
+                        done[j] = target;
+                    }
+                }
+            }
+        };
+        // The seam at boundary k: the rows each step left on both sides of it.
+        auto seam = [&](int k) {
+            const int b = edge(k);
+            for (std::size_t j = 0; j < n; ++j)
+                if (gr.depth[j] > 0) run(j, b - gr.depth[j], b + gr.depth[j]);
+        };
+        with_arena(ex, [&] {
+            tbb::parallel_for(0, S, stripe);
+            tbb::parallel_for(1, S, seam);
+        });
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        const CompiledStep& r = c.steps[gr.first + j];
+        for (std::size_t k = 0; k < r.outputs.size(); ++k)
+            if (!consumed.count(r.outputs[k])) targets.set(r.outputs[k], std::move(*io[j].out[k]));
+    }
+}
+
+}  // namespace
 
 void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
     std::map<std::string, ImageF> recycled;
@@ -550,7 +721,42 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     };
     const bool fuse = opt.fuse && c.fused_with_next.size() == c.steps.size();
     const bool in_place = opt.in_place && c.in_place.size() == c.steps.size();
+    // The intermediates and G-buffer targets whose last reader is step i (`fused`: i ran with i - 1).
+    auto release_after = [&](int i, const Fusion* fused) {
+        const CompiledStep& r = c.steps[std::size_t(i)];
+        for (const std::string& t : c.produced) {
+            if (t == c.output || !targets.has(t)) continue;
+            const auto last = c.last_read.find(t);
+            // A fused pair's producer did not run alone: what it read last dies here too.
+            auto read_last_here = [&](std::size_t at) { return at == std::size_t(i) || (fused && at + 1 == std::size_t(i)); };
+            const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
+                                                        : read_last_here(last->second);
+            if (dead) targets.erase(t);
+        }
+        if (opt.release_inputs)
+            for (const ExternalInput& x : c.external)
+                if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target)) {
+                    const std::size_t at = c.last_read.at(x.target);
+                    if (at == std::size_t(i) || (fused && at + 1 == std::size_t(i))) targets.erase(x.target);
+                }
+    };
+    std::map<int, const RowGroup*> group_at;  // first step -> its row group
+    if (opt.row_groups && opt.exec.traversal == Traversal::Fast)
+        for (const RowGroup& gr : c.row_groups) group_at[int(gr.first)] = &gr;
     for (int i = 0; i < n; ++i) {
+        if (const auto grp = group_at.find(i); grp != group_at.end()) {
+            const RowGroup& gr = *grp->second;
+            for (std::size_t s = gr.first; s <= gr.last; ++s)
+                if (opt.progress) opt.progress(int(s), n, c.steps[s].label);
+            const auto t0 = std::chrono::steady_clock::now();
+            run_row_group(c, gr, targets, g, opt, recycled, in_place);
+            if (opt.step_ms)  // the group's time is its last step's
+                (*opt.step_ms)[gr.last] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            if (opt.release_dead)
+                for (std::size_t s = gr.first; s <= gr.last; ++s) release_after(int(s), nullptr);
+            i = int(gr.last);
+            continue;
+        }
         const CompiledStep& r = c.steps[std::size_t(i)];
         if (opt.progress) opt.progress(i, n, r.label);
         if (fuse && c.fused_with_next[std::size_t(i)]) continue;  // runs with step i + 1
@@ -587,30 +793,12 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
             throw Error(r.where + ": " + e.what());
         }
         for (std::size_t k = 0; k < outs.size(); ++k) {
-            if (outs[k].empty() || outs[k].channels() != r.variant->outputs[k].channels)
-                throw Error(r.where + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
-                            std::to_string(r.variant->outputs[k].channels) + " channels");
+            check_output(r, k, outs[k]);
             targets.set(r.outputs[k], std::move(outs[k]));
         }
         if (opt.step_ms)
             (*opt.step_ms)[std::size_t(i)] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (opt.release_dead) {
-            for (const std::string& t : c.produced) {
-                if (t == c.output || !targets.has(t)) continue;
-                const auto last = c.last_read.find(t);
-                // A fused pair's producer did not run alone: what it read last dies here too.
-                auto read_last_here = [&](std::size_t at) { return at == std::size_t(i) || (fused && at + 1 == std::size_t(i)); };
-                const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
-                                                            : read_last_here(last->second);
-                if (dead) targets.erase(t);
-            }
-            if (opt.release_inputs)
-                for (const ExternalInput& x : c.external)
-                    if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target)) {
-                        const std::size_t at = c.last_read.at(x.target);
-                        if (at == std::size_t(i) || (fused && at + 1 == std::size_t(i))) targets.erase(x.target);
-                    }
-        }
+        if (opt.release_dead) release_after(i, fused);
     }
 }
 

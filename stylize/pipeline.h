@@ -111,6 +111,13 @@ struct RunOptions {
     //! `targets` afterwards. For callers that keep only the output (the render job without
     //! --targets); off: every step runs alone.
     bool fuse = false;
+    //! Runs the steps of CompiledPipeline::row_groups band by band (Fast traversal only; docs/stylize.md
+    //! "Row groups"): the same output bytes and the same targets as step by step, with each band's
+    //! intermediate rows read again while they are in the cache. Off: step by step (the benchmarks'
+    //! per-step profile, tests comparing the two).
+    bool row_groups = true;
+    //! Rows per band of a row group (each step of the group advances by this many rows at a time).
+    int band_rows = 16;
     //! Runs the steps of CompiledPipeline::in_place on their input's image (stage.h
     //! StageVariant::in_place_input): the same output bytes, but that input is not in `targets`
     //! afterwards. For the same callers as `fuse`.
@@ -139,6 +146,24 @@ struct ExternalInput {
     std::string port;       //!< the first reader's port name
 };
 
+//! Consecutive steps that run band by band (a fused schedule, Halide's compute_at with sliding
+//! windows; docs/stylize.md "Row groups"): every step's variant declares a row halo
+//! (StageVariant::row_halo), none is a raster pass or in a fused pair. The image is cut into
+//! horizontal stripes run in parallel; within a stripe each step computes the next rows its
+//! inputs allow, so a band's intermediate rows are read by the next steps while they are in the
+//! cache; the rows around the stripe boundaries follow once every stripe is done. Every row of
+//! every step is computed once, by the same row code as step by step: the same bytes.
+struct RowGroup {
+    std::size_t first = 0, last = 0;  //!< steps [first, last] of CompiledPipeline::steps
+    //! Per step of the group: how many rows its computed rows stay behind those of the steps before
+    //! it — the largest (depth of an in-group step whose output it reads + its own halo), 0 when it
+    //! reads no output of the group (its inputs are complete before the group runs); a step that
+    //! computes over its input in place stays behind every earlier reader of that input by the
+    //! reader's depth + halo (it must not overwrite rows they will still read).
+    std::vector<int> depth;
+    int max_depth = 0;
+};
+
 //! A pipeline validated and resolved once (compile_pipeline); running it resolves nothing again.
 struct CompiledPipeline {
     std::string name, source, output;
@@ -159,6 +184,8 @@ struct CompiledPipeline {
     //! earlier step, not the pipeline's output) that no other port of the step and no later step
     //! reads, and the step is in no fused pair. Used with RunOptions::in_place.
     std::vector<int> in_place;
+    //! Row groups of two or more steps, in step order (RowGroup). Used with RunOptions::row_groups.
+    std::vector<RowGroup> row_groups;
     bool has_passes = false;  //!< some step is a raster pass
     raster::FoliageParams foliage;  //!< see Pipeline::foliage
     bool has_foliage = false;

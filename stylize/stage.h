@@ -135,8 +135,17 @@ struct StageVariant {
     //! steps"): handed one image as both, it writes only the pixels that change, with the bytes of
     //! the run on separate images. Empty: never in place.
     std::string in_place_input, in_place_output;
+    //! Row windows (docs/stylize.md "Row groups"): when set, the Fast traversal run with a window
+    //! (Exec::rows) computes exactly the output rows [y0, y1), reads its inputs only in the rows
+    //! [y0 - halo, y1 + halo) (halo = row_halo(params); image borders resolved within them), writes
+    //! outputs of its full-size input's size, and with an empty window only checks and allocates.
+    //! Such steps in a row run band by band (CompiledPipeline::row_groups). Null: never windowed.
+    std::function<int(const ParamValues&)> row_halo;
     std::string key() const { return stage + "/" + variant; }
 };
+
+//! row_halo of a variant whose output pixel reads its inputs' pixel at the same place only.
+inline int pointwise_rows(const ParamValues&) { return 0; }
 
 //! Two consecutive steps run as one (a fused schedule; docs/stylize.md "Fused steps"): a producer
 //! whose every output is read by the next step alone (the consumer) through the ports `links`

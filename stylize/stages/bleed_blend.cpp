@@ -86,6 +86,7 @@ void register_bleed_blend(Registry& r) {
         bleed_blend(*io.out[0], *io.in[0], *io.in[1], t.from(pv), ex);
     };
     v.reference = StageVariant::Reference::PlainLoop;
+    v.row_halo = pointwise_rows;
     r.add(std::move(v));
 }
 

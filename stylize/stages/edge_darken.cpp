@@ -183,6 +183,7 @@ void register_edge_darken(Registry& r) {
             edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
+        v.row_halo = pointwise_rows;
         r.add(std::move(v));
     }
     {
@@ -203,6 +204,7 @@ void register_edge_darken(Registry& r) {
                              globals_of(io).substrate_color, tr.from(pv), ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
+        v.row_halo = pointwise_rows;
         r.add(std::move(v));
     }
 }

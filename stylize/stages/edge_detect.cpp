@@ -188,6 +188,7 @@ void register_edge_detect(Registry& r) {
         edge_detect_rgbd_sobel(*io.out[0], *io.in[0], *io.in[1], p, ex);
     };
     v.reference = StageVariant::Reference::PlainLoop;
+    v.row_halo = [](const ParamValues&) { return 1; };  // the 3 x 3 Sobel taps
     r.add(std::move(v));
 }
 

@@ -92,6 +92,10 @@ struct GoKernel {
     }
 };
 
+//! Rows a pixel's taps reach: the march of up to `steps` pixels along the unit gradient (its
+//! rounding can add a little), the bilinear footprint and the 3 x 3 gradient one more each.
+int gaps_overlaps_reach(const GapsOverlapsParams& p) { return p.steps + 2; }
+
 }  // namespace
 
 void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, const ImageF& ctrl_edge,
@@ -141,7 +145,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
             if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
-                stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                copy_floats(ex, &o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
                 continue;
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
@@ -177,6 +181,7 @@ void register_gaps_overlaps(Registry& r) {
                       globals_of(io).substrate_color, t.from(pv), ex);
     });
     v.reference = StageVariant::Reference::SharedMaths;
+    v.row_halo = [](const ParamValues& pv) { return gaps_overlaps_reach(t.from(pv)); };
     r.add(std::move(v));
 }
 

@@ -190,6 +190,7 @@ void register_pigment_apply(Registry& r) {
                                ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
+        v.row_halo = pointwise_rows;
         r.add(std::move(v));
     }
     {
@@ -204,6 +205,7 @@ void register_pigment_apply(Registry& r) {
             pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
+        v.row_halo = pointwise_rows;
         r.add(std::move(v));
     }
 }

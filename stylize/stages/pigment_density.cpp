@@ -116,6 +116,7 @@ void register_pigment_density(Registry& r) {
         pigment_density(*io.out[0], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
     };
     v.reference = StageVariant::Reference::PlainLoop;
+    v.row_halo = pointwise_rows;
     r.add(std::move(v));
 }
 

@@ -58,6 +58,13 @@ int equal_run(const float* cd, const float* zd, int zc, std::size_t i0, int n, i
     return k;
 }
 
+//! Reach of the taps in pixels: |offset| <= 5 * distortion, the bilinear footprint one more, and
+//! one of margin for the float rounding of the sample position. Also the stage's row halo.
+int distort_reach(const SubstrateDistortParams& p) {
+    const float maxoff = std::max(0.0f, p.distortion) * kDistortPixelsPerUnit;
+    return int(std::min(std::ceil(maxoff), 1.0e6f)) + 2;
+}
+
 //! Per row y: pixels x < lead[y] and x > trail[y] are flat margins (see substrate_distort).
 struct FlatMargins {
     std::vector<int> lead, trail;
@@ -80,23 +87,23 @@ FlatMargins flat_margins(const ImageF& color, const ImageF& depth, const Substra
         for (int k = 0; k < 4; ++k) f = f && std::isfinite(cd[4 * i + k]);
         return f;
     };
+    const int M = distort_reach(p);
+    // The rows to compute (a band's window, else all) and the rows their taps reach.
+    const int wy0 = std::max(0, ex.row_begin), wy1 = std::min(h, ex.row_end);
+    const Exec reach = ex.windowed() ? ex.rows(wy0 - M, wy1 + M) : ex;
     // The leading / trailing runs equal to the row's first / last pixel (0 when it is not finite).
     std::vector<int> run_l(static_cast<std::size_t>(h)), run_t(static_cast<std::size_t>(h));
-    for_each_row_block(ex, h, [&](int y0, int y1) {
+    for_each_row_block(reach, h, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             const std::size_t first = std::size_t(y) * w, last = first + w - 1;
             run_l[std::size_t(y)] = finite(y, 0) ? equal_run(cd, zd, zc, first, w, +1) : 0;
             run_t[std::size_t(y)] = finite(y, w - 1) ? equal_run(cd, zd, zc, last, w, -1) : 0;
         }
     });
-    // Reach of the taps: |offset| <= 5 * distortion pixels, the bilinear footprint one more, and
-    // one of margin for the float rounding of the sample position.
-    const float maxoff = std::max(0.0f, p.distortion) * kDistortPixelsPerUnit;
-    const int M = int(std::min(std::ceil(maxoff), 1.0e6f)) + 2;
     FlatMargins fm;
     fm.lead.assign(std::size_t(h), 0);
     fm.trail.assign(std::size_t(h), w - 1);
-    for (int y = 0; y < h; ++y) {
+    for (int y = wy0; y < wy1; ++y) {
         int lead = run_l[std::size_t(y)], trail = run_t[std::size_t(y)];
         const std::size_t first = std::size_t(y) * w, last = first + w - 1;
         for (int d = -M; d <= M && (lead > 0 || trail > 0); ++d) {
@@ -180,7 +187,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
             if ((copy_lead && xs + n <= flat_lo) || (copy_trail && xs > flat_hi)) {
-                stream_copy(&o(xs, y).x, &c(xs, y).x, 4 * std::size_t(n));  // non-temporal: no read of o's lines
+                copy_floats(ex, &o(xs, y).x, &c(xs, y).x, 4 * std::size_t(n));  // non-temporal: no read of o's lines
                 continue;
             }
             for (int i = 0; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
@@ -254,6 +261,7 @@ void register_substrate_distort(Registry& r) {
             substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
+        v.row_halo = [](const ParamValues& pv) { return distort_reach(td.from(pv)); };
         r.add(std::move(v));
     }
 }

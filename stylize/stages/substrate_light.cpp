@@ -80,6 +80,7 @@ void register_substrate_light(Registry& r) {
             substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);
         });
         v.reference = StageVariant::Reference::SharedMaths;
+        v.row_halo = pointwise_rows;
         r.add(std::move(v));
     }
 }

@@ -147,12 +147,15 @@ inline int row_grain(const Exec& ex) { return std::max(1, std::min(ex.tile > 0 ?
 
 //! Runs f(y0, y1) over blocks of rows [0, h): one call f(0, h) for Reference, oneTBB blocks of
 //! row_grain rows for Fast. Each block writes only its own rows and every value depends only on
-//! the inputs, so the bytes are the same for every traversal and thread count.
+//! the inputs, so the bytes are the same for every traversal and thread count. With a row window
+//! (Exec::rows, a fused schedule's band): one call over the window's rows within [0, h), on the
+//! calling thread, none when they are empty.
 template <class F>
 void for_each_row_block(const Exec& ex, int h, F&& f) {
-    if (h <= 0) return;
-    if (ex.traversal == Traversal::Reference) {
-        f(0, h);
+    const int y0 = std::max(0, ex.row_begin), y1 = std::min(h, ex.row_end);
+    if (y1 <= y0) return;
+    if (ex.traversal == Traversal::Reference || ex.windowed()) {
+        f(y0, y1);
         return;
     }
     with_arena(ex, [&] {
@@ -160,6 +163,15 @@ void for_each_row_block(const Exec& ex, int h, F&& f) {
             tbb::blocked_range<int>(0, h, row_grain(ex)), [&](const tbb::blocked_range<int>& r) { f(r.begin(), r.end()); },
             tbb::simple_partitioner());
     });
+}
+
+//! Whether a stage should write copies with non-temporal stores (core/image.h stream_copy): not in
+//! a fused schedule's band, whose output rows the next step reads at once from the cache.
+inline bool stream_stores(const Exec& ex) { return !ex.windowed(); }
+//! Copies n floats: stream_copy, or a plain copy in a band (stream_stores).
+inline void copy_floats(const Exec& ex, float* dst, const float* src, std::size_t n) {
+    if (stream_stores(ex)) stream_copy(dst, src, n);
+    else std::copy_n(src, n, dst);
 }
 
 //! Whether pred(i) holds for some i in [0, n): one loop for Reference, oneTBB blocks for Fast that
