@@ -85,7 +85,6 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     // Outputs written with non-temporal stores where aligned (the usual case: large images are
     // 2 MiB-aligned): the next stages read them from memory anyway, and the stores need not
     // read the outputs' lines first.
-    const bool nts = toolkit::stream_stores(ex);  // not in a band: the next step reads it from the cache
     auto store = [](float* d, __m256 v, bool nt) {
         if (nt) _mm256_stream_ps(d, v);
         else _mm256_storeu_ps(d, v);
@@ -93,8 +92,8 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t i1 = std::size_t(y1) * w;
         std::size_t i = std::size_t(y0) * w;
-        const bool cnt = nts && (reinterpret_cast<std::uintptr_t>(cout + 4 * i) & 31) == 0;
-        const bool znt = nts && (reinterpret_cast<std::uintptr_t>(zout + i) & 31) == 0;
+        const bool cnt = (reinterpret_cast<std::uintptr_t>(cout + 4 * i) & 31) == 0;
+        const bool znt = (reinterpret_cast<std::uintptr_t>(zout + i) & 31) == 0;
         for (; i + 2 <= i1; i += 2) {
             const __m256 c = _mm256_loadu_ps(cin + 4 * i);
             const __m256 r = _mm256_permute_ps(c, 0x00), g = _mm256_permute_ps(c, 0x55);

@@ -145,7 +145,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
             if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
-                copy_floats(ex, &o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
                 continue;
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);

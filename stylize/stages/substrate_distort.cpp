@@ -187,7 +187,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
             if ((copy_lead && xs + n <= flat_lo) || (copy_trail && xs > flat_hi)) {
-                copy_floats(ex, &o(xs, y).x, &c(xs, y).x, 4 * std::size_t(n));  // non-temporal: no read of o's lines
+                stream_copy(&o(xs, y).x, &c(xs, y).x, 4 * std::size_t(n));  // non-temporal: no read of o's lines
                 continue;
             }
             for (int i = 0; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);

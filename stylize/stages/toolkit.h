@@ -165,15 +165,6 @@ void for_each_row_block(const Exec& ex, int h, F&& f) {
     });
 }
 
-//! Whether a stage should write copies with non-temporal stores (core/image.h stream_copy): not in
-//! a fused schedule's band, whose output rows the next step reads at once from the cache.
-inline bool stream_stores(const Exec& ex) { return !ex.windowed(); }
-//! Copies n floats: stream_copy, or a plain copy in a band (stream_stores).
-inline void copy_floats(const Exec& ex, float* dst, const float* src, std::size_t n) {
-    if (stream_stores(ex)) stream_copy(dst, src, n);
-    else std::copy_n(src, n, dst);
-}
-
 //! Whether pred(i) holds for some i in [0, n): one loop for Reference, oneTBB blocks for Fast that
 //! stop once an answer is found. The answer does not depend on the traversal (no order, no float
 //! reduction): for the whole-image checks stages make before choosing a schedule.
