@@ -94,6 +94,8 @@ options:
                         PNG frames, faster where the disk keeps up (docs/performance.md
                         "Fourteenth session")
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
+  --row-groups          run the pipeline's row groups band by band (a fused schedule, the same
+                        bytes; pays where the cache is smaller than a frame, docs/stylize.md)
   --reference           use the plain reference traversals (slow; the oracle)
   --allow-outside-files let a glTF read buffers and images outside its own folder (by default
                         refused after resolving '..', percent-encoding and links; docs/limits.md)
@@ -173,8 +175,8 @@ options:
                           no report); then assemble with the same axes and --from-cells
   --from-cells            make the sheet from the cells in --cells DIR instead of rendering
   --width W, --height H   size of each combination's image (default 640x360)
-  --frame N, --control C, --working-space W, --threads N, --allow-outside-files, --quiet
-                          as in render
+  --frame N, --control C, --working-space W, --threads N, --row-groups, --allow-outside-files,
+  --quiet                 as in render
   --help                  this text
 )";
 
@@ -225,6 +227,8 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
         o.shard_count = int(aq::cli::parse_int(arg, v.substr(slash + 1), 1, 100000));
         o.shard_index = int(aq::cli::parse_int(arg, v.substr(0, slash), 0, 99999));
         if (o.shard_index >= o.shard_count) throw UsageError("--shard I/N needs 0 <= I < N (got " + v + ")");
+    } else if (arg == "--row-groups") {
+        o.row_groups = true;
     } else if (arg == "--allow-outside-files") {
         o.allow_outside_files = true;
     } else if (arg == "--quiet" || arg == "-q") {

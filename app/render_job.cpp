@@ -380,6 +380,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 ro.release_dead = !o.keep_intermediates;
                 ro.fuse = !o.keep_intermediates;  // fused steps write no intermediate (stage.h Fusion)
                 ro.in_place = ro.fuse;            // nor do in-place steps keep their input (StageVariant::in_place_input)
+                ro.row_groups = o.row_groups;
                 ro.release_inputs = one_shot_memory;
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {

@@ -44,6 +44,9 @@ struct RenderOptions {
     //! Hand the sink every intermediate (--targets, --targets-png, the regression goldens); else
     //! intermediates are released after their last reader (stylize::RunOptions::release_dead).
     bool keep_intermediates = false;
+    //! --row-groups: run the pipelines' row groups band by band (stylize::RunOptions::row_groups);
+    //! the same bytes, a schedule for machines whose cache is smaller than a frame.
+    bool row_groups = false;
     WorkingSpace working_space = WorkingSpace::Display;
     //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
     Compression compression = Compression::Fast;

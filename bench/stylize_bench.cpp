@@ -68,8 +68,8 @@ void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
     st.counters["threads"] = ex.traversal == Traversal::Reference ? 1 : ex.threads;
 }
 
-//! groups: the compiled pipeline's row groups run band by band (the default, what users get);
-//! off: step by step ("/step_by_step", the same bytes: the fused schedule's before/after pair).
+//! groups: the compiled pipeline's row groups run band by band ("/row_groups", `--row-groups`);
+//! off: step by step (the default, what users get). The same bytes: the fused schedule's pair.
 void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, bool groups) {
     Pipeline p = load_pipeline(preset);
     Targets t = test::synthetic_gbuffer(s.w, s.h);
@@ -107,7 +107,7 @@ void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, b
     RunOptions o;
     o.exec = Exec::fast(threads);
     o.reuse_outputs = reuse;
-    o.row_groups = false;  // step by step: a row group's steps would share one time
+    o.row_groups = false;  // step by step (also the default): a row group's steps would share one time
     std::vector<std::string> names;
     std::vector<double> ms;
     Clock::time_point last;
@@ -165,7 +165,7 @@ const bool kRegistered = [] {
             for (int threads : {1, 2})
                 for (bool groups : {true, false})
                     benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
-                                                  std::to_string(threads) + (groups ? "" : "/step_by_step")).c_str(),
+                                                  std::to_string(threads) + (groups ? "/row_groups" : "")).c_str(),
                                                  bm_pipeline, preset, s, threads, groups)
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();

@@ -113,9 +113,10 @@ struct RunOptions {
     bool fuse = false;
     //! Runs the steps of CompiledPipeline::row_groups band by band (Fast traversal only; docs/stylize.md
     //! "Row groups"): the same output bytes and the same targets as step by step, with each band's
-    //! intermediate rows read again while they are in the cache. Off: step by step (the benchmarks'
-    //! per-step profile, tests comparing the two).
-    bool row_groups = true;
+    //! intermediate rows read again while they are in the cache. Off by default: on our machines
+    //! (a last-level cache that holds a whole frame) it measured no faster than step by step
+    //! (docs/performance.md "Eighteenth session"); `aquarelle render --row-groups` turns it on.
+    bool row_groups = false;
     //! Rows per band of a row group (each step of the group advances by this many rows at a time).
     int band_rows = 16;
     //! Runs the steps of CompiledPipeline::in_place on their input's image (stage.h
