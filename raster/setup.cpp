@@ -251,13 +251,13 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
 }
 
 #ifdef __AVX2__
-// The first checks of build() for 8 listed triangles per register (schedule only, issue 13 item 5):
-// a lane is set when build() surely drops its triangle without a trace — valid indices, every
-// outcode 0 (setup_one's fast path), and empty clamped bounds, zero area, a culled back face, or
-// bounds of at most kSmallTrianglePixels holding no pixel centre inside (top-left rule). Only
-// triangles whose snapped extent is below kVectorExtent (64 px) in x and y are tested: their
-// products then fit int32 exactly (deltas < 2^14, centre offsets < 2^15); the others are left to
-// setup_one. Every value is the scalar one: the edge function is evaluated in the exact form
+// setup_one's quick reject and build()'s first checks for 8 triangles per register (schedule only,
+// issue 13 item 5): a lane is set when setup_one surely drops its triangle without a trace — valid
+// indices and every outcode 0 (its fast path), and bounds that hold no pixel centre, or (for a
+// snapped extent below kVectorExtent, 64 px, in x and y, where the products fit int32 exactly:
+// deltas < 2^14, centre offsets < 2^15) empty clamped bounds, zero area, a culled back face, or
+// bounds of at most kSmallTrianglePixels holding no pixel centre inside (top-left rule). The
+// others are left to setup_one. Every value is the scalar one: the edge function is evaluated in the exact form
 // dx (sy - Ya) - dy (sx - Xa) = A sx + B sy + C.
 constexpr std::int32_t kVectorExtent = 1 << 14;
 static_assert(sizeof(SnapVertex) == 5 * sizeof(std::int32_t) && offsetof(SnapVertex, x) == 0 &&
@@ -288,17 +288,21 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     const __m256i xmax = _mm256_max_epi32(x[0], _mm256_max_epi32(x[1], x[2]));
     const __m256i ymin = _mm256_min_epi32(y[0], _mm256_min_epi32(y[1], y[2]));
     const __m256i ymax = _mm256_max_epi32(y[0], _mm256_max_epi32(y[1], y[2]));
+    // The pixel bounds (bounds_hold_centre's, then build()'s clamped to the raster).
+    const __m256i half_up = _mm256_set1_epi32(kSubpixelOne / 2 - 1), half = _mm256_set1_epi32(kSubpixelOne / 2);
+    const __m256i ux0 = _mm256_srai_epi32(_mm256_add_epi32(xmin, half_up), kSubpixelBits);
+    const __m256i uy0 = _mm256_srai_epi32(_mm256_add_epi32(ymin, half_up), kSubpixelBits);
+    const __m256i ux1 = _mm256_srai_epi32(_mm256_sub_epi32(xmax, half), kSubpixelBits);
+    const __m256i uy1 = _mm256_srai_epi32(_mm256_sub_epi32(ymax, half), kSubpixelBits);
+    // setup_one's quick reject (any extent): bounds that hold no pixel centre.
+    const __m256i no_centre_in_bounds = _mm256_and_si256(
+        ok, _mm256_or_si256(_mm256_cmpgt_epi32(ux0, ux1), _mm256_cmpgt_epi32(uy0, uy1)));
     const __m256i ext = _mm256_set1_epi32(kVectorExtent);
     ok = _mm256_and_si256(ok, _mm256_and_si256(_mm256_cmpgt_epi32(ext, _mm256_sub_epi32(xmax, xmin)),
                                                _mm256_cmpgt_epi32(ext, _mm256_sub_epi32(ymax, ymin))));
-    // build()'s pixel bounds, clamped to the raster.
-    const __m256i half_up = _mm256_set1_epi32(kSubpixelOne / 2 - 1), half = _mm256_set1_epi32(kSubpixelOne / 2);
-    const __m256i px0 = _mm256_max_epi32(_mm256_srai_epi32(_mm256_add_epi32(xmin, half_up), kSubpixelBits), zero);
-    const __m256i py0 = _mm256_max_epi32(_mm256_srai_epi32(_mm256_add_epi32(ymin, half_up), kSubpixelBits), zero);
-    const __m256i px1 = _mm256_min_epi32(_mm256_srai_epi32(_mm256_sub_epi32(xmax, half), kSubpixelBits),
-                                         _mm256_set1_epi32(vp.width - 1));
-    const __m256i py1 = _mm256_min_epi32(_mm256_srai_epi32(_mm256_sub_epi32(ymax, half), kSubpixelBits),
-                                         _mm256_set1_epi32(vp.height - 1));
+    const __m256i px0 = _mm256_max_epi32(ux0, zero), py0 = _mm256_max_epi32(uy0, zero);
+    const __m256i px1 = _mm256_min_epi32(ux1, _mm256_set1_epi32(vp.width - 1));
+    const __m256i py1 = _mm256_min_epi32(uy1, _mm256_set1_epi32(vp.height - 1));
     const __m256i empty = _mm256_or_si256(_mm256_cmpgt_epi32(px0, px1), _mm256_cmpgt_epi32(py0, py1));
     const __m256i area = _mm256_sub_epi32(
         _mm256_mullo_epi32(_mm256_sub_epi32(x[1], x[0]), _mm256_sub_epi32(y[2], y[0])),
@@ -341,7 +345,8 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
             any = _mm256_or_si256(any, inside);
         }
     drop = _mm256_or_si256(drop, _mm256_andnot_si256(any, small));
-    return std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(drop, ok))));
+    drop = _mm256_or_si256(_mm256_and_si256(drop, ok), no_centre_in_bounds);
+    return std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(drop)));
 }
 #endif
 
@@ -365,34 +370,29 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
     std::uint32_t list[kSetupBatch];
     for (std::uint32_t b = begin; b < end;) {
         const std::uint32_t e = end - b > kSetupBatch ? b + kSetupBatch : end;
-        std::uint32_t n = 0;
+        std::uint32_t n = 0, t = b;
         if (nv == 0) {
-            for (std::uint32_t t = b; t < e; ++t) list[n++] = t;
-        } else {
-            for (std::uint32_t t = b; t < e; ++t) {
-                list[n] = t;
-                n += needs_setup(snap, nv, idx + 3 * std::size_t(t)) ? 1u : 0u;
-            }
+            for (; t < e; ++t) list[n++] = t;
         }
 #ifdef __AVX2__
-        // Listed triangles that build() surely drops, 8 at a time, leave the list (the quick
-        // reject of setup_one for the rest is exact, so this changes nothing but the work).
-        if (nv != 0 && nv <= std::size_t(INT32_MAX / 5)) {
+        // 8 triangles per register: those setup_one surely drops without a trace never enter
+        // the list (its checks are exact, so this changes nothing but the work).
+        if (nv != 0 && nv <= std::size_t(INT32_MAX / 5) && 3 * std::size_t(e) <= std::size_t(INT32_MAX)) {
             const bool cull = opt.cull_backfaces && !dv.mat->double_sided;
-            std::uint32_t m = 0, k = 0;
-            for (; k + 8 <= n; k += 8) {
-                std::uint32_t tris[8];
-                std::copy_n(list + k, 8, tris);
+            for (; t + 8 <= e; t += 8) {
+                const std::uint32_t tris[8] = {t, t + 1, t + 2, t + 3, t + 4, t + 5, t + 6, t + 7};
                 const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx, tris, vp, cull);
                 for (int l = 0; l < 8; ++l) {
-                    list[m] = tris[l];
-                    m += (dropped >> l) & 1u ? 0u : 1u;
+                    list[n] = tris[l];
+                    n += (dropped >> l) & 1u ? 0u : 1u;
                 }
             }
-            for (; k < n; ++k) list[m++] = list[k];
-            n = m;
         }
 #endif
+        for (; t < e; ++t) {
+            list[n] = t;
+            n += needs_setup(snap, nv, idx + 3 * std::size_t(t)) ? 1u : 0u;
+        }
         for (std::uint32_t k = 0; k < n; ++k) setup_one(dv, draw_index, list[k], vp, opt, out, clip_out, counters);
         b = e;
     }
