@@ -24,17 +24,12 @@ struct Mesh {
     Viewport vp;
 };
 
-// A jittered grid of vertices over (and beyond) the viewport, some behind the eye or non-finite,
-// and triangles of neighbours (small) and of random vertices (large), some indices out of range.
-void make_mesh(Mesh& m, std::uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    const int W = 320, H = 200;
+// The viewport (W x H, the full guard band) and room for a gx x gy grid of vertices; returns their count.
+std::size_t init_mesh(Mesh& m, int W, int H, int gx, int gy) {
     m.vp.width = W;
     m.vp.height = H;
     m.vp.gb_x = kGuardBandPx / W;
     m.vp.gb_y = kGuardBandPx / H;
-    const int gx = 480, gy = 300;  // 0.8 px per grid step: most triangles hold no pixel centre
     const std::size_t nv = std::size_t(gx) * gy;
     m.prim.positions.resize(nv);
     m.dv.prim = &m.prim;
@@ -42,6 +37,16 @@ void make_mesh(Mesh& m, std::uint32_t seed) {
     m.dv.clip.resize(nv);
     m.dv.view.resize(nv);
     m.dv.snap.resize(nv);
+    return nv;
+}
+
+// A jittered grid of vertices over (and beyond) the viewport, some behind the eye or non-finite,
+// and triangles of neighbours (small) and of random vertices (large), some indices out of range.
+void make_mesh(Mesh& m, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const int gx = 480, gy = 300;  // 0.8 px per grid step: most triangles hold no pixel centre
+    const std::size_t nv = init_mesh(m, 320, 200, gx, gy);
     for (int j = 0; j < gy; ++j)
         for (int i = 0; i < gx; ++i) {
             const std::size_t k = std::size_t(j) * gx + i;
@@ -87,6 +92,20 @@ void expect_same_setups(const std::vector<TriSetup>& a, const std::vector<TriSet
     }
 }
 
+struct SetupRun {
+    std::vector<TriSetup> setups;
+    std::vector<ClipVerts> clips;
+    SetupCounters counters;
+};
+
+//! setup_triangle for every triangle of the mesh, in order: the reference of the batched setup.
+SetupRun one_by_one(const Mesh& m, std::uint32_t draw, const SetupOptions& opt) {
+    SetupRun r;
+    const std::uint32_t ntri = std::uint32_t(m.prim.indices.size() / 3);
+    for (std::uint32_t t = 0; t < ntri; ++t) setup_triangle(m.dv, draw, t, m.vp, opt, r.setups, r.clips, r.counters);
+    return r;
+}
+
 TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
     for (const std::uint32_t seed : {1u, 2u, 3u}) {
         Mesh m;
@@ -95,10 +114,13 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
         for (const bool cull : {false, true}) {
             SetupOptions opt;
             opt.cull_backfaces = cull;
-            std::vector<TriSetup> ref, fast;
-            std::vector<ClipVerts> ref_clips, fast_clips;
-            SetupCounters ref_n, fast_n;
-            for (std::uint32_t t = 0; t < ntri; ++t) setup_triangle(m.dv, 5, t, m.vp, opt, ref, ref_clips, ref_n);
+            const SetupRun one = one_by_one(m, 5, opt);
+            const std::vector<TriSetup>& ref = one.setups;
+            const std::vector<ClipVerts>& ref_clips = one.clips;
+            const SetupCounters& ref_n = one.counters;
+            std::vector<TriSetup> fast;
+            std::vector<ClipVerts> fast_clips;
+            SetupCounters fast_n;
             // Ranges of odd lengths, so that batches start and end anywhere.
             for (std::uint32_t b = 0; b < ntri;) {
                 const std::uint32_t e = std::min(ntri, b + 1 + (b * 7919u) % (3 * kSetupBatch));
@@ -128,19 +150,8 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
 // triangles. Neighbours 0.5-1.5 px apart make triangles of 0 to a few pixels, both windings.
 void make_half_pixel_mesh(Mesh& m, std::uint32_t seed) {
     std::mt19937 rng(seed);
-    const int W = 256, H = 128;
-    m.vp.width = W;
-    m.vp.height = H;
-    m.vp.gb_x = kGuardBandPx / W;
-    m.vp.gb_y = kGuardBandPx / H;
-    const int gx = 300, gy = 160;  // beyond the raster on the right and at the bottom
-    const std::size_t nv = std::size_t(gx) * gy;
-    m.prim.positions.resize(nv);
-    m.dv.prim = &m.prim;
-    m.dv.mat = &m.mat;
-    m.dv.clip.resize(nv);
-    m.dv.view.resize(nv);
-    m.dv.snap.resize(nv);
+    const int gx = 300, gy = 160;  // beyond the 256 x 128 raster on the right and at the bottom
+    const std::size_t nv = init_mesh(m, 256, 128, gx, gy);
     std::uniform_int_distribution<int> jitter(0, 2);  // half pixels
     for (int j = 0; j < gy; ++j)
         for (int i = 0; i < gx; ++i) {
@@ -173,12 +184,10 @@ TEST(TriangleSetup, TheBatchedSetupKeepsTheTopLeftRuleOnHalfPixelVertices) {
                 m.mat.double_sided = double_sided;
                 SetupOptions opt;
                 opt.cull_backfaces = cull;
-                std::vector<TriSetup> ref, fast;
-                std::vector<ClipVerts> ref_clips, fast_clips;
-                SetupCounters ref_n, fast_n;
-                for (std::uint32_t t = 0; t < ntri; ++t) setup_triangle(m.dv, 1, t, m.vp, opt, ref, ref_clips, ref_n);
-                setup_triangles(m.dv, 1, 0, ntri, m.vp, opt, fast, fast_clips, fast_n);
-                expect_same_setups(ref, fast);
+                const std::vector<TriSetup> ref = one_by_one(m, 1, opt).setups;
+                SetupRun fast;
+                setup_triangles(m.dv, 1, 0, ntri, m.vp, opt, fast.setups, fast.clips, fast.counters);
+                expect_same_setups(ref, fast.setups);
                 // Some triangles kept, many dropped (ties on edges, empty bounds, culled faces).
                 EXPECT_GT(ref.size(), ntri / 10) << "seed " << seed;
                 EXPECT_LT(ref.size(), ntri) << "seed " << seed;
