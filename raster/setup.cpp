@@ -263,8 +263,16 @@ constexpr std::int32_t kVectorExtent = 1 << 14;
 static_assert(sizeof(SnapVertex) == 5 * sizeof(std::int32_t) && offsetof(SnapVertex, x) == 0 &&
               offsetof(SnapVertex, y) == 4 && offsetof(SnapVertex, code) == 16);
 
+//! What surely_dropped8 leaves for the setup of the lanes it keeps: `simple` lanes (valid indices,
+//! outcodes 0, extent < kVectorExtent, kept) have their re-ordered vertices, vertex indices and
+//! clamped bounds here, the values build() computes for them.
+struct Lanes8 {
+    std::uint32_t simple = 0;
+    alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8];
+};
+
 std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* idx,
-                              const std::uint32_t* tris, const Viewport& vp, bool cull) {
+                              const std::uint32_t* tris, const Viewport& vp, bool cull, Lanes8& out) {
     const __m256i t3 = _mm256_mullo_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(tris)), _mm256_set1_epi32(3));
     const int* ix = reinterpret_cast<const int*>(idx);
     __m256i i[3] = {_mm256_i32gather_epi32(ix, t3, 4), _mm256_i32gather_epi32(ix + 1, t3, 4),
@@ -346,7 +354,53 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
         }
     drop = _mm256_or_si256(drop, _mm256_andnot_si256(any, small));
     drop = _mm256_or_si256(_mm256_and_si256(drop, ok), no_centre_in_bounds);
-    return std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(drop)));
+    const std::uint32_t dropped = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(drop)));
+    out.simple = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(ok))) & ~dropped;
+    if (out.simple) {
+        auto put = [](std::int32_t* d, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(d), v); };
+        for (int j = 0; j < 3; ++j) {
+            put(out.X[j], X[j]);
+            put(out.Y[j], Y[j]);
+        }
+        // Vertex indices in setup order (i[] holds 5 x index; 1 and 2 swapped with the winding).
+        put(out.vi[0], i[0]);
+        put(out.vi[1], _mm256_blendv_epi8(i[1], i[2], neg));
+        put(out.vi[2], _mm256_blendv_epi8(i[2], i[1], neg));
+        put(out.x0, px0);
+        put(out.x1, px1);
+        put(out.y0, py0);
+        put(out.y1, py1);
+        put(out.neg, neg);
+    }
+    return dropped;
+}
+
+//! build()'s record for a lane surely_dropped8 kept as simple: the edge functions of the
+//! re-ordered vertices (C in int64), the top-left biases, the clamped bounds, 1/w and depth.
+void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t draw_index, std::uint32_t tri,
+                  std::vector<TriSetup>& out) {
+    TriSetup& t = out.emplace_back(TriSetup::NoInit{});
+    for (int e = 0; e < 3; ++e) {
+        const int a = (e + 1) % 3, b = (e + 2) % 3;
+        const std::int64_t Xa = ln.X[a][l], Ya = ln.Y[a][l];
+        const std::int64_t dx = std::int64_t(ln.X[b][l]) - Xa, dy = std::int64_t(ln.Y[b][l]) - Ya;
+        t.A[e] = std::int32_t(-dy);
+        t.B[e] = std::int32_t(dx);
+        t.C[e] = dy * Xa - dx * Ya;
+        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+        t.bias[e] = top_left ? 0 : 1;
+    }
+    t.x0 = ln.x0[l], t.x1 = ln.x1[l], t.y0 = ln.y0[l], t.y1 = ln.y1[l];
+    for (int j = 0; j < 3; ++j) {
+        const SnapVertex& v = snap[ln.vi[j][l] / 5];
+        t.inv_w[j] = v.inv_w;
+        t.depth[j] = v.depth;
+    }
+    t.draw = draw_index;
+    t.tri = tri;
+    t.clip = -1;
+    t.perm = ln.neg[l] ? 1 : 0;
+    t.back = ln.neg[l] ? 0 : 1;  // area > 0 (area 0 was dropped)
 }
 #endif
 
@@ -379,12 +433,24 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
         // the list (its checks are exact, so this changes nothing but the work).
         if (nv != 0 && nv <= std::size_t(INT32_MAX / 5) && 3 * std::size_t(e) <= std::size_t(INT32_MAX)) {
             const bool cull = opt.cull_backfaces && !dv.mat->double_sided;
+            Lanes8 lanes;
             for (; t + 8 <= e; t += 8) {
                 const std::uint32_t tris[8] = {t, t + 1, t + 2, t + 3, t + 4, t + 5, t + 6, t + 7};
-                const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx, tris, vp, cull);
+                const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx, tris, vp, cull, lanes);
+                if (lanes.simple == 0) {
+                    for (int l = 0; l < 8; ++l) {
+                        list[n] = tris[l];
+                        n += (dropped >> l) & 1u ? 0u : 1u;
+                    }
+                    continue;
+                }
+                // Kept simple lanes are set up here, in order with the listed ones before them.
+                for (std::uint32_t k = 0; k < n; ++k) setup_one(dv, draw_index, list[k], vp, opt, out, clip_out, counters);
+                n = 0;
                 for (int l = 0; l < 8; ++l) {
-                    list[n] = tris[l];
-                    n += (dropped >> l) & 1u ? 0u : 1u;
+                    if ((dropped >> l) & 1u) continue;
+                    if ((lanes.simple >> l) & 1u) build_simple(snap, lanes, l, draw_index, tris[l], out);
+                    else setup_one(dv, draw_index, tris[l], vp, opt, out, clip_out, counters);
                 }
             }
         }
