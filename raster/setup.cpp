@@ -30,6 +30,20 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
            (((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((ymax - kSubpixelOne / 2) >> kSubpixelBits));
 }
 
+// The edge functions and top-left biases of a triangle whose setup vertices (positive area) are
+// X, Y: edge i runs from vertex (i + 1) % 3 to vertex (i + 2) % 3, opposite vertex i.
+[[gnu::always_inline]] inline void set_edges(const std::int64_t (&X)[3], const std::int64_t (&Y)[3], TriSetup& t) {
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+        t.A[i] = std::int32_t(-dy);
+        t.B[i] = std::int32_t(dx);
+        t.C[i] = dy * X[a] - dx * Y[a];
+        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+        t.bias[i] = top_left ? 0 : 1;
+    }
+}
+
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
@@ -65,15 +79,7 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
         X[j] = x[order[j]];
         Y[j] = y[order[j]];
     }
-    for (int i = 0; i < 3; ++i) {
-        const int a = (i + 1) % 3, b = (i + 2) % 3;  // edge i: vertex a -> vertex b, opposite i
-        const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
-        t.A[i] = std::int32_t(-dy);
-        t.B[i] = std::int32_t(dx);
-        t.C[i] = dy * X[a] - dx * Y[a];
-        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
-        t.bias[i] = top_left ? 0 : 1;
-    }
+    set_edges(X, Y, t);
     t.x0 = std::int32_t(px0);
     t.x1 = std::int32_t(px1);
     t.y0 = std::int32_t(py0);
@@ -375,21 +381,13 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     return dropped;
 }
 
-//! build()'s record for a lane surely_dropped8 kept as simple: the edge functions of the
-//! re-ordered vertices (C in int64), the top-left biases, the clamped bounds, 1/w and depth.
+//! build()'s record for a lane surely_dropped8 kept as simple: set_edges of the re-ordered
+//! vertices, the clamped bounds, 1/w and depth.
 void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t draw_index, std::uint32_t tri,
                   std::vector<TriSetup>& out) {
     TriSetup& t = out.emplace_back(TriSetup::NoInit{});
-    for (int e = 0; e < 3; ++e) {
-        const int a = (e + 1) % 3, b = (e + 2) % 3;
-        const std::int64_t Xa = ln.X[a][l], Ya = ln.Y[a][l];
-        const std::int64_t dx = std::int64_t(ln.X[b][l]) - Xa, dy = std::int64_t(ln.Y[b][l]) - Ya;
-        t.A[e] = std::int32_t(-dy);
-        t.B[e] = std::int32_t(dx);
-        t.C[e] = dy * Xa - dx * Ya;
-        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
-        t.bias[e] = top_left ? 0 : 1;
-    }
+    const std::int64_t X[3] = {ln.X[0][l], ln.X[1][l], ln.X[2][l]}, Y[3] = {ln.Y[0][l], ln.Y[1][l], ln.Y[2][l]};
+    set_edges(X, Y, t);
     t.x0 = ln.x0[l], t.x1 = ln.x1[l], t.y0 = ln.y0[l], t.y1 = ln.y1[l];
     for (int j = 0; j < 3; ++j) {
         const SnapVertex& v = snap[ln.vi[j][l] / 5];
