@@ -5,6 +5,7 @@
 #include "scenes/leaf_strokes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -216,20 +217,26 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
                 // Each vertex on its own (rules stay in order per vertex): the same bytes for any
                 // thread count. Parallel because noise rules on large meshes cost ~170 ms on one
                 // core for 871k triangles (docs/performance.md, one-shot profile).
+                // Noise is evaluated eight vertices at a time (noise_field_n), a chunk per task.
+                const float noise_scale = r.noise.bounds_relative ? inv_diag : 1.0f;
                 oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, n, kVerticesPerTask),
                                           [&](const oneapi::tbb::blocked_range<std::size_t>& range) {
-                    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                        float v = 0.0f;
-                        switch (r.source) {
-                            case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
-                            case ControlRule::Source::Noise:
-                                v = noise_field(r.noise, r.noise.bounds_relative ? p.positions[i] * inv_diag : p.positions[i]) *
-                                        r.scale + r.bias;
-                                break;
-                            case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
-                            case ControlRule::Source::Texture: break;
+                    constexpr std::size_t kChunk = 256;  // noise values on the stack (1 KiB)
+                    std::array<float, kChunk> noise;
+                    for (std::size_t c0 = range.begin(); c0 < range.end(); c0 += kChunk) {
+                        const std::size_t c1 = std::min(range.end(), c0 + kChunk);
+                        if (r.source == ControlRule::Source::Noise)
+                            noise_field_n(r.noise, p.positions.data() + c0, c1 - c0, noise_scale, noise.data());
+                        for (std::size_t i = c0; i < c1; ++i) {
+                            float v = 0.0f;
+                            switch (r.source) {
+                                case ControlRule::Source::Attribute: v = (*attr)[i][r.component] * r.scale + r.bias; break;
+                                case ControlRule::Source::Noise: v = noise[i - c0] * r.scale + r.bias; break;
+                                case ControlRule::Source::Constant: v = r.value * r.scale + r.bias; break;
+                                case ControlRule::Source::Texture: break;
+                            }
+                            acc[i] += std::isfinite(v) ? v : 0.0f;
                         }
-                        acc[i] += std::isfinite(v) ? v : 0.0f;
                     }
                 });
             }

@@ -10,6 +10,7 @@
 
 #include <map>
 #include <set>
+#include <vector>
 
 #include "scenes/noise.h"
 
@@ -273,6 +274,53 @@ TEST(Noise, FieldAmplitudeOffsetOctaves) {
         ASSERT_LE(v, 0.75f);
         ASSERT_EQ(v, noise_field(f, p));
     }
+}
+
+// noise_field_n (eight vertices per vector) gives noise_field's bits for every vertex: lattice
+// cells on both sides of zero, integer and half-integer coordinates (floor's exact cases), -0,
+// positions whose later octaves leave the folded range (2^20 cells), NaN and infinities among
+// ordinary lanes, counts that leave a scalar tail, a scale, and every octave count.
+TEST(Noise, EightAtATimeGivesThePlainFieldBitForBit) {
+    std::vector<glm::vec3> p;
+    std::uint32_t s = 12345u;
+    auto rnd = [&](float lo, float hi) {
+        s = hash32(s);
+        return lo + (hi - lo) * float(s >> 8) * (1.0f / 16777216.0f);
+    };
+    for (int i = 0; i < 3000; ++i) p.emplace_back(rnd(-9, 9), rnd(-9, 9), rnd(-9, 9));
+    for (int i = -12; i <= 12; ++i) {
+        const float h = 0.5f * float(i);
+        p.emplace_back(h, -h, float(i));
+        p.emplace_back(std::nextafter(h, -100.0f), std::nextafter(h, 100.0f), -0.0f);
+    }
+    for (int i = 0; i < 40; ++i) p.emplace_back(rnd(-3e5f, 3e5f), rnd(-1, 1), rnd(-1e6f, 1e6f));
+    const float special[] = {NAN, INFINITY, -INFINITY, 1048576.0f, -1048576.0f, 3e9f, 1e30f};
+    for (float v : special)
+        for (int k = 0; k < 3; ++k) {
+            glm::vec3 q(rnd(-2, 2), rnd(-2, 2), rnd(-2, 2));
+            q[k] = v;
+            p.insert(p.begin() + std::ptrdiff_t(s % p.size()), q);
+        }
+    for (int octaves : {0, 1, 2, 3, 5, 8, 9})
+        for (float scale : {1.0f, 0.0173f, 37.0f}) {
+            NoiseField f;
+            f.frequency = 2.7f;
+            f.amplitude = 0.8f;
+            f.offset = -0.1f;
+            f.seed = std::uint32_t(101 + octaves);
+            f.octaves = octaves;
+            for (std::size_t n : {p.size(), std::size_t(13), std::size_t(8), std::size_t(5)}) {
+                std::vector<float> out(n + 1, 42.0f);
+                noise_field_n(f, p.data(), n, scale, out.data());
+                for (std::size_t i = 0; i < n; ++i) {
+                    const float want = noise_field(f, p[i] * scale);
+                    ASSERT_EQ(std::memcmp(&out[i], &want, sizeof want), 0)
+                        << "vertex " << i << " at " << p[i].x << "," << p[i].y << "," << p[i].z << " octaves " << octaves
+                        << " scale " << scale << ": " << out[i] << " vs " << want;
+                }
+                EXPECT_EQ(out[n], 42.0f) << "writes only n values";
+            }
+        }
 }
 
 }  // namespace
