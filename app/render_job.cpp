@@ -318,7 +318,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         if (one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
             // One-shot: the paper first, while nothing else large is alive; the decoded file is
             // then dropped, so its decoding is not on top of the G-buffer (issue 13 item 6).
-            frame_targets.set(stylize::kPaperTarget, stylize::prepare_paper(job.compiled[0].paper, rs.width, rs.height));
+            frame_targets.set(stylize::kPaperTarget, stylize::prepare_paper(job.compiled[0].paper, rs.width, rs.height, rs.exec));
             stylize::clear_paper_cache();
             image_pool_release();  // the decoded file's buffer: no later image has its size
         }

@@ -9,6 +9,7 @@
 // the output size at the requested scale and applies MNPR's roughness adjust.
 #include "stylize/paper.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -154,7 +155,7 @@ std::future<void> prefetch_paper(const PaperSpec& spec) {
     });
 }
 
-ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
+ImageF prepare_paper(const PaperSpec& spec, int width, int height, const Exec& ex) {
     check_image_size(width, height, "paper");
     if (spec.file.empty()) throw Error("paper: no file given");
     if (!std::isfinite(spec.scale) || spec.scale < 0.1f || spec.scale > 10.0f)
@@ -171,44 +172,47 @@ ImageF prepare_paper(const PaperSpec& spec, int width, int height) {
     // MNPR's adjust-load: (tex - 0.5) * roughness + 0.5, saturated so the texture stays in [0,1].
     auto adjust = [r](float v) { return sat((v - 0.5f) * r + 0.5f); };
     if (spec.scale == 1.0f) {
-        // One texel per pixel: an exact wrapped copy.
-        for (int y = 0; y < height; ++y) {
-            const float* trow = t + std::size_t(y % th) * tw * 3;
-            for (int x = 0; x < width; ++x) {
-                const float* s = trow + std::size_t(x % tw) * 3;
-                float* d = o + (std::size_t(y) * width + x) * 3;
-                d[0] = adjust(s[0]);
-                d[1] = adjust(s[1]);
-                d[2] = adjust(s[2]);
+        // One texel per pixel: an exact wrapped copy, in runs of whole texture rows (no division
+        // per pixel; a one-shot render prepares its paper on the critical path).
+        toolkit::for_each_row_block(ex, height, [&](int y0, int y1) {
+            for (int y = y0; y < y1; ++y) {
+                const float* trow = t + std::size_t(y % th) * tw * 3;
+                float* d = o + std::size_t(y) * width * 3;
+                for (int x0 = 0; x0 < width; x0 += tw) {
+                    const std::size_t n = std::size_t(std::min(tw, width - x0)) * 3;
+                    for (std::size_t i = 0; i < n; ++i) d[std::size_t(x0) * 3 + i] = adjust(trow[i]);
+                }
             }
-        }
+        });
         return out;
     }
     // Other scales: output pixel centre (x + 0.5) maps to texel coordinate (x + 0.5) / scale; the
     // texture is sampled bilinearly with texel centres at +0.5 and wrapping taps (GL_REPEAT).
     const float inv = 1.0f / spec.scale;
-    for (int y = 0; y < height; ++y) {
-        const float fy = (float(y) + 0.5f) * inv - 0.5f;
-        const float y0f = std::floor(fy);
-        const float ty = fy - y0f;
-        const int y0 = wrap(int(y0f), th), y1 = wrap(int(y0f) + 1, th);
-        for (int x = 0; x < width; ++x) {
-            const float fx = (float(x) + 0.5f) * inv - 0.5f;
-            const float x0f = std::floor(fx);
-            const float tx = fx - x0f;
-            const int x0 = wrap(int(x0f), tw), x1 = wrap(int(x0f) + 1, tw);
-            const float* a = t + (std::size_t(y0) * tw + x0) * 3;
-            const float* b = t + (std::size_t(y0) * tw + x1) * 3;
-            const float* c = t + (std::size_t(y1) * tw + x0) * 3;
-            const float* d = t + (std::size_t(y1) * tw + x1) * 3;
-            float* dst = o + (std::size_t(y) * width + x) * 3;
-            for (int k = 0; k < 3; ++k) {
-                const float top = a[k] + (b[k] - a[k]) * tx;
-                const float bot = c[k] + (d[k] - c[k]) * tx;
-                dst[k] = adjust(top + (bot - top) * ty);
+    toolkit::for_each_row_block(ex, height, [&](int ya, int yb) {
+        for (int y = ya; y < yb; ++y) {
+            const float fy = (float(y) + 0.5f) * inv - 0.5f;
+            const float y0f = std::floor(fy);
+            const float ty = fy - y0f;
+            const int y0 = wrap(int(y0f), th), y1 = wrap(int(y0f) + 1, th);
+            for (int x = 0; x < width; ++x) {
+                const float fx = (float(x) + 0.5f) * inv - 0.5f;
+                const float x0f = std::floor(fx);
+                const float tx = fx - x0f;
+                const int x0 = wrap(int(x0f), tw), x1 = wrap(int(x0f) + 1, tw);
+                const float* a = t + (std::size_t(y0) * tw + x0) * 3;
+                const float* b = t + (std::size_t(y0) * tw + x1) * 3;
+                const float* c = t + (std::size_t(y1) * tw + x0) * 3;
+                const float* d = t + (std::size_t(y1) * tw + x1) * 3;
+                float* dst = o + (std::size_t(y) * width + x) * 3;
+                for (int k = 0; k < 3; ++k) {
+                    const float top = a[k] + (b[k] - a[k]) * tx;
+                    const float bot = c[k] + (d[k] - c[k]) * tx;
+                    dst[k] = adjust(top + (bot - top) * ty);
+                }
             }
         }
-    }
+    });
     return out;
 }
 

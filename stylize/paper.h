@@ -22,9 +22,10 @@ struct PaperSpec {
     float roughness = 1.0f;    //!< MNPR adjust: (tex - 0.5) * roughness + 0.5, [0, 5]
 };
 
-//! Loads (cached per file), converts and tiles the paper to width x height, 3 channels.
+//! Loads (cached per file), converts and tiles the paper to width x height, 3 channels; rows in
+//! parallel under `ex` (the same values for any traversal or thread count).
 //! Throws aq::Error with the path on unreadable files.
-ImageF prepare_paper(const PaperSpec& spec, int width, int height);
+ImageF prepare_paper(const PaperSpec& spec, int width, int height, const Exec& ex = Exec::fast());
 
 //! Starts decoding spec's paper file into prepare_paper's cache on another thread, so that it
 //! overlaps other work (a one-shot render's scene loading, issue 13 item 3); prepare_paper then

@@ -700,7 +700,7 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
         throw Error(c.source + ": the pipeline has raster passes, which need a scene (aquarelle render)");
     if (w == 0) throw Error(c.source + ": no step reads a G-buffer target");
     if (!targets.has(kPaperTarget))
-        targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h) : flat_paper(w, h));
+        targets.set(kPaperTarget, c.has_paper ? prepare_paper(c.paper, w, h, opt.exec) : flat_paper(w, h));
     if (opt.release_dead && opt.release_inputs) {
         clear_paper_cache();  // the decoded source is not needed again
         for (const std::string& t : targets.names())

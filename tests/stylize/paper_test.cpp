@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <future>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -42,6 +43,23 @@ TEST(Paper, MnprPaperLoadsInItsOwnLayoutAndTilesExactly) {
                 ASSERT_EQ(paper.at(x + pw, y, c), paper.at(x, y, c));  // wraps with period = paper width
                 ASSERT_EQ(paper.at(x, y, c), src.at(x, y, c));          // one texel per pixel at scale 1
             }
+}
+
+// Rows are prepared in parallel: every traversal and thread count gives the one-thread bytes, at
+// scale 1 (runs of texture rows, wrapping in x and y) and at a resampling scale.
+TEST(Paper, ParallelRowsGiveTheOneThreadBytes) {
+    const std::string path = test::asset(kMnpr);
+    const int th = read_image(path).height();
+    for (const auto& [w, h, scale] : {std::tuple{37, th + 52, 1.0f}, std::tuple{4200, 5, 1.0f}, std::tuple{301, 97, 1.7f}}) {
+        const PaperSpec spec{path, "mnpr", scale, 1.3f};
+        const ImageF one = prepare_paper(spec, w, h, Exec::reference());
+        for (const Exec& ex : {Exec::fast(1), Exec::fast(2), Exec::fast(8)})
+            EXPECT_EQ(std::memcmp(prepare_paper(spec, w, h, ex).data(), one.data(), one.num_values() * sizeof(float)), 0)
+                << w << "x" << h << " scale " << scale << " threads " << ex.threads;
+        if (scale == 1.0f && h > th)
+            for (int y = 0; y < h - th; ++y)
+                for (int x = 0; x < w; ++x) ASSERT_EQ(one.at(x, y + th, 1), one.at(x, y, 1)) << "wraps in y";
+    }
 }
 
 TEST(Paper, RoughnessFollowsMnprAdjust) {
