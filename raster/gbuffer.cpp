@@ -3,18 +3,19 @@
 
 namespace aq::raster::detail {
 
-// The ten targets are allocated (and zero-filled by ImageF) in parallel when `parallel`: at
-// 1080p they are 224 MB whose first touch (page faults) costs as much as the rasterization.
-Targets allocate_targets(int W, int H, float bg_depth, bool parallel, std::uint32_t mask) {
-    constexpr std::size_t n = std::size(target::kGBufferLayout);
-    std::vector<ImageF> imgs(n);
-    run_for(parallel, n, [&](std::size_t i) {
-        const target::GBufferTarget& t = target::kGBufferLayout[i];
-        if (mask & (1u << i)) imgs[i] = ImageF(W, H, t.channels, t.far_background ? bg_depth : 0.0f);
-    });
+Targets allocate_targets(int W, int H, float bg_depth, std::uint32_t mask) {
     Targets tg;
-    for (std::size_t i = 0; i < n; ++i)
-        if (mask & (1u << i)) tg.set(target::kGBufferLayout[i].name, std::move(imgs[i]));
+    for (const target::GBufferTarget& t : target::kGBufferLayout)
+        if (mask & target::gbuffer_bit(t.name)) tg.set(t.name, ImageF(W, H, t.channels, t.far_background ? bg_depth : 0.0f));
+    return tg;
+}
+
+// The tiled traversal's fresh targets (issue 13): at 1080p 174-224 MB whose fill was a second
+// pass over memory the tiles then overwrite.
+Targets allocate_targets_unfilled(int W, int H, std::uint32_t mask) {
+    Targets tg;
+    for (const target::GBufferTarget& t : target::kGBufferLayout)
+        if (mask & target::gbuffer_bit(t.name)) tg.set(t.name, ImageF(W, H, t.channels, kUninitialized));
     return tg;
 }
 

@@ -151,8 +151,13 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
                     TargetPtrs bp = pointers(tg);
                     for (std::size_t i = 0; i < std::size_t(W) * H; ++i) write_background(bp, i, fr.background_depth);
                 }
+            } else if (fast) {
+                // Fresh targets: the tiles write every pixel (background included), so the memory
+                // is not filled first (one write per byte; the page faults happen in the tiles).
+                tg = allocate_targets_unfilled(W, H, mask);
+                clear = true;
             } else {
-                tg = allocate_targets(W, H, fr.background_depth, fast, mask);
+                tg = allocate_targets(W, H, fr.background_depth, mask);
             }
             tp = pointers(tg);
         }

@@ -134,10 +134,12 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);
 
 // gbuffer.cpp
-//! The targets of target::kGBufferLayout in `mask` (target::gbuffer_bit) at W x H (allocated in
-//! parallel when `parallel`).
-Targets allocate_targets(int W, int H, float bg_depth, bool parallel = false,
-                         std::uint32_t mask = target::kAllGBufferTargets);
+//! The targets of target::kGBufferLayout in `mask` (target::gbuffer_bit) at W x H, holding the
+//! background (the reference traversal and the SSAA resolve write covered pixels only).
+Targets allocate_targets(int W, int H, float bg_depth, std::uint32_t mask = target::kAllGBufferTargets);
+//! The same targets with their values not written: for a writer that writes every pixel (the
+//! tiled traversal with `clear`), so each byte is written once and its page first touched there.
+Targets allocate_targets_unfilled(int W, int H, std::uint32_t mask);
 //! Pointers to the targets of tg; null for a G-buffer target tg does not hold (only the fast
 //! traversal's row streaming skips null targets: the other writers need all ten).
 TargetPtrs pointers(Targets& tg);
