@@ -190,7 +190,7 @@ TEST(GoldenAnimation, TheOutputImageIsTheFinalTargetConverted) {
                             ASSERT_EQ(out.at(x, y, c), want) << x << "," << y << " channel " << c;
                         }
                 // The linear case must really have encoded something (the test would pass on a copy).
-                if (ws == WorkingSpace::Linear) EXPECT_GT(colour_changed, fin.width() * fin.height() / 4);
+                if (ws == WorkingSpace::Linear) { EXPECT_GT(colour_changed, fin.width() * fin.height() / 4); }
             }, Reporter{});
             EXPECT_EQ(calls, 1);
         }

@@ -116,7 +116,7 @@ TEST(Watertight, Fan) {
                 ASSERT_EQ(c, 1.0f) << "hole at " << x << "," << y;
                 ++interior;
             }
-            if (k < 0) ASSERT_EQ(c, 0.0f) << "outside pixel " << x << "," << y << " covered";
+            if (k < 0) { ASSERT_EQ(c, 0.0f) << "outside pixel " << x << "," << y << " covered"; }
         }
     EXPECT_GT(interior, 3000);
 }
@@ -149,8 +149,8 @@ TEST(Watertight, JitteredGrid) {
             const float c = cnt.at(x, y, 0);
             ASSERT_LE(c, 1.0f) << x << "," << y;
             const int k = classify(outline, {x + 0.5, y + 0.5}, 0.01);
-            if (k > 0) ASSERT_EQ(c, 1.0f) << "hole at " << x << "," << y;
-            if (k < 0) ASSERT_EQ(c, 0.0f) << x << "," << y;
+            if (k > 0) { ASSERT_EQ(c, 1.0f) << "hole at " << x << "," << y; }
+            if (k < 0) { ASSERT_EQ(c, 0.0f) << x << "," << y; }
         }
 }
 
@@ -179,7 +179,7 @@ TEST(Watertight, ClosedSphere) {
                     ASSERT_EQ(c, cull ? 1.0f : 2.0f) << "pixel " << x << "," << y << " cull " << cull;
                     ++inside;
                 }
-                if (r > r_true + 0.5) ASSERT_EQ(c, 0.0f) << x << "," << y;
+                if (r > r_true + 0.5) { ASSERT_EQ(c, 0.0f) << x << "," << y; }
             }
         EXPECT_GT(inside, 2000);
     }
@@ -217,7 +217,7 @@ TEST(Clipping, NearPlaneCrossingTriangle) {
                 }
                 if (expect) {
                     ASSERT_EQ(col.at(x, y, 3), 1.0f) << x << "," << y;
-                    if (depth < 30.0) ASSERT_NEAR(dep.at(x, y, 0), depth, depth * 2e-3) << x << "," << y;
+                    if (depth < 30.0) { ASSERT_NEAR(dep.at(x, y, 0), depth, depth * 2e-3) << x << "," << y; }
                     ++covered;
                 }
             }

@@ -85,7 +85,7 @@ TEST(Interpolation, PerspectiveCorrectOnTiltedTexturedPlane) {
             if (u < 0.01 || u > 0.99 || v < 0.01 || v > 0.99) continue;
             ASSERT_EQ(col.at(x, y, 3), 1.0f) << x << "," << y;
             // Texture: red = u (linear ramp; bilinear is exact on it away from the clamp band).
-            if (u > 0.01 && u < 0.99) ASSERT_NEAR(col.at(x, y, 0), u, 2e-4) << x << "," << y;
+            if (u > 0.01 && u < 0.99) { ASSERT_NEAR(col.at(x, y, 0), u, 2e-4) << x << "," << y; }
             ASSERT_NEAR(ctl.at(x, y, 0), 2 * u - 1, 4e-4) << x << "," << y;
             ASSERT_NEAR(ctl.at(x, y, 1), 2 * v - 1, 4e-4) << x << "," << y;
             // Linear eye depth = -(view-space z) of the hit point.

@@ -78,7 +78,7 @@ TEST(RowGroups, WatercolorPresetsHaveGroups) {
 TEST(RowGroups, BandsGiveTheBytesOfStepByStep) {
     for (const std::string& preset : image_presets()) {
         const CompiledPipeline c = compile_pipeline(load_pipeline(preset));
-        for (const auto [w, h] : {std::pair{96, 70}, std::pair{150, 300}})
+        for (const auto& [w, h] : {std::pair{96, 70}, std::pair{150, 300}})
             for (const Mode m : {Mode{false, false}, Mode{true, false}, Mode{true, true}}) {
                 const std::vector<Hashes> ref = run_frames(c, w, h, 1, false, 16, m);
                 for (int threads : {1, 2, 8})
@@ -175,10 +175,11 @@ TEST(RowGroups, EveryWindowedVariantComputesItsWindowFromItsHalo) {
             run(in, banded, Exec::fast(2).rows(y0, y1));
             for (std::size_t k = 0; k < banded.size(); ++k)  // rows outside the window untouched
                 for (int y = 0; y < h; ++y)
-                    if (y < y0 || y >= y1)
+                    if (y < y0 || y >= y1) {
                         ASSERT_EQ(std::memcmp(&banded[k].at(0, y, 0), &before[k].at(0, y, 0),
                                               sizeof(float) * std::size_t(w) * banded[k].channels()), 0)
                             << "window " << y0 << ".." << y1 << " wrote row " << y;
+                    }
         }
         for (std::size_t k = 0; k < whole.size(); ++k)
             EXPECT_EQ(sha256_hex(banded[k]), sha256_hex(whole[k])) << "output " << k;
