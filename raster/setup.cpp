@@ -285,17 +285,20 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
                     _mm256_i32gather_epi32(ix + 2, t3, 4)};
     const __m256i vnv = _mm256_set1_epi32(nv), minus1 = _mm256_set1_epi32(-1), zero = _mm256_setzero_si256();
     __m256i ok = minus1;
-    for (__m256i& v : i) {  // 0 <= index < nv (an index >= 2^31 reads as negative)
+    __m256i off[3];  // int offset of each vertex's SnapVertex (5 ints)
+    for (int j = 0; j < 3; ++j) {  // 0 <= index < nv (an index >= 2^31 reads as negative)
+        __m256i& v = i[j];
         const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(vnv, v), _mm256_cmpgt_epi32(v, minus1));
         ok = _mm256_and_si256(ok, in);
-        v = _mm256_mullo_epi32(_mm256_and_si256(v, in), _mm256_set1_epi32(5));  // int index of the vertex
+        v = _mm256_and_si256(v, in);  // a valid index (0 in the lanes dropped here)
+        off[j] = _mm256_mullo_epi32(v, _mm256_set1_epi32(5));
     }
     const int* sv = reinterpret_cast<const int*>(snap);
     __m256i x[3], y[3], code = zero;
     for (int j = 0; j < 3; ++j) {
-        x[j] = _mm256_i32gather_epi32(sv, i[j], 4);
-        y[j] = _mm256_i32gather_epi32(sv + 1, i[j], 4);
-        code = _mm256_or_si256(code, _mm256_i32gather_epi32(sv + 4, i[j], 4));
+        x[j] = _mm256_i32gather_epi32(sv, off[j], 4);
+        y[j] = _mm256_i32gather_epi32(sv + 1, off[j], 4);
+        code = _mm256_or_si256(code, _mm256_i32gather_epi32(sv + 4, off[j], 4));
     }
     ok = _mm256_and_si256(ok, _mm256_cmpeq_epi32(code, zero));
     const __m256i xmin = _mm256_min_epi32(x[0], _mm256_min_epi32(x[1], x[2]));
@@ -390,7 +393,7 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     set_edges(X, Y, t);
     t.x0 = ln.x0[l], t.x1 = ln.x1[l], t.y0 = ln.y0[l], t.y1 = ln.y1[l];
     for (int j = 0; j < 3; ++j) {
-        const SnapVertex& v = snap[ln.vi[j][l] / 5];
+        const SnapVertex& v = snap[ln.vi[j][l]];
         t.inv_w[j] = v.inv_w;
         t.depth[j] = v.depth;
     }
