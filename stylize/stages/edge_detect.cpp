@@ -4,7 +4,9 @@
 // and the same expressions, x innermost (vectorised); same operations per pixel -> bit-exact.
 #include "stylize/stages/edge_detect.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #ifdef __AVX__
 #include <immintrin.h>
@@ -17,6 +19,9 @@
 namespace aq::stylize {
 
 namespace {
+
+//! Columns per flat-region test of the fast traversal (a multiple of the 8-wide sqrt loop).
+constexpr int kFlatChunk = 64;
 
 //! n[0..8] = TL, TM, TR, ML, M, MR, BL, BM, BR; each {r, g, b, depth}.
 inline float sobel_pixel(const float (*n)[4], float wd) {
@@ -36,6 +41,31 @@ inline float sobel_pixel(const float (*n)[4], float wd) {
     const float lh = std::sqrt(hs), lv = std::sqrt(vs);
     const float m = std::sqrt(lh * lh + lv * lv);
     return m > 1.0f ? 1.0f : m;  // NaN stays NaN
+}
+
+//! The fast traversal's squared Sobel sums of padded row planes (r, g, b, depth) for pixels
+//! [x0, x1): sobel_pixel's expressions with x innermost (a function of its own, so GCC vectorises
+//! the loop: inline in the row loop it did not once the flat-chunk test surrounded it).
+void sobel_sums(const float* const* T, const float* const* M, const float* const* B, float wd, int x0, int x1,
+                float* __restrict hsr, float* __restrict vsr) {
+    for (int x = x0; x < x1; ++x) {
+        float hs = 0.0f, vs = 0.0f;
+        for (int c = 0; c < 4; ++c) {
+            const float* t = T[c];
+            const float* m = M[c];
+            const float* bt = B[c];
+            float hk = (t[x] - bt[x]) + 2.0f * (t[x + 1] - bt[x + 1]) + (t[x + 2] - bt[x + 2]);
+            float vk = (t[x] - t[x + 2]) + 2.0f * (m[x] - m[x + 2]) + (bt[x] - bt[x + 2]);
+            if (c == 3) {
+                hk *= wd;
+                vk *= wd;
+            }
+            hs += hk * hk;
+            vs += vk * vk;
+        }
+        hsr[x] = hs;
+        vsr[x] = vs;
+    }
 }
 
 }  // namespace
@@ -75,11 +105,17 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     // each w + 2 wide), then the same expressions as sobel_pixel with the x loop innermost.
     const std::vector<int> xt = toolkit::border_table(w, 1, b);
     const float wd = p.depth_weight;
+    const bool wd_finite = std::isfinite(wd);  // (+-0) x wd is +-0: the flat test's premise
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t pw = std::size_t(w) + 2;
         std::vector<float> buf(pw * 12);
         std::vector<float> hsv(std::size_t(w) * 2);
         auto plane = [&](int r, int c) { return buf.data() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
+        // Per slot and column chunk: whether the chunk's taps (padded columns xc .. xe + 1) hold one
+        // finite value per plane, and those values (computed once per row, used by three output rows).
+        const std::size_t nchunks = (std::size_t(w) + kFlatChunk - 1) / kFlatChunk;
+        std::vector<std::uint8_t> flat_row(3 * nchunks);
+        std::vector<float> flat_val(3 * nchunks * 4);
         // The three rows live in a ring of slots: moving down one row converts only the new row.
         auto fill = [&](int slot, int yy) {
             const std::size_t srow = std::size_t(resolve_border(yy, h, b)) * w;
@@ -102,6 +138,17 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             }
             std::memcpy(pz + 1, zd + srow, std::size_t(w) * sizeof(float));
             put(pw - 1, srow + std::size_t(xt[pw - 1]));
+            const float* planes[4] = {pr, pg, pb, pz};
+            for (std::size_t k = 0; k < nchunks; ++k) {
+                const std::size_t xc = k * kFlatChunk, n = std::min(std::size_t(w), xc + kFlatChunk) - xc + 2;
+                bool flat = wd_finite;
+                for (int c = 0; c < 4 && flat; ++c) {
+                    const float v = planes[c][xc];
+                    flat_val[(std::size_t(slot) * nchunks + k) * 4 + std::size_t(c)] = v;
+                    flat = std::isfinite(v) && toolkit::all_equal(planes[c] + xc, n, v);
+                }
+                flat_row[std::size_t(slot) * nchunks + k] = flat;
+            }
         };
         int slot[3] = {0, 1, 2};  // slots of rows y - 1, y, y + 1
         for (int y = y0; y < y1; ++y) {
@@ -120,44 +167,54 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             const float* B[4] = {plane(slot[2], 0), plane(slot[2], 1), plane(slot[2], 2), plane(slot[2], 3)};
             float* __restrict hsr = hsv.data();
             float* __restrict vsr = hsv.data() + w;
-            for (int x = 0; x < w; ++x) {
-                float hs = 0.0f, vs = 0.0f;
-                for (int c = 0; c < 4; ++c) {
-                    const float* t = T[c];
-                    const float* m = M[c];
-                    const float* bt = B[c];
-                    float hk = (t[x] - bt[x]) + 2.0f * (t[x + 1] - bt[x + 1]) + (t[x + 2] - bt[x + 2]);
-                    float vk = (t[x] - t[x + 2]) + 2.0f * (m[x] - m[x + 2]) + (bt[x] - bt[x + 2]);
-                    if (c == 3) {
-                        hk *= wd;
-                        vk *= wd;
-                    }
-                    hs += hk * hk;
-                    vs += vk * vk;
-                }
-                hsr[x] = hs;
-                vsr[x] = vs;
-            }
-            // sqrt through the vector unit: IEEE-exact like sqrtss, so the same values as the
-            // scalar tail. Kept by measurement (issue 9): with -fno-math-errno (global) the plain
-            // scalar loop is still 1.3-1.45x slower for the whole stage at 1080p, 1 thread
-            // (36 -> 47-52 ms); the registry test checks it against the plain reference loop.
-            int x = 0;
+            // Pixels [xa, xb) of the row: the squared sums, then the magnitudes.
+            auto compute = [&](int xa, int xb) {
+                if (xa >= xb) return;
+                sobel_sums(T, M, B, wd, xa, xb, hsr, vsr);
+                // sqrt through the vector unit: IEEE-exact like sqrtss, so the same values as the
+                // scalar tail. Kept by measurement (issue 9): with -fno-math-errno (global) the plain
+                // scalar loop is still 1.3-1.45x slower for the whole stage at 1080p, 1 thread
+                // (36 -> 47-52 ms); the registry test checks it against the plain reference loop.
+                int x = xa;
 #ifdef __AVX__
-            const __m256 one = _mm256_set1_ps(1.0f);
-            for (; x + 8 <= w; x += 8) {
-                const __m256 lh = _mm256_sqrt_ps(_mm256_loadu_ps(hsr + x));
-                const __m256 lv = _mm256_sqrt_ps(_mm256_loadu_ps(vsr + x));
-                const __m256 mag = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(lh, lh), _mm256_mul_ps(lv, lv)));
-                // mag > 1 ? 1 : mag (NaN stays NaN)
-                _mm256_storeu_ps(orow + x, _mm256_blendv_ps(mag, one, _mm256_cmp_ps(mag, one, _CMP_GT_OQ)));
-            }
+                const __m256 one = _mm256_set1_ps(1.0f);
+                for (; x + 8 <= xb; x += 8) {
+                    const __m256 lh = _mm256_sqrt_ps(_mm256_loadu_ps(hsr + x));
+                    const __m256 lv = _mm256_sqrt_ps(_mm256_loadu_ps(vsr + x));
+                    const __m256 mag = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(lh, lh), _mm256_mul_ps(lv, lv)));
+                    // mag > 1 ? 1 : mag (NaN stays NaN)
+                    _mm256_storeu_ps(orow + x, _mm256_blendv_ps(mag, one, _mm256_cmp_ps(mag, one, _CMP_GT_OQ)));
+                }
 #endif
-            for (; x < w; ++x) {
-                const float lh = std::sqrt(hsr[x]), lv = std::sqrt(vsr[x]);
-                const float mag = std::sqrt(lh * lh + lv * lv);
-                orow[x] = mag > 1.0f ? 1.0f : mag;
+                for (; x < xb; ++x) {
+                    const float lh = std::sqrt(hsr[x]), lv = std::sqrt(vsr[x]);
+                    const float mag = std::sqrt(lh * lh + lv * lv);
+                    orow[x] = mag > 1.0f ? 1.0f : mag;
+                }
+            };
+            // Column chunks whose neighbourhood is flat are written +0; the runs between them are
+            // computed in one call each (a row without a flat chunk is one run, as before).
+            int run = 0;
+            for (int xc = 0; xc < w; xc += kFlatChunk) {
+                const int xe = std::min(w, xc + kFlatChunk);
+                // A flat neighbourhood: every tap of the chunk's pixels (padded columns xc .. xe + 1 of
+                // the three rows) holds one finite value per plane. Then every difference is +0 or -0,
+                // their squares +0, and the output exactly +0, what compute() gives (schedule only:
+                // the background of a frame, where colour and depth are constant).
+                const std::size_t k = std::size_t(xc / kFlatChunk);
+                bool flat = flat_row[std::size_t(slot[0]) * nchunks + k] && flat_row[std::size_t(slot[1]) * nchunks + k] &&
+                            flat_row[std::size_t(slot[2]) * nchunks + k];
+                for (int c = 0; c < 4 && flat; ++c) {
+                    const float v = flat_val[(std::size_t(slot[0]) * nchunks + k) * 4 + std::size_t(c)];
+                    flat = flat_val[(std::size_t(slot[1]) * nchunks + k) * 4 + std::size_t(c)] == v &&
+                           flat_val[(std::size_t(slot[2]) * nchunks + k) * 4 + std::size_t(c)] == v;
+                }
+                if (!flat) continue;
+                compute(run, xc);
+                std::fill(orow + xc, orow + xe, 0.0f);
+                run = xe;
             }
+            compute(run, w);
         }
     });
 }

@@ -323,6 +323,22 @@ inline bool any_above(const float* d, std::size_t n, float bound) {
     return any;
 }
 
+//! Whether every one of the n values at d equals v (== : false for NaN, -0 equals +0), 8 values
+//! per compare, on the calling thread; returns at the first block of 64 values with one that
+//! differs: the flat-region tests of neighbourhood kernels (edge_detect).
+inline bool all_equal(const float* d, std::size_t n, float v) {
+    const v8f b = v8f{} + v;
+    std::size_t j = 0;
+    for (; j + 64 <= n; j += 64) {
+        v8i ne{};
+        for (std::size_t k = j; k < j + 64; k += 8) ne |= load8(d + k) != b;
+        if (!all_zero(ne)) return false;
+    }
+    bool ok = true;
+    for (; j < n; ++j) ok &= d[j] == v;
+    return ok;
+}
+
 //! Whether every one of the n values at d lies in [-bound, bound] (false for NaN), 8 values per
 //! compare, on the calling thread; returns at the first block of 64 values with one outside.
 inline bool all_within(const float* d, std::size_t n, float bound) {

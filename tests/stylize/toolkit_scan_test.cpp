@@ -80,6 +80,22 @@ TEST(ToolkitScan, AnyAboveEqualsThePlainScan) {
             }
 }
 
+// all_equal (edge_detect's flat test): the plain scan's answer with one differing value at every
+// position (inside a 64-value block, the scalar tail); -0 equals +0, NaN equals nothing.
+TEST(ToolkitScan, AllEqualEqualsThePlainScan) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(8), std::size_t(64), std::size_t(66), std::size_t(131)})
+        for (float v : {0.25f, 0.0f, -0.0f, nan})
+            for (std::size_t pos = 0; pos <= n; ++pos) {  // pos == n: none differs
+                std::vector<float> d(n, v == 0.0f ? -v : v);  // +0 <-> -0 where v is zero
+                if (pos < n) d[pos] = std::nextafter(0.25f, 1.0f);
+                bool want = true;
+                for (float x : d) want &= x == v;
+                EXPECT_EQ(toolkit::all_equal(d.data(), n, v), want) << n << " values of " << v << ", at " << pos;
+                EXPECT_EQ(want, (pos == n || n == 0) && !(v != v && n > 0));
+            }
+}
+
 // store_rgba8 writes pixel i as (r[i], g[i], b[i], a[i]), every bit moved (NaN payloads, -0).
 TEST(ToolkitStore, Rgba8InterleavesEightPixelsBitForBit) {
     float planes[4][8], out[32];
