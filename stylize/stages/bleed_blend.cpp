@@ -2,12 +2,20 @@
 // bleeds): reference and fast run the same per-pixel function (bit-exact).
 #include "stylize/stages/bleed_blend.h"
 
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
+
+namespace {
+//! |value| bound of the quiet-row test: differences of bounded values stay finite.
+constexpr float kQuietBound = 1e37f;
+}  // namespace
 
 void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const BleedBlendParams& p, const Exec& ex) {
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "bleed_blend", "color");
@@ -63,10 +71,37 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
     // per row block; a full-size bleed is read in place) and blended at once: no full-size
     // temporary (33 MB at 1080p, written and read back every frame).
     const toolkit::ResampleAxis ax(w, bleed.width()), ay(h, bleed.height());
+    // Rows where nothing bleeds keep the colour, exactly, without the upsampling and the blend: in
+    // place nothing is written (schedule only; most of a frame's background). A bleed row is quiet
+    // when its mask (alpha) is +-0 and its values are bounded: the bilinear upsampling of two quiet
+    // rows has a mask of +-0 and a bounded colour b, so k = sat(gain x +-0) = +-0 (gain finite,
+    // >= 0), k (b - c) is +-0 for a bounded c, and +-0 + c == c unless c is -0.
+    const int bw = bleed.width();
+    const bool gain_ok = std::isfinite(gain) && gain >= 0.0f;
+    auto quiet_source = [&](int j) {
+        const float* r = bleed.data() + std::size_t(j) * std::size_t(bw) * 4;
+        return toolkit::channel_all_zero4(r, std::size_t(bw), 3) && toolkit::all_within(r, std::size_t(bw) * 4, kQuietBound);
+    };
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         std::vector<float> row(std::size_t(w) * 4);
         toolkit::RowResampler<4> up(bleed.data(), bleed.width(), w, ax, ay);
-        for (int y = y0; y < y1; ++y) blend(up.row_or_source(y, row.data()), std::size_t(y) * w, std::size_t(w));
+        // The quiet test of the block's source rows (increasing with y), each row once.
+        const int j_lo = ay.i0[std::size_t(y0)], j_hi = ay.i1[std::size_t(y1 - 1)];
+        std::vector<std::uint8_t> quiet(gain_ok ? std::size_t(j_hi - j_lo + 1) : 0);
+        for (std::size_t q = 0; q < quiet.size(); ++q) quiet[q] = quiet_source(j_lo + int(q));
+        auto keeps_colour = [&](int y) {
+            if (!gain_ok || !quiet[std::size_t(ay.i0[std::size_t(y)] - j_lo)] || !quiet[std::size_t(ay.i1[std::size_t(y)] - j_lo)])
+                return false;
+            const float* c = I + 4 * std::size_t(y) * w;
+            return toolkit::all_within(c, 4 * std::size_t(w), kQuietBound) && !toolkit::any_negative_zero(c, 4 * std::size_t(w));
+        };
+        for (int y = y0; y < y1; ++y) {
+            if (keeps_colour(y)) {
+                if (o != I) std::memcpy(o + 4 * std::size_t(y) * w, I + 4 * std::size_t(y) * w, 4 * std::size_t(w) * sizeof(float));
+                continue;
+            }
+            blend(up.row_or_source(y, row.data()), std::size_t(y) * w, std::size_t(w));
+        }
     });
 }
 

@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <functional>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -337,6 +339,41 @@ inline bool all_equal(const float* d, std::size_t n, float v) {
     bool ok = true;
     for (; j < n; ++j) ok &= d[j] == v;
     return ok;
+}
+
+//! Whether channel k of the n pixels at d (4 channels interleaved) is 0 in every pixel (-0 is 0,
+//! NaN is not), on the calling thread; returns at the first block of 16 pixels with one that is
+//! not (nonzero_channels_of scans everything: it answers for every channel).
+inline bool channel_all_zero4(const float* d, std::size_t n, int k) {
+    v8i lane{};
+    for (int l = 0; l < 8; ++l) lane[l] = l % 4 == k ? -1 : 0;
+    std::size_t j = 0;
+    const std::size_t nv = 4 * n;
+    for (; j + 64 <= nv; j += 64) {
+        v8i hit{};
+        for (std::size_t q = j; q < j + 64; q += 8) hit |= (load8(d + q) != v8f{}) & lane;
+        if (!all_zero(hit)) return false;
+    }
+    bool zero = true;
+    for (; j < nv; ++j)
+        if (j % 4 == std::size_t(k)) zero &= d[j] == 0.0f;
+    return zero;
+}
+
+//! Whether any of the n values at d is -0 (the bit pattern 0x80000000), 8 values per compare, on
+//! the calling thread: tests of exact shortcuts where +0 + c == c holds for every c but -0.
+inline bool any_negative_zero(const float* d, std::size_t n) {
+    const v8i m = v8i{} + std::int32_t(0x80000000u);
+    v8i hit{};
+    std::size_t j = 0;
+    for (; j + 8 <= n; j += 8) {
+        v8i bits;
+        std::memcpy(&bits, d + j, sizeof bits);
+        hit |= bits == m;
+    }
+    bool any = !all_zero(hit);
+    for (; j < n; ++j) any |= std::bit_cast<std::uint32_t>(d[j]) == 0x80000000u;
+    return any;
 }
 
 //! Whether every one of the n values at d lies in [-bound, bound] (false for NaN), 8 values per

@@ -4,6 +4,7 @@
 // on small synthetic G-buffers.
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -232,6 +233,65 @@ TEST(BleedBlend, GainScalesTheMaskAndSaturates) {
     EXPECT_NEAR(o.at(0, 0, 0), 0.5f, 1e-7f);
     bleed_blend(o, c, b, BleedBlendParams{50.0f}, Exec::reference());
     EXPECT_EQ(o.at(0, 0, 0), 1.0f);
+}
+
+// The fast traversal keeps the colour of rows where nothing bleeds without blending them (in
+// place: without writing them). Its bytes equal the reference's, in place and not, at half and full
+// bleed size, for rows at the edges of the shortcut's premise: a mask of -0 (quiet too) or of the
+// smallest positive value, a colour with -0 (+0 + -0 is +0), NaN and infinity in the colour or in a
+// quiet bleed's colour, values beyond the bound, and gains 0, 1, 5, 100 and NaN.
+TEST(BleedBlend, QuietRowsGiveTheReferenceBytes) {
+    const int w = 37, h = 24;
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    ImageF c(w, h, 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < 4; ++k) c.at(x, y, k) = float((x * 7 + y * 13 + k * 5) % 17) / 16.0f;
+    c.at(5, 2, 1) = -0.0f;
+    c.at(6, 3, 0) = nan;
+    c.at(7, 4, 2) = inf;
+    c.at(8, 5, 1) = 3e37f;
+    c.at(9, 6, 3) = -0.0f;  // alpha: copied, never blended
+    c.at(5, 14, 1) = -0.0f;  // the same again far from the bleeding row (half size: its rows 0-2)
+    c.at(6, 16, 0) = nan;
+    c.at(7, 18, 2) = inf;
+    c.at(8, 20, 1) = 3e37f;
+    for (int half : {1, 0}) {
+        const int bw = half ? half_size(w) : w, bh = half ? half_size(h) : h;
+        ImageF b(bw, bh, 4, 0.0f);  // quiet: mask +0
+        for (int y = 0; y < bh; ++y)
+            for (int x = 0; x < bw; ++x)
+                for (int k = 0; k < 3; ++k) b.at(x, y, k) = float((x * 3 + y * 11 + k) % 9) / 8.0f;
+        b.at(1, bh - 4, 3) = -0.0f;                                  // -0 mask
+        b.at(2, bh - 3, 3) = std::numeric_limits<float>::denorm_min();  // bleeds a little
+        b.at(3, bh - 2, 0) = nan;                                    // quiet mask, NaN colour
+        b.at(4, bh - 1, 2) = -inf;
+        for (int x = 0; x < bw; ++x) b.at(x, 1, 3) = 0.5f;  // a bleeding row
+        for (float gain : {0.0f, 1.0f, 5.0f, 100.0f, nan}) {
+            ImageF ref;
+            bleed_blend(ref, c, b, BleedBlendParams{gain}, Exec::reference());
+            for (const Exec& ex : {Exec::fast(1), Exec::fast(2)})
+                for (bool in_place : {false, true}) {
+                    ImageF out;
+                    if (in_place) {
+                        out = c;
+                        bleed_blend(out, out, b, BleedBlendParams{gain}, ex);
+                    } else {
+                        bleed_blend(out, c, b, BleedBlendParams{gain}, ex);
+                    }
+                    for (std::size_t i = 0; i < ref.num_values(); ++i) {
+                        const float r = ref.data()[i], a = out.data()[i];
+                        if (r != r) {
+                            ASSERT_NE(a, a) << "value " << i << " half " << half << " gain " << gain;
+                        } else {
+                            ASSERT_EQ(std::memcmp(&a, &r, sizeof r), 0) << "value " << i << ": " << a << " vs " << r
+                                                                         << " half " << half << " gain " << gain
+                                                                         << " in place " << in_place;
+                        }
+                    }
+                }
+        }
+    }
 }
 
 }  // namespace

@@ -96,6 +96,18 @@ TEST(ToolkitScan, AllEqualEqualsThePlainScan) {
             }
 }
 
+// any_negative_zero (bleed_blend's quiet-row test): -0 found at every position, +0, NaN and the
+// smallest negative value not counted.
+TEST(ToolkitScan, AnyNegativeZeroFindsOnlyMinusZero) {
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(8), std::size_t(13), std::size_t(64)})
+        for (std::size_t pos = 0; pos <= n; ++pos) {  // pos == n: no -0
+            std::vector<float> d(n, 0.0f);
+            for (std::size_t j = 1; j < n; j += 3) d[j] = j % 2 ? std::numeric_limits<float>::quiet_NaN() : -std::numeric_limits<float>::denorm_min();
+            if (pos < n) d[pos] = -0.0f;
+            EXPECT_EQ(toolkit::any_negative_zero(d.data(), n), pos < n) << n << " values, at " << pos;
+        }
+}
+
 // store_rgba8 writes pixel i as (r[i], g[i], b[i], a[i]), every bit moved (NaN payloads, -0).
 TEST(ToolkitStore, Rgba8InterleavesEightPixelsBitForBit) {
     float planes[4][8], out[32];
