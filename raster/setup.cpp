@@ -371,7 +371,7 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
             put(out.X[j], X[j]);
             put(out.Y[j], Y[j]);
         }
-        // Vertex indices in setup order (i[] holds 5 x index; 1 and 2 swapped with the winding).
+        // Vertex indices in setup order (1 and 2 swapped with the winding).
         put(out.vi[0], i[0]);
         put(out.vi[1], _mm256_blendv_epi8(i[1], i[2], neg));
         put(out.vi[2], _mm256_blendv_epi8(i[2], i[1], neg));

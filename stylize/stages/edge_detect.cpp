@@ -116,6 +116,7 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
         const std::size_t nchunks = (std::size_t(w) + kFlatChunk - 1) / kFlatChunk;
         std::vector<std::uint8_t> flat_row(3 * nchunks);
         std::vector<float> flat_val(3 * nchunks * 4);
+        auto cell = [&](int slot, std::size_t k) { return std::size_t(slot) * nchunks + k; };
         // The three rows live in a ring of slots: moving down one row converts only the new row.
         auto fill = [&](int slot, int yy) {
             const std::size_t srow = std::size_t(resolve_border(yy, h, b)) * w;
@@ -144,10 +145,10 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
                 bool flat = wd_finite;
                 for (int c = 0; c < 4 && flat; ++c) {
                     const float v = planes[c][xc];
-                    flat_val[(std::size_t(slot) * nchunks + k) * 4 + std::size_t(c)] = v;
+                    flat_val[cell(slot, k) * 4 + std::size_t(c)] = v;
                     flat = std::isfinite(v) && toolkit::all_equal(planes[c] + xc, n, v);
                 }
-                flat_row[std::size_t(slot) * nchunks + k] = flat;
+                flat_row[cell(slot, k)] = flat;
             }
         };
         int slot[3] = {0, 1, 2};  // slots of rows y - 1, y, y + 1
@@ -202,12 +203,10 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
                 // their squares +0, and the output exactly +0, what compute() gives (schedule only:
                 // the background of a frame, where colour and depth are constant).
                 const std::size_t k = std::size_t(xc / kFlatChunk);
-                bool flat = flat_row[std::size_t(slot[0]) * nchunks + k] && flat_row[std::size_t(slot[1]) * nchunks + k] &&
-                            flat_row[std::size_t(slot[2]) * nchunks + k];
+                bool flat = flat_row[cell(slot[0], k)] && flat_row[cell(slot[1], k)] && flat_row[cell(slot[2], k)];
                 for (int c = 0; c < 4 && flat; ++c) {
-                    const float v = flat_val[(std::size_t(slot[0]) * nchunks + k) * 4 + std::size_t(c)];
-                    flat = flat_val[(std::size_t(slot[1]) * nchunks + k) * 4 + std::size_t(c)] == v &&
-                           flat_val[(std::size_t(slot[2]) * nchunks + k) * 4 + std::size_t(c)] == v;
+                    const float v = flat_val[cell(slot[0], k) * 4 + std::size_t(c)];
+                    flat = flat_val[cell(slot[1], k) * 4 + std::size_t(c)] == v && flat_val[cell(slot[2], k) * 4 + std::size_t(c)] == v;
                 }
                 if (!flat) continue;
                 compute(run, xc);
