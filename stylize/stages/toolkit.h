@@ -442,13 +442,18 @@ inline float sample_resampled_plane(const Plane& p, int x, int y, int w, int h) 
 //! bit for bit.
 //! `same` (n_out == n_src) marks the identity: users of two axes read the texel itself when both
 //! are the same (sample_resampled's rule at equal sizes).
+//! `pairs` (schedule only) marks a halving whose taps are exactly i0[x] = 2x, i1[x] = 2x + 1 for
+//! every x (even n_src = 2 n_out; t[x] is still per x: in float it is not always 0.5), so a row
+//! loop can address the taps without the tables.
 struct ResampleAxis {
     std::vector<int> i0, i1;
     std::vector<float> t;
     bool same = true;
+    bool pairs = false;
     ResampleAxis() = default;
     ResampleAxis(int n_out, int n_src)
         : i0(std::size_t(n_out)), i1(std::size_t(n_out)), t(std::size_t(n_out)), same(n_out == n_src) {
+        pairs = n_out > 0;
         for (int x = 0; x < n_out; ++x) {
             const float f = texel_coord(x, n_out, n_src) - 0.5f;
             const float f0 = std::floor(f);
@@ -456,6 +461,7 @@ struct ResampleAxis {
             const int i = int(f0);
             i0[std::size_t(x)] = resolve_border(i, n_src, Border::Clamp);
             i1[std::size_t(x)] = resolve_border(i + 1, n_src, Border::Clamp);
+            pairs = pairs && i0[std::size_t(x)] == 2 * x && i1[std::size_t(x)] == 2 * x + 1;
         }
     }
 };
@@ -496,6 +502,39 @@ inline void lerp_pixel(const float* p0, const float* p1, float t, float* o) {
     } else {
         for (int c = 0; c < C; ++c) o[c] = p0[c] + (p1[c] - p0[c]) * t;
     }
+}
+
+//! The horizontal lerps of a halving axis (ResampleAxis::pairs): output pixel x of C channels is
+//! lerp_pixel(source pixel 2x, source pixel 2x + 1, t[x]) — the same operations as the tabled
+//! loop, with the taps addressed directly (no index loads); four channels two output pixels per
+//! register, one channel (S = 1) eight outputs per register from two loads.
+template <int C, int S = C>
+inline void halve_row(const float* __restrict r, const float* __restrict t, float* __restrict h, int w) {
+    int x = 0;
+    if constexpr (C == 4 && S == 4) {
+        for (; x + 2 <= w; x += 2) {
+            v8f p, q;  // source pixels 2x, 2x + 1 and 2x + 2, 2x + 3
+            std::memcpy(&p, r + 8 * std::size_t(x), sizeof p);
+            std::memcpy(&q, r + 8 * std::size_t(x) + 8, sizeof q);
+            const v8f a = __builtin_shufflevector(p, q, 0, 1, 2, 3, 8, 9, 10, 11);
+            const v8f b = __builtin_shufflevector(p, q, 4, 5, 6, 7, 12, 13, 14, 15);
+            const v8f tv = {t[x], t[x], t[x], t[x], t[x + 1], t[x + 1], t[x + 1], t[x + 1]};
+            const v8f o = a + (b - a) * tv;
+            std::memcpy(h + 4 * std::size_t(x), &o, sizeof o);
+        }
+    } else if constexpr (C == 1 && S == 1) {
+        for (; x + 8 <= w; x += 8) {
+            v8f p, q, tv;  // source values 2x .. 2x + 15
+            std::memcpy(&p, r + 2 * std::size_t(x), sizeof p);
+            std::memcpy(&q, r + 2 * std::size_t(x) + 8, sizeof q);
+            std::memcpy(&tv, t + x, sizeof tv);
+            const v8f a = __builtin_shufflevector(p, q, 0, 2, 4, 6, 8, 10, 12, 14);
+            const v8f b = __builtin_shufflevector(p, q, 1, 3, 5, 7, 9, 11, 13, 15);
+            const v8f o = a + (b - a) * tv;
+            std::memcpy(h + x, &o, sizeof o);
+        }
+    }
+    for (; x < w; ++x) lerp_pixel<C>(r + std::size_t(2 * x) * S, r + std::size_t(2 * x + 1) * S, t[x], h + std::size_t(x) * C);
 }
 
 //! Output row y (w pixels of C channels, written to o) of the resampling of s (sw texels wide).
@@ -577,6 +616,10 @@ private:
         key_[k] = j;
         float* h = buf_[k].data();
         const float* r = gen_ ? gen_(j) : s_ + std::size_t(j) * sw_ * S;
+        if (ax_.pairs) {
+            halve_row<C, S>(r, ax_.t.data(), h, w_);
+            return h;
+        }
         for (int x = 0; x < w_; ++x) {
             const std::size_t a0 = std::size_t(ax_.i0[std::size_t(x)]) * S, a1 = std::size_t(ax_.i1[std::size_t(x)]) * S;
             lerp_pixel<C>(r + a0, r + a1, ax_.t[std::size_t(x)], h + std::size_t(x) * C);

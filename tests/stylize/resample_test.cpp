@@ -129,3 +129,57 @@ TEST(Resample, EqualSizesAreExactlyTheIdentity) {
 
 }  // namespace
 }  // namespace aq::stylize
+
+namespace aq::stylize {
+namespace {
+
+// Halving axes (ResampleAxis::pairs: taps 2x and 2x + 1 addressed without the tables) give the
+// tabled per-row resampling's values bit for bit: four channels, one of four, one of one; output
+// widths that leave tails of the vector loops; weights that are not 0.5 in float (1920 -> 960);
+// -0, infinities and NaN in the source.
+TEST(Resample, HalvingRowsEqualTheTabledRows) {
+    const toolkit::ResampleAxis wide(960, 1920);
+    EXPECT_TRUE(wide.pairs);
+    bool inexact = false;
+    for (float t : wide.t) inexact = inexact || t != 0.5f;
+    EXPECT_TRUE(inexact) << "every weight is 0.5: the per-pixel weight is not exercised";
+    EXPECT_FALSE(toolkit::ResampleAxis(19, 37).pairs);  // odd source: the last tap is clamped
+    EXPECT_FALSE(toolkit::ResampleAxis(40, 40).pairs);
+    EXPECT_FALSE(toolkit::ResampleAxis(80, 40).pairs);
+    const auto same = [](const std::vector<float>& a, const std::vector<float>& b) {
+        return std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+    };
+    for (auto [sw, sh] : {std::pair{1920, 4}, {74, 46}, {34, 10}, {2, 2}}) {
+        ImageF src = test::synthetic_target("color", 4, sw, sh, 21);
+        ImageF one = test::synthetic_target("depth", 1, sw, sh, 22);
+        src.at(1, 1, 0) = -0.0f;
+        src.at(0, 1, 0) = -0.0f;  // -0 beside -0: a + (b - a) * t = -0 + (+0) * t = +0
+        src.at(2 % sw, 0, 1) = std::numeric_limits<float>::infinity();
+        src.at(3 % sw, 1, 2) = std::numeric_limits<float>::quiet_NaN();
+        src.at(sw - 1, sh - 1, 3) = -std::numeric_limits<float>::infinity();
+        one.at(1, 0, 0) = -0.0f;
+        one.at(0, 0, 0) = -0.0f;
+        one.at(sw - 2, sh - 1, 0) = std::numeric_limits<float>::infinity();
+        const int w = sw / 2, h = sh / 2;
+        const toolkit::ResampleAxis ax(w, sw), ay(h, sh);
+        ASSERT_TRUE(ax.pairs) << sw;
+        toolkit::RowResampler<4> up4(src.data(), sw, w, ax, ay);
+        toolkit::RowResampler<1, 4> up2(src.data() + 2, sw, w, ax, ay);
+        toolkit::RowResampler<1> up1(one.data(), sw, w, ax, ay);
+        std::vector<float> want4(std::size_t(w) * 4), got4(want4.size()), want(static_cast<std::size_t>(w)), got(want.size());
+        for (int y = 0; y < h; ++y) {
+            toolkit::resample_row<4>(src.data(), sw, want4.data(), w, ax, ay, y);
+            up4.row(y, got4.data());
+            ASSERT_TRUE(same(want4, got4)) << sw << " rgba row " << y;
+            toolkit::resample_row<1, 4>(src.data() + 2, sw, want.data(), w, ax, ay, y);
+            up2.row(y, got.data());
+            ASSERT_TRUE(same(want, got)) << sw << " channel 2 row " << y;
+            toolkit::resample_row<1>(one.data(), sw, want.data(), w, ax, ay, y);
+            up1.row(y, got.data());
+            ASSERT_TRUE(same(want, got)) << sw << " one channel row " << y;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace aq::stylize
