@@ -151,7 +151,7 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
 void make_half_pixel_mesh(Mesh& m, std::uint32_t seed) {
     std::mt19937 rng(seed);
     const int gx = 300, gy = 160;  // beyond the 256 x 128 raster on the right and at the bottom
-    const std::size_t nv = init_mesh(m, 256, 128, gx, gy);
+    init_mesh(m, 256, 128, gx, gy);
     std::uniform_int_distribution<int> jitter(0, 2);  // half pixels
     for (int j = 0; j < gy; ++j)
         for (int i = 0; i < gx; ++i) {

@@ -114,7 +114,9 @@ void run_case(const Case& cs, std::uint32_t seed) {
         EXPECT_TRUE(same(fast.clip[i], ref.clip[i]));
         EXPECT_TRUE(same(fast.view[i].pos, ref.view[i].pos));
         EXPECT_TRUE(same(fast.view[i].normal, ref.view[i].normal));
-        if (cs.tangents) EXPECT_TRUE(same(fast.view_tangent[i], ref.view_tangent[i]));
+        if (cs.tangents) {
+            EXPECT_TRUE(same(fast.view_tangent[i], ref.view_tangent[i]));
+        }
         const SnapVertex& a = fast.snap[i];
         const SnapVertex& b = ref.snap[i];
         EXPECT_EQ(a.code, b.code);
