@@ -207,6 +207,14 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
         DecodeTarget jpeg{size, where, budget, format->max_pixels_per_byte, {}, false};
         if (decode_jpeg(bytes, size, where, accept_header, &jpeg)) return std::move(jpeg.img);
     }
+    if (std::string(format->oiio_format) == "png") {
+        // 8-bit grey and RGB PNG (glTF base-colour maps) without OpenImageIO (core/png.h); the
+        // rest, and files libpng reports damaged, go on below with the budget as it was.
+        const std::size_t budget_before = budget ? budget->bytes_left : 0;
+        DecodeTarget png{size, where, budget, format->max_pixels_per_byte, {}, false};
+        if (decode_png(bytes, size, accept_header, &png)) return std::move(png.img);
+        if (budget) budget->bytes_left = budget_before;
+    }
     DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}, true};
     const std::string fake = "memory" + ext;
     const std::string e = oiio().decode(bytes, size, format->oiio_format, fake.c_str(), accept_header, &target);

@@ -13,6 +13,7 @@
 #include <jpeglib.h>
 
 #include "core/image.h"  // aq::Error
+#include "core/unorm8.h"
 
 namespace aq {
 namespace {
@@ -58,17 +59,8 @@ bool read_header(Decoder& d, const unsigned char* bytes, std::size_t size) {
     return true;
 }
 
-//! The float of each 8-bit code as OpenImageIO converts UINT8 to FLOAT: v times the float nearest
-//! 1/255 (v / 255 differs in the last bit for some codes; tests/core/jpeg_test.cpp).
-struct Unorm8Table {
-    float v[256];
-    Unorm8Table() {
-        for (int i = 0; i < 256; ++i) v[i] = float(i) * (1.0f / 255.0f);
-    }
-};
-const Unorm8Table kUnorm8;
-
 bool decompress(Decoder& d, float* dst) {
+    const float* const unorm8 = unorm8_floats();
     if (setjmp(d.err.jump)) return false;
     jpeg_start_decompress(&d.cinfo);
     const std::size_t row_values = std::size_t(d.cinfo.output_width) * std::size_t(d.cinfo.output_components);
@@ -82,7 +74,7 @@ bool decompress(Decoder& d, float* dst) {
             return false;
         }
         const JSAMPLE* in = row[0];
-        for (std::size_t i = 0; i < row_values; ++i) out[i] = kUnorm8.v[in[i]];
+        for (std::size_t i = 0; i < row_values; ++i) out[i] = unorm8[in[i]];
     }
     jpeg_finish_decompress(&d.cinfo);
     return true;

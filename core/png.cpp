@@ -6,8 +6,10 @@
 #include <memory>
 
 #include <libdeflate.h>
+#include <png.h>
 
 #include "core/io.h"
+#include "core/unorm8.h"
 
 namespace aq {
 
@@ -125,6 +127,91 @@ void encode_png(const ImageF& img, const std::string& description, std::vector<u
     store32(out.data() + start, std::uint32_t(n));
     finish_chunk(out, start);
     chunk(out, "IEND", nullptr, 0);
+}
+
+namespace {
+
+//! libpng's read state over a memory buffer. libpng reports a fatal error through the error
+//! function, which must not return: png_longjmp to the setjmp of the function that called libpng.
+//! Those functions (read_info, read_rows) hold no object with a destructor, so the jump skips
+//! none; the structs are destroyed by ~PngReader in the caller, whatever happened.
+struct PngReader {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    const unsigned char* bytes = nullptr;
+    std::size_t size = 0, pos = 0;
+    PngReader() = default;
+    PngReader(const PngReader&) = delete;
+    PngReader& operator=(const PngReader&) = delete;
+    ~PngReader() {
+        if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+    }
+};
+
+void read_from_memory(png_structp p, png_bytep out, std::size_t n) {
+    auto* r = static_cast<PngReader*>(png_get_io_ptr(p));
+    if (n > r->size - r->pos) png_error(p, "truncated");
+    std::memcpy(out, r->bytes + r->pos, n);
+    r->pos += n;
+}
+
+[[noreturn]] void on_png_error(png_structp p, png_const_charp) { png_longjmp(p, 1); }
+void on_png_warning(png_structp, png_const_charp) {}  // not printed; OpenImageIO's reader ignores them too
+
+struct PngInfo {
+    png_uint_32 width = 0, height = 0;
+    int depth = 0, colour = 0;
+    bool trns = false;
+};
+
+bool read_info(PngReader& r, PngInfo& i) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_set_read_fn(r.png, &r, read_from_memory);
+    png_read_info(r.png, r.info);
+    png_get_IHDR(r.png, r.info, &i.width, &i.height, &i.depth, &i.colour, nullptr, nullptr, nullptr);
+    i.trns = png_get_valid(r.png, r.info, PNG_INFO_tRNS) != 0;
+    return true;
+}
+
+//! Every row (Adam7 passes combined by libpng) into rows[y], then the end of the file.
+bool read_rows(PngReader& r, png_bytep* rows) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_set_interlace_handling(r.png);
+    png_read_update_info(r.png, r.info);
+    png_read_image(r.png, rows);
+    png_read_end(r.png, nullptr);
+    return true;
+}
+
+}  // namespace
+
+bool decode_png(const unsigned char* bytes, std::size_t size, AcceptHeader accept, void* ctx) {
+    PngReader r;
+    r.bytes = bytes;
+    r.size = size;
+    r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, on_png_error, on_png_warning);
+    if (!r.png) return false;
+    r.info = png_create_info_struct(r.png);
+    if (!r.info) return false;
+    PngInfo i;
+    if (!read_info(r, i)) return false;
+    const bool grey = i.colour == PNG_COLOR_TYPE_GRAY, rgb = i.colour == PNG_COLOR_TYPE_RGB;
+    if (i.depth != 8 || (!grey && !rgb) || i.trns) return false;
+    constexpr png_uint_32 kMaxSide = 0x7fffffffu;  // libpng's own limit (PNG_UINT_31_MAX)
+    if (i.width == 0 || i.height == 0 || i.width > kMaxSide || i.height > kMaxSide) return false;
+    ImageHeader h;
+    h.width = int(i.width);
+    h.height = int(i.height);
+    h.nchannels = grey ? 1 : 3;
+    float* dst = accept(ctx, h);  // checks the size (docs/limits.md) before anything is allocated
+    const std::size_t row_values = std::size_t(i.width) * std::size_t(h.nchannels);
+    std::vector<unsigned char> codes(row_values * std::size_t(i.height));
+    std::vector<png_bytep> rows(std::size_t(i.height));
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = codes.data() + y * row_values;
+    if (!read_rows(r, rows.data())) return false;
+    const float* const unorm8 = unorm8_floats();
+    for (std::size_t k = 0; k < codes.size(); ++k) dst[k] = unorm8[codes[k]];
+    return true;
 }
 
 }  // namespace aq

@@ -11,12 +11,23 @@
 // (iTXt when it is not ASCII), one IDAT holding the zlib stream of the rows (filter type 0 on every
 // row: the paper grain makes the predictors useless, the same choice as before), IEND. Files are
 // read back by OpenImageIO like any PNG (tests/core/png_test.cpp).
+//
+// The decoder (decode_png) reads 8-bit grey and RGB PNG files without OpenImageIO, for the same
+// reason as core/jpeg.h: loading OpenImageIO's module costs a process ~0.2 s of CPU in the dynamic
+// loader (its ~250 libraries), and the 8-bit RGB base-colour maps of textured glTF models (Suzanne,
+// the README's scene) were the only reason a PNG render loaded it. It is libpng with its defaults,
+// as OpenImageIO's PNG reader, and gives its values, v x float(1/255) (tests/core/png_test.cpp
+// compares both on every such PNG of the shared assets, interlaced and synthetic files). Alpha
+// (OpenImageIO associates it), palettes, tRNS, 16-bit and low bit depths, and any file libpng
+// reports an error on are left to OpenImageIO.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "core/image.h"
+#include "core/image_header.h"
 
 namespace aq {
 
@@ -37,5 +48,12 @@ inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
 //! kPngStoredLevel. Throws aq::Error.
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
                 std::vector<unsigned char>& rows, int level = kPngDeflateLevel);
+
+//! Decodes an 8-bit grey or RGB PNG held in memory: `accept` (core/image_header.h) checks the
+//! header (1 or 3 channels) and says where the values go (v x float(1/255)); whatever `accept`
+//! throws passes through. Returns false for a PNG left to OpenImageIO (see above) — also after
+//! `accept` was called, when libpng reports an error while decoding: the caller then decodes the
+//! bytes again with OpenImageIO, which reports the damage as it always did.
+bool decode_png(const unsigned char* bytes, std::size_t size, AcceptHeader accept, void* ctx);
 
 }  // namespace aq
