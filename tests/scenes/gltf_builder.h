@@ -106,7 +106,8 @@ struct GltfBuilder {
             for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
         };
         const std::uint32_t total = std::uint32_t(12 + 8 + js.size() + 8 + bin.size());
-        out.insert(out.end(), {'g', 'l', 'T', 'F'});
+        out.reserve(total);  // also keeps GCC 12's -Wstringop-overflow false positive on the empty vector away
+        for (const char c : {'g', 'l', 'T', 'F'}) out.push_back(static_cast<unsigned char>(c));
         u32(2);
         u32(total);
         u32(std::uint32_t(js.size()));
