@@ -95,6 +95,19 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     }
     scene::LoadOptions load_options;
     load_options.allow_outside_files = o.allow_outside_files;
+    // A scene file naming its paper: the same, decoded while the model loads. The layout is the
+    // style's when --style names one, else the presets' (every preset is "mnpr"; a scene whose own
+    // style file reads its paper in another layout decodes it again, and the prefetch is wasted).
+    if (!early_pipeline && early_style != "none")
+        load_options.paper_known = [&job, &o](const std::string& file) {
+            try {
+                stylize::PaperSpec spec = o.style_given ? stylize::load_pipeline(o.style).paper : stylize::PaperSpec{};
+                spec.file = file;
+                job.paper_prefetch = stylize::prefetch_paper(spec);
+            } catch (const Error&) {
+                // a bad --style file is reported below, after the scene, as without the prefetch
+            }
+        };
     job.desc = scene::load_scene(o.scene, load_options);
     scene::SceneDesc& desc = job.desc;
     for (auto& w : desc.scene.warnings) report.warning(w);

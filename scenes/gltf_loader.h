@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct LoadOptions {
     bool allow_outside_files = false;
     //! Budget for the decoded textures of the file (tests lower it; docs/limits.md).
     std::size_t texture_budget_bytes = kMaxDecodedTextureBytes;
+    //! Scene files: called with the resolved path of the file's "paper" as soon as it is known,
+    //! before the model loads, so a caller can decode it meanwhile (the CLI does; issue 13 item 3).
+    std::function<void(const std::string& paper)> paper_known;
 };
 inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy depth
 

@@ -463,6 +463,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     if (j.contains("height")) d.height = ctx.integer(j["height"], "height", 1, kMaxImageSide);
     if (j.contains("fps")) d.fps = float(ctx.number(j["fps"], "fps", 1e-3, 1000.0));
     if (j.contains("paper")) d.paper = ctx.file(j["paper"], "paper");
+    if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
     if (j.contains("substrate_color")) {
         d.substrate_color = ctx.vec3(j["substrate_color"], "substrate_color", 0.0, 1.0);
         d.substrate_color_set = true;

@@ -182,6 +182,26 @@ TEST(SceneFileErrors, MissingFilesNameThePath) {
     expect_error(write_scene("no_model.json", R"({"width": 10})"), "gltf");
 }
 
+// A scene file's paper is handed to LoadOptions::paper_known, resolved, before its model loads (the
+// CLI decodes the paper meanwhile): a scene whose model is missing has already reported it; a scene
+// without a paper never calls it; with both, once, with the path the description holds.
+TEST(LoadScene, ThePaperIsKnownBeforeTheModelLoads) {
+    const std::string paper = fs::absolute(aq::test::asset("paper/mnpr/rough_default_2k.jpg")).string();
+    std::vector<std::string> seen;
+    LoadOptions opt;
+    opt.paper_known = [&](const std::string& p) { seen.push_back(p); };
+    EXPECT_THROW(load_scene(write_scene("paper_then_no_model.json", R"({"gltf": "no/such/model.gltf", "paper": ")" + paper + R"("})"), opt),
+                 aq::Error);
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_EQ(fs::weakly_canonical(seen[0]), fs::weakly_canonical(paper));
+    seen.clear();
+    (void)load_scene(write_scene("model_no_paper.json", R"({"gltf": ")" + box_path() + R"("})"), opt);
+    EXPECT_TRUE(seen.empty());
+    const SceneDesc d = load_scene(write_scene("model_and_paper.json", R"({"gltf": ")" + box_path() + R"(", "paper": ")" + paper + R"("})"), opt);
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_EQ(seen[0], d.paper);
+}
+
 TEST(SceneFileErrors, DeepNestingIsRefused) {
     const int d = 200000;
     const std::string p = write_scene("deep.json", "{\"description\": " + std::string(d, '[') + std::string(d, ']') + "}");
