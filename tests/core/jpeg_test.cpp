@@ -15,40 +15,24 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/oiio.h"
+#include "tests/core/decoder_support.h"
 #include "tests/test_support.h"
 
 namespace aq {
 namespace {
 namespace fs = std::filesystem;
 
-//! A header callback allocating the ImageF at ctx (zeroed, as core/io.cpp does for OpenImageIO).
-float* allocate_into(void* ctx, const ImageHeader& h) {
-    auto* out = static_cast<ImageF*>(ctx);
-    *out = ImageF(h.width, h.height, std::min(h.nchannels, 4));
-    return out->data();
-}
+using test::allocate_into;
+using test::expect_same_values;
 
 //! OpenImageIO's JPEG reader on the same bytes (through the module, as core/io.cpp used to).
-ImageF decode_with_oiio(const std::vector<unsigned char>& bytes) {
-    ImageF img;
-    const std::string e = oiio().decode(bytes.data(), bytes.size(), "jpeg", "memory.jpg", allocate_into, &img);
-    EXPECT_EQ(e, "");
-    return img;
-}
+ImageF decode_with_oiio(const std::vector<unsigned char>& bytes) { return test::decode_with_oiio(bytes, "jpeg"); }
 
 //! Ours, asserting that ours (not the OpenImageIO fallback) decoded it.
 ImageF decode_with_ours(const std::vector<unsigned char>& bytes) {
     ImageF img;
     EXPECT_TRUE(decode_jpeg(bytes.data(), bytes.size(), "test", allocate_into, &img));
     return img;
-}
-
-void expect_same_values(const ImageF& a, const ImageF& b, const std::string& what) {
-    ASSERT_EQ(a.width(), b.width()) << what;
-    ASSERT_EQ(a.height(), b.height()) << what;
-    ASSERT_EQ(a.channels(), b.channels()) << what;
-    ASSERT_GT(a.num_values(), 0u) << what;
-    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)), 0) << what;
 }
 
 //! A JPEG written by libjpeg: w x h, `components` of `in_space`, values from `value(x, y, c)`.

@@ -15,37 +15,22 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/oiio.h"
+#include "tests/core/decoder_support.h"
 #include "tests/test_support.h"
 
 namespace aq {
 namespace {
 namespace fs = std::filesystem;
 
-float* allocate_into(void* ctx, const ImageHeader& h) {
-    auto* out = static_cast<ImageF*>(ctx);
-    *out = ImageF(h.width, h.height, std::min(h.nchannels, 4));
-    return out->data();
-}
+using test::allocate_into;
+using test::expect_same_values;
 
 float* must_not_be_called(void*, const ImageHeader&) {
     ADD_FAILURE() << "decode_png accepted a header it leaves to OpenImageIO";
     throw Error("unexpected header");
 }
 
-ImageF decode_with_oiio(const std::vector<unsigned char>& bytes) {
-    ImageF img;
-    const std::string e = oiio().decode(bytes.data(), bytes.size(), "png", "memory.png", allocate_into, &img);
-    EXPECT_EQ(e, "");
-    return img;
-}
-
-void expect_same_values(const ImageF& a, const ImageF& b, const std::string& what) {
-    ASSERT_EQ(a.width(), b.width()) << what;
-    ASSERT_EQ(a.height(), b.height()) << what;
-    ASSERT_EQ(a.channels(), b.channels()) << what;
-    ASSERT_GT(a.num_values(), 0u) << what;
-    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.num_values() * sizeof(float)), 0) << what;
-}
+ImageF decode_with_oiio(const std::vector<unsigned char>& bytes) { return test::decode_with_oiio(bytes, "png"); }
 
 void append_bytes(png_structp p, png_bytep data, std::size_t n) {
     auto* out = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(p));
