@@ -203,17 +203,6 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
     const int X0 = tx * kTile, Y0 = ty * kTile;
     const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
     const int tw = X1 - X0 + 1;
-    float zbuf[kTile * kTile];
-    TileRef ids[kTile * kTile];
-    // A tile no triangle was binned to shows only background: no depth buffer, no visibility,
-    // no coverage scan (most tiles of a model that does not fill the frame).
-    bool binned = false;
-    for (const Chunk& ch : fr.chunks) binned = binned || ch.bin_offsets[tile] != ch.bin_offsets[tile + 1];
-    if (binned && !count)
-        for (int i = 0; i < kTile * kTile; ++i) {
-            zbuf[i] = std::numeric_limits<float>::infinity();
-            ids[i].chunk = kNoChunk;
-        }
     if (count) {  // overdraw: every covered sample of every triangle, no depth test
         for (const Chunk& ch : fr.chunks)
             for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
@@ -223,19 +212,31 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             }
         return;
     }
-    if (binned) resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, ids);
-    // Deferred shading of the covered pixels, row-major. Each pixel gathers its setup, then the
-    // triangle's indices, then its vertices (dependent cache misses: one small triangle per pixel
-    // on dense meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
+    // Visibility, then the covered pixels in row-major order. A tile no triangle was binned to
+    // shows only background: no depth buffer, no visibility, no coverage scan (most tiles of a
+    // model that does not fill the frame).
+    float zbuf[kTile * kTile];
+    TileRef ids[kTile * kTile];
     std::uint16_t covered[kTile * kTile];
     int nc = 0;
-    // Branch-free append (the coverage edges made the branch mispredict: a third of this
-    // function's time); the same list in the same order.
-    if (binned)
+    bool binned = false;
+    for (const Chunk& ch : fr.chunks) binned = binned || ch.bin_offsets[tile] != ch.bin_offsets[tile + 1];
+    if (binned) {
+        for (int i = 0; i < kTile * kTile; ++i) {
+            zbuf[i] = std::numeric_limits<float>::infinity();
+            ids[i].chunk = kNoChunk;
+        }
+        resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, ids);
+        // Branch-free append (the coverage edges made the branch mispredict: a third of this
+        // function's time); the same list in the same order.
         for (int li = 0; li < kTile * kTile; ++li) {
             covered[nc] = std::uint16_t(li);
             nc += ids[li].chunk != kNoChunk;
         }
+    }
+    // Deferred shading of the covered pixels. Each pixel gathers its setup, then the triangle's
+    // indices, then its vertices (dependent cache misses: one small triangle per pixel on dense
+    // meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
     auto setup_at = [&](int k) -> const TriSetup& {
         const TileRef r = ids[covered[k]];
         return fr.chunks[r.chunk].tris[r.tri];
