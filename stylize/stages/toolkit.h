@@ -19,6 +19,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
+#include "core/simd.h"
 #include "stylize/fastmath.h"
 #include "stylize/kernels.h"
 #include "stylize/paper.h"
@@ -222,34 +223,18 @@ void plain_loop(int w, int h, F&& px) {
 
 // ---- registers -------------------------------------------------------------------------------
 
-//! Eight floats / ints as a GCC vector (one AVX2 register with -mavx2, two SSE ones without):
-//! for kernels that keep an accumulator in registers across taps. Element-wise IEEE operations,
-//! so a lane computes exactly what the scalar expression computes.
-typedef float v8f __attribute__((vector_size(32)));
-typedef int v8i __attribute__((vector_size(32)));
-typedef float v4f __attribute__((vector_size(16)));  //!< one RGBA pixel in an SSE register
-inline v8f load8(const float* p) {
-    v8f v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store8(float* p, v8f v) { std::memcpy(p, &v, sizeof v); }
+// Eight-lane registers: core/simd.h.
+using simd::v8f;
+using simd::v8i;
+using simd::v4f;
+using simd::load8;
+using simd::store8;
+using simd::all_zero;
 //! kernels.h sat lane by lane (x < 0 ? 0 : x > 1 ? 1 : x; NaN and -0 kept), as kernels.h sat8.
 inline v8f sat(v8f x) {
     const v8f zero{}, one = v8f{} + 1.0f;
     return x < zero ? zero : (x > one ? one : x);
 }
-//! True when every bit of v is 0 (one vptest with AVX).
-inline bool all_zero(v8i v) {
-#ifdef __AVX__
-    return _mm256_testz_si256(__m256i(v), __m256i(v)) != 0;
-#else
-    long long q[4];
-    std::memcpy(q, &v, sizeof q);
-    return (q[0] | q[1] | q[2] | q[3]) == 0;
-#endif
-}
-
 //! Eight RGBA pixels from planes: o[4i .. 4i+3] = (r[i], g[i], b[i], a[i]), i < 8 (unpacks and
 //! 128-bit permutes: values moved, never computed). For row kernels that compute channels as
 //! separate vectorised planes and store interleaved pixels.
