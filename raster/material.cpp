@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "core/simd.h"
+
 namespace aq::raster {
 
 namespace {
@@ -39,28 +41,6 @@ glm::vec3 base_color_to_working(glm::vec3 C, bool linear_color, WorkingSpace ws)
     if (!linear_color && ws == WorkingSpace::Linear)
         return {srgb_to_linear(C.x), srgb_to_linear(C.y), srgb_to_linear(C.z)};
     return C;
-}
-
-float diffuse_factor(float n_dot_l, float shade_wrap, float k) {
-    const float wrapped = sat((n_dot_l + shade_wrap) / (1.0f + shade_wrap));
-    return 1.0f + (wrapped - 1.0f) * k;
-}
-
-float dilute_area(float l_dot_n, float dA) {
-    const float a = std::min(std::max(dA, kMinDiluteArea), 1.0f);
-    return std::max((l_dot_n + (a - 1.0f)) / a, 0.0f);
-}
-
-glm::vec3 cangiante(glm::vec3 C, float DA, float c) { return C + glm::vec3(DA * c); }
-
-glm::vec3 dilution(glm::vec3 Cc, float DA, float d, glm::vec3 Cp) {
-    const float k = d * DA;
-    return k * (Cp - Cc) + Cc;
-}
-
-glm::vec3 reflectance(glm::vec3 C, float l_dot_n, float dA, float c, float d, glm::vec3 Cp) {
-    const float DA = dilute_area(l_dot_n, dA);
-    return dilution(cangiante(C, DA, c), DA, d, Cp);
 }
 
 glm::vec3 turbulence(glm::vec3 C, float ctrl, glm::vec3 Cp) {
@@ -156,12 +136,23 @@ float material_alpha(const ShadeContext& ctx, const scene::Material& m, const Fr
 }
 
 namespace {
-// Step 1 of the material, inlined into shade_fragment (the per-fragment path).
+//! The textures a material samples (texture_of of each reference), looked up once per batch.
+struct MaterialTextures {
+    const scene::Texture* base = nullptr;
+    const scene::Texture* normal = nullptr;
+    const scene::Texture* ctrl[scene::kNumControlTargets] = {};
+    MaterialTextures(const ShadeContext& ctx, const scene::Material& m)
+        : base(texture_of(ctx, m.base_color_texture)), normal(texture_of(ctx, m.normal_texture)) {
+        for (int k = 0; k < scene::kNumControlTargets; ++k) ctrl[k] = texture_of(ctx, m.wc.control_texture[k]);
+    }
+};
+
+// Step 1 of the material, inlined into the shading paths (per fragment).
 [[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
-                                                        const FragmentInput& in) {
+                                                        const scene::Texture* base_texture, const FragmentInput& in) {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
-        if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
+        if (const scene::Texture* t = base_texture)
             C = C * glm::vec3(sample_texture(*t, m.base_color_texture.sampler, in.uv));
     C = C * glm::vec3(in.color);
     return base_color_to_working(C, m.linear_color, ctx.working_space);
@@ -169,43 +160,158 @@ namespace {
 }  // namespace
 
 glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in) {
-    return base_color_step(ctx, m, in);
+    return base_color_step(ctx, m, texture_of(ctx, m.base_color_texture), in);
 }
 
-FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
-                              const FragmentInput& in) {
-    FragmentOutput out;
-    const scene::WatercolorMaterial& wc = m.wc;
-    // 1. Base colour: factor x texture x COLOR_0, then into the working space (docs/look.md).
-    const glm::vec3 C = in.base ? *in.base : base_color_step(ctx, m, in);
+// ---- The material, lane-generic ------------------------------------------------------------
+// The maths of shade_fragment is written once (shade_lanes) over a lane type: one fragment in
+// float / glm::vec3, or eight fragments in simd::v8f / Lanes3 (shade_fragments). Every lane
+// operation is the scalar one (element-wise IEEE, operands in the same order, branches as
+// selects of both computed values), so a batch gives each fragment the bits shade_fragment gives
+// it. Texture fetches and powf stay per fragment (scalar calls on each lane).
+namespace {
 
+using simd::v8f;
+using simd::v8i;
+// The one-fragment forms of material.h beside the lane forms below.
+using raster::dot3;
+using raster::normalize3;
+using raster::sat;
+
+inline v8f bcast(float x) { return v8f{x, x, x, x, x, x, x, x}; }  // (not 0 + x: keeps -0)
+//! x in every lane of F, bit for bit.
+template <class F> inline F splat(float x);
+template <> inline float splat<float>(float x) { return x; }
+template <> inline v8f splat<v8f>(float x) { return bcast(x); }
+
+//! Three coordinates of eight fragments.
+struct Lanes3 {
+    v8f x, y, z;
+};
+inline Lanes3 bcast(glm::vec3 v) { return {bcast(v.x), bcast(v.y), bcast(v.z)}; }
+inline Lanes3 operator+(const Lanes3& a, const Lanes3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Lanes3 operator-(const Lanes3& a, const Lanes3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Lanes3 operator*(const Lanes3& a, const Lanes3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+inline Lanes3 operator*(const Lanes3& a, v8f s) { return {a.x * s, a.y * s, a.z * s}; }
+inline Lanes3 operator*(v8f s, const Lanes3& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline Lanes3 operator*(const Lanes3& a, float s) { return a * bcast(s); }
+inline Lanes3 operator-(const Lanes3& a) { return {-a.x, -a.y, -a.z}; }
+// Uniform (per draw) glm vectors on either side, in the operand order of the glm expression.
+inline Lanes3 operator+(glm::vec3 a, const Lanes3& b) { return bcast(a) + b; }
+inline Lanes3 operator+(const Lanes3& a, glm::vec3 b) { return a + bcast(b); }
+inline Lanes3 operator-(glm::vec3 a, const Lanes3& b) { return bcast(a) - b; }
+inline Lanes3 operator*(glm::vec3 a, v8f s) { return bcast(a) * s; }
+
+// Selects and the std::min / std::max / sat / dot3 / normalize3 of material.h, lane by lane.
+inline float select(bool m, float a, float b) { return m ? a : b; }
+inline v8f select(v8i m, v8f a, v8f b) { return m ? a : b; }
+inline glm::vec3 select(bool m, glm::vec3 a, glm::vec3 b) { return m ? a : b; }
+inline Lanes3 select(v8i m, const Lanes3& a, const Lanes3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+template <class F> inline F min_of(F a, F b) { return select(b < a, b, a); }  // std::min(a, b)
+template <class F> inline F max_of(F a, F b) { return select(a < b, b, a); }  // std::max(a, b)
+inline float root(float x) { return std::sqrt(x); }
+inline v8f root(v8f x) { return simd::sqrt8(x); }
+inline v8f sat(v8f x) { return min_of(max_of(x, bcast(0.0f)), bcast(1.0f)); }
+inline Lanes3 sat(const Lanes3& v) { return {sat(v.x), sat(v.y), sat(v.z)}; }
+inline v8f dot3(const Lanes3& a, const Lanes3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+inline Lanes3 normalize3(const Lanes3& v) {
+    const v8f l2 = dot3(v, v);
+    return select(l2 > 0.0f, v * (1.0f / root(l2)), v);
+}
+template <class F> inline F clamp1_of(F v) { return min_of(max_of(v, splat<F>(-1.0f)), splat<F>(1.0f)); }  // clamp1
+inline glm::vec3 cross3(glm::vec3 a, glm::vec3 b) { return glm::cross(a, b); }
+inline Lanes3 cross3(const Lanes3& a, const Lanes3& b) {  // glm::cross's order of operations
+    return {a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y};
+}
+inline float sign_of(float w) { return w < 0.0f ? -1.0f : 1.0f; }
+inline v8f sign_of(v8f w) { return select(w < 0.0f, bcast(-1.0f), bcast(1.0f)); }
+
+//! f applied to each lane (scalar calls: powf, textures).
+template <class Fn> inline float each_lane(float x, Fn&& f) { return f(x, 0); }
+template <class Fn> inline v8f each_lane(v8f x, Fn&& f) {
+    for (int i = 0; i < 8; ++i) x[i] = f(x[i], i);
+    return x;
+}
+
+// The WC17 / MNPR pure functions of material.h, lane-generic (the float forms call these).
+template <class F> inline F diffuse_factor_of(F n_dot_l, float shade_wrap, float k) {
+    const F wrapped = sat((n_dot_l + shade_wrap) / (1.0f + shade_wrap));
+    return 1.0f + (wrapped - 1.0f) * k;
+}
+template <class F> inline F dilute_area_of(F l_dot_n, float dA) {
+    const float a = std::min(std::max(dA, kMinDiluteArea), 1.0f);
+    return max_of((l_dot_n + (a - 1.0f)) / a, F{});
+}
+template <class F, class V> inline V cangiante_of(const V& C, F DA, float c) {
+    const F k = DA * c;
+    return {C.x + k, C.y + k, C.z + k};  // C + vec3(DA * c)
+}
+template <class F, class V> inline V dilution_of(const V& Cc, F DA, float d, glm::vec3 Cp) {
+    const F k = d * DA;
+    return k * (Cp - Cc) + Cc;
+}
+template <class F, class V>
+inline V reflectance_of(const V& C, F l_dot_n, float dA, float c, float d, glm::vec3 Cp) {
+    const F DA = dilute_area_of(l_dot_n, dA);
+    return dilution_of(cangiante_of(C, DA, c), DA, d, Cp);
+}
+
+//! What shade_lanes reads: per-lane values prepared by the caller (gathers and texture fetches).
+template <class F, class V, class M>
+struct LaneInput {
+    V C;               //!< base colour in the working space (step 1)
+    V normal;          //!< interpolated, not normalised
+    V view_pos;
+    M back;            //!< back face
+    bool normal_map = false;  //!< the fields below hold a normal-map sample and the tangent
+    V nmap;            //!< normal texture sample (rgb)
+    V tangent;         //!< interpolated tangent xyz
+    F tangent_w{};
+    V ctrl[scene::kNumControlTargets];      //!< interpolated per-vertex control
+    V ctrl_tex[scene::kNumControlTargets];  //!< control texture samples (rgb) where the material has them
+    bool has_ctrl_tex[scene::kNumControlTargets] = {};
+};
+
+template <class F, class V>
+struct LaneOutput {
+    V color;  //!< rgb (alpha 1)
+    V ctrl[scene::kNumControlTargets];
+    V normal;
+    F diffuse, specular;
+};
+
+//! Steps 2-6 of the material (docs/raster.md "Material") on one fragment or eight.
+template <class F, class V, class M>
+LaneOutput<F, V> shade_lanes(const ShadeContext& ctx, const scene::Material& m, const LaneInput<F, V, M>& in) {
+    LaneOutput<F, V> out;
+    const scene::WatercolorMaterial& wc = m.wc;
     // 2. Normal: normalise, tangent-space normal map, double-sided back faces flipped.
-    glm::vec3 N = normalize3(in.normal);
-    if (in.has_uv && in.has_tangent)
-        if (const scene::Texture* t = texture_of(ctx, m.normal_texture)) {
-            const glm::vec4 s = sample_texture(*t, m.normal_texture.sampler, in.uv);
-            const float sc = m.normal_texture.scale;
-            const glm::vec3 tn((s.x * 2.0f - 1.0f) * sc, (s.y * 2.0f - 1.0f) * sc, s.z * 2.0f - 1.0f);
-            const glm::vec3 T = normalize3(glm::vec3(in.tangent));
-            const glm::vec3 Bt = glm::cross(N, T) * (in.tangent.w < 0.0f ? -1.0f : 1.0f);
-            N = normalize3((T * tn.x + Bt * tn.y) + N * tn.z);
-        }
-    if (in.back && m.double_sided) N = -N;
-    const glm::vec3 V = ctx.perspective ? normalize3(-in.view_pos) : glm::vec3(0, 0, 1);
+    V N = normalize3(in.normal);
+    if (in.normal_map) {
+        const V& s = in.nmap;
+        const float sc = m.normal_texture.scale;
+        const V tn{(s.x * 2.0f - 1.0f) * sc, (s.y * 2.0f - 1.0f) * sc, s.z * 2.0f - 1.0f};
+        const V T = normalize3(in.tangent);
+        const V Bt = cross3(N, T) * sign_of(in.tangent_w);
+        N = normalize3((T * tn.x + Bt * tn.y) + N * tn.z);
+    }
+    if (m.double_sided) N = select(in.back, -N, N);
+    const V V_ = ctx.perspective ? normalize3(-in.view_pos) : V{splat<F>(0.0f), splat<F>(0.0f), splat<F>(1.0f)};
 
     // 3. Lights: MNPR diffuse factor per light, Blinn-Phong specular.
-    glm::vec3 diffuse = ctx.ambient;
-    glm::vec3 spec(0.0f);
-    float ndl0 = 0.0f, df0 = 1.0f, spec0 = 0.0f;
+    V diffuse{splat<F>(ctx.ambient.x), splat<F>(ctx.ambient.y), splat<F>(ctx.ambient.z)};
+    V spec{F{}, F{}, F{}};
+    F ndl0{}, df0 = splat<F>(1.0f), spec0{};
     for (std::size_t l = 0; l < ctx.lights.size(); ++l) {
         const ViewLight& L = ctx.lights[l];
-        const float ndl = dot3(N, L.dir);
-        const float df = diffuse_factor(ndl, wc.shade_wrap, wc.diffuse_factor);
+        const F ndl = (N.x * L.dir.x + N.y * L.dir.y) + N.z * L.dir.z;  // dot3(N, L.dir)
+        const F df = diffuse_factor_of(ndl, wc.shade_wrap, wc.diffuse_factor);
         diffuse = diffuse + L.radiance * df;
-        float s = 0.0f;
+        F s{};
         if (wc.specular > 0.0f) {
-            const glm::vec3 H = normalize3(L.dir + V);
-            s = wc.specular * std::pow(sat(dot3(N, H)), wc.specular_power);
+            const V H = normalize3(L.dir + V_);
+            const F c = sat(dot3(N, H));
+            s = wc.specular * each_lane(c, [&](float v, int) { return std::pow(v, wc.specular_power); });
             spec = spec + L.radiance * s;
         }
         if (l == 0) {
@@ -215,30 +321,160 @@ FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
         }
     }
     // 4. Lit colour with the shade colour on the unlit side of the key light.
-    const glm::vec3 Clit = C * diffuse + wc.shade_color * (1.0f - df0);
+    const V Clit = in.C * diffuse + wc.shade_color * (1.0f - df0);
     // 5. WC17 reflectance (eq. 3-5) with the key light, then specular, then clamp.
-    const glm::vec3 Cd = reflectance(Clit, ndl0, wc.dilute_area, wc.cangiante, wc.dilute, ctx.substrate);
-    glm::vec3 Cs = sat(Cd + spec);
+    const V Cd = reflectance_of(Clit, ndl0, wc.dilute_area, wc.cangiante, wc.dilute, ctx.substrate);
+    out.color = sat(Cd + spec);
 
     // Control values: interpolated vertex + material constant + control texture (2 t - 1).
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
-        glm::vec3 c = in.ctrl[k] + glm::vec3(wc.control[k]);
-        if (in.has_uv)
-            if (const scene::Texture* t = texture_of(ctx, wc.control_texture[k])) {
-                const glm::vec4 s = sample_texture(*t, wc.control_texture[k].sampler, in.uv);
-                c = c + (glm::vec3(s) * 2.0f - 1.0f);
-            }
-        out.ctrl[k] = {clamp1(c.x), clamp1(c.y), clamp1(c.z)};
+        const glm::vec3 mc(wc.control[k]);
+        V c = in.ctrl[k] + mc;
+        if (in.has_ctrl_tex[k]) {
+            const V& s = in.ctrl_tex[k];
+            c = c + V{s.x * 2.0f - 1.0f, s.y * 2.0f - 1.0f, s.z * 2.0f - 1.0f};
+        }
+        out.ctrl[k] = {clamp1_of(c.x), clamp1_of(c.y), clamp1_of(c.z)};
     }
-    // 6. Object-space turbulence / fading (WC17 eq. 6) when selected.
-    if (ctx.object_space_turbulence)
-        Cs = sat(turbulence(Cs, wc17_turbulence_ctrl(out.ctrl[scene::kCtrlPigment].z), ctx.substrate));
-
-    out.color = glm::vec4(Cs, 1.0f);
     out.normal = N;
     out.diffuse = sat(ndl0);
     out.specular = spec0;
     return out;
+}
+
+//! Which textures the fragments of a draw sample besides the base colour (normal map, control
+//! textures): the material's textures where the fragment has uv (and tangents for the normal map).
+struct SampledTextures {
+    const scene::Texture* normal = nullptr;
+    const scene::Texture* ctrl[scene::kNumControlTargets] = {};
+    SampledTextures(const MaterialTextures& tex, const FragmentInput& in) {
+        if (in.has_uv && in.has_tangent) normal = tex.normal;
+        for (int k = 0; k < scene::kNumControlTargets; ++k) ctrl[k] = in.has_uv ? tex.ctrl[k] : nullptr;
+    }
+};
+
+//! Lane i of the inputs of shade_lanes from fragment `in`: step 1 (the base colour) and the
+//! texture samples of `st` (the caller sets the uniform flags from the same `st`).
+template <class F, class V, class M, class Put>
+void fill_lane(const ShadeContext& ctx, const scene::Material& m, const MaterialTextures& tex,
+               const SampledTextures& st, const FragmentInput& in, LaneInput<F, V, M>& li, Put&& put) {
+    put(li.C, in.base ? *in.base : base_color_step(ctx, m, tex.base, in));
+    put(li.normal, in.normal);
+    put(li.view_pos, in.view_pos);
+    if (st.normal) {
+        put(li.nmap, glm::vec3(sample_texture(*st.normal, m.normal_texture.sampler, in.uv)));
+        put(li.tangent, glm::vec3(in.tangent));
+    }
+    for (int k = 0; k < scene::kNumControlTargets; ++k) {
+        put(li.ctrl[k], in.ctrl[k]);
+        if (st.ctrl[k]) put(li.ctrl_tex[k], glm::vec3(sample_texture(*st.ctrl[k], m.wc.control_texture[k].sampler, in.uv)));
+    }
+}
+
+//! put(field, _) on every field fill_lane writes for `st` (to copy a lane without recomputing it).
+template <class F, class V, class M, class Put>
+void fill_lane_copy(LaneInput<F, V, M>& li, Put&& put, const SampledTextures& st) {
+    const glm::vec3 unused{};
+    put(li.C, unused), put(li.normal, unused), put(li.view_pos, unused);
+    if (st.normal) put(li.nmap, unused), put(li.tangent, unused);
+    for (int k = 0; k < scene::kNumControlTargets; ++k) {
+        put(li.ctrl[k], unused);
+        if (st.ctrl[k]) put(li.ctrl_tex[k], unused);
+    }
+}
+
+//! The uniform flags of shade_lanes' input from `st`.
+template <class F, class V, class M>
+void set_flags(const SampledTextures& st, LaneInput<F, V, M>& li) {
+    li.normal_map = st.normal != nullptr;
+    for (int k = 0; k < scene::kNumControlTargets; ++k) li.has_ctrl_tex[k] = st.ctrl[k] != nullptr;
+}
+
+//! 6. Object-space turbulence / fading (WC17 eq. 6) of one fragment, when selected.
+glm::vec3 turbulence_step(const ShadeContext& ctx, glm::vec3 Cs, const glm::vec3 ctrl[]) {
+    if (!ctx.object_space_turbulence) return Cs;
+    return sat(turbulence(Cs, wc17_turbulence_ctrl(ctrl[scene::kCtrlPigment].z), ctx.substrate));
+}
+
+}  // namespace
+
+float diffuse_factor(float n_dot_l, float shade_wrap, float k) { return diffuse_factor_of(n_dot_l, shade_wrap, k); }
+
+float dilute_area(float l_dot_n, float dA) { return dilute_area_of(l_dot_n, dA); }
+
+glm::vec3 cangiante(glm::vec3 C, float DA, float c) { return cangiante_of(C, DA, c); }
+
+glm::vec3 dilution(glm::vec3 Cc, float DA, float d, glm::vec3 Cp) { return dilution_of(Cc, DA, d, Cp); }
+
+glm::vec3 reflectance(glm::vec3 C, float l_dot_n, float dA, float c, float d, glm::vec3 Cp) {
+    return reflectance_of(C, l_dot_n, dA, c, d, Cp);
+}
+
+FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in) {
+    const MaterialTextures tex(ctx, m);
+    const SampledTextures st(tex, in);
+    LaneInput<float, glm::vec3, bool> li;
+    set_flags(st, li);
+    li.back = in.back;
+    li.tangent_w = in.tangent.w;
+    fill_lane(ctx, m, tex, st, in, li, [](glm::vec3& d, glm::vec3 v) { d = v; });
+    const LaneOutput<float, glm::vec3> lo = shade_lanes(ctx, m, li);
+    FragmentOutput out;
+    for (int k = 0; k < scene::kNumControlTargets; ++k) out.ctrl[k] = lo.ctrl[k];
+    out.color = glm::vec4(turbulence_step(ctx, lo.color, out.ctrl), 1.0f);
+    out.normal = lo.normal;
+    out.diffuse = lo.diffuse;
+    out.specular = lo.specular;
+    return out;
+}
+
+void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const FragmentInput* in, int n,
+                     FragmentLanes& out) {
+    if (n < 1 || n > FragmentLanes::kLanes) throw Error("shade_fragments: 1 to 8 fragments");
+    const MaterialTextures tex(ctx, m);
+    // Which textures are sampled depends on the fragment's uv and tangents (per draw): a batch
+    // whose fragments differ there is shaded one by one.
+    for (int i = 1; i < n; ++i)
+        if (in[i].has_uv != in[0].has_uv || in[i].has_tangent != in[0].has_tangent) {
+            for (int j = 0; j < n; ++j) out.set(j, shade_fragment(ctx, m, in[j]));
+            return;
+        }
+    const SampledTextures st(tex, in[0]);
+    LaneInput<v8f, Lanes3, v8i> li;
+    set_flags(st, li);
+    v8i back{};
+    v8f tangent_w{};
+    for (int i = 0; i < FragmentLanes::kLanes; ++i) {
+        // Lanes past n repeat lane 0 (their results are not used).
+        if (i >= n) {
+            auto copy0 = [&](Lanes3& d, glm::vec3) {
+                d.x[i] = d.x[0], d.y[i] = d.y[0], d.z[i] = d.z[0];
+            };
+            fill_lane_copy(li, copy0, st);
+            back[i] = back[0], tangent_w[i] = tangent_w[0];
+            continue;
+        }
+        fill_lane(ctx, m, tex, st, in[i], li, [i](Lanes3& d, glm::vec3 v) { d.x[i] = v.x, d.y[i] = v.y, d.z[i] = v.z; });
+        back[i] = in[i].back ? -1 : 0;
+        tangent_w[i] = in[i].tangent.w;
+    }
+    li.back = back;
+    li.tangent_w = tangent_w;
+    const LaneOutput<v8f, Lanes3> lo = shade_lanes(ctx, m, li);
+    auto put = [](float* d, v8f v) { simd::store8(d, v); };
+    put(out.color[0], lo.color.x), put(out.color[1], lo.color.y), put(out.color[2], lo.color.z);
+    for (int k = 0; k < scene::kNumControlTargets; ++k)
+        put(out.ctrl[k][0], lo.ctrl[k].x), put(out.ctrl[k][1], lo.ctrl[k].y), put(out.ctrl[k][2], lo.ctrl[k].z);
+    put(out.normal[0], lo.normal.x), put(out.normal[1], lo.normal.y), put(out.normal[2], lo.normal.z);
+    put(out.diffuse, lo.diffuse), put(out.specular, lo.specular);
+    if (ctx.object_space_turbulence)
+        for (int i = 0; i < n; ++i) {
+            glm::vec3 ctrl[scene::kNumControlTargets];
+            for (int k = 0; k < scene::kNumControlTargets; ++k)
+                ctrl[k] = {out.ctrl[k][0][i], out.ctrl[k][1][i], out.ctrl[k][2][i]};
+            const glm::vec3 Cs = turbulence_step(ctx, {out.color[0][i], out.color[1][i], out.color[2][i]}, ctrl);
+            out.color[0][i] = Cs.x, out.color[1][i] = Cs.y, out.color[2][i] = Cs.z;
+        }
 }
 
 }  // namespace aq::raster

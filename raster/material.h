@@ -131,6 +131,29 @@ glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, 
 FragmentOutput shade_fragment(const ShadeContext& ctx, const scene::Material& m,
                               const FragmentInput& in);
 
+//! The outputs of up to eight fragments, one array per component (lane i: fragment i).
+struct FragmentLanes {
+    static constexpr int kLanes = 8;
+    float color[3][kLanes];  //!< rgb; alpha is 1
+    float ctrl[scene::kNumControlTargets][3][kLanes];
+    float normal[3][kLanes];
+    float diffuse[kLanes], specular[kLanes];
+    //! Lane i from one fragment's output.
+    void set(int i, const FragmentOutput& o) {
+        for (int c = 0; c < 3; ++c) color[c][i] = o.color[c], normal[c][i] = o.normal[c];
+        for (int k = 0; k < scene::kNumControlTargets; ++k)
+            for (int c = 0; c < 3; ++c) ctrl[k][c][i] = o.ctrl[k][c];
+        diffuse[i] = o.diffuse;
+        specular[i] = o.specular;
+    }
+};
+
+//! shade_fragment of in[0 .. n) (1 <= n <= 8) of one material at once: lane i holds exactly
+//! shade_fragment(ctx, m, in[i]) (the same maths, eight fragments per vector operation; texture
+//! fetches and powf per fragment). The fast traversal's shading schedule.
+void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const FragmentInput* in, int n,
+                     FragmentLanes& out);
+
 //! Default light when the scene has none: white, intensity 1, view-space direction
 //! normalize(-0.5, 0.5, 1) (from the upper left, in front).
 ViewLight default_view_light();

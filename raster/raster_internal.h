@@ -117,6 +117,8 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
 void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o[3]);
 //! The fragment's interpolated vertex data (both traversals and the raster passes).
 FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b);
+//! The same into `in` (every field written).
+void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b, FragmentInput& in);
 //! The material's alpha test (alpha-masked materials only; see needs_alpha_test).
 bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b);
 inline bool needs_alpha_test(const Frame& fr, const TriSetup& t) {

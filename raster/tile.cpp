@@ -16,8 +16,9 @@ void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o
     }
 }
 
-// Interpolates the vertex data of the fragment with setup weights b (shared by both traversals).
-FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+// Interpolates the vertex data of the fragment with setup weights b into `in`, every field
+// written (shared by both traversals).
+void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b, FragmentInput& in) {
     float o[3];
     original_weights(ch, t, b, o);
     const DrawVertices& dv = fr.draws[t.draw];
@@ -27,28 +28,28 @@ FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, c
     auto lerp3 = [&](const auto& a0, const auto& a1, const auto& a2) {
         return a0 + (a1 - a0) * o[1] + (a2 - a0) * o[2];
     };
-    FragmentInput in;
     const DrawVertices::Shading& v0 = dv.view[i0];
     const DrawVertices::Shading& v1 = dv.view[i1];
     const DrawVertices::Shading& v2 = dv.view[i2];
     in.view_pos = lerp3(v0.pos, v1.pos, v2.pos);
     in.normal = lerp3(v0.normal, v1.normal, v2.normal);
-    if (!dv.view_tangent.empty()) {
-        in.tangent = lerp3(dv.view_tangent[i0], dv.view_tangent[i1], dv.view_tangent[i2]);
-        in.has_tangent = true;
-    }
-    if (p.uv0.size() == p.positions.size()) {
-        in.uv = lerp3(p.uv0[i0], p.uv0[i1], p.uv0[i2]);
-        in.has_uv = true;
-    }
-    if (p.colors.size() == p.positions.size()) in.color = lerp3(p.colors[i0], p.colors[i1], p.colors[i2]);
+    in.has_tangent = !dv.view_tangent.empty();
+    in.tangent = in.has_tangent ? lerp3(dv.view_tangent[i0], dv.view_tangent[i1], dv.view_tangent[i2]) : glm::vec4(0.0f);
+    in.has_uv = p.uv0.size() == p.positions.size();
+    in.uv = in.has_uv ? lerp3(p.uv0[i0], p.uv0[i1], p.uv0[i2]) : glm::vec2(0.0f);
+    in.color = p.colors.size() == p.positions.size() ? lerp3(p.colors[i0], p.colors[i1], p.colors[i2]) : glm::vec4(1.0f);
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
         const auto& c = p.control[k];
-        if (c.size() == p.positions.size())
-            in.ctrl[k] = lerp3(glm::vec3(c[i0]), glm::vec3(c[i1]), glm::vec3(c[i2]));
+        in.ctrl[k] = c.size() == p.positions.size() ? lerp3(glm::vec3(c[i0]), glm::vec3(c[i1]), glm::vec3(c[i2]))
+                                                    : glm::vec3(0.0f);
     }
     in.back = t.back != 0;
-    if (dv.const_base) in.base = &dv.base;
+    in.base = dv.const_base ? &dv.base : nullptr;
+}
+
+FragmentInput interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
+    FragmentInput in;
+    interpolate(fr, ch, t, b, in);
     return in;
 }
 
@@ -57,23 +58,29 @@ bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary&
     return material_alpha(fr.ctx, m, interpolate(fr, ch, t, b)) >= m.alpha_cutoff;
 }
 
+// Writes lane i of shaded fragments (depth, object id) at pixel (x, y) of every target.
+void write_lane(const FragmentLanes& o, int i, float depth, float object_id, const TargetPtrs& tp, int x, int y) {
+    const std::size_t p = std::size_t(y) * tp.width + x;
+    float* c = tp.color + 4 * p;
+    c[0] = o.color[0][i]; c[1] = o.color[1][i]; c[2] = o.color[2][i]; c[3] = 1.0f;
+    for (int k = 0; k < scene::kNumControlTargets; ++k) {
+        float* q = tp.ctrl[k] + 4 * p;
+        q[0] = o.ctrl[k][0][i]; q[1] = o.ctrl[k][1][i]; q[2] = o.ctrl[k][2][i]; q[3] = 1.0f;
+    }
+    tp.depth[p] = depth;
+    float* n = tp.normal + 3 * p;
+    n[0] = o.normal[0][i]; n[1] = o.normal[1][i]; n[2] = o.normal[2][i];
+    tp.id[p] = object_id;
+    tp.diffuse[p] = o.diffuse[i];
+    tp.specular[p] = o.specular[i];
+}
+
 void shade_and_write(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b,
                      const TargetPtrs& tp, int x, int y) {
     const DrawVertices& dv = fr.draws[t.draw];
-    const FragmentOutput o = shade_fragment(fr.ctx, *dv.mat, interpolate(fr, ch, t, b));
-    const std::size_t i = std::size_t(y) * tp.width + x;
-    float* c = tp.color + 4 * i;
-    c[0] = o.color.x; c[1] = o.color.y; c[2] = o.color.z; c[3] = o.color.w;
-    for (int k = 0; k < scene::kNumControlTargets; ++k) {
-        float* q = tp.ctrl[k] + 4 * i;
-        q[0] = o.ctrl[k].x; q[1] = o.ctrl[k].y; q[2] = o.ctrl[k].z; q[3] = 1.0f;
-    }
-    tp.depth[i] = b.depth;
-    float* n = tp.normal + 3 * i;
-    n[0] = o.normal.x; n[1] = o.normal.y; n[2] = o.normal.z;
-    tp.id[i] = float(dv.object_id);
-    tp.diffuse[i] = o.diffuse;
-    tp.specular[i] = o.specular;
+    FragmentLanes o;
+    o.set(0, shade_fragment(fr.ctx, *dv.mat, interpolate(fr, ch, t, b)));
+    write_lane(o, 0, b.depth, float(dv.object_id), tp, x, y);
 }
 
 // ---- Reference traversal: per triangle in submission order, bounding box, whole image --------
@@ -113,7 +120,23 @@ inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
 }
 
 
-// One tile row of all ten targets (kTile pixels), written by shade_and_write at (x, 0).
+// Up to eight fragments of one material waiting to be shaded together, then written to a row.
+struct Batch {
+    const scene::Material* mat = nullptr;
+    FragmentInput in[FragmentLanes::kLanes];
+    int x[FragmentLanes::kLanes];
+    float depth[FragmentLanes::kLanes], id[FragmentLanes::kLanes];
+    int n = 0;
+    void flush(const Frame& fr, const TargetPtrs& row) {
+        if (n == 0) return;
+        FragmentLanes o;
+        shade_fragments(fr.ctx, *mat, in, n, o);
+        for (int i = 0; i < n; ++i) write_lane(o, i, depth[i], id[i], row, x[i], 0);
+        n = 0;
+    }
+};
+
+// One tile row of all ten targets (kTile pixels), written by write_lane at (x, 0).
 struct RowBuffer {
     float color[4 * kTile], ctrl[scene::kNumControlTargets][4 * kTile], depth[kTile],
         normal[3 * kTile], id[kTile], diffuse[kTile], specular[kTile];
@@ -260,6 +283,9 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             continue;
         }
         rb.background(tw, fr.background_depth);
+        // The row's fragments are shaded eight at a time (shade_fragments: the bits of
+        // shade_fragment), a batch holding consecutive pixels of one material.
+        Batch bt;
         for (; k < nc && covered[k] / kTile == ly; ++k) {
             if (k + 12 < nc) {
                 const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
@@ -274,8 +300,17 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             const TriSetup& t = ch.tris[r.tri];
             std::int64_t e[3];
             edge_values(t, X0 + lx, y, e);
-            shade_and_write(fr, ch, t, perspective_bary(t, e), rp, lx, 0);
+            const Bary b = perspective_bary(t, e);
+            const DrawVertices& dv = fr.draws[t.draw];
+            if (bt.n == FragmentLanes::kLanes || (bt.n > 0 && dv.mat != bt.mat)) bt.flush(fr, rp);
+            bt.mat = dv.mat;
+            interpolate(fr, ch, t, b, bt.in[bt.n]);
+            bt.x[bt.n] = lx;
+            bt.depth[bt.n] = b.depth;
+            bt.id[bt.n] = float(dv.object_id);
+            ++bt.n;
         }
+        bt.flush(fr, rp);
         rb.stream_row(tp, X0, y, tw);
     }
     stream_fence();  // order the non-temporal stores before the task completes

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "core/color.h"
 #include "raster/material.h"
@@ -185,4 +186,114 @@ TEST(VertexStage, TremorOffsetAndBleedDisplacement) {
     EXPECT_EQ(bleed_displace({1, 2, 3}, {0, 1, 0}, 0.5f), glm::vec3(1, 2, 3));
     const glm::vec3 b = bleed_displace({1, 2, 3}, {0, 1, 0}, 1.0f);
     EXPECT_NEAR(b.y, 2.15f, 1e-6f);
+}
+
+// ---- The batched schedule --------------------------------------------------------------------
+
+namespace {
+//! Same bits, except that any NaN equals any NaN (docs/determinism.md: the sign of a NaN made
+//! from two NaN operands is not part of the promise between schedules).
+bool same_bits(float a, float b) { return (std::isnan(a) && std::isnan(b)) || std::memcmp(&a, &b, sizeof a) == 0; }
+}  // namespace
+
+// shade_fragments (eight fragments per vector operation, the fast traversal's shading) gives
+// lane i the bits shade_fragment gives in[i], for every material feature (textures, normal maps,
+// specular, several lights, double-sided back faces, object-space turbulence, both working
+// spaces, orthographic views) and for inputs a vector schedule can get wrong: -0 (a broadcast
+// must not turn it into +0), zero-length normals (normalize3 returns them unchanged), infinities
+// and NaN, batches of 1-8 fragments and batches whose fragments differ in uv or tangents.
+TEST(ShadeFragments, EachLaneIsShadeFragment) {
+    std::mt19937 rng(20261202);
+    auto U = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };
+    auto odd = [&](float v) {  // sometimes a value a vector schedule can mishandle
+        switch (rng() % 40) {
+            case 0: return std::nanf("");
+            case 1: return -0.0f;
+            case 2: return 0.0f;
+            case 3: return INFINITY;
+            case 4: return -INFINITY;
+            case 5: return 1e30f;
+            default: return v;
+        }
+    };
+    scene::Scene sc;
+    for (int t = 0; t < 3; ++t) {  // base colour, normal map, control texture
+        scene::Texture tx;
+        tx.image = ImageF(16, 16, 4);
+        for (std::size_t i = 0; i < tx.image.num_values(); ++i) tx.image.data()[i] = U(0, 1);
+        sc.textures.push_back(tx);
+    }
+    int fragments = 0, nan_lanes = 0, mixed = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        scene::Material m;
+        m.base_color = {U(0, 1.2f), U(0, 1), odd(U(0, 1)), 1};
+        m.linear_color = rng() % 2;
+        m.double_sided = rng() % 2;
+        if (rng() % 2) m.base_color_texture.texture = 0;
+        if (rng() % 2) m.normal_texture.texture = 1, m.normal_texture.scale = U(-1, 2);
+        for (int k = 0; k < scene::kNumControlTargets; ++k) {
+            m.wc.control[k] = {U(-1, 1), odd(U(-1, 1)), U(-1, 1), 0};
+            if (rng() % 3 == 0) m.wc.control_texture[k].texture = 2;
+        }
+        m.wc.dilute = U(0, 1);
+        m.wc.cangiante = U(0, 1);
+        m.wc.diffuse_factor = U(0, 1);
+        m.wc.dilute_area = U(-0.5f, 1.5f);
+        m.wc.shade_wrap = U(0, 1);
+        m.wc.shade_color = {U(0, 1), U(0, 1), U(0, 1)};
+        m.wc.specular = rng() % 2 ? U(0, 1) : 0.0f;
+        m.wc.specular_power = U(1, 64);
+        ShadeContext ctx;
+        ctx.scene = &sc;
+        for (int l = 0, nl = 1 + int(rng() % 3); l < nl; ++l)
+            ctx.lights.push_back({normalize3(glm::vec3(U(-1, 1), U(-1, 1), U(-1, 1))), {U(0, 2), U(0, 2), U(0, 2)}});
+        ctx.ambient = {odd(U(0, 0.2f)), U(0, 0.2f), -0.0f};
+        ctx.perspective = rng() % 2;
+        ctx.substrate = {U(0.8f, 1), U(0.8f, 1), U(0.8f, 1)};
+        ctx.object_space_turbulence = rng() % 2;
+        ctx.working_space = rng() % 2 ? WorkingSpace::Display : WorkingSpace::Linear;
+        const bool has_uv = rng() % 4 != 0, has_tangent = rng() % 2, use_base = rng() % 4 == 0;
+        const glm::vec3 base(U(0, 1), U(0, 1), U(0, 1));
+        const int n = 1 + int(rng() % 8);
+        FragmentInput in[FragmentLanes::kLanes];
+        for (int i = 0; i < n; ++i) {
+            FragmentInput& f = in[i];
+            f.view_pos = {odd(U(-5, 5)), odd(U(-5, 5)), odd(U(-20, -1))};
+            f.normal = rng() % 30 == 0 ? glm::vec3(0.0f) : glm::vec3(odd(U(-1, 1)), odd(U(-1, 1)), odd(U(-1, 1)));
+            f.tangent = {odd(U(-1, 1)), U(-1, 1), U(-1, 1), rng() % 2 ? -1.0f : odd(1.0f)};
+            f.uv = {odd(U(-2, 2)), U(-2, 2)};
+            f.color = {U(0, 1), U(0, 1), odd(U(0, 1)), 1};
+            for (int k = 0; k < scene::kNumControlTargets; ++k)
+                f.ctrl[k] = {odd(U(-1.5f, 1.5f)), U(-1.5f, 1.5f), U(-1.5f, 1.5f)};
+            f.has_uv = trial % 7 == 0 && i == n - 1 && n > 1 ? !has_uv : has_uv;  // a mixed batch
+            f.has_tangent = has_tangent;
+            f.back = rng() % 2;
+            f.base = use_base ? &base : nullptr;
+        }
+        mixed += trial % 7 == 0 && n > 1;
+        FragmentLanes lanes;
+        shade_fragments(ctx, m, in, n, lanes);
+        for (int i = 0; i < n; ++i) {
+            FragmentLanes want;
+            want.set(0, shade_fragment(ctx, m, in[i]));
+            ++fragments;
+            bool any_nan = false;
+            auto check = [&](float w, float g, const char* what, int c) {
+                any_nan = any_nan || std::isnan(w);
+                ASSERT_TRUE(same_bits(w, g)) << what << "[" << c << "] trial " << trial << " lane " << i << ": " << w << " vs " << g;
+            };
+            for (int c = 0; c < 3; ++c) {
+                check(want.color[c][0], lanes.color[c][i], "color", c);
+                check(want.normal[c][0], lanes.normal[c][i], "normal", c);
+                for (int k = 0; k < scene::kNumControlTargets; ++k) check(want.ctrl[k][c][0], lanes.ctrl[k][c][i], "ctrl", k);
+            }
+            check(want.diffuse[0], lanes.diffuse[i], "diffuse", 0);
+            check(want.specular[0], lanes.specular[i], "specular", 0);
+            nan_lanes += any_nan;
+        }
+    }
+    // The cases were exercised: NaN outputs exist, most lanes are finite, mixed batches ran.
+    EXPECT_GT(nan_lanes, 50);
+    EXPECT_LT(nan_lanes, fragments / 2);
+    EXPECT_GT(mixed, 100);
 }
