@@ -409,8 +409,11 @@ void find_row_groups(CompiledPipeline& c) {
     const std::size_t n = c.steps.size();
     auto groupable = [&](std::size_t i) {
         const CompiledStep& r = c.steps[i];
+        // A step in place that reads rows around its own (a positive halo) would read rows of the
+        // band above already written: it runs alone, on the whole image.
         return !r.pass && r.variant->row_halo && !c.fused_with_next[i] && !(i > 0 && c.fused_with_next[i - 1]) &&
-               r.variant->row_halo(r.params) >= 0 && r.variant->row_halo(r.params) <= kMaxRowHalo;
+               r.variant->row_halo(r.params) >= 0 && r.variant->row_halo(r.params) <= kMaxRowHalo &&
+               !(c.in_place[i] >= 0 && r.variant->row_halo(r.params) > 0);
     };
     for (std::size_t i = 0; i < n;) {
         std::size_t j = i;

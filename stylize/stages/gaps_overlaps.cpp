@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "stylize/kernels.h"
 #include "stylize/ryb.h"
@@ -113,10 +114,13 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         check_full_or_half(*bleed, color, st, "bleed", "color");
     }
     if (p.steps < 1 || p.steps > 16) throw Error(st + ": steps must be in [1, 16]");
-    check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &edges_ext, st, "edges");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
+    // In place (dst is color: StageVariant::in_place_input): a pixel reads its neighbours' colours
+    // (the overlap march), so nothing is written until every changed pixel is computed from the
+    // unchanged image; pixels without an edge are not written at all.
+    const bool in_place = &dst == &color;
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     static const float kZero = 0.0f;
@@ -133,24 +137,51 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                      border_from(p.border)};
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the kernel pixel by pixel
+        if (in_place) {  // on a copy of the colour: every pixel reads the unchanged image
+            const ImageF before = color;
+            GoKernel kc = k;
+            kc.c = before.view<glm::vec4>();
+            plain_loop(w, h, [&](int x, int y) { o(x, y) = kc(x, y); });
+            return;
+        }
         plain_loop(w, h, [&](int x, int y) { o(x, y) = k(x, y); });
         return;
     }
     // Fast: a pixel whose extended edge is not above the threshold (NaN included) is its colour, the
     // kernel's second test: 64-pixel chunks without such an edge (the background) are copied
     // whole, their one-channel edges tested eight at a time.
+    // In place those chunks are not touched, and the chunks with an edge are computed first (their
+    // values kept per row: the chunk starts, then the values) and written once every row is done.
     const float* ed = edges_ext.channels() == 1 ? edges_ext.data() : nullptr;
+    constexpr int kChunk = 64;
+    struct RowValues {
+        std::vector<int> starts;
+        std::vector<glm::vec4> values;
+    };
+    std::vector<RowValues> later(in_place ? std::size_t(h) : 0);
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        constexpr int kChunk = 64;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
             if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
-                stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                continue;
+            }
+            if (in_place) {
+                RowValues& r = later[std::size_t(y)];
+                r.starts.push_back(xs);
+                for (int x = xs; x < xe; ++x) r.values.push_back(k(x, y));
                 continue;
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
         }
-        stream_fence();  // the copied chunks' non-temporal stores, before the row is done
+        if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
+    });
+    if (!in_place) return;
+    for_each_row(ex, w, h, [&](int y, int, int x1) {
+        const RowValues& r = later[std::size_t(y)];
+        std::size_t v = 0;
+        for (const int xs : r.starts)
+            for (int x = xs, xe = std::min(x1, xs + kChunk); x < xe; ++x) o(x, y) = r.values[v++];
     });
 }
 
@@ -175,6 +206,8 @@ void register_gaps_overlaps(Registry& r) {
                 {"ctrl_edge", target::kCtrlEdge, 4, false},
                 {"bleed", "bleed", 4, true}};
     v.outputs = {{"color", "color.gaps_overlaps", 4, false}};
+    v.in_place_input = "color";  // pixels without an edge are left as they are
+    v.in_place_output = "color";
     v.params = t.descs();
     v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
         gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,

@@ -108,6 +108,26 @@ TEST(GapsOverlaps, NonConvergingMarchMixesWithThePixelBehind) {
     EXPECT_NEAR(out.at(8, 2, 1), mixed.g, 1e-6f);
 }
 
+// In place (StageVariant::in_place_input), every pixel still reads the colours before any change:
+// blue x = 8 marches into x = 7, which itself becomes a mix; written at once, x = 8 would mix with
+// that mix. Every traversal, one image as input and output, against separate images.
+TEST(GapsOverlaps, InPlaceReadsTheColoursBeforeAnyChange) {
+    const ImageF color = two_colours(kYellow, kBlue);
+    ImageF edges(kW, kH, 1);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) edges.at(x, y, 0) = 1.0f - float(x) / 16.0f;
+    for (const Exec& ex : {Exec::reference(), Exec::fast(1), Exec::fast(2)}) {
+        ImageF separate;
+        gaps_overlaps(separate, color, edges, ctrl_b(1.0f), nullptr, kPaper, {}, ex);
+        ImageF inplace = color;
+        gaps_overlaps(inplace, inplace, edges, ctrl_b(1.0f), nullptr, kPaper, {}, ex);
+        EXPECT_EQ(0, std::memcmp(separate.data(), inplace.data(), separate.num_values() * sizeof(float)))
+            << "threads " << ex.threads << " traversal " << int(ex.traversal);
+        EXPECT_NE(px(inplace, 7, 2), px(color, 7, 2));  // the case happens: both pixels change
+        EXPECT_NE(px(inplace, 8, 2), px(color, 8, 2));
+    }
+}
+
 TEST(GapsOverlaps, NoOverlapWithTheSubstrateColour) {
     const ImageF color = two_colours(kYellow, kPaper);
     ImageF out;
