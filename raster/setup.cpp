@@ -384,6 +384,14 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     return dropped;
 }
 
+// How many triangles ahead of the pre-pass the vertices are fetched (schedule only).
+constexpr std::uint32_t kGatherAhead = 64;
+// Prefetch hints for the snapped vertices of the 8 triangles whose indices start at ix (an index
+// out of range is clamped: the hint must name memory of the array; it changes no result).
+inline void prefetch_snap(const SnapVertex* snap, std::size_t nv, const std::uint32_t* ix) {
+    for (int k = 0; k < 24; ++k) __builtin_prefetch(snap + std::min<std::size_t>(ix[k], nv - 1));
+}
+
 //! build()'s record for a lane surely_dropped8 kept as simple: set_edges of the re-ordered
 //! vertices, the clamped bounds, 1/w and depth.
 void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t draw_index, std::uint32_t tri,
@@ -436,6 +444,7 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
             const bool cull = opt.cull_backfaces && !dv.mat->double_sided;
             Lanes8 lanes;
             for (; t + 8 <= e; t += 8) {
+                if (t + kGatherAhead + 8 <= end) prefetch_snap(snap, nv, idx + 3 * std::size_t(t + kGatherAhead));
                 const std::uint32_t tris[8] = {t, t + 1, t + 2, t + 3, t + 4, t + 5, t + 6, t + 7};
                 const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx, tris, vp, cull, lanes);
                 if (lanes.simple == 0) {
