@@ -2,8 +2,9 @@
 // (raster/visibility.h): the fast schedule (eight pixels per step where the edge values fit in
 // int32) leaves the depth buffer and the winners bit for bit where the plain per-pixel loop does,
 // for triangles from sub-pixel to guard-band size (edge values far beyond int32), shared edges
-// (the top-left rule), equal depths (the first stays) and blocks at the raster's border; and the
-// plain loop is the reference traversal's test written out (edge_values, inside, perspective_bary).
+// (the top-left rule), equal depths (the first stays), blocks at the raster's border and small
+// triangles on a block's edges (nothing written outside the block); and the plain loop is the
+// reference traversal's test written out (edge_values, inside, perspective_bary).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -109,7 +110,7 @@ TEST(Visibility, FastScheduleHasThePlainLoopsBytes) {
     std::mt19937 rng(20261127);
     const int W = 4096, H = 4096;
     // Sizes from sub-pixel to guard-band scale (edge values up to ~2^58: the plain fallback).
-    const double sizes_px[] = {0.7, 2.5, 9, 40, 150, 600, 5000, 400000};
+    const double sizes_px[] = {0.7, 1.5, 2.5, 3.5, 9, 40, 150, 600, 5000, 400000};
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (const double size : sizes_px)
         for (int rep = 0; rep < 6; ++rep) {
@@ -165,6 +166,56 @@ TEST(Visibility, SharedEdgesAndBorderBlocksMatchThePlainLoop) {
         covered += fast.ids[i].chunk != ~0u;
     }
     EXPECT_GT(covered, 300);
+}
+
+TEST(Visibility, SmallBlocksMatchThePlainLoopAndStayInTheirBlock) {
+    // Triangles of 0.5 to 8 px piled around the four edges and corners of a block, most at one of
+    // two constant depths (ties: the first stays), drawn into a buffer twice the block's size so
+    // that a write outside the block shows.
+    std::mt19937 rng(20261203);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const int W = 512, H = 512, X0 = 128, Y0 = 192, S = 2 * kBlock;
+    std::vector<SnapVertex> verts;
+    for (int k = 0; k < 6000; ++k) {
+        const double u = unit(rng), size = 0.5 + 7.5 * u * u;
+        // Half of them on the half-pixel grid: edges through pixel centres (the top-left rule).
+        const double grid = unit(rng) < 0.5 ? 128 : 1;
+        const double cx = X0 + (unit(rng) < 0.5 ? 0 : kBlock) + (unit(rng) - 0.5) * 12;
+        const double cy = Y0 + (unit(rng) < 0.5 ? 0 : kBlock) + (unit(rng) - 0.5) * 12;
+        const bool flat = unit(rng) < 0.8;
+        const float flat_depth = float(1 + int(unit(rng) * 2));
+        for (int v = 0; v < 3; ++v)
+            verts.push_back(vertex(grid * std::llround((cx + (unit(rng) - 0.5) * size) * 256 / grid),
+                                   grid * std::llround((cy + (unit(rng) - 0.5) * size) * 256 / grid), float(0.2 + unit(rng)),
+                                   flat ? flat_depth : float(1 + unit(rng))));
+    }
+    const std::vector<TriSetup> tris = set_up(verts, W, H);
+    ASSERT_GT(tris.size(), 2000u);
+    auto run = [&](VisibilitySchedule schedule, std::vector<float>& z, std::vector<TileRef>& ids) {
+        z.assign(std::size_t(S) * S, std::numeric_limits<float>::infinity());
+        ids.assign(std::size_t(S) * S, TileRef{~0u, ~0u});
+        for (std::uint32_t i = 0; i < tris.size(); ++i) {
+            const TriSetup& t = tris[i];
+            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X0 + kBlock - 1);
+            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y0 + kBlock - 1);
+            depth_test_triangle(t, X0, Y0, S, x0, x1, y0, y1, z.data(), ids.data(), {3, i}, schedule);
+        }
+    };
+    std::vector<float> zf, zp;
+    std::vector<TileRef> idf, idp;
+    run(VisibilitySchedule::Fast, zf, idf);
+    run(VisibilitySchedule::Plain, zp, idp);
+    int diff = 0, covered = 0, outside = 0;
+    for (int y = 0; y < S; ++y)
+        for (int x = 0; x < S; ++x) {
+            const std::size_t i = std::size_t(y) * S + x;
+            diff += std::memcmp(&zf[i], &zp[i], 4) != 0 || idf[i].tri != idp[i].tri || idf[i].chunk != idp[i].chunk;
+            covered += idp[i].chunk != ~0u;
+            outside += (x >= kBlock || y >= kBlock) && idf[i].chunk != ~0u;
+        }
+    EXPECT_EQ(diff, 0);
+    EXPECT_EQ(outside, 0);
+    EXPECT_GT(covered, 100);
 }
 
 }  // namespace
