@@ -6,7 +6,8 @@
 #   2. the same unit and CLI tests built with clang, AddressSanitizer + UBSan (scripts/sanitize.sh,
 #      build-fuzz/);
 #   3. a smoke run of every benchmark (scripts/bench_suite.sh --smoke: each once, none may fail,
-#      and the ratios of bench/ratios.json measured in the same run against the recorded ones);
+#      and the ratios of bench/ratios.json measured in the same run against the recorded ones),
+#      and of the A/B tool scripts/ab_bench.sh;
 #   4. a smoke run of every libFuzzer target on its seed corpus and regression inputs, from the same
 #      instrumented build (scripts/fuzz.sh --smoke: a fixed number of inputs per target from a
 #      fixed seed, the same on every run; $AQ_FUZZ_SECONDS caps each target, default 120).
@@ -28,6 +29,12 @@ fi
 if [ "${AQ_SKIP_BENCH:-0}" != 1 ]; then
   start=$SECONDS
   bash scripts/bench_suite.sh --smoke build
+  # The A/B tool (scripts/ab_bench.sh) on one small benchmark, both report forms: it must not rot.
+  ab=(build/bench/aquarelle_bench build/bench/aquarelle_bench 'BM_RasterFrame/model:0/w:640/h:360/threads:1/')
+  out=$(bash scripts/ab_bench.sh --rounds 1 --min-time 0.01 "${ab[@]}")
+  grep -q '^B BM_RasterFrame/.* median [0-9]' <<< "$out" || { echo "test.sh: ab_bench.sh printed no median" >&2; exit 1; }
+  out=$(bash scripts/ab_bench.sh --phases --rounds 1 --min-time 0.01 "${ab[@]}")
+  grep -q '^B raster cpu ms: median [0-9]' <<< "$out" || { echo "test.sh: ab_bench.sh --phases printed no phase" >&2; exit 1; }
   echo "test.sh: benchmark smoke run in $((SECONDS - start)) s"
 fi
 if [ "${AQ_SKIP_FUZZ:-0}" != 1 ]; then
