@@ -2,6 +2,7 @@
 #include "raster/material.h"
 
 #include <cmath>
+#include <limits>
 
 #include "core/simd.h"
 
@@ -123,6 +124,76 @@ glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::
     });
 }
 
+namespace {
+//! sample_texture of the n (1-8) uvs into out[0, n): the lanes whose bilinear footprint lies inside
+//! the texture (every wrap mode is the identity there, the common case) in one register — the
+//! operations of sample_with in their order, lane by lane: safe_coord, floor, the three lerps of
+//! lerp4 — and the other lanes, Nearest filtering and textures other than 8-bit codes or RGBA
+//! floats through sample_texture. Schedule only: each lane's value is sample_texture's.
+void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm::vec2* uv, int n, glm::vec4* out) {
+    const ImageF& img = t.image;
+    const int w = img.width(), h = img.height();
+#ifdef __AVX2__
+    const bool codes = !t.codes.empty();
+    if (s.mag == scene::Filter::Linear && w >= 2 && h >= 2 && (codes || img.channels() == 4)) {
+        alignas(32) float us[8], vs[8];
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec2 q = uv[i < n ? i : 0];
+            us[i] = q.x, vs[i] = q.y;
+        }
+        // safe_coord: +0 for a non-finite coordinate, else clamped to [-1e7, 1e7].
+        auto safe = [](__m256 x) {
+            const __m256 finite = _mm256_cmp_ps(_mm256_andnot_ps(_mm256_set1_ps(-0.0f), x),
+                                                _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ);
+            const __m256 c = _mm256_min_ps(_mm256_max_ps(x, _mm256_set1_ps(-1.0e7f)), _mm256_set1_ps(1.0e7f));
+            return _mm256_and_ps(finite, c);
+        };
+        const __m256 half = _mm256_set1_ps(0.5f);
+        const __m256 fx = _mm256_sub_ps(_mm256_mul_ps(safe(_mm256_load_ps(us)), _mm256_set1_ps(float(w))), half);
+        const __m256 fy = _mm256_sub_ps(_mm256_mul_ps(safe(_mm256_load_ps(vs)), _mm256_set1_ps(float(h))), half);
+        const __m256 flx = _mm256_floor_ps(fx), fly = _mm256_floor_ps(fy);
+        const __m256 tx = _mm256_sub_ps(fx, flx), ty = _mm256_sub_ps(fy, fly);
+        // int(flx) as cvttss2si: out of range gives INT_MIN, which is not inside (the scalar path).
+        const __m256i ix = _mm256_cvttps_epi32(flx), iy = _mm256_cvttps_epi32(fly);
+        const __m256i minus1 = _mm256_set1_epi32(-1);
+        const __m256i inside = _mm256_and_si256(
+            _mm256_and_si256(_mm256_cmpgt_epi32(ix, minus1), _mm256_cmpgt_epi32(_mm256_set1_epi32(w - 1), ix)),
+            _mm256_and_si256(_mm256_cmpgt_epi32(iy, minus1), _mm256_cmpgt_epi32(_mm256_set1_epi32(h - 1), iy)));
+        const std::uint32_t lanes = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & ((1u << n) - 1u);
+        if (lanes) {
+            // Texel indices of the footprint (0 in the lanes computed by sample_texture).
+            const __m256i i00 = _mm256_and_si256(inside, _mm256_add_epi32(_mm256_mullo_epi32(iy, _mm256_set1_epi32(w)), ix));
+            const __m256i i10 = _mm256_add_epi32(i00, _mm256_and_si256(inside, _mm256_set1_epi32(1)));
+            const __m256i i01 = _mm256_add_epi32(i00, _mm256_and_si256(inside, _mm256_set1_epi32(w)));
+            const __m256i i11 = _mm256_add_epi32(i01, _mm256_and_si256(inside, _mm256_set1_epi32(1)));
+            const __m256i idx[4] = {i00, i10, i01, i11};
+            __m256 tex[4][4];  // [texel][channel]
+            for (int k = 0; k < 4; ++k) {
+                if (codes) {
+                    const __m256i dw = _mm256_i32gather_epi32(reinterpret_cast<const int*>(t.codes.codes.data()), idx[k], 4);
+                    for (int c = 0; c < 4; ++c) {
+                        const __m256i b = _mm256_and_si256(_mm256_srli_epi32(dw, 8 * c), _mm256_set1_epi32(0xff));
+                        tex[k][c] = _mm256_i32gather_ps(t.codes.lut[std::size_t(c)].data(), b, 4);
+                    }
+                } else {
+                    const __m256i v4 = _mm256_slli_epi32(idx[k], 2);
+                    for (int c = 0; c < 4; ++c) tex[k][c] = _mm256_i32gather_ps(img.data() + c, v4, 4);
+                }
+            }
+            auto lerp = [](__m256 a, __m256 b, __m256 f) { return _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), f)); };
+            alignas(32) float r[4][8];
+            for (int c = 0; c < 4; ++c)
+                _mm256_store_ps(r[c], lerp(lerp(tex[0][c], tex[1][c], tx), lerp(tex[2][c], tex[3][c], tx), ty));
+            for (int i = 0; i < n; ++i)
+                out[i] = (lanes >> i) & 1u ? glm::vec4(r[0][i], r[1][i], r[2][i], r[3][i]) : sample_texture(t, s, uv[i]);
+            return;
+        }
+    }
+#endif
+    for (int i = 0; i < n; ++i) out[i] = sample_texture(t, s, uv[i]);
+}
+}  // namespace
+
 ViewLight default_view_light() {
     return {normalize3(glm::vec3(-0.5f, 0.5f, 1.0f)), glm::vec3(1.0f)};
 }
@@ -147,13 +218,15 @@ struct MaterialTextures {
     }
 };
 
-// Step 1 of the material, inlined into the shading paths (per fragment).
+// Step 1 of the material, inlined into the shading paths (per fragment). `sample`: the base
+// colour texture's value at in.uv when the caller sampled it already (shade_fragments), else null.
 [[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
-                                                        const scene::Texture* base_texture, const FragmentInput& in) {
+                                                        const scene::Texture* base_texture, const FragmentInput& in,
+                                                        const glm::vec4* sample = nullptr) {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = base_texture)
-            C = C * glm::vec3(sample_texture(*t, m.base_color_texture.sampler, in.uv));
+            C = C * glm::vec3(sample ? *sample : sample_texture(*t, m.base_color_texture.sampler, in.uv));
     C = C * glm::vec3(in.color);
     return base_color_to_working(C, m.linear_color, ctx.working_space);
 }
@@ -355,19 +428,30 @@ struct SampledTextures {
 
 //! Lane i of the inputs of shade_lanes from fragment `in`: step 1 (the base colour) and the
 //! texture samples of `st` (the caller sets the uniform flags from the same `st`).
+//! A fragment's texture values sampled already (shade_fragments samples a batch at once); a null
+//! pointer: fill_lane samples that texture itself.
+struct LaneSamples {
+    const glm::vec4* base = nullptr;
+    const glm::vec4* normal = nullptr;
+    const glm::vec4* ctrl[scene::kNumControlTargets] = {};
+};
+
 template <class F, class V, class M, class Put>
 void fill_lane(const ShadeContext& ctx, const scene::Material& m, const MaterialTextures& tex,
-               const SampledTextures& st, const FragmentInput& in, LaneInput<F, V, M>& li, Put&& put) {
-    put(li.C, in.base ? *in.base : base_color_step(ctx, m, tex.base, in));
+               const SampledTextures& st, const FragmentInput& in, LaneInput<F, V, M>& li, Put&& put,
+               const LaneSamples& ls = {}) {
+    put(li.C, in.base ? *in.base : base_color_step(ctx, m, tex.base, in, ls.base));
     put(li.normal, in.normal);
     put(li.view_pos, in.view_pos);
     if (st.normal) {
-        put(li.nmap, glm::vec3(sample_texture(*st.normal, m.normal_texture.sampler, in.uv)));
+        put(li.nmap, glm::vec3(ls.normal ? *ls.normal : sample_texture(*st.normal, m.normal_texture.sampler, in.uv)));
         put(li.tangent, glm::vec3(in.tangent));
     }
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
         put(li.ctrl[k], in.ctrl[k]);
-        if (st.ctrl[k]) put(li.ctrl_tex[k], glm::vec3(sample_texture(*st.ctrl[k], m.wc.control_texture[k].sampler, in.uv)));
+        if (st.ctrl[k])
+            put(li.ctrl_tex[k], glm::vec3(ls.ctrl[k] ? *ls.ctrl[k]
+                                                    : sample_texture(*st.ctrl[k], m.wc.control_texture[k].sampler, in.uv)));
     }
 }
 
@@ -440,6 +524,26 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
             return;
         }
     const SampledTextures st(tex, in[0]);
+    // The batch's textures sampled at once (sample_texture8): the base colour where a lane computes
+    // it (no draw constant), the normal map and control textures of `st`.
+    constexpr int L = FragmentLanes::kLanes;
+    glm::vec2 uv[L];
+    for (int i = 0; i < n; ++i) uv[i] = in[i].uv;
+    bool base_needed = false;
+    if (tex.base && in[0].has_uv)
+        for (int i = 0; i < n && !base_needed; ++i) base_needed = in[i].base == nullptr;
+    glm::vec4 base_s[L], normal_s[L], ctrl_s[scene::kNumControlTargets][L];
+    if (base_needed) sample_texture8(*tex.base, m.base_color_texture.sampler, uv, n, base_s);
+    if (st.normal) sample_texture8(*st.normal, m.normal_texture.sampler, uv, n, normal_s);
+    for (int k = 0; k < scene::kNumControlTargets; ++k)
+        if (st.ctrl[k]) sample_texture8(*st.ctrl[k], m.wc.control_texture[k].sampler, uv, n, ctrl_s[k]);
+    auto samples_of = [&](int i) {
+        LaneSamples ls;
+        ls.base = base_needed ? &base_s[i] : nullptr;
+        ls.normal = st.normal ? &normal_s[i] : nullptr;
+        for (int k = 0; k < scene::kNumControlTargets; ++k) ls.ctrl[k] = st.ctrl[k] ? &ctrl_s[k][i] : nullptr;
+        return ls;
+    };
     LaneInput<v8f, Lanes3, v8i> li;
     set_flags(st, li);
     v8i back{};
@@ -454,7 +558,8 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
             back[i] = back[0], tangent_w[i] = tangent_w[0];
             continue;
         }
-        fill_lane(ctx, m, tex, st, in[i], li, [i](Lanes3& d, glm::vec3 v) { d.x[i] = v.x, d.y[i] = v.y, d.z[i] = v.z; });
+        fill_lane(ctx, m, tex, st, in[i], li, [i](Lanes3& d, glm::vec3 v) { d.x[i] = v.x, d.y[i] = v.y, d.z[i] = v.z; },
+                  samples_of(i));
         back[i] = in[i].back ? -1 : 0;
         tangent_w[i] = in[i].tangent.w;
     }

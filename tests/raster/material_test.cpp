@@ -201,7 +201,9 @@ bool same_bits(float a, float b) { return (std::isnan(a) && std::isnan(b)) || st
 // specular, several lights, double-sided back faces, object-space turbulence, both working
 // spaces, orthographic views) and for inputs a vector schedule can get wrong: -0 (a broadcast
 // must not turn it into +0), zero-length normals (normalize3 returns them unchanged), infinities
-// and NaN, batches of 1-8 fragments and batches whose fragments differ in uv or tangents.
+// and NaN, batches of 1-8 fragments and batches whose fragments differ in uv or tangents; base
+// colour textures of floats and of 8-bit codes, every wrap mode, both filters, footprints inside
+// the texture and across its edges (the batch's sampling in one register, or lane by lane).
 TEST(ShadeFragments, EachLaneIsShadeFragment) {
     std::mt19937 rng(20261202);
     auto U = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };
@@ -223,13 +225,26 @@ TEST(ShadeFragments, EachLaneIsShadeFragment) {
         for (std::size_t i = 0; i < tx.image.num_values(); ++i) tx.image.data()[i] = U(0, 1);
         sc.textures.push_back(tx);
     }
+    {  // texture 3: a base colour of 8-bit values kept as codes (what an 8-bit glTF image loads as)
+        scene::Texture tx;
+        tx.image = ImageF(13, 11, 4);
+        for (std::size_t i = 0; i < tx.image.num_values(); ++i) tx.image.data()[i] = float(rng() % 256) / 255.0f;
+        tx.codes = scene::texture_codes(tx.image);
+        scene::texture_codes_finish(tx.codes, tx.image);
+        ASSERT_FALSE(tx.codes.empty());
+        sc.textures.push_back(tx);
+    }
+    const scene::Wrap wraps[] = {scene::Wrap::Repeat, scene::Wrap::ClampToEdge, scene::Wrap::MirroredRepeat};
     int fragments = 0, nan_lanes = 0, mixed = 0;
     for (int trial = 0; trial < 3000; ++trial) {
         scene::Material m;
         m.base_color = {U(0, 1.2f), U(0, 1), odd(U(0, 1)), 1};
         m.linear_color = rng() % 2;
         m.double_sided = rng() % 2;
-        if (rng() % 2) m.base_color_texture.texture = 0;
+        if (rng() % 2) m.base_color_texture.texture = rng() % 2 ? 0 : 3;
+        m.base_color_texture.sampler.wrap_s = wraps[rng() % 3];
+        m.base_color_texture.sampler.wrap_t = wraps[rng() % 3];
+        if (rng() % 4 == 0) m.base_color_texture.sampler.mag = scene::Filter::Nearest;
         if (rng() % 2) m.normal_texture.texture = 1, m.normal_texture.scale = U(-1, 2);
         for (int k = 0; k < scene::kNumControlTargets; ++k) {
             m.wc.control[k] = {U(-1, 1), odd(U(-1, 1)), U(-1, 1), 0};
@@ -261,7 +276,8 @@ TEST(ShadeFragments, EachLaneIsShadeFragment) {
             f.view_pos = {odd(U(-5, 5)), odd(U(-5, 5)), odd(U(-20, -1))};
             f.normal = rng() % 30 == 0 ? glm::vec3(0.0f) : glm::vec3(odd(U(-1, 1)), odd(U(-1, 1)), odd(U(-1, 1)));
             f.tangent = {odd(U(-1, 1)), U(-1, 1), U(-1, 1), rng() % 2 ? -1.0f : odd(1.0f)};
-            f.uv = {odd(U(-2, 2)), U(-2, 2)};
+            // Mostly inside the texture (a batch's footprints in one register), else anywhere.
+            f.uv = rng() % 3 ? glm::vec2(odd(U(0, 1)), U(0, 1)) : glm::vec2(odd(U(-2, 2)), U(-2, 2));
             f.color = {U(0, 1), U(0, 1), odd(U(0, 1)), 1};
             for (int k = 0; k < scene::kNumControlTargets; ++k)
                 f.ctrl[k] = {odd(U(-1.5f, 1.5f)), U(-1.5f, 1.5f), U(-1.5f, 1.5f)};
