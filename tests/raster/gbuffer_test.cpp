@@ -297,6 +297,10 @@ const scene::Scene& dragon202k() {
     static const scene::Scene s = scene::load_gltf(test::asset("meshes/stanford_dragon/dragon_202k.glb"));
     return s;
 }
+const scene::Scene& box_vertex_colors() {  // COLOR_0
+    static const scene::Scene s = scene::load_gltf(test::asset("gltf/BoxVertexColors_CC0/glTF-Embedded/BoxVertexColors.gltf"));
+    return s;
+}
 const scene::Scene& orientation_test() {
     static const scene::Scene s = scene::load_gltf(test::asset("gltf/OrientationTest/glTF/OrientationTest.gltf"));
     return s;
@@ -311,6 +315,7 @@ TEST(TiledVsReference, BitExactOnRealModels) {
         {"waterbottle", &water_bottle(), 200, 300, 1, false, raster::RenderSettings::Turbulence::ObjectSpace},
         {"orientation", &orientation_test(), 256, 192, 1, false, raster::RenderSettings::Turbulence::ImageSpace},
         {"dragon202k", &dragon202k(), 320, 240, 1, false, raster::RenderSettings::Turbulence::ImageSpace},
+        {"box_vertex_colors", &box_vertex_colors(), 240, 180, 1, false, raster::RenderSettings::Turbulence::ImageSpace},
     };
     for (const Case& c : cases) {
         raster::RenderSettings st;
