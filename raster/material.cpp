@@ -426,8 +426,6 @@ struct SampledTextures {
     }
 };
 
-//! Lane i of the inputs of shade_lanes from fragment `in`: step 1 (the base colour) and the
-//! texture samples of `st` (the caller sets the uniform flags from the same `st`).
 //! A fragment's texture values sampled already (shade_fragments samples a batch at once); a null
 //! pointer: fill_lane samples that texture itself.
 struct LaneSamples {
@@ -436,6 +434,9 @@ struct LaneSamples {
     const glm::vec4* ctrl[scene::kNumControlTargets] = {};
 };
 
+//! Lane i of the inputs of shade_lanes from fragment `in`: step 1 (the base colour) and the
+//! texture samples of `st` (the caller sets the uniform flags from the same `st`), taken from `ls`
+//! where given.
 template <class F, class V, class M, class Put>
 void fill_lane(const ShadeContext& ctx, const scene::Material& m, const MaterialTextures& tex,
                const SampledTextures& st, const FragmentInput& in, LaneInput<F, V, M>& li, Put&& put,
