@@ -9,6 +9,8 @@
 
 #include <cmath>
 
+#include "core/simd.h"
+
 namespace aq {
 
 //! sRGB piecewise curve constants (IEC 61966-2-1).
@@ -30,6 +32,11 @@ inline float linear_to_srgb(float v) {
     if (!(v > kSrgbLinearThreshold)) return v * kSrgbLinearSlope;
     return (1.0f + kSrgbOffset) * std::pow(v, 1.0f / kSrgbGamma) - kSrgbOffset;
 }
+
+//! linear_to_srgb of each lane, bit for bit, about 8x faster than eight calls: the powers of the
+//! lanes in (kSrgbLinearThreshold, 1] computed in double at once and rounded to float where that
+//! rounding is provably powf's, linear_to_srgb itself for the rest (core/color.cpp).
+simd::v8f linear_to_srgb8(simd::v8f v);
 
 //! Colour space the watercolor maths (G-buffer colour, stylization stages) runs in.
 enum class WorkingSpace {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/color.h"
 #include "core/simd.h"
 
 namespace aq::raster {
@@ -220,15 +221,20 @@ struct MaterialTextures {
 
 // Step 1 of the material, inlined into the shading paths (per fragment). `sample`: the base
 // colour texture's value at in.uv when the caller sampled it already (shade_fragments), else null.
-[[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
-                                                        const scene::Texture* base_texture, const FragmentInput& in,
-                                                        const glm::vec4* sample = nullptr) {
+// base_color_product: the step before its conversion to the working space (shade_fragments
+// converts eight lanes at once).
+[[gnu::always_inline]] inline glm::vec3 base_color_product(const scene::Material& m, const scene::Texture* base_texture,
+                                                           const FragmentInput& in, const glm::vec4* sample) {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = base_texture)
             C = C * glm::vec3(sample ? *sample : sample_texture(*t, m.base_color_texture.sampler, in.uv));
-    C = C * glm::vec3(in.color);
-    return base_color_to_working(C, m.linear_color, ctx.working_space);
+    return C * glm::vec3(in.color);
+}
+[[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
+                                                        const scene::Texture* base_texture, const FragmentInput& in,
+                                                        const glm::vec4* sample = nullptr) {
+    return base_color_to_working(base_color_product(m, base_texture, in, sample), m.linear_color, ctx.working_space);
 }
 }  // namespace
 
@@ -436,12 +442,15 @@ struct LaneSamples {
 
 //! Lane i of the inputs of shade_lanes from fragment `in`: step 1 (the base colour) and the
 //! texture samples of `st` (the caller sets the uniform flags from the same `st`), taken from `ls`
-//! where given.
+//! where given. `unconverted`: step 1 without its conversion to the working space where the lane
+//! computes it (no draw constant); the caller converts.
 template <class F, class V, class M, class Put>
 void fill_lane(const ShadeContext& ctx, const scene::Material& m, const MaterialTextures& tex,
                const SampledTextures& st, const FragmentInput& in, LaneInput<F, V, M>& li, Put&& put,
-               const LaneSamples& ls = {}) {
-    put(li.C, in.base ? *in.base : base_color_step(ctx, m, tex.base, in, ls.base));
+               const LaneSamples& ls = {}, bool unconverted = false) {
+    put(li.C, in.base ? *in.base
+                      : unconverted ? base_color_product(m, tex.base, in, ls.base)
+                                    : base_color_step(ctx, m, tex.base, in, ls.base));
     put(li.normal, in.normal);
     put(li.view_pos, in.view_pos);
     if (st.normal) {
@@ -549,6 +558,10 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
     set_flags(st, li);
     v8i back{};
     v8f tangent_w{};
+    // Step 1's sRGB encode of a linear material colour (base_color_to_working) in the lanes that
+    // compute step 1: after the loop, eight lanes at once (linear_to_srgb8, the same bits).
+    const bool encode_later = m.linear_color && ctx.working_space == WorkingSpace::Display;
+    v8i encode{};
     for (int i = 0; i < FragmentLanes::kLanes; ++i) {
         // Lanes past n repeat lane 0 (their results are not used).
         if (i >= n) {
@@ -556,14 +569,18 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
                 d.x[i] = d.x[0], d.y[i] = d.y[0], d.z[i] = d.z[0];
             };
             fill_lane_copy(li, copy0, st);
-            back[i] = back[0], tangent_w[i] = tangent_w[0];
+            back[i] = back[0], tangent_w[i] = tangent_w[0], encode[i] = encode[0];
             continue;
         }
+        encode[i] = encode_later && !in[i].base ? -1 : 0;
         fill_lane(ctx, m, tex, st, in[i], li, [i](Lanes3& d, glm::vec3 v) { d.x[i] = v.x, d.y[i] = v.y, d.z[i] = v.z; },
-                  samples_of(i));
+                  samples_of(i), encode[i] != 0);
         back[i] = in[i].back ? -1 : 0;
         tangent_w[i] = in[i].tangent.w;
     }
+    if (!simd::all_zero(encode))
+        li.C = select(encode, Lanes3{linear_to_srgb8(sat(li.C.x)), linear_to_srgb8(sat(li.C.y)), linear_to_srgb8(sat(li.C.z))},
+                      li.C);
     li.back = back;
     li.tangent_w = tangent_w;
     const LaneOutput<v8f, Lanes3> lo = shade_lanes(ctx, m, li);
