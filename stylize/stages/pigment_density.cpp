@@ -6,6 +6,8 @@
 #include "stylize/stages/pigment_density.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 
 #include "stylize/fastmath.h"
@@ -41,6 +43,8 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
     const v8i alpha = {0, 0, 0, -1, 0, 0, 0, -1};
     const v8f one = v8f{} + 1.0f;
     const v8f sv = {substrate.x, substrate.y, substrate.z, 0.0f, substrate.x, substrate.y, substrate.z, 0.0f};
+    const bool substrate_finite = std::isfinite(substrate.x) && std::isfinite(substrate.y) && std::isfinite(substrate.z);
+    constexpr int kFloatInf = 0x7f800000;  // bits of +inf: finite non-negative floats lie below
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         constexpr std::size_t kChunk = 64;
         float d[kChunk], dexp[3 * kChunk], cp[3 * kChunk];
@@ -61,6 +65,24 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             if (!any) {
                 // Every d is 1: the blend below with t = sat(1) = 1 and c' = |c| (the sign bit
                 // cleared, as fabs), straight from the colour, two pixels per register.
+                // In place, a chunk whose colour values are all finite and without a sign bit
+                // (most of a frame's background) holds that result already: s * 0 + c * 1 == c
+                // for a finite substrate s. Nothing is written (schedule only).
+                if (o == c && substrate_finite) {
+                    v8i bad{};
+                    std::size_t q = 0;
+                    for (; q + 2 <= n; q += 2) {
+                        const v8i b = (v8i)load8(ci + 4 * q);
+                        bad |= ~alpha & ((b < 0) | (b >= kFloatInf));
+                    }
+                    bool keep = toolkit::all_zero(bad);
+                    for (; q < n && keep; ++q)
+                        for (int ch = 0; ch < 3; ++ch) {
+                            const std::uint32_t b = std::bit_cast<std::uint32_t>(ci[4 * q + ch]);
+                            keep = keep && b < std::uint32_t(kFloatInf);
+                        }
+                    if (keep) continue;
+                }
                 std::size_t j = 0;
                 for (; j + 2 <= n; j += 2) {
                     const v8f cv = load8(ci + 4 * j);

@@ -120,5 +120,32 @@ TEST(PigmentDensity, FullDilutionGivesSubstrateAndAccumulationSquares) {
     EXPECT_EQ(o.at(0, 0, 3), 0.5f);  // alpha kept
 }
 
+// In place, unpainted chunks of finite non-negative colour are left unwritten (they already hold
+// |c|): every other colour value there must still get the bits of the run on separate images
+// (-0 and negatives lose their sign, a signalling NaN becomes quiet, an infinite substrate makes
+// NaN of the s * 0 term), at chunk sizes that split rows and on 1 and 2 threads.
+TEST(PigmentDensity, InPlaceHasTheBitsOfSeparateImagesInUnpaintedChunks) {
+    const float inf = std::numeric_limits<float>::infinity();
+    const float odd[] = {-0.0f, -0.25f, inf, -inf, std::numeric_limits<float>::quiet_NaN(),
+                         std::numeric_limits<float>::signaling_NaN(), -std::numeric_limits<float>::quiet_NaN()};
+    const int w = 150, h = 9;  // a row is two 64-pixel chunks and a tail
+    for (int variant = 0; variant < 8; ++variant) {
+        ImageF c(w, h, 4), k(w, h, 4, 0.0f);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int ch = 0; ch < 4; ++ch) c.at(x, y, ch) = 0.05f + 0.9f * float((x * 7 + y * 3 + ch) % 13) / 13.0f;
+        if (variant < 7) c.at(70 + variant, 4, variant % 3) = odd[variant];  // one odd value in an unpainted chunk
+        k.at(5, 1, 2) = 0.5f;  // one painted pixel elsewhere
+        const glm::vec3 s = variant == 7 ? glm::vec3{0.9f, inf, 0.7f} : glm::vec3{0.9f, 0.8f, 0.7f};
+        for (int threads : {1, 2}) {
+            ImageF separate, in_place = c;
+            pigment_density(separate, c, k, s, PigmentDensityParams{}, Exec::fast(threads));
+            pigment_density(in_place, in_place, k, s, PigmentDensityParams{}, Exec::fast(threads));
+            EXPECT_EQ(0, std::memcmp(separate.data(), in_place.data(), separate.num_values() * sizeof(float)))
+                << "variant " << variant << ", " << threads << " thread(s)";
+        }
+    }
+}
+
 }  // namespace
 }  // namespace aq::stylize
