@@ -45,7 +45,8 @@ void FrameWriter::run() {
         std::exception_ptr err;
         try {
             std::vector<std::string> sha;
-            for (auto& [path, img] : f.files) sha.push_back(write_image(path, img, f.description, f.compression));
+            for (const File& file : f.files)
+                sha.push_back(write_image(file.path, file.image, f.description, f.compression, file.drop_alpha));
             if (f.after) f.after(sha);
             if (report_ && !f.done_message.empty()) report_(f.done_message);
         } catch (...) {

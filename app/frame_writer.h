@@ -27,8 +27,16 @@ namespace aq::app {
 
 class FrameWriter {
 public:
+    //! One file: `image` written to `path`; `drop_alpha`: an RGBA image written as its RGB
+    //! (core/io.h write_image; a stylised painting handed over without a copy).
+    struct File {
+        std::string path;
+        ImageF image;
+        bool drop_alpha = false;
+        File(std::string p, ImageF img, bool drop = false) : path(std::move(p)), image(std::move(img)), drop_alpha(drop) {}
+    };
     struct Frame {
-        std::vector<std::pair<std::string, ImageF>> files;  //!< path -> image, written in order
+        std::vector<File> files;  //!< written in order
         std::string done_message;                          //!< reported once every file is written
         std::string description;  //!< embedded in every file (core/io.h write_image), may be empty
         Compression compression = Compression::Fast;  //!< of every file (core/io.h write_image)

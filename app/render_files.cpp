@@ -70,7 +70,7 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
             ensure_directory(dir);
             for (const std::string& name : order) {
                 frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".exr", img.targets.get(name));
-                files.push_back({frame.files.back().first, name, "exr"});
+                files.push_back({frame.files.back().path, name, "exr"});
             }
         }
         if (!o.targets_png_dir.empty()) {
@@ -78,12 +78,19 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
             ensure_directory(dir);
             for (const std::string& name : order) {
                 frame.files.emplace_back(dir + "/" + safe_file_name(name) + ".png", visualize_target(name, img.targets.get(name)));
-                files.push_back({frame.files.back().first, name, "png"});
+                files.push_back({frame.files.back().path, name, "png"});
             }
         }
         const std::string out = frame_path(o.out, img.index);
-        if (img.converted_) frame.files.emplace_back(out, std::move(img.converted));
-        else frame.files.emplace_back(out, img.final_image());
+        if (img.drop_alpha && !img.converted_ && lower_extension(out) == ".png") {
+            // The RGBA painting itself, encoded as RGB by the writer: no full-frame copy on this
+            // thread (the next frame's pipeline takes its buffer from the image pool).
+            frame.files.emplace_back(out, img.take_final_rgba(), true);
+        } else {
+            const ImageF& fin = img.final_image();
+            if (img.converted_) frame.files.emplace_back(out, std::move(img.converted));
+            else frame.files.emplace_back(out, fin);
+        }
         files.push_back({out, "", "out"});
         // Provenance (app/manifest.h): embedded in every file without "outputs", then the sidecar.
         nlohmann::json core = manifest_core(job, img);

@@ -257,31 +257,55 @@ namespace {
 //! The image --out receives: the final target, converted where the output needs it.
 void convert_final(RenderedImage& img, const ImageF& fin, bool linear, bool drop_alpha) {
     if (!linear && !drop_alpha) return;
+    if (!linear && fin.channels() == 4) {  // the usual case: RGB of the RGBA target, when asked
+        img.drop_alpha = true;
+        return;
+    }
     const int nc = drop_alpha ? 3 : fin.channels();
     ensure_output(img.converted, fin.width(), fin.height(), nc);
     const std::size_t n = std::size_t(fin.width()) * std::size_t(fin.height());
     const int sc = fin.channels();
     const float* s = fin.data();
     float* d = img.converted.data();
-    if (!linear && sc == 4 && nc == 3) {
-        // The usual case (display working space, a stylised painting): RGBA -> RGB, a plain copy
-        // of three of every four values, in one pass the compiler vectorises (issue 13: it runs on
-        // the frame loop's thread between frames).
+    for (std::size_t i = 0; i < n; ++i)
+        for (int c = 0; c < nc; ++c) {
+            const float v = s[i * std::size_t(sc) + std::size_t(c)];
+            // output transform linear -> sRGB on colour, never on alpha
+            d[i * std::size_t(nc) + std::size_t(c)] = linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
+        }
+    img.converted_ = true;
+}
+
+}  // namespace
+
+const ImageF& RenderedImage::final_image() {
+    if (taken_) throw Error("render job: the final image was handed to the writer");
+    if (drop_alpha && !converted_) {
+        // RGBA -> RGB, a plain copy of three of every four values the compiler vectorises.
+        const ImageF& fin = targets.get(final_target);
+        ensure_output(converted, fin.width(), fin.height(), 3);
+        const std::size_t n = std::size_t(fin.width()) * std::size_t(fin.height());
+        const float* s = fin.data();
+        float* d = converted.data();
         for (std::size_t i = 0; i < n; ++i) {
             d[3 * i + 0] = s[4 * i + 0];
             d[3 * i + 1] = s[4 * i + 1];
             d[3 * i + 2] = s[4 * i + 2];
         }
-    } else {
-        for (std::size_t i = 0; i < n; ++i)
-            for (int c = 0; c < nc; ++c) {
-                const float v = s[i * std::size_t(sc) + std::size_t(c)];
-                // output transform linear -> sRGB on colour, never on alpha
-                d[i * std::size_t(nc) + std::size_t(c)] = linear && c != 3 ? linear_to_srgb(std::clamp(v, 0.0f, 1.0f)) : v;
-            }
+        converted_ = true;
     }
-    img.converted_ = true;
+    return converted_ ? converted : targets.get(final_target);
 }
+
+ImageF RenderedImage::take_final_rgba() {
+    if (!drop_alpha || converted_ || taken_) throw Error("render job: no RGBA final image to hand over");
+    ImageF img = std::move(targets.get_mut(final_target));
+    targets.erase(final_target);
+    taken_ = true;
+    return img;
+}
+
+namespace {
 
 //! Moves the G-buffer targets between the rasterizer's set (reused by render_gbuffer_into when it
 //! holds exactly them) and the frame's set (G-buffer + paper + intermediates, reused by

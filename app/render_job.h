@@ -144,10 +144,17 @@ struct RenderedImage {
     std::string final_target;
     std::vector<double> step_ms;  //!< wall time of each pipeline step (stylize::RunOptions::step_ms)
     //! The image `--out` receives: the final target, converted where the output needs it (linear
-    //! working space -> sRGB; a stylised painting written opaque, RGB).
-    const ImageF& final_image() const { return converted_ ? converted : targets.get(final_target); }
+    //! working space -> sRGB; a stylised painting written opaque, RGB: the RGB copy is made by the
+    //! first call, see drop_alpha). Throws aq::Error after take_final_rgba().
+    const ImageF& final_image();
+    //! With drop_alpha and no RGB copy made: the final target itself (RGBA), moved out of
+    //! `targets`, for a writer that leaves the alpha out (FrameWriter::File::drop_alpha): an
+    //! animation's PNG frames are encoded from it without a full-frame copy (issue 13).
+    ImageF take_final_rgba();
     ImageF converted;
     bool converted_ = false;
+    bool drop_alpha = false;  //!< the output is the RGB of the RGBA final target (made lazily)
+    bool taken_ = false;      //!< take_final_rgba() was called
 };
 
 //! Renders every frame x sweep value in order and calls sink for each. Throws aq::Error.

@@ -297,18 +297,28 @@ void trim_scratch(std::vector<unsigned char>& v) {
 //! other image by OpenImageIO's writer through a proxy; `q` is scratch for the 8-bit values (or a
 //! PNG's rows). Both keep their capacity.
 void encode_image(const std::string& path, const ImageF& img, const std::string& description,
-                  std::vector<unsigned char>& buf, std::vector<unsigned char>& q, Compression compression) {
+                  std::vector<unsigned char>& buf, std::vector<unsigned char>& q, Compression compression,
+                  bool drop_alpha = false) {
     const bool stored = compression == Compression::None;
     const std::string ext = lower_extension(path);
     if (ext.empty()) fail_write(path, "no file extension to choose a format");
-    if (ext == ".png" && png_encodes(img.channels())) {
+    if (drop_alpha && img.channels() != 4) fail_write(path, "dropping alpha needs a 4-channel image");
+    if (ext == ".png" && (drop_alpha || png_encodes(img.channels()))) {
         // 8-bit display images, sRGB-encoded in either working space (docs/look.md): the encoder
         // tags them so (sRGB chunk).
         try {
-            encode_png(img, description, buf, q, stored ? kPngStoredLevel : kPngDeflateLevel);
+            encode_png(img, description, buf, q, stored ? kPngStoredLevel : kPngDeflateLevel, drop_alpha);
         } catch (const Error& e) {
             fail_write(path, e.what());
         }
+        return;
+    }
+    if (drop_alpha) {  // other formats: through the RGB copy
+        ImageF rgb(img.width(), img.height(), 3, kUninitialized);
+        const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
+        for (std::size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) rgb.data()[3 * i + std::size_t(c)] = img.data()[4 * i + std::size_t(c)];
+        encode_image(path, rgb, description, buf, q, compression);
         return;
     }
     const bool eight_bit = (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp");
@@ -427,7 +437,7 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
 }
 
 std::string write_image(const std::string& path, const ImageF& img, const std::string& description,
-                        Compression compression) {
+                        Compression compression, bool drop_alpha) {
     if (img.empty()) fail_write(path, "the image is empty");
     const fs::path dst(path);
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
@@ -442,7 +452,7 @@ std::string write_image(const std::string& path, const ImageF& img, const std::s
             trim_scratch(s.encoded);
         }
     } trim{scratch};
-    encode_image(path, img, description, scratch.encoded, scratch.quantised, compression);
+    encode_image(path, img, description, scratch.encoded, scratch.quantised, compression, drop_alpha);
     write_file_atomically(path, scratch.encoded.data(), scratch.encoded.size());
     return sha256_hex(scratch.encoded.data(), scratch.encoded.size());
 }

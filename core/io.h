@@ -58,9 +58,11 @@ inline bool compression_from_name(const std::string& name, Compression& c) {
 //! Writes img to path; the format follows the extension (.png, .exr, .tif, .jpg ...). A non-empty
 //! `description` is embedded as the standard ImageDescription attribute (PNG tEXt "Description",
 //! EXR/TIFF header; the provenance manifest, app/manifest.h). `compression` applies to PNG and EXR.
-//! Returns the SHA-256 (hex) of the bytes written. Throws aq::Error.
+//! Returns the SHA-256 (hex) of the bytes written. `drop_alpha`: img has 4 channels and the file
+//! gets the first three (RGB), the bytes of writing that RGB copy (a PNG is encoded straight from
+//! the RGBA values). Throws aq::Error.
 std::string write_image(const std::string& path, const ImageF& img, const std::string& description = {},
-                        Compression compression = Compression::Fast);
+                        Compression compression = Compression::Fast, bool drop_alpha = false);
 
 //! The 8-bit code of a display value as PNG/JPEG files store it: NaN -> 0, clamped to [0, 1], then
 //! std::lround(v * 255) (round half away from zero), computed as trunc + (fraction >= 1/2), which

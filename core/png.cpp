@@ -84,18 +84,26 @@ libdeflate_compressor* compressor(int level) {
 }  // namespace
 
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows, int level) {
-    const int w = img.width(), h = img.height(), c = img.channels();
-    if (img.empty() || !png_encodes(c)) throw Error("PNG: needs a non-empty grey or RGB image");
+                std::vector<unsigned char>& rows, int level, bool drop_alpha) {
+    const int w = img.width(), h = img.height(), c = drop_alpha ? 3 : img.channels();
+    if (drop_alpha ? img.channels() != 4 || img.empty() : img.empty() || !png_encodes(c))
+        throw Error(drop_alpha ? "PNG: dropping alpha needs a non-empty RGBA image" : "PNG: needs a non-empty grey or RGB image");
     // The rows as the zlib stream holds them: a filter-type byte (0, none), then the 8-bit values.
     const std::size_t row_values = std::size_t(w) * std::size_t(c);
     rows.resize((row_values + 1) * std::size_t(h));  // every byte is written below
     const float* p = img.data();
+    std::vector<unsigned char> rgba(drop_alpha ? 4 * std::size_t(w) : 0);
     for (int y = 0; y < h; ++y) {
         unsigned char* r = rows.data() + std::size_t(y) * (row_values + 1);
-        const float* s = p + std::size_t(y) * row_values;
         r[0] = 0;
-        to_unorm8_n(s, r + 1, row_values);
+        if (!drop_alpha) {
+            to_unorm8_n(p + std::size_t(y) * row_values, r + 1, row_values);
+            continue;
+        }
+        // All four channels quantised (the same to_unorm8 per value), then the alpha bytes left out.
+        to_unorm8_n(p + 4 * std::size_t(y) * std::size_t(w), rgba.data(), rgba.size());
+        for (std::size_t x = 0; x < std::size_t(w); ++x)
+            r[1 + 3 * x] = rgba[4 * x], r[2 + 3 * x] = rgba[4 * x + 1], r[3 + 3 * x] = rgba[4 * x + 2];
     }
 
     out.assign(kSignature, kSignature + sizeof kSignature);

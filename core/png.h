@@ -45,9 +45,10 @@ inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
 //! values quantised with to_unorm8 (core/io.h). A non-empty `description` becomes the
 //! "Description" text chunk (what OpenImageIO reads as ImageDescription). `rows` is scratch for the
 //! filtered rows; both vectors keep their capacity for the next call. `level`: kPngDeflateLevel or
-//! kPngStoredLevel. Throws aq::Error.
+//! kPngStoredLevel. `drop_alpha`: img has 4 channels and the PNG gets the first three (RGB), the
+//! bytes of encoding the RGB copy. Throws aq::Error.
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows, int level = kPngDeflateLevel);
+                std::vector<unsigned char>& rows, int level = kPngDeflateLevel, bool drop_alpha = false);
 
 //! Decodes an 8-bit grey or RGB PNG held in memory: `accept` (core/image_header.h) checks the
 //! header (1 or 3 channels) and says where the values go (v x float(1/255)); whatever `accept`

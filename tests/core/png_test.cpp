@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,27 @@ TEST(Png, CompressionNoneStoresTheSamePixelsUncompressed) {
 }
 
 // A description the text chunk cannot hold is an error naming the file, not a cut manifest.
+// An RGBA image written with drop_alpha: the bytes of writing its RGB copy, for PNG (encoded
+// straight from the RGBA values, both compression settings) and for EXR (through the copy); the
+// alpha values (out of range, NaN) play no part. A 3-channel image with drop_alpha is refused.
+TEST(Png, DropAlphaWritesTheBytesOfTheRgbCopy) {
+    const std::string dir = test::output_dir();
+    ImageF rgba = pattern(53, 17, 4, 7u);
+    for (std::size_t i = 3; i < rgba.num_values(); i += 8) rgba.data()[i] = std::numeric_limits<float>::quiet_NaN();
+    ImageF rgb(rgba.width(), rgba.height(), 3);
+    for (std::size_t i = 0; i < std::size_t(rgba.width()) * std::size_t(rgba.height()); ++i)
+        for (int c = 0; c < 3; ++c) rgb.data()[3 * i + std::size_t(c)] = rgba.data()[4 * i + std::size_t(c)];
+    for (const char* ext : {".png", ".exr"})
+        for (Compression comp : {Compression::Fast, Compression::None}) {
+            const std::string a = dir + "/rgb" + ext, b = dir + "/dropped" + ext;
+            const std::string sha_a = write_image(a, rgb, "d", comp);
+            const std::string sha_b = write_image(b, rgba, "d", comp, true);
+            EXPECT_EQ(sha_a, sha_b) << ext;
+            EXPECT_EQ(file_bytes(a), file_bytes(b)) << ext;
+        }
+    EXPECT_THROW(write_image(dir + "/bad.png", rgb, "", Compression::Fast, true), Error);
+}
+
 TEST(Png, ADescriptionWithANulByteIsRefused) {
     const std::string path = test::output_dir() + "/nul.png";
     try {
