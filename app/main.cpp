@@ -79,7 +79,7 @@ options:
   --variant STAGE=VAR   choose a stage variant (repeatable)
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
   --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
-  --frames A-B          render frames A..B inclusive (animation), with progress
+  --frames A-B | N      render frames A..B inclusive (animation), with progress; N: frame N only
   --shard I/N           render only shard I of N (0 <= I < N) of --frames or --sweep: the items k
                         (frame - first frame, or sweep index) with k mod N == I; N runs together
                         write exactly the files of one unsharded run (docs/shards.md)
@@ -263,9 +263,11 @@ RenderOptions parse_render(Args& a) {
         } else if (arg == "--frames") {
             const std::string v = a.value(arg);
             const auto dash = v.find('-');
-            if (dash == std::string::npos || dash == 0) throw UsageError("--frames expects A-B, e.g. 0-23");
+            if (dash == 0 || v.empty()) throw UsageError("--frames expects A-B or N, e.g. 0-23 or 12");
+            // N alone: the one frame N, numbered as in an animation (A-A).
             o.frame_first = int(aq::cli::parse_int(arg, v.substr(0, dash), 0, 10'000'000));
-            o.frame_last = int(aq::cli::parse_int(arg, v.substr(dash + 1), 0, 10'000'000));
+            o.frame_last = dash == std::string::npos ? o.frame_first
+                                                     : int(aq::cli::parse_int(arg, v.substr(dash + 1), 0, 10'000'000));
             if (o.frame_last < o.frame_first) throw UsageError("--frames: last frame before first");
             if (o.frame_last - o.frame_first >= 100'000) throw UsageError("--frames: more than 100000 frames");
             o.animation = true;
