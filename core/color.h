@@ -37,6 +37,8 @@ inline float linear_to_srgb(float v) {
 //! lanes in (kSrgbLinearThreshold, 1] computed in double at once and rounded to float where that
 //! rounding is provably powf's, linear_to_srgb itself for the rest (core/color.cpp).
 simd::v8f linear_to_srgb8(simd::v8f v);
+//! linear_to_srgb8 of three registers at once (an RGB batch: the three computations overlap).
+void linear_to_srgb8(simd::v8f& a, simd::v8f& b, simd::v8f& c);
 
 //! Colour space the watercolor maths (G-buffer colour, stylization stages) runs in.
 enum class WorkingSpace {

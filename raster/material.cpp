@@ -578,9 +578,11 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
         back[i] = in[i].back ? -1 : 0;
         tangent_w[i] = in[i].tangent.w;
     }
-    if (!simd::all_zero(encode))
-        li.C = select(encode, Lanes3{linear_to_srgb8(sat(li.C.x)), linear_to_srgb8(sat(li.C.y)), linear_to_srgb8(sat(li.C.z))},
-                      li.C);
+    if (!simd::all_zero(encode)) {
+        Lanes3 e = sat(li.C);
+        linear_to_srgb8(e.x, e.y, e.z);
+        li.C = select(encode, e, li.C);
+    }
     li.back = back;
     li.tangent_w = tangent_w;
     const LaneOutput<v8f, Lanes3> lo = shade_lanes(ctx, m, li);
