@@ -283,6 +283,21 @@ TEST_P(WriteFailure, OnAFullFileSystemTheOldFileIsKept) {
 INSTANTIATE_TEST_SUITE_P(EveryFormat, WriteFailure, ::testing::Values(".png", ".exr", ".jpg", ".tif"),
                          [](const auto& info) { return std::string(info.param + 1); });
 
+// Files of 1 MB and more go through O_DIRECT in whole 4096-byte blocks, then are truncated: every
+// size around the threshold and the block reads back byte for byte, also over a longer file.
+TEST(ImageIO, LargeFilesReadBackExactlyAtEverySizeAroundTheDirectWrite) {
+    const std::string dir = test::output_dir();
+    const std::size_t mb = std::size_t(1) << 20;
+    std::string data(3 * mb + 4097, '\0');
+    for (std::size_t i = 0; i < data.size(); ++i) data[i] = char((i * 131 + (i >> 12)) & 0xff);
+    const std::string p = dir + "/large.bin";
+    for (std::size_t n : {std::size_t(4095), mb - 1, mb, mb + 1, mb + 4096, 3 * mb + 4097, 2 * mb + 17}) {
+        write_file_atomically(p, data.data(), n);
+        EXPECT_EQ(file_bytes(p), data.substr(0, n)) << n << " bytes";
+    }
+    EXPECT_FALSE(has_temporaries(dir));
+}
+
 TEST(ImageIO, RefusesToOverwriteAnInputOfTheRun) {
     const std::string p = test::output_dir() + "/input.png";
     write_image(p, ImageF(4, 4, 3, 0.5f));
