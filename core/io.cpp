@@ -375,14 +375,17 @@ bool write_direct(int fd, const unsigned char* p, std::size_t n, int* err) {
     thread_local Aligned buf;
     const std::size_t padded = (n + kDirectBlock - 1) / kDirectBlock * kDirectBlock;
     if (buf.size < padded) {
+        // A quarter more than asked: an animation's frames vary a little in size, and growing
+        // by each new maximum would fault in fresh pages again and again.
+        const std::size_t size = (padded + padded / 4 + kDirectBlock - 1) / kDirectBlock * kDirectBlock;
         std::free(buf.p);
         buf.p = nullptr, buf.size = 0;
-        if (::posix_memalign(&buf.p, kDirectBlock, padded) != 0) {
+        if (::posix_memalign(&buf.p, kDirectBlock, size) != 0) {
             buf.p = nullptr;
             *err = ENOMEM;
             return false;
         }
-        buf.size = padded;
+        buf.size = size;
     }
     unsigned char* b = static_cast<unsigned char*>(buf.p);
     std::memcpy(b, p, n);
