@@ -357,7 +357,9 @@ bool write_all(int fd, const unsigned char* p, std::size_t n, int* err) {
 
 std::atomic<unsigned> g_tmp_counter{0};
 
-//! Files of at least this many bytes are written with O_DIRECT (write_file_atomically).
+//! Files of at least this many bytes, and at most kKeptScratchBytes (the aligned copy is kept per
+//! thread: larger files would hold that much memory), are written with O_DIRECT
+//! (write_file_atomically).
 constexpr std::size_t kDirectWriteBytes = std::size_t(1) << 20;
 //! The block O_DIRECT transfers are aligned and sized to (a multiple of every logical block size
 //! Linux file systems use).
@@ -454,7 +456,7 @@ void write_file_atomically(const std::string& path, const void* data, std::size_
     // (docs/performance.md "Twenty-third session"); the file is flushed below either way. Where the
     // file system refuses O_DIRECT, the ordinary write.
     bool written = false;
-    if (size >= kDirectWriteBytes) {
+    if (size >= kDirectWriteBytes && size <= kKeptScratchBytes) {
         const int flags = ::fcntl(fd, F_GETFL);
         if (flags >= 0 && ::fcntl(fd, F_SETFL, flags | O_DIRECT) == 0) {
             written = write_direct(fd, static_cast<const unsigned char*>(data), size, &err);

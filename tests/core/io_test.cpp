@@ -283,7 +283,7 @@ TEST_P(WriteFailure, OnAFullFileSystemTheOldFileIsKept) {
 INSTANTIATE_TEST_SUITE_P(EveryFormat, WriteFailure, ::testing::Values(".png", ".exr", ".jpg", ".tif"),
                          [](const auto& info) { return std::string(info.param + 1); });
 
-// Files of 1 MB and more go through O_DIRECT in whole 4096-byte blocks, then are truncated: every
+// Files of 1 to 64 MB go through O_DIRECT in whole 4096-byte blocks, then are truncated: every
 // size around the threshold and the block reads back byte for byte, also over a longer file.
 TEST(ImageIO, LargeFilesReadBackExactlyAtEverySizeAroundTheDirectWrite) {
     const std::string dir = test::output_dir();
