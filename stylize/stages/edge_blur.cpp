@@ -119,6 +119,15 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     };
     std::vector<Span> span0(static_cast<std::size_t>(h));
     auto nonzero = [](float v) { return std::bit_cast<std::uint32_t>(v) != 0u; };
+    // Where K changes within a few pixels (noisy control), runs of equal K are too short for
+    // accumulate_taps' eight-pixel steps: eight pixels of any K at once instead, the taps of the
+    // largest K in turn, each lane adding only the taps |a| < its own K (a select, not a zero
+    // weight: the lane's sum is the reference's, bit for bit). wflat[K * kWStride + |a|] = w_K[|a|].
+    constexpr int kWStride = 4 * 16;
+    std::vector<float> wflat(std::size_t(kmax + 1) * kWStride, 0.0f);
+    for (int k = 1; k <= kmax; ++k)
+        for (int o2 = 0; o2 < k; ++o2) wflat[std::size_t(k) * kWStride + std::size_t(o2)] = tab[std::size_t(k)][std::size_t(o2)];
+    constexpr int kMinRun = 16;  // runs of equal K at least this long go to accumulate_taps
     for (int pass = 0; pass < 2; ++pass) {
         const float* s = pass == 0 ? edges.data() : tmp.data();
         float* o = pass == 0 ? tmp.data() : dst.data();
@@ -177,15 +186,42 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                 std::fill_n(orow, sp.lo, 0.0f);
                 std::fill_n(orow + sp.hi + 1, w - 1 - sp.hi, 0.0f);
                 const int* kr = krow.data();
+                // Tap a's values at pixels x0..: the shifted padded row (pass 0) or row y + a (pass 1).
+                auto tap_row = [&](int a) {
+                    return pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w;
+                };
                 for (int x0 = sp.lo; x0 <= sp.hi;) {
                     const int k = kr[x0];
                     int x1 = x0 + 1;
                     while (x1 <= sp.hi && kr[x1] == k) ++x1;
+                    if (x1 - x0 < kMinRun && x0 + 8 <= sp.hi + 1) {
+                        using toolkit::v8f;
+                        using toolkit::v8i;
+                        v8i kv;
+                        int kmx = 1;
+                        for (int i = 0; i < 8; ++i) kv[i] = kr[x0 + i], kmx = std::max(kmx, kr[x0 + i]);
+                        const v8i kbase = kv * kWStride;
+                        const v8f e0 = toolkit::load8(sr + x0);
+                        v8f acc = e0;
+                        for (int a = -(kmx - 1); a <= kmx - 1; ++a) {  // ascending, as the reference
+                            const int aa = std::abs(a);
+                            const v8i take = (v8i{} + aa) < kv;
+                            v8f wv;
+                            for (int i = 0; i < 8; ++i) wv[i] = wflat[std::size_t(kbase[i] + aa)];
+                            const v8f next = acc + wv * (toolkit::load8(tap_row(a) + x0) - e0);
+                            acc = take ? next : acc;
+                        }
+                        toolkit::store8(orow + x0, acc);
+                        x0 += 8;
+                        continue;
+                    }
+                    // A long run: its whole eight-pixel groups (the rest joins the next pixels).
+                    if (x1 - x0 >= kMinRun && x1 <= sp.hi) x1 = x0 + (x1 - x0) / 8 * 8;
                     const float* wk = tab[std::size_t(k)].data();
                     const int taps = 2 * k - 1;
                     for (int ai = 0; ai < taps; ++ai) {  // tap a = ai - (k - 1), aligned with x0
                         const int a = ai - (k - 1);
-                        dp[ai] = (pass == 0 ? pad.data() + (a + R) : s + std::size_t(yt[std::size_t(y + a + R)]) * w) + x0;
+                        dp[ai] = tap_row(a) + x0;
                         wt[ai] = wk[std::abs(a)];
                     }
                     // Per pixel the taps and their order are the reference loop's.
