@@ -281,17 +281,7 @@ void convert_final(RenderedImage& img, const ImageF& fin, bool linear, bool drop
 const ImageF& RenderedImage::final_image() {
     if (taken_) throw Error("render job: the final image was handed to the writer");
     if (drop_alpha && !converted_) {
-        // RGBA -> RGB, a plain copy of three of every four values the compiler vectorises.
-        const ImageF& fin = targets.get(final_target);
-        ensure_output(converted, fin.width(), fin.height(), 3);
-        const std::size_t n = std::size_t(fin.width()) * std::size_t(fin.height());
-        const float* s = fin.data();
-        float* d = converted.data();
-        for (std::size_t i = 0; i < n; ++i) {
-            d[3 * i + 0] = s[4 * i + 0];
-            d[3 * i + 1] = s[4 * i + 1];
-            d[3 * i + 2] = s[4 * i + 2];
-        }
+        rgb_of(targets.get(final_target), converted);
         converted_ = true;
     }
     return converted_ ? converted : targets.get(final_target);

@@ -31,6 +31,7 @@ typedef std::uint32_t v4ui __attribute__((vector_size(16)));
 typedef float v4f __attribute__((vector_size(16)));
 
 constexpr int kLogBits = 7;  //!< the log2 table: 128 subintervals of the mantissa [1, 2), |r| < 2^-8
+constexpr double kLn2 = 0.693147180559945309417232121458176568;
 constexpr int kExpBits = 5;  //!< the exp2 table: 2^(j/32), |f ln 2| < 2^-6.5
 //! Distance from a float midpoint, in units of 2^-29 float ulp (the 29 mantissa bits a double has
 //! beyond a float), under which a lane is left to linear_to_srgb. glibc's powf misrounds only within
@@ -61,7 +62,10 @@ const Tables& tables() {
 //! t[i[k]] in lane k (one AVX2 gather where the build has AVX2).
 [[gnu::always_inline]] inline v4d gather(const double* t, v4ui i) {
 #ifdef __AVX2__
-    return (v4d)_mm256_i32gather_pd(t, (__m128i)i, 8);
+    // The masked form with a zero source: the same loads, without the plain form's undefined
+    // source register (GCC 12 warns on it: -Wuninitialized).
+    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    return (v4d)_mm256_mask_i32gather_pd(_mm256_setzero_pd(), t, (__m128i)i, all, 8);
 #else
     return v4d{t[i[0]], t[i[1]], t[i[2]], t[i[3]]};
 #endif
@@ -80,13 +84,13 @@ const Tables& tables() {
     // ln(1 + r) to r^5 (the next term < 2^-50).
     const v4d ln1p = r * (1.0 + r * (-1.0 / 2 + r * (1.0 / 3 + r * (-1.0 / 4 + r * (1.0 / 5)))));
     const v4d log2x = __builtin_convertvector((std::int32_t __attribute__((vector_size(16))))e, v4d) + logc +
-                      ln1p * (1.0 / 0.693147180559945309417232121458176568);
+                      ln1p * (1.0 / kLn2);
     const v4d t = y * log2x;  // in [-3.5, 0] on the domain
     constexpr double kShift = 0x1.8p52;  // adding it rounds t 32 to an integer n held in the low bits
     const v4d n_shifted = t * double(1 << kExpBits) + kShift;
     const v4u nb = (v4u)n_shifted;
     const v4d n = n_shifted - kShift;
-    const v4d g = (t * double(1 << kExpBits) - n) * (0.693147180559945309417232121458176568 / (1 << kExpBits));
+    const v4d g = (t * double(1 << kExpBits) - n) * (kLn2 / (1 << kExpBits));
     // exp(g), |g| < 2^-6.5, to g^4 (the next term < 2^-39.5 relative).
     const v4d eg = 1.0 + g * (1.0 + g * (1.0 / 2 + g * (1.0 / 6 + g * (1.0 / 24))));
     const v4u j = nb & ((1u << kExpBits) - 1u);

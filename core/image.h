@@ -188,6 +188,20 @@ inline void ensure_output(ImageF& img, int w, int h, int c) {
     if (img.width() != w || img.height() != h || img.channels() != c) img = ImageF(w, h, c, kUninitialized);
 }
 
+//! rgb = the first three channels of the 4-channel rgba (ensure_output, then a plain copy of three
+//! of every four values, which the compiler vectorises).
+inline void rgb_of(const ImageF& rgba, ImageF& rgb) {
+    ensure_output(rgb, rgba.width(), rgba.height(), 3);
+    const std::size_t n = std::size_t(rgba.width()) * std::size_t(rgba.height());
+    const float* s = rgba.data();
+    float* d = rgb.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        d[3 * i + 0] = s[4 * i + 0];
+        d[3 * i + 1] = s[4 * i + 1];
+        d[3 * i + 2] = s[4 * i + 2];
+    }
+}
+
 //! Copies n floats with non-temporal stores where dst is 32-byte aligned (the ends plain): the
 //! destination's lines are not read first, a third less memory traffic than memcpy for data that
 //! is not read back soon (the G-buffer's row streaming, a stage's copied background chunks). The

@@ -315,10 +315,8 @@ void encode_image(const std::string& path, const ImageF& img, const std::string&
         return;
     }
     if (drop_alpha) {  // other formats: through the RGB copy
-        ImageF rgb(img.width(), img.height(), 3, kUninitialized);
-        const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
-        for (std::size_t i = 0; i < n; ++i)
-            for (int c = 0; c < 3; ++c) rgb.data()[3 * i + std::size_t(c)] = img.data()[4 * i + std::size_t(c)];
+        ImageF rgb;
+        rgb_of(img, rgb);
         encode_image(path, rgb, description, buf, q, compression);
         return;
     }
