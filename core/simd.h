@@ -43,4 +43,27 @@ inline v8f sqrt8(v8f x) {
 #endif
 }
 
+//! Transposes the 8 x 8 matrix held in r[0..7] (row k = r[k]) in place: afterwards r[c][k] is the
+//! old r[k][c]. Shuffles only (values are moved, never computed). Eight RGBA pixel pairs become
+//! planes: with r[k] = pixels 2k and 2k + 1 of a row (RGBA RGBA), r[c] holds channel c of the even
+//! pixels and r[4 + c] that of the odd ones.
+inline void transpose8x8(v8f r[8]) {
+    v8f t[8];
+    for (int k = 0; k < 8; k += 2) {  // unpacklo / unpackhi of row pairs
+        t[k] = __builtin_shufflevector(r[k], r[k + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+        t[k + 1] = __builtin_shufflevector(r[k], r[k + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+    }
+    for (int k = 0; k < 8; k += 4) {  // shuffle_ps 0x44 / 0xEE of the pairs' results
+        r[k] = __builtin_shufflevector(t[k], t[k + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+        r[k + 1] = __builtin_shufflevector(t[k], t[k + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+        r[k + 2] = __builtin_shufflevector(t[k + 1], t[k + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+        r[k + 3] = __builtin_shufflevector(t[k + 1], t[k + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+    }
+    for (int c = 0; c < 4; ++c) {  // the 128-bit halves: rows 0-3 low, 4-7 high
+        t[c] = __builtin_shufflevector(r[c], r[c + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+        t[c + 4] = __builtin_shufflevector(r[c], r[c + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+    }
+    for (int k = 0; k < 8; ++k) r[k] = t[k];
+}
+
 }  // namespace aq::simd

@@ -285,6 +285,76 @@ void run_passes(const Planes& src, Planes& tmp, Planes& dst, const Kernel& k, Bo
     }
 }
 
+//! The half-resolution planes where both axes halve exactly (ResampleAxis::pairs: output pixel x
+//! reads source pixels 2x and 2x + 1, row y rows 2y and 2y + 1): per plane
+//!   top = s(2x, 2y) + (s(2x + 1, 2y) - s(2x, 2y)) * tx,  bot likewise on row 2y + 1,
+//!   out = top + (bot - top) * ty
+//! — RowResampler's operations in its order, so the values of the tabled path (which stays the
+//! reference traversal's) — eight outputs per register, the colour's and control's RGBA pixels
+//! transposed into planes on the way: no row buffers, no de-interleaving pass, one read of each
+//! source row. zd null: the depth plane is 0.
+void halve_into_planes(Planes& src, const float* cd, const float* kd, const float* zd, int w,
+                       const toolkit::ResampleAxis& ax, const toolkit::ResampleAxis& ay, const Exec& ex) {
+    using simd::transpose8x8;
+    constexpr std::size_t kc = control::kAbstractionBleeding.channel;  // ctrl.abstraction.b (spec §1)
+    const int wr = src.w;
+    toolkit::for_each_row_block(ex, src.h, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+            const std::size_t o = std::size_t(y) * wr;
+            const std::size_t s0 = std::size_t(ay.i0[std::size_t(y)]) * w, s1 = std::size_t(ay.i1[std::size_t(y)]) * w;
+            const float ty = ay.t[std::size_t(y)];
+            const float* tx = ax.t.data();
+            int x = 0;
+            for (; x + 8 <= wr; x += 8) {
+                const v8f t = load8(tx + x), vty = v8f{} + ty;
+                // Colour: rows 2y and 2y + 1, source pixels 2x .. 2x + 15, channels R, G, B.
+                v8f a[8], b[8];
+                for (int k = 0; k < 8; ++k) {
+                    a[k] = load8(cd + 4 * (s0 + 2 * std::size_t(x + k)));
+                    b[k] = load8(cd + 4 * (s1 + 2 * std::size_t(x + k)));
+                }
+                transpose8x8(a);
+                transpose8x8(b);
+                for (int c = 0; c < 3; ++c) {
+                    const v8f top = a[c] + (a[c + 4] - a[c]) * t, bot = b[c] + (b[c + 4] - b[c]) * t;
+                    store8(src.p[c].data() + o + x, top + (bot - top) * vty);
+                }
+                // Control: channel kc of the same pixels.
+                for (int k = 0; k < 8; ++k) {
+                    a[k] = load8(kd + 4 * (s0 + 2 * std::size_t(x + k)));
+                    b[k] = load8(kd + 4 * (s1 + 2 * std::size_t(x + k)));
+                }
+                transpose8x8(a);
+                transpose8x8(b);
+                const v8f ktop = a[kc] + (a[kc + 4] - a[kc]) * t, kbot = b[kc] + (b[kc + 4] - b[kc]) * t;
+                store8(src.p[3].data() + o + x, ktop + (kbot - ktop) * vty);
+                // Depth: one channel, even and odd source values.
+                if (!zd) continue;
+                const v8f z0 = load8(zd + s0 + 2 * std::size_t(x)), z1 = load8(zd + s0 + 2 * std::size_t(x) + 8);
+                const v8f z2 = load8(zd + s1 + 2 * std::size_t(x)), z3 = load8(zd + s1 + 2 * std::size_t(x) + 8);
+                const v8f ze = __builtin_shufflevector(z0, z1, 0, 2, 4, 6, 8, 10, 12, 14);
+                const v8f zo = __builtin_shufflevector(z0, z1, 1, 3, 5, 7, 9, 11, 13, 15);
+                const v8f we = __builtin_shufflevector(z2, z3, 0, 2, 4, 6, 8, 10, 12, 14);
+                const v8f wo = __builtin_shufflevector(z2, z3, 1, 3, 5, 7, 9, 11, 13, 15);
+                const v8f ztop = ze + (zo - ze) * t, zbot = we + (wo - we) * t;
+                store8(src.p[4].data() + o + x, ztop + (zbot - ztop) * vty);
+            }
+            for (; x < wr; ++x) {  // the same operations, one output pixel at a time
+                const std::size_t e0 = s0 + 2 * std::size_t(x), e1 = s1 + 2 * std::size_t(x);
+                auto lerp2 = [&](const float* p, std::size_t stride) {
+                    const float top = p[stride * e0] + (p[stride * (e0 + 1)] - p[stride * e0]) * tx[x];
+                    const float bot = p[stride * e1] + (p[stride * (e1 + 1)] - p[stride * e1]) * tx[x];
+                    return top + (bot - top) * ty;
+                };
+                for (int c = 0; c < 3; ++c) src.p[c][o + x] = lerp2(cd + c, 4);
+                src.p[3][o + x] = lerp2(kd + kc, 4);
+                if (zd) src.p[4][o + x] = lerp2(zd, 1);
+            }
+            if (!zd) std::fill_n(src.p[4].data() + o, wr, 0.0f);
+        }
+    });
+}
+
 }  // namespace
 
 void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl, BleedRule rule,
@@ -313,27 +383,33 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
     if (p.half_res) {
         // Half resolution: each plane row resampled straight from the full-size inputs
         // (toolkit::RowResampler, the convention of toolkit::resample: the same values), the colour
-        // row through a small buffer: no half-size interleaved images written and read back.
+        // row through a small buffer: no half-size interleaved images written and read back. Where
+        // both sizes are even (every axis halves exactly) the fast traversal does the same
+        // operations eight outputs at a time (halve_into_planes); the tabled rows are its reference.
         const toolkit::ResampleAxis ax(wr, w), ay(hr, h);
-        toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
-            toolkit::RowResampler<4> uc(color.data(), w, wr, ax, ay);
-            toolkit::RowResampler<1, 4> uk(ctrl.data() + kc, w, wr, ax, ay);
-            std::optional<toolkit::RowResampler<1>> uz;
-            if (!depth.empty()) uz.emplace(depth.data(), w, wr, ax, ay);
-            std::vector<float> row(std::size_t(wr) * 4);
-            for (int y = y0; y < y1; ++y) {
-                const std::size_t r0 = std::size_t(y) * wr;
-                uc.row(y, row.data());
-                for (std::size_t x = 0; x < std::size_t(wr); ++x) {
-                    src.p[0][r0 + x] = row[4 * x];
-                    src.p[1][r0 + x] = row[4 * x + 1];
-                    src.p[2][r0 + x] = row[4 * x + 2];
+        if (ax.pairs && ay.pairs && ex.traversal != Traversal::Reference) {
+            halve_into_planes(src, color.data(), ctrl.data(), depth.empty() ? nullptr : depth.data(), w, ax, ay, ex);
+        } else {
+            toolkit::for_each_row_block(ex, hr, [&](int y0, int y1) {
+                toolkit::RowResampler<4> uc(color.data(), w, wr, ax, ay);
+                toolkit::RowResampler<1, 4> uk(ctrl.data() + kc, w, wr, ax, ay);
+                std::optional<toolkit::RowResampler<1>> uz;
+                if (!depth.empty()) uz.emplace(depth.data(), w, wr, ax, ay);
+                std::vector<float> row(std::size_t(wr) * 4);
+                for (int y = y0; y < y1; ++y) {
+                    const std::size_t r0 = std::size_t(y) * wr;
+                    uc.row(y, row.data());
+                    for (std::size_t x = 0; x < std::size_t(wr); ++x) {
+                        src.p[0][r0 + x] = row[4 * x];
+                        src.p[1][r0 + x] = row[4 * x + 1];
+                        src.p[2][r0 + x] = row[4 * x + 2];
+                    }
+                    uk.row(y, src.p[3].data() + r0);
+                    if (uz) uz->row(y, src.p[4].data() + r0);
+                    else std::fill_n(src.p[4].data() + r0, wr, 0.0f);
                 }
-                uk.row(y, src.p[3].data() + r0);
-                if (uz) uz->row(y, src.p[4].data() + r0);
-                else std::fill_n(src.p[4].data() + r0, wr, 0.0f);
-            }
-        });
+            });
+        }
     } else {
         const float* cd = color.data();
         const float* kd = ctrl.data() + kc;

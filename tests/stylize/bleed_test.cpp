@@ -209,6 +209,51 @@ TEST(Bleed, FastSkipsColumnChunksWithoutControlExactly) {
         }
 }
 
+// Even sizes halve exactly: the fast traversal resamples the colour, control and depth into
+// planes eight outputs at a time (halve_into_planes), the reference through the tabled rows. Every
+// channel of every input differs (a wrong colour or control channel, a swapped row or a dropped
+// depth shows), with NaN, infinities and -0 among them; 74 x 46 gives 37 half-resolution columns
+// (four blocks of eight and a tail). Zero control passes the resampled colour straight out; the
+// naive rule also runs without a depth image.
+TEST(Bleed, HalvingEvenSizesGivesTheTabledResampleBits) {
+    const int w = 74, h = 46;
+    for (bool painted : {false, true}) {
+        Scene s(w, h);
+        std::uint32_t q = 12345;
+        auto rnd = [&] { return float((q = q * 1664525u + 1013904223u) >> 8) / 16777216.0f; };
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                for (int c = 0; c < 4; ++c) s.color.at(x, y, c) = rnd();
+                for (int c = 0; c < 4; ++c) s.ctrl.at(x, y, c) = painted ? rnd() - 0.3f : (c == 2 ? 0.0f : rnd());
+                s.depth.at(x, y, 0) = 0.3f + 0.0001f * float(int(5.0f * rnd()));  // steps near T: the rules see them
+            }
+        s.color.at(3, 5, 0) = std::nanf("");
+        s.color.at(40, 7, 1) = INFINITY;
+        s.color.at(73, 45, 2) = -INFINITY;
+        s.color.at(16, 20, 0) = s.color.at(17, 20, 0) = s.color.at(16, 21, 0) = s.color.at(17, 21, 0) = -0.0f;
+        s.depth.at(9, 9, 0) = std::nanf("");
+        for (BleedRule rule : kRules)
+            for (bool with_depth : {true, false}) {
+                if (!with_depth && rule != BleedRule::Naive) continue;
+                const ImageF none;
+                const ImageF& z = with_depth ? s.depth : none;
+                BleedParams p;
+                p.half_res = true;
+                p.radius = 3;
+                ImageF ref;
+                bleed(ref, s.color, z, s.ctrl, rule, p, Exec::reference());
+                ASSERT_EQ(ref.width(), w / 2);
+                for (int threads : {1, 3}) {
+                    ImageF fast;
+                    bleed(fast, s.color, z, s.ctrl, rule, p, Exec{threads, Traversal::Fast, 4});
+                    ASSERT_TRUE(ref.same_size(fast));
+                    EXPECT_EQ(std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)), 0)
+                        << "rule " << int(rule) << " painted " << painted << " depth " << with_depth << " threads " << threads;
+                }
+            }
+    }
+}
+
 TEST(BleedBlend, UpsamplesAHalfResolutionBleedAndRejectsOtherSizes) {
     ImageF c(9, 7, 4, 0.25f), b(5, 4, 4, 0.75f), o;
     for (std::size_t i = 3; i < b.num_values(); i += 4) b.data()[i] = 1.0f;  // mask 1
