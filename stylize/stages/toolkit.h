@@ -582,6 +582,18 @@ public:
         for (std::size_t i = 0; i < n; ++i) o[i] = top[i] + (bot[i] - top[i]) * ty;
     }
 
+    //! Output pixels [x0, x1) of row y (C values each) written to o[0 .. (x1 - x0) C): row(y)'s
+    //! values there (the same horizontal rows, the same vertical lerp per value), for a traversal
+    //! that needs parts of a row. Not for the identity (use row_or_source and offset the pointer).
+    void row_span(int y, float* o, int x0, int x1) {
+        const float ty = ay_.t[std::size_t(y)];
+        const int j0 = ay_.i0[std::size_t(y)], j1 = ay_.i1[std::size_t(y)];
+        const float* __restrict top = horizontal(j0, -1) + std::size_t(x0) * C;
+        const float* __restrict bot = horizontal(j1, j0) + std::size_t(x0) * C;
+        const std::size_t n = std::size_t(x1 - x0) * C;
+        for (std::size_t i = 0; i < n; ++i) o[i] = top[i] + (bot[i] - top[i]) * ty;
+    }
+
     //! Output row y without a copy where it exists as is (the identity of a C-channel source): a
     //! pointer into the source; otherwise row(y, buf) and buf. buf holds w * C values.
     const float* row_or_source(int y, float* buf) {

@@ -339,5 +339,50 @@ TEST(BleedBlend, QuietRowsGiveTheReferenceBytes) {
     }
 }
 
+// The fast blend skips 128-pixel column chunks whose upsampling taps read only a quiet bleed (mask
+// +-0, bounded values) where the colour is bounded and has no -0. One bleeding pixel of the bleed
+// at a time, at and around the edges of the chunks' tap ranges (a range one column short fails),
+// in rows with -0, NaN and huge colours elsewhere and a NaN bleed colour under a quiet mask: the
+// reference's bytes, in place and not, half and full size, odd and even widths.
+TEST(BleedBlend, QuietColumnChunksGiveTheReferenceBytes) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (int w : {421, 420}) {
+        const int h = 12;
+        ImageF c(w, h, 4);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int k = 0; k < 4; ++k) c.at(x, y, k) = float((x * 7 + y * 13 + k * 5) % 17) / 16.0f;
+        c.at(300, 5, 1) = -0.0f;
+        c.at(10, 6, 0) = nan;
+        c.at(200, 7, 2) = 3e37f;
+        for (int half : {1, 0}) {
+            const int bw = half ? half_size(w) : w, bh = half ? half_size(h) : h;
+            const int edges[] = {half ? 63 : 127, half ? 64 : 128, half ? 127 : 255, half ? 128 : 256};
+            for (int e : edges)
+                for (int d : {-1, 0, 1}) {
+                    ImageF b(bw, bh, 4, 0.0f);
+                    for (int y = 0; y < bh; ++y)
+                        for (int x = 0; x < bw; ++x)
+                            for (int k = 0; k < 3; ++k) b.at(x, y, k) = float((x * 3 + y * 11 + k) % 9) / 8.0f;
+                    b.at(e + d, bh / 2, 3) = 0.75f;  // the one bleeding pixel
+                    b.at(bw - 3, 1, 0) = nan;        // quiet mask, NaN colour: its chunk is blended
+                    ImageF ref;
+                    bleed_blend(ref, c, b, BleedBlendParams{1.0f}, Exec::reference());
+                    for (bool in_place : {false, true}) {
+                        ImageF out;
+                        if (in_place) {
+                            out = c;
+                            bleed_blend(out, out, b, BleedBlendParams{1.0f}, Exec::fast(2));
+                        } else {
+                            bleed_blend(out, c, b, BleedBlendParams{1.0f}, Exec::fast(1));
+                        }
+                        ASSERT_EQ(std::memcmp(ref.data(), out.data(), ref.num_values() * sizeof(float)), 0)
+                            << "width " << w << " half " << half << " bleeding column " << e + d << " in place " << in_place;
+                    }
+                }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace aq::stylize
