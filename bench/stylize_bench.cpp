@@ -68,14 +68,21 @@ void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
     st.counters["threads"] = ex.traversal == Traversal::Reference ? 1 : ex.threads;
 }
 
-//! groups: the compiled pipeline's row groups run band by band ("/row_groups", `--row-groups`);
-//! off: step by step (the default, what users get). The same bytes: the fused schedule's pair.
-void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, bool groups) {
+//! The schedules of a frame loop (the same bytes in each):
+//!   Steps      every step writes its own output image (what `--targets` needs: every
+//!              intermediate kept) (pipeline/STYLE/SIZE/fast/threads:N, the series of issue 13 item 4)
+//!   RowGroups  Steps with the compiled pipeline's row groups run band by band ("/row_groups")
+//!   Cli        what `aquarelle render` runs without --targets (app/render_job.cpp): fused pairs
+//!              (stage.h Fusion) and steps in place on dead intermediates ("/cli")
+enum class Schedule { Steps, RowGroups, Cli };
+
+void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, Schedule schedule) {
     Pipeline p = load_pipeline(preset);
     Targets t = test::synthetic_gbuffer(s.w, s.h);
     RunOptions o;
     o.exec = Exec::fast(threads);
-    o.row_groups = groups;
+    o.row_groups = schedule == Schedule::RowGroups;
+    o.fuse = o.in_place = schedule == Schedule::Cli;
     o.reuse_outputs = true;  // a frame loop: outputs of the previous frame are reused
     run_pipeline(p, t, o);   // warm-up; prepares and keeps the "paper" target
     for (auto _ : st) {
@@ -89,10 +96,11 @@ void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, 
 //! Where a frame goes: the pipeline with a progress callback timing each step, reported as
 //! counters "NN_stage" in ms per frame: CPU time of the calling thread between step starts (with
 //! threads:1 that is all of the step's work, and it is far less disturbed by other load on the
-//! machine than wall time). `reuse`
-//! = the frame-loop path (RunOptions::reuse_outputs); off = the CLI's single-frame path (fresh
-//! targets every run, as `aquarelle render` does).
-void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, bool reuse) {
+//! machine than wall time). `reuse` ("/reuse")
+//! = the frame-loop path (RunOptions::reuse_outputs); off ("/fresh") = fresh targets every run;
+//! `cli` ("/cli", with reuse) = also fused pairs and steps in place, as `aquarelle render`
+//! runs an animation without --targets (a fused pair's time is its consumer's).
+void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, bool reuse, bool cli = false) {
     struct Clock {  // CPU time of the calling thread
         using time_point = std::chrono::duration<double, std::milli>;
         static time_point now() {
@@ -107,6 +115,7 @@ void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, b
     RunOptions o;
     o.exec = Exec::fast(threads);
     o.reuse_outputs = reuse;
+    o.fuse = o.in_place = cli;  // bm_pipeline's Schedule::Cli
     o.row_groups = false;  // step by step (also the default): a row group's steps would share one time
     std::vector<std::string> names;
     std::vector<double> ms;
@@ -163,20 +172,25 @@ const bool kRegistered = [] {
     for (const std::string& preset : image_presets)
         for (const Size& s : kSizes)
             for (int threads : {1, 2})
-                for (bool groups : {true, false})
+                for (Schedule schedule : {Schedule::RowGroups, Schedule::Steps, Schedule::Cli})
                     benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
-                                                  std::to_string(threads) + (groups ? "/row_groups" : "")).c_str(),
-                                                 bm_pipeline, preset, s, threads, groups)
+                                                  std::to_string(threads) +
+                                                  (schedule == Schedule::RowGroups ? "/row_groups"
+                                                   : schedule == Schedule::Cli     ? "/cli"
+                                                                                   : ""))
+                                                     .c_str(),
+                                                 bm_pipeline, preset, s, threads, schedule)
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
     for (const std::string& preset : image_presets)
         for (const Size& s : kSizes)
             for (int threads : {1, 2})
-                for (bool reuse : {false, true})
+                for (int mode : {0, 1, 2})  // fresh, reuse, cli (reuse + fused pairs + in place)
                     benchmark::RegisterBenchmark(("profile/" + preset + "/" + s.name + "/fast/threads:" +
-                                                  std::to_string(threads) + (reuse ? "/reuse" : "/fresh"))
+                                                  std::to_string(threads) +
+                                                  (mode == 0 ? "/fresh" : mode == 1 ? "/reuse" : "/cli"))
                                                      .c_str(),
-                                                 bm_profile, preset, s, threads, reuse)
+                                                 bm_profile, preset, s, threads, mode != 0, mode == 2)
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
     return true;
