@@ -242,24 +242,60 @@ ImageF read_image(const std::string& path, DecodeBudget* budget) {
     return decode_image(bytes.data(), bytes.size(), path, budget);
 }
 
+#ifdef __AVX2__
+namespace {
+//! to_unorm8 of eight values, as 32-bit integers in [0, 255].
+inline __m256i unorm8_lanes(__m256 v) {
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), k255 = _mm256_set1_ps(255.0f),
+                 half = _mm256_set1_ps(0.5f);
+    v = _mm256_max_ps(v, zero);  // maxps returns its second operand when either is NaN: NaN -> 0
+    v = _mm256_min_ps(v, one);
+    const __m256 x = _mm256_mul_ps(v, k255);
+    const __m256i t = _mm256_cvttps_epi32(x);  // int(x): x is in [0, 255]
+    const __m256 up = _mm256_cmp_ps(_mm256_sub_ps(x, _mm256_cvtepi32_ps(t)), half, _CMP_GE_OQ);
+    return _mm256_sub_epi32(t, _mm256_castps_si256(up));  // + 1 where the mask is all ones
+}
+}  // namespace
+#endif
+
 void to_unorm8_n(const float* src, unsigned char* dst, std::size_t n) {
     std::size_t i = 0;
 #ifdef __AVX2__
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), k255 = _mm256_set1_ps(255.0f),
-                 half = _mm256_set1_ps(0.5f);
     for (; i + 8 <= n; i += 8) {
-        __m256 v = _mm256_loadu_ps(src + i);
-        v = _mm256_max_ps(v, zero);  // maxps returns its second operand when either is NaN: NaN -> 0
-        v = _mm256_min_ps(v, one);
-        const __m256 x = _mm256_mul_ps(v, k255);
-        const __m256i t = _mm256_cvttps_epi32(x);  // int(x): x is in [0, 255]
-        const __m256 up = _mm256_cmp_ps(_mm256_sub_ps(x, _mm256_cvtepi32_ps(t)), half, _CMP_GE_OQ);
-        const __m256i q = _mm256_sub_epi32(t, _mm256_castps_si256(up));  // + 1 where the mask is all ones
+        const __m256i q = unorm8_lanes(_mm256_loadu_ps(src + i));
         const __m128i w = _mm_packus_epi32(_mm256_castsi256_si128(q), _mm256_extracti128_si256(q, 1));
         _mm_storel_epi64(reinterpret_cast<__m128i*>(dst + i), _mm_packus_epi16(w, w));
     }
 #endif
     for (; i < n; ++i) dst[i] = to_unorm8(src[i]);
+}
+
+void to_unorm8_rgb_n(const float* rgba, unsigned char* rgb, std::size_t pixels) {
+    std::size_t p = 0;
+#ifdef __AVX2__
+    // Eight pixels per step: the 32 codes packed to bytes (the packs interleave the 128-bit lanes:
+    // dwords = pixels 0 2 4 6 | 1 3 5 7, put in order by one permute), then each lane's four
+    // pixels without their alpha bytes, 12 bytes stored exactly (nothing written past the end).
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    const __m256i drop_alpha =
+        _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, 0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
+    for (; p + 8 <= pixels; p += 8) {
+        const float* s = rgba + 4 * p;
+        const __m256i a = _mm256_packus_epi32(unorm8_lanes(_mm256_loadu_ps(s)), unorm8_lanes(_mm256_loadu_ps(s + 8)));
+        const __m256i b = _mm256_packus_epi32(unorm8_lanes(_mm256_loadu_ps(s + 16)), unorm8_lanes(_mm256_loadu_ps(s + 24)));
+        const __m256i c = _mm256_shuffle_epi8(_mm256_permutevar8x32_epi32(_mm256_packus_epi16(a, b), order), drop_alpha);
+        unsigned char* d = rgb + 3 * p;
+        const __m128i lo = _mm256_castsi256_si128(c), hi = _mm256_extracti128_si256(c, 1);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(d), lo);
+        const int lo_tail = _mm_cvtsi128_si32(_mm_srli_si128(lo, 8));
+        std::memcpy(d + 8, &lo_tail, 4);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(d + 12), hi);
+        const int hi_tail = _mm_cvtsi128_si32(_mm_srli_si128(hi, 8));
+        std::memcpy(d + 20, &hi_tail, 4);
+    }
+#endif
+    for (; p < pixels; ++p)
+        for (int c = 0; c < 3; ++c) rgb[3 * p + std::size_t(c)] = to_unorm8(rgba[4 * p + std::size_t(c)]);
 }
 
 // --- writing ---------------------------------------------------------------------------------

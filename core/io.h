@@ -79,6 +79,10 @@ inline unsigned char to_unorm8(float v) {
 //! may trap). Same bytes either way (tests/core/io_test.cpp).
 void to_unorm8_n(const float* src, unsigned char* dst, std::size_t n);
 
+//! The RGB bytes of RGBA pixels: rgb[3 p + c] = to_unorm8(rgba[4 p + c]) for c < 3, p < pixels
+//! (alpha left out; eight pixels per AVX2 step). Same bytes as to_unorm8 (tests/core/io_test.cpp).
+void to_unorm8_rgb_n(const float* rgba, unsigned char* rgb, std::size_t pixels);
+
 //! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
 

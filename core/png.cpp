@@ -92,18 +92,11 @@ void encode_png(const ImageF& img, const std::string& description, std::vector<u
     const std::size_t row_values = std::size_t(w) * std::size_t(c);
     rows.resize((row_values + 1) * std::size_t(h));  // every byte is written below
     const float* p = img.data();
-    std::vector<unsigned char> rgba(drop_alpha ? 4 * std::size_t(w) : 0);
     for (int y = 0; y < h; ++y) {
         unsigned char* r = rows.data() + std::size_t(y) * (row_values + 1);
         r[0] = 0;
-        if (!drop_alpha) {
-            to_unorm8_n(p + std::size_t(y) * row_values, r + 1, row_values);
-            continue;
-        }
-        // All four channels quantised (the same to_unorm8 per value), then the alpha bytes left out.
-        to_unorm8_n(p + 4 * std::size_t(y) * std::size_t(w), rgba.data(), rgba.size());
-        for (std::size_t x = 0; x < std::size_t(w); ++x)
-            r[1 + 3 * x] = rgba[4 * x], r[2 + 3 * x] = rgba[4 * x + 1], r[3 + 3 * x] = rgba[4 * x + 2];
+        if (drop_alpha) to_unorm8_rgb_n(p + 4 * std::size_t(y) * std::size_t(w), r + 1, std::size_t(w));
+        else to_unorm8_n(p + std::size_t(y) * row_values, r + 1, row_values);
     }
 
     out.assign(kSignature, kSignature + sizeof kSignature);

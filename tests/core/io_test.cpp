@@ -134,6 +134,39 @@ TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
     }
 }
 
+// The RGB bytes of RGBA pixels: to_unorm8 of every colour value, alpha left out, over the same
+// values as above (each value once in each of the R, G, B and A lanes: a lane mix-up or a value from
+// the alpha shows), pixel counts that leave a scalar tail, nothing written past the last byte.
+TEST(ImageIO, Unorm8RgbOfRgbaPixelsEqualsTheScalarFunction) {
+    std::vector<float> v;
+    for (std::uint64_t b = 0; b <= 0xffffffffu; b += 1331) {
+        float f;
+        const std::uint32_t u = std::uint32_t(b);
+        std::memcpy(&f, &u, sizeof f);
+        v.push_back(f);
+    }
+    for (int k = 0; k < 255; ++k) {
+        const float tie = (float(k) + 0.5f) / 255.0f;
+        for (float t : {tie, std::nextafter(tie, 0.0f), std::nextafter(tie, 1.0f)}) v.push_back(t);
+    }
+    for (float f : {0.0f, -0.0f, 1.0f, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+                    std::numeric_limits<float>::quiet_NaN()})
+        v.push_back(f);
+    for (int shift = 0; shift < 4; ++shift) {  // value i in lane (i + shift) % 4
+        std::vector<float> rgba(v.size() + 4, 0.25f);
+        for (std::size_t i = 0; i < v.size(); ++i) rgba[i + std::size_t(shift)] = v[i];
+        for (std::size_t pixels : {rgba.size() / 4, rgba.size() / 4 - 3}) {
+            std::vector<unsigned char> got(3 * pixels + 1, 0xaa);
+            to_unorm8_rgb_n(rgba.data(), got.data(), pixels);
+            EXPECT_EQ(got[3 * pixels], 0xaa);  // nothing written past the end
+            for (std::size_t p = 0; p < pixels; ++p)
+                for (std::size_t c = 0; c < 3; ++c)
+                    if (got[3 * p + c] != to_unorm8(rgba[4 * p + c]))
+                        FAIL() << "pixel " << p << " channel " << c << ": " << rgba[4 * p + c] << " shift " << shift;
+        }
+    }
+}
+
 TEST(ImageIO, OnlyTheDocumentedFormatsAreDecoded) {
     ImageF img(3, 2, 3);
     img.at(1, 1, 2) = 0.5f;

@@ -30,7 +30,7 @@ void expect_in_unit_range(const ImageF& img) {
 TEST(Paper, MnprPaperLoadsInItsOwnLayoutAndTilesExactly) {
     const std::string path = test::asset(kMnpr);
     const ImageF src = read_image(path);
-    const int pw = src.width(), ph = src.height();
+    const int pw = src.width();
     const int w = pw + 37, h = 24;
     const ImageF paper = prepare_paper({path, "mnpr", 1.0f, 1.0f}, w, h);
     ASSERT_EQ(paper.channels(), 3);
@@ -56,9 +56,10 @@ TEST(Paper, ParallelRowsGiveTheOneThreadBytes) {
         for (const Exec& ex : {Exec::fast(1), Exec::fast(2), Exec::fast(8)})
             EXPECT_EQ(std::memcmp(prepare_paper(spec, w, h, ex).data(), one.data(), one.num_values() * sizeof(float)), 0)
                 << w << "x" << h << " scale " << scale << " threads " << ex.threads;
-        if (scale == 1.0f && h > th)
+        if (scale == 1.0f && h > th) {
             for (int y = 0; y < h - th; ++y)
                 for (int x = 0; x < w; ++x) ASSERT_EQ(one.at(x, y + th, 1), one.at(x, y, 1)) << "wraps in y";
+        }
     }
 }
 
