@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #ifdef __AVX__
 #include <immintrin.h>
 #endif
@@ -108,9 +109,11 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     const bool wd_finite = std::isfinite(wd);  // (+-0) x wd is +-0: the flat test's premise
     toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t pw = std::size_t(w) + 2;
-        std::vector<float> buf(pw * 12);
-        std::vector<float> hsv(std::size_t(w) * 2);
-        auto plane = [&](int r, int c) { return buf.data() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
+        // Not zero-filled (92 KB per block at 1080p): a slot's planes are filled before they are
+        // read, and the sums of a span before their magnitudes.
+        const auto buf = std::make_unique_for_overwrite<float[]>(pw * 12);
+        const auto hsv = std::make_unique_for_overwrite<float[]>(std::size_t(w) * 2);
+        auto plane = [&](int r, int c) { return buf.get() + (std::size_t(r) * 4 + std::size_t(c)) * pw; };
         // Per slot and column chunk: whether the chunk's taps (padded columns xc .. xe + 1) hold one
         // finite value per plane, and those values (computed once per row, used by three output rows).
         const std::size_t nchunks = (std::size_t(w) + kFlatChunk - 1) / kFlatChunk;
@@ -166,8 +169,8 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             const float* T[4] = {plane(slot[0], 0), plane(slot[0], 1), plane(slot[0], 2), plane(slot[0], 3)};
             const float* M[4] = {plane(slot[1], 0), plane(slot[1], 1), plane(slot[1], 2), plane(slot[1], 3)};
             const float* B[4] = {plane(slot[2], 0), plane(slot[2], 1), plane(slot[2], 2), plane(slot[2], 3)};
-            float* __restrict hsr = hsv.data();
-            float* __restrict vsr = hsv.data() + w;
+            float* __restrict hsr = hsv.get();
+            float* __restrict vsr = hsv.get() + w;
             // Pixels [xa, xb) of the row: the squared sums, then the magnitudes.
             auto compute = [&](int xa, int xb) {
                 if (xa >= xb) return;

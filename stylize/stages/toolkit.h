@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <memory>
 #include <vector>
 
 #include <immintrin.h>
@@ -560,8 +561,8 @@ public:
     using Generator = std::function<const float*(int j)>;
     RowResampler(const float* s, int sw, int w, const ResampleAxis& ax, const ResampleAxis& ay)
         : s_(s), sw_(sw), w_(w), ax_(ax), ay_(ay) {
-        if (!identity())
-            for (auto& b : buf_) b.resize(std::size_t(w) * C);
+        if (!identity())  // every value of a row buffer is written before it is read: not zero-filled
+            for (auto& b : buf_) b = std::make_unique_for_overwrite<float[]>(std::size_t(w) * C);
     }
     RowResampler(Generator generate, int sw, int w, const ResampleAxis& ax, const ResampleAxis& ay)
         : RowResampler(nullptr, sw, w, ax, ay) {
@@ -607,11 +608,11 @@ private:
     //! The horizontal resampling of source row j, cached; never evicts the row `keep`.
     const float* horizontal(int j, int keep) {
         for (int k = 0; k < 2; ++k)
-            if (key_[k] == j) return buf_[k].data();
+            if (key_[k] == j) return buf_[k].get();
         const int k = key_[0] == keep ? 1 : (key_[1] == keep ? 0 : next_);
         next_ = 1 - k;
         key_[k] = j;
-        float* h = buf_[k].data();
+        float* h = buf_[k].get();
         const float* r = gen_ ? gen_(j) : s_ + std::size_t(j) * sw_ * S;
         if (ax_.pairs) {
             halve_row<C, S>(r, ax_.t.data(), h, w_);
@@ -628,7 +629,7 @@ private:
     int sw_, w_;
     const ResampleAxis& ax_;
     const ResampleAxis& ay_;
-    std::vector<float> buf_[2];
+    std::unique_ptr<float[]> buf_[2];
     int key_[2] = {-1, -1};
     int next_ = 0;
 };
