@@ -159,34 +159,22 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         std::vector<glm::vec4> values;
     };
     std::vector<RowValues> later(in_place ? std::size_t(h) : 0);
-    auto has_edge = [&](int y, int xs, int xe) {
-        return !ed || any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold);
-    };
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        if (in_place) {  // the row's chunks with an edge first, so its values are stored without regrowing
-            RowValues& r = later[std::size_t(y)];
-            const std::size_t first = r.starts.size();
-            std::size_t n = 0;
-            for (int xs = x0; xs < x1; xs += kChunk) {
-                const int xe = std::min(x1, xs + kChunk);
-                if (!has_edge(y, xs, xe)) continue;
-                r.starts.push_back(xs);
-                n += std::size_t(xe - xs);
-            }
-            r.values.reserve(r.values.size() + n);
-            for (std::size_t i = first; i < r.starts.size(); ++i)
-                for (int x = r.starts[i], xe = std::min(x1, r.starts[i] + kChunk); x < xe; ++x) r.values.push_back(k(x, y));
-            return;
-        }
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
-            if (!has_edge(y, xs, xe)) {
-                stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+            if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
+                if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                continue;
+            }
+            if (in_place) {
+                RowValues& r = later[std::size_t(y)];
+                r.starts.push_back(xs);
+                for (int x = xs; x < xe; ++x) r.values.push_back(k(x, y));
                 continue;
             }
             for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
         }
-        stream_fence();  // the copied chunks' non-temporal stores, before the row is done
+        if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
     });
     if (!in_place) return;
     for_each_row(ex, w, h, [&](int y, int, int x1) {
