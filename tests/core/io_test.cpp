@@ -104,12 +104,14 @@ TEST(ImageIO, Unorm8EqualsLroundOfTheClampedValue) {
         EXPECT_EQ(to_unorm8(v), plain(v)) << v;
 }
 
-// The eight-at-a-time quantisation equals to_unorm8 value by value: every 331st float bit pattern
-// (13 million: negatives, NaNs, infinities, denormals included), the ties, +-0, at unaligned starts
-// and lengths that leave a scalar tail.
-TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
+namespace {
+
+//! Inputs of the quantisation tests: every `stride`-th float bit pattern (negatives, NaNs,
+//! infinities, denormals included), every tie (k + 0.5) / 255 with its neighbours, +-0, 1, the float
+//! above 1, +-infinity and NaN.
+std::vector<float> unorm8_test_values(std::uint64_t stride) {
     std::vector<float> v;
-    for (std::uint64_t b = 0; b <= 0xffffffffu; b += 331) {
+    for (std::uint64_t b = 0; b <= 0xffffffffu; b += stride) {
         float f;
         const std::uint32_t u = std::uint32_t(b);
         std::memcpy(&f, &u, sizeof f);
@@ -117,13 +119,21 @@ TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
     }
     for (int k = 0; k < 255; ++k) {
         const float tie = (float(k) + 0.5f) / 255.0f;
-        v.push_back(tie);
-        v.push_back(std::nextafter(tie, 0.0f));
-        v.push_back(std::nextafter(tie, 1.0f));
+        for (float t : {tie, std::nextafter(tie, 0.0f), std::nextafter(tie, 1.0f)}) v.push_back(t);
     }
     for (float f : {0.0f, -0.0f, 1.0f, std::nextafter(1.0f, 2.0f), -std::numeric_limits<float>::infinity(),
                     std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()})
         v.push_back(f);
+    return v;
+}
+
+}  // namespace
+
+// The eight-at-a-time quantisation equals to_unorm8 value by value: every 331st float bit pattern
+// (13 million: negatives, NaNs, infinities, denormals included), the ties, +-0, at unaligned starts
+// and lengths that leave a scalar tail.
+TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
+    const std::vector<float> v = unorm8_test_values(331);
     for (std::size_t start : {std::size_t(0), std::size_t(3)}) {
         const std::size_t n = v.size() - start - 5;  // a tail of n % 8 values
         std::vector<unsigned char> got(n + 1, 0xaa);
@@ -138,20 +148,7 @@ TEST(ImageIO, Unorm8OfManyValuesEqualsTheScalarFunction) {
 // values as above (each value once in each of the R, G, B and A lanes: a lane mix-up or a value from
 // the alpha shows), pixel counts that leave a scalar tail, nothing written past the last byte.
 TEST(ImageIO, Unorm8RgbOfRgbaPixelsEqualsTheScalarFunction) {
-    std::vector<float> v;
-    for (std::uint64_t b = 0; b <= 0xffffffffu; b += 1331) {
-        float f;
-        const std::uint32_t u = std::uint32_t(b);
-        std::memcpy(&f, &u, sizeof f);
-        v.push_back(f);
-    }
-    for (int k = 0; k < 255; ++k) {
-        const float tie = (float(k) + 0.5f) / 255.0f;
-        for (float t : {tie, std::nextafter(tie, 0.0f), std::nextafter(tie, 1.0f)}) v.push_back(t);
-    }
-    for (float f : {0.0f, -0.0f, 1.0f, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
-                    std::numeric_limits<float>::quiet_NaN()})
-        v.push_back(f);
+    const std::vector<float> v = unorm8_test_values(1331);
     for (int shift = 0; shift < 4; ++shift) {  // value i in lane (i + shift) % 4
         std::vector<float> rgba(v.size() + 4, 0.25f);
         for (std::size_t i = 0; i < v.size(); ++i) rgba[i + std::size_t(shift)] = v[i];

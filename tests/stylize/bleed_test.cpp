@@ -254,6 +254,27 @@ TEST(Bleed, HalvingEvenSizesGivesTheTabledResampleBits) {
     }
 }
 
+//! A colour of w x h pixels whose values (in [0, 1]) differ between neighbours and channels.
+ImageF blend_colour(int w, int h) {
+    ImageF c(w, h, 4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < 4; ++k) c.at(x, y, k) = float((x * 7 + y * 13 + k * 5) % 17) / 16.0f;
+    return c;
+}
+
+//! The fast blend of c with b, on a copy of c in place (the CLI's schedule) or into a new image.
+ImageF blend(const ImageF& c, const ImageF& b, float gain, const Exec& ex, bool in_place) {
+    ImageF out;
+    if (in_place) {
+        out = c;
+        bleed_blend(out, out, b, BleedBlendParams{gain}, ex);
+    } else {
+        bleed_blend(out, c, b, BleedBlendParams{gain}, ex);
+    }
+    return out;
+}
+
 TEST(BleedBlend, UpsamplesAHalfResolutionBleedAndRejectsOtherSizes) {
     ImageF c(9, 7, 4, 0.25f), b(5, 4, 4, 0.75f), o;
     for (std::size_t i = 3; i < b.num_values(); i += 4) b.data()[i] = 1.0f;  // mask 1
@@ -288,10 +309,7 @@ TEST(BleedBlend, GainScalesTheMaskAndSaturates) {
 TEST(BleedBlend, QuietRowsGiveTheReferenceBytes) {
     const int w = 37, h = 24;
     const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-    ImageF c(w, h, 4);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int k = 0; k < 4; ++k) c.at(x, y, k) = float((x * 7 + y * 13 + k * 5) % 17) / 16.0f;
+    ImageF c = blend_colour(w, h);
     c.at(5, 2, 1) = -0.0f;
     c.at(6, 3, 0) = nan;
     c.at(7, 4, 2) = inf;
@@ -317,13 +335,7 @@ TEST(BleedBlend, QuietRowsGiveTheReferenceBytes) {
             bleed_blend(ref, c, b, BleedBlendParams{gain}, Exec::reference());
             for (const Exec& ex : {Exec::fast(1), Exec::fast(2)})
                 for (bool in_place : {false, true}) {
-                    ImageF out;
-                    if (in_place) {
-                        out = c;
-                        bleed_blend(out, out, b, BleedBlendParams{gain}, ex);
-                    } else {
-                        bleed_blend(out, c, b, BleedBlendParams{gain}, ex);
-                    }
+                    const ImageF out = blend(c, b, gain, ex, in_place);
                     for (std::size_t i = 0; i < ref.num_values(); ++i) {
                         const float r = ref.data()[i], a = out.data()[i];
                         if (r != r) {
@@ -348,10 +360,7 @@ TEST(BleedBlend, QuietColumnChunksGiveTheReferenceBytes) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (int w : {421, 420}) {
         const int h = 12;
-        ImageF c(w, h, 4);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                for (int k = 0; k < 4; ++k) c.at(x, y, k) = float((x * 7 + y * 13 + k * 5) % 17) / 16.0f;
+        ImageF c = blend_colour(w, h);
         c.at(300, 5, 1) = -0.0f;
         c.at(10, 6, 0) = nan;
         c.at(200, 7, 2) = 3e37f;
@@ -369,13 +378,7 @@ TEST(BleedBlend, QuietColumnChunksGiveTheReferenceBytes) {
                     ImageF ref;
                     bleed_blend(ref, c, b, BleedBlendParams{1.0f}, Exec::reference());
                     for (bool in_place : {false, true}) {
-                        ImageF out;
-                        if (in_place) {
-                            out = c;
-                            bleed_blend(out, out, b, BleedBlendParams{1.0f}, Exec::fast(2));
-                        } else {
-                            bleed_blend(out, c, b, BleedBlendParams{1.0f}, Exec::fast(1));
-                        }
+                        const ImageF out = blend(c, b, 1.0f, Exec::fast(in_place ? 2 : 1), in_place);
                         ASSERT_EQ(std::memcmp(ref.data(), out.data(), ref.num_values() * sizeof(float)), 0)
                             << "width " << w << " half " << half << " bleeding column " << e + d << " in place " << in_place;
                     }
