@@ -284,14 +284,13 @@ void to_unorm8_rgb_n(const float* rgba, unsigned char* rgb, std::size_t pixels) 
         const __m256i a = _mm256_packus_epi32(unorm8_lanes(_mm256_loadu_ps(s)), unorm8_lanes(_mm256_loadu_ps(s + 8)));
         const __m256i b = _mm256_packus_epi32(unorm8_lanes(_mm256_loadu_ps(s + 16)), unorm8_lanes(_mm256_loadu_ps(s + 24)));
         const __m256i c = _mm256_shuffle_epi8(_mm256_permutevar8x32_epi32(_mm256_packus_epi16(a, b), order), drop_alpha);
-        unsigned char* d = rgb + 3 * p;
-        const __m128i lo = _mm256_castsi256_si128(c), hi = _mm256_extracti128_si256(c, 1);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(d), lo);
-        const int lo_tail = _mm_cvtsi128_si32(_mm_srli_si128(lo, 8));
-        std::memcpy(d + 8, &lo_tail, 4);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(d + 12), hi);
-        const int hi_tail = _mm_cvtsi128_si32(_mm_srli_si128(hi, 8));
-        std::memcpy(d + 20, &hi_tail, 4);
+        auto store12 = [](unsigned char* d, __m128i v) {  // bytes 0-11 of v
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(d), v);
+            const int tail = _mm_cvtsi128_si32(_mm_srli_si128(v, 8));
+            std::memcpy(d + 8, &tail, 4);
+        };
+        store12(rgb + 3 * p, _mm256_castsi256_si128(c));
+        store12(rgb + 3 * p + 12, _mm256_extracti128_si256(c, 1));
     }
 #endif
     for (; p < pixels; ++p)

@@ -304,40 +304,37 @@ void halve_into_planes(Planes& src, const float* cd, const float* kd, const floa
             const std::size_t s0 = std::size_t(ay.i0[std::size_t(y)]) * w, s1 = std::size_t(ay.i1[std::size_t(y)]) * w;
             const float ty = ay.t[std::size_t(y)];
             const float* tx = ax.t.data();
+            // Eight outputs: the lerps of the even (e) and odd (d) source values of rows 2y (0) and 2y + 1 (1).
+            auto lerp8 = [&](v8f e0, v8f d0, v8f e1, v8f d1, v8f t, v8f vty) {
+                const v8f top = e0 + (d0 - e0) * t, bot = e1 + (d1 - e1) * t;
+                return top + (bot - top) * vty;
+            };
+            // Source pixels 2x .. 2x + 15 of an RGBA image in both rows, transposed: a[c] / a[4 + c] =
+            // channel c of the even / odd pixels of row 2y, b the same of row 2y + 1.
+            auto rgba_pairs = [&](const float* p, int xs, v8f a[8], v8f b[8]) {
+                for (int k = 0; k < 8; ++k) {
+                    a[k] = load8(p + 4 * (s0 + 2 * std::size_t(xs + k)));
+                    b[k] = load8(p + 4 * (s1 + 2 * std::size_t(xs + k)));
+                }
+                transpose8x8(a);
+                transpose8x8(b);
+            };
             int x = 0;
             for (; x + 8 <= wr; x += 8) {
                 const v8f t = load8(tx + x), vty = v8f{} + ty;
-                // Colour: rows 2y and 2y + 1, source pixels 2x .. 2x + 15, channels R, G, B.
                 v8f a[8], b[8];
-                for (int k = 0; k < 8; ++k) {
-                    a[k] = load8(cd + 4 * (s0 + 2 * std::size_t(x + k)));
-                    b[k] = load8(cd + 4 * (s1 + 2 * std::size_t(x + k)));
-                }
-                transpose8x8(a);
-                transpose8x8(b);
-                for (int c = 0; c < 3; ++c) {
-                    const v8f top = a[c] + (a[c + 4] - a[c]) * t, bot = b[c] + (b[c + 4] - b[c]) * t;
-                    store8(src.p[c].data() + o + x, top + (bot - top) * vty);
-                }
-                // Control: channel kc of the same pixels.
-                for (int k = 0; k < 8; ++k) {
-                    a[k] = load8(kd + 4 * (s0 + 2 * std::size_t(x + k)));
-                    b[k] = load8(kd + 4 * (s1 + 2 * std::size_t(x + k)));
-                }
-                transpose8x8(a);
-                transpose8x8(b);
-                const v8f ktop = a[kc] + (a[kc + 4] - a[kc]) * t, kbot = b[kc] + (b[kc + 4] - b[kc]) * t;
-                store8(src.p[3].data() + o + x, ktop + (kbot - ktop) * vty);
-                // Depth: one channel, even and odd source values.
-                if (!zd) continue;
+                rgba_pairs(cd, x, a, b);  // colour: channels R, G, B
+                for (int c = 0; c < 3; ++c) store8(src.p[c].data() + o + x, lerp8(a[c], a[c + 4], b[c], b[c + 4], t, vty));
+                rgba_pairs(kd, x, a, b);  // control: channel kc
+                store8(src.p[3].data() + o + x, lerp8(a[kc], a[kc + 4], b[kc], b[kc + 4], t, vty));
+                if (!zd) continue;  // depth: one channel, even and odd values by shuffles
                 const v8f z0 = load8(zd + s0 + 2 * std::size_t(x)), z1 = load8(zd + s0 + 2 * std::size_t(x) + 8);
                 const v8f z2 = load8(zd + s1 + 2 * std::size_t(x)), z3 = load8(zd + s1 + 2 * std::size_t(x) + 8);
-                const v8f ze = __builtin_shufflevector(z0, z1, 0, 2, 4, 6, 8, 10, 12, 14);
-                const v8f zo = __builtin_shufflevector(z0, z1, 1, 3, 5, 7, 9, 11, 13, 15);
-                const v8f we = __builtin_shufflevector(z2, z3, 0, 2, 4, 6, 8, 10, 12, 14);
-                const v8f wo = __builtin_shufflevector(z2, z3, 1, 3, 5, 7, 9, 11, 13, 15);
-                const v8f ztop = ze + (zo - ze) * t, zbot = we + (wo - we) * t;
-                store8(src.p[4].data() + o + x, ztop + (zbot - ztop) * vty);
+                store8(src.p[4].data() + o + x,
+                       lerp8(__builtin_shufflevector(z0, z1, 0, 2, 4, 6, 8, 10, 12, 14),
+                             __builtin_shufflevector(z0, z1, 1, 3, 5, 7, 9, 11, 13, 15),
+                             __builtin_shufflevector(z2, z3, 0, 2, 4, 6, 8, 10, 12, 14),
+                             __builtin_shufflevector(z2, z3, 1, 3, 5, 7, 9, 11, 13, 15), t, vty));
             }
             for (; x < wr; ++x) {  // the same operations, one output pixel at a time
                 const std::size_t e0 = s0 + 2 * std::size_t(x), e1 = s1 + 2 * std::size_t(x);

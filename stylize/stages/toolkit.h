@@ -12,8 +12,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <string>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <immintrin.h>
@@ -575,12 +575,7 @@ public:
             else resample_row<C, S>(s_, sw_, o, w_, ax_, ay_, y);
             return;
         }
-        const float ty = ay_.t[std::size_t(y)];
-        const int j0 = ay_.i0[std::size_t(y)], j1 = ay_.i1[std::size_t(y)];
-        const float* __restrict top = horizontal(j0, -1);
-        const float* __restrict bot = horizontal(j1, j0);
-        const std::size_t n = std::size_t(w_) * C;
-        for (std::size_t i = 0; i < n; ++i) o[i] = top[i] + (bot[i] - top[i]) * ty;
+        row_span(y, o, 0, w_);
     }
 
     //! Output pixels [x0, x1) of row y (C values each) written to o[0 .. (x1 - x0) C): row(y)'s
