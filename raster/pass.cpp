@@ -141,7 +141,7 @@ inline PosNormal gather(const Frame& fr, const Chunk& ch, const TriSetup& t, con
     const DrawVertices::Shading& v1 = dv.view[idx[1]];
     const DrawVertices::Shading& v2 = dv.view[idx[2]];
     return {v0.pos + (v1.pos - v0.pos) * o[1] + (v2.pos - v0.pos) * o[2],
-            v0.normal + (v1.normal - v0.normal) * o[1] + (v2.normal - v0.normal) * o[2], t.back != 0};
+            v0.normal + (v1.normal - v0.normal) * o[1] + (v2.normal - v0.normal) * o[2], t.back()};
 }
 
 // PassValue::Depth of a fragment at linear eye depth d.
@@ -395,7 +395,7 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             for (const Chunk& ch : fr.chunks)
                 for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
                     const TriSetup& t = ch.tris[ch.bin_items[k]];
-                    for_each_inside(t, std::max(t.x0, X0), std::min(t.x1, X1), std::max(t.y0, Y0), std::min(t.y1, Y1),
+                    for_each_inside(t, std::max<int>(t.x0, X0), std::min<int>(t.x1, X1), std::max<int>(t.y0, Y0), std::min<int>(t.y1, Y1),
                                     [&](int x, int y, const std::int64_t* e) {
                                         fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x,
                                                  &zbuf[(y - Y0) * kTile + (x - X0)]);

@@ -80,6 +80,8 @@ struct FrameScratch {
 
 // Builds the frame constants for a raster grid of W x H (supersampled).
 Frame detail::make_frame(const scene::Scene& sc, const scene::Camera& cam, const RenderSettings& s, int W, int H) {
+    // TriSetup's 16-bit pixel bounds hold every pixel of a grid that passes this check.
+    check_image_size(W, H, "raster grid");
     Frame fr;
     fr.fp.proj = projection_matrix(cam, float(s.width) / float(s.height));
     fr.fp.perspective = !cam.orthographic;

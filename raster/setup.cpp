@@ -10,7 +10,13 @@
 #include <immintrin.h>
 #endif
 
+#include "core/image.h"
+
 namespace aq::raster {
+
+// TriSetup's pixel bounds are 16-bit: every raster grid is at most kMaxImageSide wide and high
+// (make_frame checks it).
+static_assert(kMaxImageSide - 1 <= INT16_MAX);
 
 namespace {
 
@@ -32,7 +38,9 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
 
 // The edge functions and top-left biases of a triangle whose setup vertices (positive area) are
 // X, Y: edge i runs from vertex (i + 1) % 3 to vertex (i + 2) % 3, opposite vertex i.
+// Writes t.flags: the three biases, no other bit.
 [[gnu::always_inline]] inline void set_edges(const std::int64_t (&X)[3], const std::int64_t (&Y)[3], TriSetup& t) {
+    std::uint8_t flags = 0;
     for (int i = 0; i < 3; ++i) {
         const int a = (i + 1) % 3, b = (i + 2) % 3;
         const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
@@ -40,8 +48,9 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
         t.B[i] = std::int32_t(dx);
         t.C[i] = dy * X[a] - dx * Y[a];
         const bool top_left = (dy == 0 && dx > 0) || dy < 0;
-        t.bias[i] = top_left ? 0 : 1;
+        flags |= std::uint8_t((top_left ? 0u : 1u) << i);
     }
+    t.flags = flags;
 }
 
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
@@ -80,10 +89,10 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
         Y[j] = y[order[j]];
     }
     set_edges(X, Y, t);
-    t.x0 = std::int32_t(px0);
-    t.x1 = std::int32_t(px1);
-    t.y0 = std::int32_t(py0);
-    t.y1 = std::int32_t(py1);
+    t.x0 = std::int16_t(px0);
+    t.x1 = std::int16_t(px1);
+    t.y0 = std::int16_t(py0);
+    t.y1 = std::int16_t(py1);
     // Small-triangle fast path: most triangles of dense meshes cover at most a few pixel centres
     // of their bounds; a triangle that covers none is dropped here instead of being binned.
     if ((px1 - px0 + 1) * (py1 - py0 + 1) <= kSmallTrianglePixels) {
@@ -101,8 +110,7 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
         t.depth[j] = sv[order[j]].depth;
         if (beta) cv.beta[j] = beta[order[j]];
     }
-    t.perm = order[1] == 2 ? 1 : 0;
-    t.back = back ? 1 : 0;
+    t.flags |= std::uint8_t((order[1] == 2 ? TriSetup::kPermBit : 0u) | (back ? TriSetup::kBackBit : 0u));
     return true;
 }
 
@@ -399,7 +407,8 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     TriSetup& t = out.emplace_back(TriSetup::NoInit{});
     const std::int64_t X[3] = {ln.X[0][l], ln.X[1][l], ln.X[2][l]}, Y[3] = {ln.Y[0][l], ln.Y[1][l], ln.Y[2][l]};
     set_edges(X, Y, t);
-    t.x0 = ln.x0[l], t.x1 = ln.x1[l], t.y0 = ln.y0[l], t.y1 = ln.y1[l];
+    t.x0 = std::int16_t(ln.x0[l]), t.x1 = std::int16_t(ln.x1[l]);
+    t.y0 = std::int16_t(ln.y0[l]), t.y1 = std::int16_t(ln.y1[l]);
     for (int j = 0; j < 3; ++j) {
         const SnapVertex& v = snap[ln.vi[j][l]];
         t.inv_w[j] = v.inv_w;
@@ -408,8 +417,8 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     t.draw = draw_index;
     t.tri = tri;
     t.clip = -1;
-    t.perm = ln.neg[l] ? 1 : 0;
-    t.back = ln.neg[l] ? 0 : 1;  // area > 0 (area 0 was dropped)
+    // perm when the area is negative, back when it is positive (area 0 was dropped).
+    t.flags |= ln.neg[l] ? TriSetup::kPermBit : TriSetup::kBackBit;
 }
 #endif
 

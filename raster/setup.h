@@ -17,24 +17,30 @@
 
 namespace aq::raster {
 
-//! One rasterizable triangle after clipping, culling and snapping.
+//! One rasterizable triangle after clipping, culling and snapping: 96 bytes (the tile pass reads
+//! one per binned triangle and per shaded pixel; a dense mesh sets up hundreds of thousands).
 struct TriSetup {
-    std::int32_t A[3], B[3];   //!< edge steps: E_i(x+1) = E_i + A_i*256 (fixed-point sample)
     std::int64_t C[3];         //!< E_i at fixed-point sample (0, 0)
-    std::int32_t bias[3];      //!< 0 top-left edge, 1 otherwise
-    std::int32_t x0, y0, x1, y1;  //!< inclusive pixel bounds, clamped to the raster
+    std::int32_t A[3], B[3];   //!< edge steps: E_i(x+1) = E_i + A_i*256 (fixed-point sample)
     float inv_w[3];            //!< 1/w of setup vertex j (edge i is opposite vertex i)
     float depth[3];            //!< linear eye depth of setup vertex j
     std::uint32_t draw;        //!< index into the frame's draws
     std::uint32_t tri;         //!< triangle index in the primitive
     std::int32_t clip;         //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
-    std::uint8_t perm;         //!< 0: identity, 1: vertices 1 and 2 swapped
-    std::uint8_t back;         //!< 1 when the triangle faces away (CW in NDC)
+    std::int16_t x0, y0, x1, y1;  //!< inclusive pixel bounds, clamped to the raster (< kMaxImageSide)
+    //! Bits 0-2: the bias of edge i (0 top-left edge, 1 otherwise); kPermBit: vertices 1 and 2
+    //! swapped; kBackBit: the triangle faces away (CW in NDC).
+    std::uint8_t flags;
+    static constexpr std::uint8_t kPermBit = 1u << 3, kBackBit = 1u << 4;
+    int bias(int i) const { return (flags >> i) & 1; }
+    bool perm() const { return (flags & kPermBit) != 0; }
+    bool back() const { return (flags & kBackBit) != 0; }
     // No default member initializers: trivially constructible, setup writes every field.
     struct NoInit {};
     TriSetup() = default;
     explicit TriSetup(NoInit) {}  //!< for emplace_back without the zeroing of value-initialisation
 };
+static_assert(sizeof(TriSetup) == 96);
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
 struct ClipVerts {
@@ -49,7 +55,7 @@ inline void edge_values(const TriSetup& t, int px, int py, std::int64_t e[3]) {
 }
 
 inline bool inside(const TriSetup& t, const std::int64_t e[3]) {
-    return e[0] >= t.bias[0] && e[1] >= t.bias[1] && e[2] >= t.bias[2];
+    return e[0] >= t.bias(0) && e[1] >= t.bias(1) && e[2] >= t.bias(2);
 }
 
 //! Calls f(x, y, e) for every pixel of [x0, x1] x [y0, y1] whose centre is inside t, row by row,

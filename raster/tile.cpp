@@ -8,8 +8,8 @@ namespace aq::raster::detail {
 void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o[3]) {
     if (t.clip < 0) {
         o[0] = b.b[0];
-        o[1] = t.perm ? b.b[2] : b.b[1];
-        o[2] = t.perm ? b.b[1] : b.b[2];
+        o[1] = t.perm() ? b.b[2] : b.b[1];
+        o[2] = t.perm() ? b.b[1] : b.b[2];
     } else {
         const ClipVerts& cv = ch.clips[t.clip];
         for (int k = 0; k < 3; ++k) o[k] = (b.b[0] * cv.beta[0][k] + b.b[1] * cv.beta[1][k]) + b.b[2] * cv.beta[2][k];
@@ -43,7 +43,7 @@ void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary
         in.ctrl[k] = c.size() == p.positions.size() ? lerp3(glm::vec3(c[i0]), glm::vec3(c[i1]), glm::vec3(c[i2]))
                                                     : glm::vec3(0.0f);
     }
-    in.back = t.back != 0;
+    in.back = t.back();
     in.base = dv.const_base ? &dv.base : nullptr;
 }
 
@@ -200,8 +200,8 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
                 __builtin_prefetch(ahead + 64);
             }
             const TriSetup& t = ch.tris[ti];
-            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X1);
-            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y1);
+            const int x0 = std::max<int>(t.x0, X0), x1 = std::min<int>(t.x1, X1);
+            const int y0 = std::max<int>(t.y0, Y0), y1 = std::min<int>(t.y1, Y1);
             if (!needs_alpha_test(fr, t)) {
                 depth_test_triangle(t, X0, Y0, kTile, x0, x1, y0, y1, zbuf, ids, {ci, ti});
                 continue;
@@ -230,7 +230,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         for (const Chunk& ch : fr.chunks)
             for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
                 const TriSetup& t = ch.tris[ch.bin_items[k]];
-                for_each_inside(t, std::max(t.x0, X0), std::min(t.x1, X1), std::max(t.y0, Y0), std::min(t.y1, Y1),
+                for_each_inside(t, std::max<int>(t.x0, X0), std::min<int>(t.x1, X1), std::max<int>(t.y0, Y0), std::min<int>(t.y1, Y1),
                                 [&](int x, int y, const std::int64_t*) { count[std::size_t(y) * W + x] += 1.0f; });
             }
         return;

@@ -55,7 +55,7 @@ void depth_test_avx2(const TriSetup& t, int X0, int Y0, int stride, int x0, int 
         const std::uint32_t sx = std::uint32_t(std::int64_t(t.A[i]) * kSubpixelOne);  // modulo 2^32
         off[i] = _mm256_mullo_epi32(lane, _mm256_set1_epi32(std::int32_t(sx)));
         step[i] = _mm256_set1_epi32(std::int32_t(sx * 8u));
-        bias[i] = _mm256_set1_epi32(t.bias[i] - 1);  // e >= bias  <=>  e > bias - 1
+        bias[i] = _mm256_set1_epi32(t.bias(i) - 1);  // e >= bias  <=>  e > bias - 1
     }
     const __m256 iw0 = _mm256_set1_ps(t.inv_w[0]), iw1 = _mm256_set1_ps(t.inv_w[1]), iw2 = _mm256_set1_ps(t.inv_w[2]);
     const __m256 d0 = _mm256_set1_ps(t.depth[0]);

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "core/image.h"
 #include "raster/setup.h"
 #include "scenes/scene.h"
 
@@ -84,9 +85,9 @@ void expect_same_setups(const std::vector<TriSetup>& a, const std::vector<TriSet
         const TriSetup& s = a[k];
         const TriSetup& t = b[k];
         bool same = s.x0 == t.x0 && s.y0 == t.y0 && s.x1 == t.x1 && s.y1 == t.y1 && s.draw == t.draw &&
-                    s.tri == t.tri && s.clip == t.clip && s.perm == t.perm && s.back == t.back;
+                    s.tri == t.tri && s.clip == t.clip && s.flags == t.flags;
         for (int i = 0; i < 3; ++i)
-            same = same && s.A[i] == t.A[i] && s.B[i] == t.B[i] && s.C[i] == t.C[i] && s.bias[i] == t.bias[i] &&
+            same = same && s.A[i] == t.A[i] && s.B[i] == t.B[i] && s.C[i] == t.C[i] && s.bias(i) == t.bias(i) &&
                    s.inv_w[i] == t.inv_w[i] && s.depth[i] == t.depth[i];
         ASSERT_TRUE(same) << "setup " << k << " (triangle " << s.tri << " vs " << t.tri << ")";
     }
@@ -193,6 +194,37 @@ TEST(TriangleSetup, TheBatchedSetupKeepsTheTopLeftRuleOnHalfPixelVertices) {
                 EXPECT_LT(ref.size(), ntri) << "seed " << seed;
             }
     }
+}
+
+// The record's pixel bounds are 16-bit: on the widest grid make_frame accepts (kMaxImageSide) a
+// triangle that runs past the right edge is clamped to the last column, and its winding bits say
+// which way it faces and whether vertices 1 and 2 were swapped.
+TEST(TriangleSetup, BoundsOnTheWidestGridReachTheLastColumn) {
+    Mesh m;
+    init_mesh(m, kMaxImageSide, 4, 3, 1);
+    const glm::vec2 px[3] = {{kMaxImageSide - 3.8f, 0.2f}, {kMaxImageSide + 6.0f, 0.2f}, {kMaxImageSide - 3.8f, 3.8f}};
+    for (int k = 0; k < 3; ++k) {
+        const glm::vec4 c(px[k].x / (0.5f * kMaxImageSide) - 1.0f, 1.0f - px[k].y / 2.0f, 0.0f, 1.0f);
+        ASSERT_EQ(outcode(c, m.vp), 0u);
+        m.dv.clip[k] = c;
+        m.dv.snap[k] = snap_vertex(c, 1.0f, m.vp);
+    }
+    m.prim.indices = {0, 1, 2, 0, 2, 1};  // y-down: positive area (faces away), then negative
+    const SetupRun r = one_by_one(m, 0, SetupOptions{});
+    ASSERT_EQ(r.setups.size(), 2u);
+    for (const TriSetup& t : r.setups) {
+        EXPECT_EQ(t.x0, kMaxImageSide - 4);
+        EXPECT_EQ(t.x1, kMaxImageSide - 1);
+        EXPECT_EQ(t.y0, 0);
+        EXPECT_EQ(t.y1, 3);
+        std::int64_t e[3];
+        edge_values(t, kMaxImageSide - 1, 0, e);
+        EXPECT_TRUE(inside(t, e));
+    }
+    EXPECT_TRUE(r.setups[0].back());
+    EXPECT_FALSE(r.setups[0].perm());
+    EXPECT_FALSE(r.setups[1].back());
+    EXPECT_TRUE(r.setups[1].perm());
 }
 
 }  // namespace

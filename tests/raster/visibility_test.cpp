@@ -57,8 +57,8 @@ Block draw(const std::vector<TriSetup>& tris, int X0, int Y0, VisibilitySchedule
     Block b;
     for (std::uint32_t i = 0; i < tris.size(); ++i) {
         const TriSetup& t = tris[i];
-        const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X0 + kBlock - 1);
-        const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y0 + kBlock - 1);
+        const int x0 = std::max<int>(t.x0, X0), x1 = std::min<int>(t.x1, X0 + kBlock - 1);
+        const int y0 = std::max<int>(t.y0, Y0), y1 = std::min<int>(t.y1, Y0 + kBlock - 1);
         depth_test_triangle(t, X0, Y0, kBlock, x0, x1, y0, y1, b.z.data(), b.ids.data(), {7, i}, schedule);
     }
     return b;
@@ -154,8 +154,8 @@ TEST(Visibility, SharedEdgesAndBorderBlocksMatchThePlainLoop) {
     // Each covered pixel belongs to exactly one triangle of the fan.
     std::vector<int> hits(kBlock * kBlock, 0);
     for (const TriSetup& t : tris)
-        for (int y = std::max(t.y0, 64); y <= std::min(t.y1, H - 1); ++y)
-            for (int x = std::max(t.x0, 64); x <= std::min(t.x1, W - 1); ++x) {
+        for (int y = std::max<int>(t.y0, 64); y <= std::min<int>(t.y1, H - 1); ++y)
+            for (int x = std::max<int>(t.x0, 64); x <= std::min<int>(t.x1, W - 1); ++x) {
                 std::int64_t e[3];
                 edge_values(t, x, y, e);
                 hits[(y - 64) * kBlock + (x - 64)] += inside(t, e);
@@ -196,8 +196,8 @@ TEST(Visibility, SmallBlocksMatchThePlainLoopAndStayInTheirBlock) {
         ids.assign(std::size_t(S) * S, TileRef{~0u, ~0u});
         for (std::uint32_t i = 0; i < tris.size(); ++i) {
             const TriSetup& t = tris[i];
-            const int x0 = std::max(t.x0, X0), x1 = std::min(t.x1, X0 + kBlock - 1);
-            const int y0 = std::max(t.y0, Y0), y1 = std::min(t.y1, Y0 + kBlock - 1);
+            const int x0 = std::max<int>(t.x0, X0), x1 = std::min<int>(t.x1, X0 + kBlock - 1);
+            const int y0 = std::max<int>(t.y0, Y0), y1 = std::min<int>(t.y1, Y0 + kBlock - 1);
             depth_test_triangle(t, X0, Y0, S, x0, x1, y0, y1, z.data(), ids.data(), {3, i}, schedule);
         }
     };
