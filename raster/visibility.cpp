@@ -1,6 +1,8 @@
 // raster/visibility.cpp — the depth test of one triangle over a block of pixels (raster/visibility.h).
 #include "raster/visibility.h"
 
+#include <bit>
+#include <cstdlib>
 #include <limits>
 
 #ifdef __AVX2__
@@ -40,6 +42,72 @@ bool edges_fit_int32(const TriSetup& t, int x0, int x1, int y0, int y1) {
                     return false;
         }
     return true;
+}
+
+// Blocks of at most eight pixels (most bins of a dense mesh: 1 x 2 to 3 x 2 pixels) in one
+// register: lane l is pixel (l % w, l / w) of a block w pixels wide. It needs every |A_i|, |B_i|
+// below 2^14 (the triangle's snapped extent below 64 px in x and y): then every pixel centre of the
+// block lies within that extent of each vertex (bounds hold centres inside the snapped bounds; a
+// block is inside the bounds), so each edge value E = dx (sy - Ya) - dy (sx - Xa) is below 2^29 and
+// the lanes' int32 sums are exact.
+constexpr int kBlock8Pixels = 8;
+constexpr int kBlock8MinPixels = 2;  // a single pixel costs less in the plain loop (measured)
+constexpr std::int32_t kBlock8Edge = 1 << 14;
+
+bool block8_edges(const TriSetup& t) {
+    std::uint32_t m = 0;
+    for (int i = 0; i < 3; ++i) m |= std::uint32_t(std::abs(t.A[i])) | std::uint32_t(std::abs(t.B[i]));
+    return m < std::uint32_t(kBlock8Edge);
+}
+
+// The lane offsets of a block w pixels wide (w = 1..8): dx = l % w, dy = l / w.
+struct Block8Lanes {
+    alignas(32) std::int32_t dx[kBlock8Pixels][8], dy[kBlock8Pixels][8];
+    constexpr Block8Lanes() : dx{}, dy{} {
+        for (int w = 1; w <= kBlock8Pixels; ++w)
+            for (int l = 0; l < 8; ++l) dx[w - 1][l] = l % w, dy[w - 1][l] = l / w;
+    }
+};
+constexpr Block8Lanes kBlock8Lanes;
+
+void depth_test_block8(const TriSetup& t, int X0, int Y0, int stride, int x0, int x1, int y0, int y1, float* zbuf,
+                       TileRef* ids, TileRef ref) {
+    const int w = x1 - x0 + 1, n = w * (y1 - y0 + 1);
+    const __m256i dx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kBlock8Lanes.dx[w - 1]));
+    const __m256i dy = _mm256_load_si256(reinterpret_cast<const __m256i*>(kBlock8Lanes.dy[w - 1]));
+    std::int64_t e0[3];
+    edge_values(t, x0, y0, e0);
+    __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    __m256 q[3];
+    for (int i = 0; i < 3; ++i) {
+        const __m256i e = _mm256_add_epi32(
+            _mm256_set1_epi32(std::int32_t(e0[i])),
+            _mm256_add_epi32(_mm256_mullo_epi32(dx, _mm256_set1_epi32(t.A[i] * kSubpixelOne)),
+                             _mm256_mullo_epi32(dy, _mm256_set1_epi32(t.B[i] * kSubpixelOne))));
+        in = _mm256_and_si256(in, _mm256_cmpgt_epi32(e, _mm256_set1_epi32(t.bias(i) - 1)));  // e >= bias
+        q[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(t.inv_w[i]));
+    }
+    unsigned mask = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(in)));
+    if (mask == 0) return;
+    // perspective_bary, lane by lane: the same operations in the same order.
+    const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_add_ps(_mm256_add_ps(q[0], q[1]), q[2]));
+    const __m256 b1 = _mm256_mul_ps(q[1], r), b2 = _mm256_mul_ps(q[2], r);
+    const __m256 depth =
+        _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(t.depth[0]), _mm256_mul_ps(b1, _mm256_set1_ps(t.depth[1] - t.depth[0]))),
+                      _mm256_mul_ps(b2, _mm256_set1_ps(t.depth[2] - t.depth[0])));
+    alignas(32) float d[8];
+    _mm256_store_ps(d, depth);
+    const std::int32_t* ldx = kBlock8Lanes.dx[w - 1];
+    const std::int32_t* ldy = kBlock8Lanes.dy[w - 1];
+    const std::size_t li0 = std::size_t(y0 - Y0) * stride + (x0 - X0);
+    for (; mask; mask &= mask - 1) {
+        const int l = std::countr_zero(mask);
+        const std::size_t li = li0 + std::size_t(ldy[l]) * stride + ldx[l];
+        if (d[l] < zbuf[li]) {
+            zbuf[li] = d[l];
+            ids[li] = ref;
+        }
+    }
 }
 
 // Eight pixels of a row per step. Lane values are computed modulo 2^32 (vector integer adds and
@@ -109,7 +177,13 @@ void depth_test_triangle(const TriSetup& t, int X0, int Y0, int stride, int x0, 
 #ifdef __AVX2__
     // Blocks of a few pixels (dense meshes' triangles) cost less in the plain loop than the vector
     // setup (BM_RasterFrame, docs/performance.md).
-    const bool small = (x1 - x0 + 1) * (y1 - y0 + 1) <= kPlainPixels;
+    const int pixels = (x1 - x0 + 1) * (y1 - y0 + 1);
+    if (schedule == VisibilitySchedule::Fast && pixels >= kBlock8MinPixels && pixels <= kBlock8Pixels &&
+        block8_edges(t)) {
+        depth_test_block8(t, X0, Y0, stride, x0, x1, y0, y1, zbuf, ids, ref);
+        return;
+    }
+    const bool small = pixels <= kPlainPixels;
     if (schedule == VisibilitySchedule::Fast && !small && edges_fit_int32(t, x0, x1, y0, y1)) {
         depth_test_avx2(t, X0, Y0, stride, x0, x1, y0, y1, zbuf, ids, ref);
         return;

@@ -4,10 +4,12 @@
 //
 // Per pixel it is exactly the reference traversal's test: inside (edge_values / inside, the
 // top-left rule), then perspective_bary's depth, written where it is less than the buffer's (the
-// first of equal depths stays). The fast schedule tests eight pixels of a row at once (AVX2) where
-// every edge value of the block fits in int32 — then each lane's value, its float conversion, the
-// division and the depth are the scalar operations bit for bit — and falls back to the plain loop
-// otherwise (edge values beyond int32 on large triangles, builds without AVX2).
+// first of equal depths stays). The fast schedule tests eight pixels at once (AVX2) where every
+// edge value of the block fits in int32 — then each lane's value, its float conversion, the
+// division and the depth are the scalar operations bit for bit: blocks of 2 to 8 pixels of a
+// triangle under 64 px in one register (most bins of a dense mesh), larger blocks eight pixels of
+// a row per step; it falls back to the plain loop otherwise (single pixels, edge values beyond
+// int32 on large triangles, builds without AVX2).
 #pragma once
 
 #include <cstdint>

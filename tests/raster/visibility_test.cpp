@@ -218,5 +218,37 @@ TEST(Visibility, SmallBlocksMatchThePlainLoopAndStayInTheirBlock) {
     EXPECT_GT(covered, 100);
 }
 
+TEST(Visibility, LargeTrianglesThatCutABlocksCornerMatchThePlainLoop) {
+    // Triangles of 70 to 100000 px with one vertex within a few pixels of the block's top-left
+    // corner and the others far up and left: the block holds 1 to 8 of their pixels (the fast
+    // schedule's one-register blocks) while their edge values there are far beyond 2^14 px^2.
+    std::mt19937 rng(20261203);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const int W = 16384, H = 16384, X0 = 8192, Y0 = 8192;
+    std::vector<SnapVertex> verts;
+    for (int k = 0; k < 3000; ++k) {
+        const double far = 70 * std::pow(1500.0, unit(rng));
+        const double ax = X0 + 1 + (unit(rng) - 0.3) * 4, ay = Y0 + 1 + (unit(rng) - 0.3) * 4;
+        const double px[3] = {ax, ax - far * unit(rng), ax - far * (0.2 + unit(rng))};
+        const double py[3] = {ay, ay - far * (0.2 + unit(rng)), ay - far * unit(rng)};
+        for (int v = 0; v < 3; ++v)
+            verts.push_back(vertex(std::llround(px[v] * 256), std::llround(py[v] * 256), float(0.2 + unit(rng)),
+                                   float(1 + int(unit(rng) * 3))));
+    }
+    const std::vector<TriSetup> tris = set_up(verts, W, H);
+    int in_block8 = 0;
+    for (const TriSetup& t : tris) {
+        const int w = std::min<int>(t.x1, X0 + kBlock - 1) - std::max<int>(t.x0, X0) + 1;
+        const int h = std::min<int>(t.y1, Y0 + kBlock - 1) - std::max<int>(t.y0, Y0) + 1;
+        in_block8 += w > 0 && h > 0 && w * h <= 8;
+    }
+    EXPECT_GT(in_block8, 1000);
+    const Block fast = draw(tris, X0, Y0, VisibilitySchedule::Fast);
+    expect_same(fast, draw(tris, X0, Y0, VisibilitySchedule::Plain), "corner");
+    int covered = 0;
+    for (const TileRef& r : fast.ids) covered += r.chunk != ~0u;
+    EXPECT_GE(covered, 6);
+}
+
 }  // namespace
 }  // namespace aq::raster
