@@ -136,7 +136,7 @@ inline PosNormal gather(const Frame& fr, const Chunk& ch, const TriSetup& t, con
     float o[3];
     original_weights(ch, t, b, o);
     const DrawVertices& dv = fr.draws[t.draw];
-    const std::uint32_t* idx = dv.prim->indices.data() + 3 * std::size_t(t.tri);
+    const std::uint32_t* idx = t.v;
     const DrawVertices::Shading& v0 = dv.view[idx[0]];
     const DrawVertices::Shading& v1 = dv.view[idx[1]];
     const DrawVertices::Shading& v2 = dv.view[idx[2]];

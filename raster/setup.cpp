@@ -158,14 +158,13 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
 }
 
 // The clip path (rare), out of line so that the fast path does not pay for its buffers.
-[[gnu::noinline]] void setup_clipped(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t tri,
-                                     std::uint32_t i0, std::uint32_t i1, std::uint32_t i2, std::uint32_t planes,
+[[gnu::noinline]] void setup_clipped(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t i0, std::uint32_t i1, std::uint32_t i2, std::uint32_t planes,
                                      const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
                                      std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
     const bool double_sided = dv.mat->double_sided;
     TriSetup t;
     t.draw = draw_index;
-    t.tri = tri;
+    t.v[0] = i0, t.v[1] = i1, t.v[2] = i2;
     ClipVerts cv;
     // Clip path (rare): polygon of at most 3 + 6 vertices.
     ++counters.clipped;
@@ -245,12 +244,12 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
         // re-read right after its narrow stores stalls on store forwarding. Dropped on reject.
         TriSetup& t = out.emplace_back(TriSetup::NoInit{});
         t.draw = draw_index;
-        t.tri = tri;
+        t.v[0] = i0, t.v[1] = i1, t.v[2] = i2;
         t.clip = -1;
         if (!build(sv, nullptr, vp, opt, double_sided, t, unused)) out.pop_back();
         return;
     }
-    setup_clipped(dv, draw_index, tri, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);
+    setup_clipped(dv, draw_index, i0, i1, i2, c0 | c1 | c2, vp, opt, out, clip_out, counters);
 }
 
 // A triangle the batch pre-pass must hand to setup_one: any vertex index out of range, any vertex
@@ -278,8 +277,8 @@ static_assert(sizeof(SnapVertex) == 5 * sizeof(std::int32_t) && offsetof(SnapVer
               offsetof(SnapVertex, y) == 4 && offsetof(SnapVertex, code) == 16);
 
 //! What surely_dropped8 leaves for the setup of the lanes it keeps: `simple` lanes (valid indices,
-//! outcodes 0, extent < kVectorExtent, kept) have their re-ordered vertices, vertex indices and
-//! clamped bounds here, the values build() computes for them.
+//! outcodes 0, extent < kVectorExtent, kept) have their re-ordered vertices, vertex indices (in
+//! the index buffer's order) and clamped bounds here, the values build() computes for them.
 struct Lanes8 {
     std::uint32_t simple = 0;
     alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8];
@@ -379,10 +378,8 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
             put(out.X[j], X[j]);
             put(out.Y[j], Y[j]);
         }
-        // Vertex indices in setup order (1 and 2 swapped with the winding).
-        put(out.vi[0], i[0]);
-        put(out.vi[1], _mm256_blendv_epi8(i[1], i[2], neg));
-        put(out.vi[2], _mm256_blendv_epi8(i[2], i[1], neg));
+        // Vertex indices in the index buffer's order.
+        for (int j = 0; j < 3; ++j) put(out.vi[j], i[j]);
         put(out.x0, px0);
         put(out.x1, px1);
         put(out.y0, py0);
@@ -402,20 +399,23 @@ inline void prefetch_snap(const SnapVertex* snap, std::size_t nv, const std::uin
 
 //! build()'s record for a lane surely_dropped8 kept as simple: set_edges of the re-ordered
 //! vertices, the clamped bounds, 1/w and depth.
-void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t draw_index, std::uint32_t tri,
+void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t draw_index,
                   std::vector<TriSetup>& out) {
     TriSetup& t = out.emplace_back(TriSetup::NoInit{});
     const std::int64_t X[3] = {ln.X[0][l], ln.X[1][l], ln.X[2][l]}, Y[3] = {ln.Y[0][l], ln.Y[1][l], ln.Y[2][l]};
     set_edges(X, Y, t);
     t.x0 = std::int16_t(ln.x0[l]), t.x1 = std::int16_t(ln.x1[l]);
     t.y0 = std::int16_t(ln.y0[l]), t.y1 = std::int16_t(ln.y1[l]);
+    const bool neg = ln.neg[l] != 0;
+    const std::uint32_t vi[3] = {std::uint32_t(ln.vi[0][l]), std::uint32_t(ln.vi[1][l]), std::uint32_t(ln.vi[2][l])};
+    const std::uint32_t setup_order[3] = {vi[0], neg ? vi[2] : vi[1], neg ? vi[1] : vi[2]};
     for (int j = 0; j < 3; ++j) {
-        const SnapVertex& v = snap[ln.vi[j][l]];
+        const SnapVertex& v = snap[setup_order[j]];
         t.inv_w[j] = v.inv_w;
         t.depth[j] = v.depth;
+        t.v[j] = vi[j];
     }
     t.draw = draw_index;
-    t.tri = tri;
     t.clip = -1;
     // perm when the area is negative, back when it is positive (area 0 was dropped).
     t.flags |= ln.neg[l] ? TriSetup::kPermBit : TriSetup::kBackBit;
@@ -468,7 +468,7 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
                 n = 0;
                 for (int l = 0; l < 8; ++l) {
                     if ((dropped >> l) & 1u) continue;
-                    if ((lanes.simple >> l) & 1u) build_simple(snap, lanes, l, draw_index, tris[l], out);
+                    if ((lanes.simple >> l) & 1u) build_simple(snap, lanes, l, draw_index, out);
                     else setup_one(dv, draw_index, tris[l], vp, opt, out, clip_out, counters);
                 }
             }

@@ -17,7 +17,7 @@
 
 namespace aq::raster {
 
-//! One rasterizable triangle after clipping, culling and snapping: 96 bytes (the tile pass reads
+//! One rasterizable triangle after clipping, culling and snapping: 104 bytes (the tile pass reads
 //! one per binned triangle and per shaded pixel; a dense mesh sets up hundreds of thousands).
 struct TriSetup {
     std::int64_t C[3];         //!< E_i at fixed-point sample (0, 0)
@@ -25,7 +25,9 @@ struct TriSetup {
     float inv_w[3];            //!< 1/w of setup vertex j (edge i is opposite vertex i)
     float depth[3];            //!< linear eye depth of setup vertex j
     std::uint32_t draw;        //!< index into the frame's draws
-    std::uint32_t tri;         //!< triangle index in the primitive
+    //! The vertex indices of the primitive's triangle, in its index buffer's order (the shading's
+    //! gathers start here instead of at the index buffer: one dependent load less per pixel).
+    std::uint32_t v[3];
     std::int32_t clip;         //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
     std::int16_t x0, y0, x1, y1;  //!< inclusive pixel bounds, clamped to the raster (< kMaxImageSide)
     //! Bits 0-2: the bias of edge i (0 top-left edge, 1 otherwise); kPermBit: vertices 1 and 2
@@ -40,7 +42,7 @@ struct TriSetup {
     TriSetup() = default;
     explicit TriSetup(NoInit) {}  //!< for emplace_back without the zeroing of value-initialisation
 };
-static_assert(sizeof(TriSetup) == 96);
+static_assert(sizeof(TriSetup) == 104);
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
 struct ClipVerts {

@@ -5,17 +5,6 @@
 
 namespace aq::raster::detail {
 
-void original_weights(const Chunk& ch, const TriSetup& t, const Bary& b, float o[3]) {
-    if (t.clip < 0) {
-        o[0] = b.b[0];
-        o[1] = t.perm() ? b.b[2] : b.b[1];
-        o[2] = t.perm() ? b.b[1] : b.b[2];
-    } else {
-        const ClipVerts& cv = ch.clips[t.clip];
-        for (int k = 0; k < 3; ++k) o[k] = (b.b[0] * cv.beta[0][k] + b.b[1] * cv.beta[1][k]) + b.b[2] * cv.beta[2][k];
-    }
-}
-
 // Interpolates the vertex data of the fragment with setup weights b into `in`, every field
 // written (shared by both traversals).
 void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b, FragmentInput& in) {
@@ -23,8 +12,7 @@ void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary
     original_weights(ch, t, b, o);
     const DrawVertices& dv = fr.draws[t.draw];
     const scene::Primitive& p = *dv.prim;
-    const std::size_t base = 3 * std::size_t(t.tri);
-    const std::uint32_t i0 = p.indices[base], i1 = p.indices[base + 1], i2 = p.indices[base + 2];
+    const std::uint32_t i0 = t.v[0], i1 = t.v[1], i2 = t.v[2];
     auto lerp3 = [&](const auto& a0, const auto& a1, const auto& a2) {
         return a0 + (a1 - a0) * o[1] + (a2 - a0) * o[2];
     };
@@ -110,13 +98,9 @@ void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float
 // ---- Tiled traversal: one task per tile, visibility then deferred shading ---------------------
 
 // Prefetch hints for the shading gathers of a triangle (no effect on results).
-inline void prefetch_indices(const Frame& fr, const TriSetup& t) {
-    __builtin_prefetch(fr.draws[t.draw].prim->indices.data() + 3 * std::size_t(t.tri));
-}
 inline void prefetch_vertices(const Frame& fr, const TriSetup& t) {
     const DrawVertices& dv = fr.draws[t.draw];
-    const std::uint32_t* idx = dv.prim->indices.data() + 3 * std::size_t(t.tri);
-    for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[idx[j]]);  // indices checked in setup
+    for (int j = 0; j < 3; ++j) __builtin_prefetch(&dv.view[t.v[j]]);  // indices checked in setup
 }
 
 
@@ -257,9 +241,9 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             nc += ids[li].chunk != kNoChunk;
         }
     }
-    // Deferred shading of the covered pixels. Each pixel gathers its setup, then the triangle's
-    // indices, then its vertices (dependent cache misses: one small triangle per pixel on dense
-    // meshes), so those are prefetched 12, 8 and 4 pixels ahead (schedule only).
+    // Deferred shading of the covered pixels. Each pixel gathers its setup, then the vertices its
+    // setup names (dependent cache misses: one small triangle per pixel on dense meshes), so those
+    // are prefetched 12 and 6 pixels ahead (schedule only).
     auto setup_at = [&](int k) -> const TriSetup& {
         const TileRef r = ids[covered[k]];
         return fr.chunks[r.chunk].tris[r.tri];
@@ -292,8 +276,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
                 __builtin_prefetch(a);
                 __builtin_prefetch(a + 64);
             }
-            if (k + 8 < nc) prefetch_indices(fr, setup_at(k + 8));
-            if (k + 4 < nc) prefetch_vertices(fr, setup_at(k + 4));
+            if (k + 6 < nc) prefetch_vertices(fr, setup_at(k + 6));
             const int lx = covered[k] % kTile;
             const TileRef r = ids[covered[k]];
             const Chunk& ch = fr.chunks[r.chunk];

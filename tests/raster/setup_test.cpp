@@ -85,11 +85,11 @@ void expect_same_setups(const std::vector<TriSetup>& a, const std::vector<TriSet
         const TriSetup& s = a[k];
         const TriSetup& t = b[k];
         bool same = s.x0 == t.x0 && s.y0 == t.y0 && s.x1 == t.x1 && s.y1 == t.y1 && s.draw == t.draw &&
-                    s.tri == t.tri && s.clip == t.clip && s.flags == t.flags;
+                    s.v[0] == t.v[0] && s.v[1] == t.v[1] && s.v[2] == t.v[2] && s.clip == t.clip && s.flags == t.flags;
         for (int i = 0; i < 3; ++i)
             same = same && s.A[i] == t.A[i] && s.B[i] == t.B[i] && s.C[i] == t.C[i] && s.bias(i) == t.bias(i) &&
                    s.inv_w[i] == t.inv_w[i] && s.depth[i] == t.depth[i];
-        ASSERT_TRUE(same) << "setup " << k << " (triangle " << s.tri << " vs " << t.tri << ")";
+        ASSERT_TRUE(same) << "setup " << k << " (vertex " << s.v[0] << " vs " << t.v[0] << ")";
     }
 }
 
@@ -136,6 +136,15 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
             EXPECT_EQ(ref_n.bad_index, fast_n.bad_index);
             EXPECT_EQ(ref_n.clip_unstable, fast_n.clip_unstable);
             EXPECT_EQ(ref_n.clipped, fast_n.clipped);
+            // Each record names its triangle's vertices in the index buffer's order, and the
+            // records follow the triangles' order (clipped fans repeat their triangle).
+            std::uint32_t next = 0;
+            for (const TriSetup& t : ref) {
+                const std::uint32_t* ix = m.prim.indices.data();
+                while (next < ntri && !(ix[3 * next] == t.v[0] && ix[3 * next + 1] == t.v[1] && ix[3 * next + 2] == t.v[2]))
+                    ++next;
+                ASSERT_LT(next, ntri) << "a record whose vertices are no later triangle's";
+            }
             // The mesh exercises every path: most triangles dropped, some clipped, some counted.
             EXPECT_LT(ref.size(), ntri / 4) << "seed " << seed;
             EXPECT_GT(ref.size(), ntri / 100) << "seed " << seed;
