@@ -284,12 +284,27 @@ struct Lanes8 {
     alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8];
 };
 
-std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* idx,
-                              const std::uint32_t* tris, const Viewport& vp, bool cull, Lanes8& out) {
-    const __m256i t3 = _mm256_mullo_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(tris)), _mm256_set1_epi32(3));
-    const int* ix = reinterpret_cast<const int*>(idx);
-    __m256i i[3] = {_mm256_i32gather_epi32(ix, t3, 4), _mm256_i32gather_epi32(ix + 1, t3, 4),
-                    _mm256_i32gather_epi32(ix + 2, t3, 4)};
+// The vertex indices of 8 consecutive triangles (24 consecutive indices from ix): vertex j of
+// triangle l in lane l of i[j]. Three loads, each lane's index taken from the load that holds it
+// (a blend), then put in triangle order (a permutation).
+inline void load_indices8(const std::uint32_t* ix, __m256i (&i)[3]) {
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix));
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix + 8));
+    const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix + 16));
+    // Index 3 l + j is element (3 l + j) % 8 of load (3 l + j) / 8.
+    const __m256i v0 = _mm256_blend_epi32(_mm256_blend_epi32(a, b, 0b10010010), c, 0b00100100);  // a0 b1 c2 a3 b4 c5 a6 b7
+    const __m256i v1 = _mm256_blend_epi32(_mm256_blend_epi32(a, b, 0b00100100), c, 0b01001001);  // c0 a1 b2 c3 a4 b5 c6 a7
+    const __m256i v2 = _mm256_blend_epi32(_mm256_blend_epi32(a, b, 0b01001001), c, 0b10010010);  // b0 c1 a2 b3 c4 a5 b6 c7
+    i[0] = _mm256_permutevar8x32_epi32(v0, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    i[1] = _mm256_permutevar8x32_epi32(v1, _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    i[2] = _mm256_permutevar8x32_epi32(v2, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+
+// ix: the 24 indices of 8 consecutive triangles.
+std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* ix,
+                              const Viewport& vp, bool cull, Lanes8& out) {
+    __m256i i[3];
+    load_indices8(ix, i);
     const __m256i vnv = _mm256_set1_epi32(nv), minus1 = _mm256_set1_epi32(-1), zero = _mm256_setzero_si256();
     __m256i ok = minus1;
     __m256i off[3];  // int offset of each vertex's SnapVertex (5 ints)
@@ -455,7 +470,7 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
             for (; t + 8 <= e; t += 8) {
                 if (t + kGatherAhead + 8 <= end) prefetch_snap(snap, nv, idx + 3 * std::size_t(t + kGatherAhead));
                 const std::uint32_t tris[8] = {t, t + 1, t + 2, t + 3, t + 4, t + 5, t + 6, t + 7};
-                const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx, tris, vp, cull, lanes);
+                const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx + 3 * std::size_t(t), vp, cull, lanes);
                 if (lanes.simple == 0) {
                     for (int l = 0; l < 8; ++l) {
                         list[n] = tris[l];
