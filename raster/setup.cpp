@@ -274,7 +274,22 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
 // dx (sy - Ya) - dy (sx - Xa) = A sx + B sy + C.
 constexpr std::int32_t kVectorExtent = 1 << 14;
 static_assert(sizeof(SnapVertex) == 5 * sizeof(std::int32_t) && offsetof(SnapVertex, x) == 0 &&
-              offsetof(SnapVertex, y) == 4 && offsetof(SnapVertex, code) == 16);
+              offsetof(SnapVertex, y) == 4 && offsetof(SnapVertex, code) == 8);
+
+// x, y and code of the vertices v[0..7] (valid indices) in lanes: one 16-byte load per vertex
+// (x, y, code, inv_w), transposed.
+inline void load_xy_code8(const SnapVertex* snap, __m256i v, __m256i& x, __m256i& y, __m256i& code) {
+    alignas(32) std::int32_t vi[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(vi), v);
+    auto row = [&](int l) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(snap + vi[l])); };
+    auto pair = [&](int l) { return _mm256_inserti128_si256(_mm256_castsi128_si256(row(l)), row(l + 4), 1); };
+    const __m256i m0 = pair(0), m1 = pair(1), m2 = pair(2), m3 = pair(3);  // vertex l | vertex l + 4
+    const __m256i t0 = _mm256_unpacklo_epi32(m0, m1), t1 = _mm256_unpacklo_epi32(m2, m3);  // x0 x1 y0 y1 | x4 ...
+    const __m256i t2 = _mm256_unpackhi_epi32(m0, m1), t3 = _mm256_unpackhi_epi32(m2, m3);  // c0 c1 w0 w1 | c4 ...
+    x = _mm256_unpacklo_epi64(t0, t1);
+    y = _mm256_unpackhi_epi64(t0, t1);
+    code = _mm256_unpacklo_epi64(t2, t3);
+}
 
 //! What surely_dropped8 leaves for the setup of the lanes it keeps: `simple` lanes (valid indices,
 //! outcodes 0, extent < kVectorExtent, kept) have their re-ordered vertices, vertex indices (in
@@ -307,20 +322,17 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     load_indices8(ix, i);
     const __m256i vnv = _mm256_set1_epi32(nv), minus1 = _mm256_set1_epi32(-1), zero = _mm256_setzero_si256();
     __m256i ok = minus1;
-    __m256i off[3];  // int offset of each vertex's SnapVertex (5 ints)
     for (int j = 0; j < 3; ++j) {  // 0 <= index < nv (an index >= 2^31 reads as negative)
         __m256i& v = i[j];
         const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(vnv, v), _mm256_cmpgt_epi32(v, minus1));
         ok = _mm256_and_si256(ok, in);
         v = _mm256_and_si256(v, in);  // a valid index (0 in the lanes dropped here)
-        off[j] = _mm256_mullo_epi32(v, _mm256_set1_epi32(5));
     }
-    const int* sv = reinterpret_cast<const int*>(snap);
     __m256i x[3], y[3], code = zero;
     for (int j = 0; j < 3; ++j) {
-        x[j] = _mm256_i32gather_epi32(sv, off[j], 4);
-        y[j] = _mm256_i32gather_epi32(sv + 1, off[j], 4);
-        code = _mm256_or_si256(code, _mm256_i32gather_epi32(sv + 4, off[j], 4));
+        __m256i c;
+        load_xy_code8(snap, i[j], x[j], y[j], c);
+        code = _mm256_or_si256(code, c);
     }
     ok = _mm256_and_si256(ok, _mm256_cmpeq_epi32(code, zero));
     const __m256i xmin = _mm256_min_epi32(x[0], _mm256_min_epi32(x[1], x[2]));

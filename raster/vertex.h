@@ -53,8 +53,8 @@ struct Viewport {
 //! 1/w and linear eye depth.
 struct SnapVertex {
     std::int32_t x, y;
-    float inv_w, depth;
     std::uint32_t code;  //!< outcode; x, y, inv_w are only meaningful when 0
+    float inv_w, depth;  // (after code: the batch setup reads x, y and code in one 16-byte load)
 };
 
 //! Per-render array without value-initialisation (every element is written by the vertex stage

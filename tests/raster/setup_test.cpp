@@ -64,7 +64,7 @@ void make_mesh(Mesh& m, std::uint32_t seed) {
             m.dv.view[k].pos = glm::vec3(0.0f, 0.0f, -w);
             m.dv.view[k].normal = glm::vec3(0.0f, 0.0f, 1.0f);
             const std::uint32_t code = outcode(c, m.vp);
-            m.dv.snap[k] = code ? SnapVertex{0, 0, 0.0f, 0.0f, code} : snap_vertex(c, w, m.vp);
+            m.dv.snap[k] = code ? SnapVertex{0, 0, code, 0.0f, 0.0f} : snap_vertex(c, w, m.vp);
         }
     std::uniform_int_distribution<std::uint32_t> any(0, std::uint32_t(nv - 1));
     for (int j = 0; j + 1 < gy; ++j)
@@ -172,7 +172,7 @@ void make_half_pixel_mesh(Mesh& m, std::uint32_t seed) {
             m.dv.view[k].pos = glm::vec3(0.0f, 0.0f, -1.0f);
             m.dv.view[k].normal = glm::vec3(0.0f, 0.0f, 1.0f);
             const std::uint32_t code = outcode(c, m.vp);
-            m.dv.snap[k] = code ? SnapVertex{0, 0, 0.0f, 0.0f, code} : snap_vertex(c, 1.0f, m.vp);
+            m.dv.snap[k] = code ? SnapVertex{0, 0, code, 0.0f, 0.0f} : snap_vertex(c, 1.0f, m.vp);
         }
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (int j = 0; j + 1 < gy; ++j)

@@ -76,7 +76,7 @@ void expect_same(const Block& a, const Block& b, const char* what) {
 }
 
 SnapVertex vertex(std::int64_t x, std::int64_t y, float inv_w, float depth) {
-    return {std::int32_t(x), std::int32_t(y), inv_w, depth, 0u};
+    return {std::int32_t(x), std::int32_t(y), 0u, inv_w, depth};
 }
 
 TEST(Visibility, PlainLoopIsTheReferenceTest) {
