@@ -129,7 +129,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             return;
         }
         // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
-        // (stable, so each tile's list stays in submission order). The 96-byte setups are
+        // (stable, so each tile's list stays in submission order). The 104-byte setups are
         // written once and not re-read here.
         std::vector<std::uint64_t> pairs;
         pairs.reserve(c.size);

@@ -159,7 +159,8 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
 }
 
 // The clip path (rare), out of line so that the fast path does not pay for its buffers.
-[[gnu::noinline]] void setup_clipped(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t i0, std::uint32_t i1, std::uint32_t i2, std::uint32_t planes,
+[[gnu::noinline]] void setup_clipped(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t i0,
+                                     std::uint32_t i1, std::uint32_t i2, std::uint32_t planes,
                                      const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
                                      std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
     const bool double_sided = dv.mat->double_sided;
@@ -446,7 +447,7 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     t.draw = draw_index;
     t.clip = -1;
     // perm when the area is negative, back when it is positive (area 0 was dropped).
-    t.flags |= ln.neg[l] ? TriSetup::kPermBit : TriSetup::kBackBit;
+    t.flags |= neg ? TriSetup::kPermBit : TriSetup::kBackBit;
 }
 #endif
 

@@ -53,8 +53,10 @@ struct Viewport {
 //! 1/w and linear eye depth.
 struct SnapVertex {
     std::int32_t x, y;
-    std::uint32_t code;  //!< outcode; x, y, inv_w are only meaningful when 0
-    float inv_w, depth;  // (after code: the batch setup reads x, y and code in one 16-byte load)
+    //! outcode; x, y, inv_w are only meaningful when 0. Third, so that the batch setup reads x, y
+    //! and code in one 16-byte load.
+    std::uint32_t code;
+    float inv_w, depth;
 };
 
 //! Per-render array without value-initialisation (every element is written by the vertex stage

@@ -44,6 +44,18 @@ bool edges_fit_int32(const TriSetup& t, int x0, int x1, int y0, int y1) {
     return true;
 }
 
+// perspective_bary's depth in eight lanes from their exact int32 edge values: the same operations
+// in the same order as the scalar function, so each lane has its bits.
+[[gnu::always_inline]] inline __m256 lanes_depth(const TriSetup& t, __m256i e0, __m256i e1, __m256i e2) {
+    const __m256 q0 = _mm256_mul_ps(_mm256_cvtepi32_ps(e0), _mm256_set1_ps(t.inv_w[0]));
+    const __m256 q1 = _mm256_mul_ps(_mm256_cvtepi32_ps(e1), _mm256_set1_ps(t.inv_w[1]));
+    const __m256 q2 = _mm256_mul_ps(_mm256_cvtepi32_ps(e2), _mm256_set1_ps(t.inv_w[2]));
+    const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_add_ps(_mm256_add_ps(q0, q1), q2));
+    const __m256 b1 = _mm256_mul_ps(q1, r), b2 = _mm256_mul_ps(q2, r);
+    return _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(t.depth[0]), _mm256_mul_ps(b1, _mm256_set1_ps(t.depth[1] - t.depth[0]))),
+                         _mm256_mul_ps(b2, _mm256_set1_ps(t.depth[2] - t.depth[0])));
+}
+
 // Blocks of at most eight pixels (most bins of a dense mesh: 1 x 2 to 3 x 2 pixels) in one
 // register: lane l is pixel (l % w, l / w) of a block w pixels wide. It needs every |A_i|, |B_i|
 // below 2^14 (the triangle's snapped extent below 64 px in x and y): then every pixel centre of the
@@ -78,25 +90,17 @@ void depth_test_block8(const TriSetup& t, int X0, int Y0, int stride, int x0, in
     std::int64_t e0[3];
     edge_values(t, x0, y0, e0);
     __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-    __m256 q[3];
+    __m256i e[3];
     for (int i = 0; i < 3; ++i) {
-        const __m256i e = _mm256_add_epi32(
-            _mm256_set1_epi32(std::int32_t(e0[i])),
-            _mm256_add_epi32(_mm256_mullo_epi32(dx, _mm256_set1_epi32(t.A[i] * kSubpixelOne)),
-                             _mm256_mullo_epi32(dy, _mm256_set1_epi32(t.B[i] * kSubpixelOne))));
-        in = _mm256_and_si256(in, _mm256_cmpgt_epi32(e, _mm256_set1_epi32(t.bias(i) - 1)));  // e >= bias
-        q[i] = _mm256_mul_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(t.inv_w[i]));
+        e[i] = _mm256_add_epi32(_mm256_set1_epi32(std::int32_t(e0[i])),
+                                _mm256_add_epi32(_mm256_mullo_epi32(dx, _mm256_set1_epi32(t.A[i] * kSubpixelOne)),
+                                                 _mm256_mullo_epi32(dy, _mm256_set1_epi32(t.B[i] * kSubpixelOne))));
+        in = _mm256_and_si256(in, _mm256_cmpgt_epi32(e[i], _mm256_set1_epi32(t.bias(i) - 1)));  // e >= bias
     }
     unsigned mask = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(in)));
     if (mask == 0) return;
-    // perspective_bary, lane by lane: the same operations in the same order.
-    const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_add_ps(_mm256_add_ps(q[0], q[1]), q[2]));
-    const __m256 b1 = _mm256_mul_ps(q[1], r), b2 = _mm256_mul_ps(q[2], r);
-    const __m256 depth =
-        _mm256_add_ps(_mm256_add_ps(_mm256_set1_ps(t.depth[0]), _mm256_mul_ps(b1, _mm256_set1_ps(t.depth[1] - t.depth[0]))),
-                      _mm256_mul_ps(b2, _mm256_set1_ps(t.depth[2] - t.depth[0])));
     alignas(32) float d[8];
-    _mm256_store_ps(d, depth);
+    _mm256_store_ps(d, lanes_depth(t, e[0], e[1], e[2]));
     const std::int32_t* ldx = kBlock8Lanes.dx[w - 1];
     const std::int32_t* ldy = kBlock8Lanes.dy[w - 1];
     const std::size_t li0 = std::size_t(y0 - Y0) * stride + (x0 - X0);
@@ -125,10 +129,6 @@ void depth_test_avx2(const TriSetup& t, int X0, int Y0, int stride, int x0, int 
         step[i] = _mm256_set1_epi32(std::int32_t(sx * 8u));
         bias[i] = _mm256_set1_epi32(t.bias(i) - 1);  // e >= bias  <=>  e > bias - 1
     }
-    const __m256 iw0 = _mm256_set1_ps(t.inv_w[0]), iw1 = _mm256_set1_ps(t.inv_w[1]), iw2 = _mm256_set1_ps(t.inv_w[2]);
-    const __m256 d0 = _mm256_set1_ps(t.depth[0]);
-    const __m256 d10 = _mm256_set1_ps(t.depth[1] - t.depth[0]), d20 = _mm256_set1_ps(t.depth[2] - t.depth[0]);
-    const __m256 one = _mm256_set1_ps(1.0f);
     const __m256i ref64 = _mm256_set1_epi64x(std::int64_t(std::uint64_t(ref.tri) << 32 | ref.chunk));
     const int n = x1 - x0 + 1;
     for (int y = y0; y <= y1; ++y) {
@@ -143,13 +143,7 @@ void depth_test_avx2(const TriSetup& t, int X0, int Y0, int stride, int x0, int 
                                           _mm256_and_si256(_mm256_cmpgt_epi32(e1, bias[1]), _mm256_cmpgt_epi32(e2, bias[2])));
             if (n - k < 8) in = _mm256_and_si256(in, _mm256_cmpgt_epi32(_mm256_set1_epi32(n - k), lane));
             if (!_mm256_testz_si256(in, in)) {
-                // perspective_bary, lane by lane: the same operations in the same order.
-                const __m256 q0 = _mm256_mul_ps(_mm256_cvtepi32_ps(e0), iw0);
-                const __m256 q1 = _mm256_mul_ps(_mm256_cvtepi32_ps(e1), iw1);
-                const __m256 q2 = _mm256_mul_ps(_mm256_cvtepi32_ps(e2), iw2);
-                const __m256 r = _mm256_div_ps(one, _mm256_add_ps(_mm256_add_ps(q0, q1), q2));
-                const __m256 b1 = _mm256_mul_ps(q1, r), b2 = _mm256_mul_ps(q2, r);
-                const __m256 depth = _mm256_add_ps(_mm256_add_ps(d0, _mm256_mul_ps(b1, d10)), _mm256_mul_ps(b2, d20));
+                const __m256 depth = lanes_depth(t, e0, e1, e2);
                 const __m256 z = _mm256_maskload_ps(zr + k, in);
                 const __m256i m = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(depth, z, _CMP_LT_OQ)), in);
                 if (!_mm256_testz_si256(m, m)) {
