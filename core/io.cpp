@@ -343,7 +343,7 @@ void encode_image(const std::string& path, const ImageF& img, const std::string&
         // 8-bit display images, sRGB-encoded in either working space (docs/look.md): the encoder
         // tags them so (sRGB chunk).
         try {
-            encode_png(img, description, buf, q, stored ? kPngStoredLevel : kPngDeflateLevel, drop_alpha);
+            encode_png(img, description, buf, q, stored, drop_alpha);
         } catch (const Error& e) {
             fail_write(path, e.what());
         }

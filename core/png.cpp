@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <vector>
 
+#include <isa-l/igzip_lib.h>
 #include <libdeflate.h>
 #include <png.h>
 
@@ -71,20 +73,46 @@ struct FreeCompressor {
     void operator()(libdeflate_compressor* c) const { libdeflate_free_compressor(c); }
 };
 
-//! One compressor per thread and level, kept (its tables are allocated once).
-libdeflate_compressor* compressor(int level) {
-    if (level != kPngDeflateLevel && level != kPngStoredLevel) throw Error("PNG: unsupported deflate level");
-    thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> c[2];
-    auto& slot = c[level == kPngStoredLevel ? 1 : 0];
-    if (!slot) slot.reset(libdeflate_alloc_compressor(level));
-    if (!slot) throw Error("PNG: libdeflate could not allocate a compressor");
-    return slot.get();
+//! Compression::None: libdeflate's level 0 (stored blocks), one compressor per thread, kept.
+std::size_t zlib_stored(const unsigned char* in, std::size_t n, unsigned char* out, std::size_t cap) {
+    thread_local std::unique_ptr<libdeflate_compressor, FreeCompressor> c;
+    if (!c) c.reset(libdeflate_alloc_compressor(0));
+    if (!c) throw Error("PNG: libdeflate could not allocate a compressor");
+    return libdeflate_zlib_compress(c.get(), in, n, out, cap);
 }
+
+//! Compression::Fast: ISA-L's one-shot deflate at kPngIsalLevel into a zlib stream; its level
+//! buffer (the hash table and the pending tokens, ISA-L's default size for the level) is kept per
+//! thread. Returns the stream's size, 0 if it did not fit in `cap`.
+std::size_t zlib_fast(const unsigned char* in, std::size_t n, unsigned char* out, std::size_t cap) {
+    static_assert(kPngIsalLevel == 2, "the level buffer below is level 2's");
+    thread_local std::vector<std::uint8_t> level_buf(ISAL_DEF_LVL2_DEFAULT);
+    isal_zstream s;
+    isal_deflate_stateless_init(&s);
+    s.level = kPngIsalLevel;
+    s.level_buf = level_buf.data();
+    s.level_buf_size = static_cast<std::uint32_t>(level_buf.size());
+    s.gzip_flag = IGZIP_ZLIB;
+    s.end_of_stream = 1;
+    s.flush = NO_FLUSH;
+    s.next_in = const_cast<std::uint8_t*>(in);  // ISA-L's field is not const; it only reads the input
+    s.avail_in = static_cast<std::uint32_t>(n);
+    s.next_out = out;
+    s.avail_out = static_cast<std::uint32_t>(cap);
+    if (isal_deflate_stateless(&s) != COMP_OK) return 0;
+    return s.total_out;
+}
+
+//! An upper bound of either encoder's zlib stream of n bytes: both fall back to stored blocks
+//! (at most 65,535 bytes each behind a 5-byte header) where compressing would expand the data;
+//! the zlib header and Adler-32 trailer (6 bytes) and ISA-L's largest block header
+//! (ISAL_DEF_MAX_HDR_SIZE) come on top.
+std::size_t zlib_bound(std::size_t n) { return n + 5 * (n / 65535 + 1) + 6 + ISAL_DEF_MAX_HDR_SIZE; }
 
 }  // namespace
 
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows, int level, bool drop_alpha) {
+                std::vector<unsigned char>& rows, bool stored, bool drop_alpha) {
     const int w = img.width(), h = img.height(), c = drop_alpha ? 3 : img.channels();
     if (drop_alpha ? img.channels() != 4 || img.empty() : img.empty() || !png_encodes(c))
         throw Error(drop_alpha ? "PNG: dropping alpha needs a non-empty RGBA image" : "PNG: needs a non-empty grey or RGB image");
@@ -116,14 +144,14 @@ void encode_png(const ImageF& img, const std::string& description, std::vector<u
     chunk(out, "cHRM", chrm, sizeof chrm);
     if (!description.empty()) text_chunk(out, "Description", description);
 
-    libdeflate_compressor* z = compressor(level);
-    const std::size_t bound = libdeflate_zlib_compress_bound(z, rows.size());
+    const std::size_t bound = zlib_bound(rows.size());
     if (bound > kMaxChunkBytes) throw Error("PNG: the image is too large for one IDAT chunk");
     const std::size_t start = out.size();
     out.resize(start + 8 + bound);
     std::memcpy(out.data() + start + 4, "IDAT", 4);
-    const std::size_t n = libdeflate_zlib_compress(z, rows.data(), rows.size(), out.data() + start + 8, bound);
-    if (n == 0) throw Error("PNG: libdeflate could not compress the rows");
+    unsigned char* const z = out.data() + start + 8;
+    const std::size_t n = stored ? zlib_stored(rows.data(), rows.size(), z, bound) : zlib_fast(rows.data(), rows.size(), z, bound);
+    if (n == 0) throw Error("PNG: the deflate encoder could not compress the rows");
     out.resize(start + 8 + n);
     store32(out.data() + start, std::uint32_t(n));
     finish_chunk(out, start);

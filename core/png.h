@@ -4,8 +4,10 @@
 // (core/oiio_module.cpp): its writer converts memory's associated alpha to PNG's unassociated
 // alpha, and this encoder does not repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
 // deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can only
-// use zlib: libdeflate (a Debian library) compresses our 1080p frames 2.2x faster than zlib at
-// level 1, and smaller (docs/performance.md "Thirteenth session"). The container is the PNG
+// use zlib. The deflate is ISA-L's igzip (a Debian library; kPngIsalLevel below): 2x faster than
+// libdeflate's level 1 on our 1080p frames, which was 2.2x faster than zlib's (docs/performance.md
+// "Thirteenth session", "Twenty-sixth session"); --compression none writes libdeflate's stored
+// blocks. The container is the PNG
 // specification's (ISO/IEC 15948, W3C PNG 2nd edition): signature, IHDR, sRGB with the gAMA and
 // cHRM values the specification recommends beside it (11.3.3.5), the description as a tEXt chunk
 // (iTXt when it is not ASCII), one IDAT holding the zlib stream of the rows (filter type 0 on every
@@ -31,12 +33,14 @@
 
 namespace aq {
 
-//! The libdeflate compression level of PNG files (1 = fastest; measured in docs/performance.md
-//! "Thirteenth session": level 1 31 ms and 2.72 MB per WC18 1080p frame, level 2 55 ms 2.63 MB,
-//! level 6 108 ms 2.51 MB; zlib level 1 through libpng, used before, 67 ms 2.86 MB).
-inline constexpr int kPngDeflateLevel = 1;
-//! The level of Compression::None: libdeflate's stored blocks (a valid stream, no compression).
-inline constexpr int kPngStoredLevel = 0;
+//! The ISA-L (igzip) compression level of PNG files (Compression::Fast). Measured on a steady
+//! Suzanne WC18 1080p frame (6.2 MB of rows; docs/performance.md "Twenty-sixth session"): ISA-L
+//! level 2 2.86 MB in 20-22 ms, level 1 2.97 MB in 20-26 ms, level 3 2.84 MB in 39 ms; libdeflate
+//! level 1 (used before) 2.72 MB in 36-46 ms in the same runs. Level 2: half the CPU of the frame's
+//! deflate for 5 % larger files. ISA-L picks its code path by CPU (SSE4.2, AVX, AVX2); every one of
+//! those writes the same bytes (tests/core/png_cpu_variants_test.cpp); an x86-64 CPU without SSE4.2
+//! or another architecture gets other compressed bytes for the same pixels (docs/provenance.md).
+inline constexpr int kPngIsalLevel = 2;
 
 //! Whether encode_png writes images of `channels` channels: 1 (grey) and 3 (RGB).
 inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
@@ -44,11 +48,11 @@ inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
 //! Encodes img (1 or 3 channels: grey, RGB) as an 8-bit sRGB PNG into `out`, its
 //! values quantised with to_unorm8 (core/io.h). A non-empty `description` becomes the
 //! "Description" text chunk (what OpenImageIO reads as ImageDescription). `rows` is scratch for the
-//! filtered rows; both vectors keep their capacity for the next call. `level`: kPngDeflateLevel or
-//! kPngStoredLevel. `drop_alpha`: img has 4 channels and the PNG gets the first three (RGB), the
+//! filtered rows; both vectors keep their capacity for the next call. `stored`: Compression::None,
+//! libdeflate's stored blocks (a valid stream, no compression); otherwise ISA-L at kPngIsalLevel. `drop_alpha`: img has 4 channels and the PNG gets the first three (RGB), the
 //! bytes of encoding the RGB copy. Throws aq::Error.
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
-                std::vector<unsigned char>& rows, int level = kPngDeflateLevel, bool drop_alpha = false);
+                std::vector<unsigned char>& rows, bool stored = false, bool drop_alpha = false);
 
 //! Decodes an 8-bit grey or RGB PNG held in memory: `accept` (core/image_header.h) checks the
 //! header (1 or 3 channels) and says where the values go (v x float(1/255)); whatever `accept`

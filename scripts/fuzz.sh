@@ -75,7 +75,7 @@ fi
 
 # --- packages (idempotent, as scripts/setup.sh) ----------------------------------------------------
 pkgs=(clang libclang-rt-14-dev cmake ninja-build pkg-config
-      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev libdeflate-dev libjpeg62-turbo-dev libpng-dev)
+      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev)
 [ "$install" = 1 ] && bash scripts/install_packages.sh fuzz.sh "${pkgs[@]}"
 
 # --- build (only the fuzz targets and the libraries they link) ---------------------------------------

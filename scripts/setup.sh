@@ -20,7 +20,7 @@ done
 # (docs/grid.md); git for the commit recorded in provenance manifests (docs/provenance.md).
 pkgs=(build-essential cmake ninja-build pkg-config
       libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev libbenchmark-dev libgtest-dev
-      nlohmann-json3-dev libssl-dev libdeflate-dev libjpeg62-turbo-dev libpng-dev
+      nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev
       libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       parallel fonts-dejavu-core git)
 

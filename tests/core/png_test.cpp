@@ -175,6 +175,40 @@ TEST(Png, CompressionNoneStoresTheSamePixelsUncompressed) {
         }
 }
 
+// The deflate encoders' extremes at a size of several deflate blocks: uniformly random bytes
+// (incompressible: both encoders fall back to stored blocks, the file at most ~0.1 % above the raw
+// rows) and one flat colour (the file a tiny fraction of them); every value read back exact.
+TEST(Png, IncompressibleAndFlatImagesRoundTripWithinTheirBounds) {
+    const std::string dir = test::output_dir();
+    const int w = 800, h = 300;
+    const std::size_t raw = std::size_t(h) * (3 * std::size_t(w) + 1);
+    ImageF noise(w, h, 3), flat(w, h, 3);
+    std::uint32_t state = 12345u;
+    for (std::size_t i = 0; i < noise.num_values(); ++i) {
+        state = state * 1664525u + 1013904223u;  // Numerical Recipes' LCG; the top byte is uniform
+        noise.data()[i] = float(state >> 24) / 255.0f;
+        flat.data()[i] = 0.5f;
+    }
+    for (Compression comp : {Compression::Fast, Compression::None}) {
+        SCOPED_TRACE(compression_name(comp));
+        const std::string np = dir + "/noise_" + compression_name(comp) + ".png";
+        const std::string fp = dir + "/flat_" + compression_name(comp) + ".png";
+        write_image(np, noise, "", comp);
+        write_image(fp, flat, "", comp);
+        const ImageF a = read_image(np), b = read_image(fp);
+        ASSERT_EQ(a.num_values(), noise.num_values());
+        for (std::size_t i = 0; i < a.num_values(); ++i)
+            ASSERT_EQ(to_unorm8(a.data()[i]), to_unorm8(noise.data()[i])) << i;
+        ASSERT_EQ(b.num_values(), flat.num_values());
+        for (std::size_t i = 0; i < b.num_values(); ++i) ASSERT_EQ(to_unorm8(b.data()[i]), to_unorm8(0.5f)) << i;
+        EXPECT_LE(file_bytes(np).size(), raw + raw / 1000 + 200);
+        EXPECT_GT(file_bytes(np).size(), raw * 99 / 100);
+        if (comp == Compression::Fast) {
+            EXPECT_LT(file_bytes(fp).size() * 50, raw);
+        }
+    }
+}
+
 // A description the text chunk cannot hold is an error naming the file, not a cut manifest.
 // An RGBA image written with drop_alpha: the bytes of writing its RGB copy, for PNG (encoded
 // straight from the RGBA values, both compression settings) and for EXR (through the copy); the
