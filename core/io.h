@@ -43,8 +43,8 @@ struct DecodeBudget {
 //! How image files are compressed (lossless either way: the same pixels; only file size and
 //! writing time differ; measured in docs/performance.md "Fourteenth session").
 enum class Compression {
-    Fast,  //!< PNG: deflate level 1 (libdeflate, or zlib through OpenImageIO for alpha); EXR: PIZ
-    None,  //!< PNG: stored deflate blocks (~2.3x larger WC18 frames); EXR: uncompressed
+    Fast,  //!< PNG: ISA-L deflate level 2 (core/png.h; zlib level 1 through OpenImageIO for alpha); EXR: PIZ
+    None,  //!< PNG: stored deflate blocks (~2.2x larger WC18 frames); EXR: uncompressed
 };
 //! The name of a Compression on the command line and in manifests: "fast", "none".
 inline const char* compression_name(Compression c) { return c == Compression::None ? "none" : "fast"; }
