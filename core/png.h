@@ -1,18 +1,18 @@
 // core/png.h — the PNG encoder of display images (issue 13: animations at 1080p).
 //
-// Every other format, and PNG images with alpha, are encoded by OpenImageIO
-// (core/oiio_module.cpp): its writer converts memory's associated alpha to PNG's unassociated
-// alpha, and this encoder does not repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
-// deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can only
-// use zlib. The deflate is ISA-L's igzip (a Debian library; kPngIsalLevel below): 2x faster than
-// libdeflate's level 1 on our 1080p frames, which was 2.2x faster than zlib's (docs/performance.md
-// "Thirteenth session", "Twenty-sixth session"); --compression none writes libdeflate's stored
-// blocks. The container is the PNG
-// specification's (ISO/IEC 15948, W3C PNG 2nd edition): signature, IHDR, sRGB with the gAMA and
-// cHRM values the specification recommends beside it (11.3.3.5), the description as a tEXt chunk
-// (iTXt when it is not ASCII), one IDAT holding the zlib stream of the rows (filter type 0 on every
-// row: the paper grain makes the predictors useless, the same choice as before), IEND. Files are
-// read back by OpenImageIO like any PNG (tests/core/png_test.cpp).
+// Every other format, and PNG images with alpha, are encoded by OpenImageIO (core/oiio_module.cpp):
+// its writer converts memory's associated alpha to PNG's unassociated alpha, and this encoder does
+// not repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
+// deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can
+// only use zlib. The deflate is ISA-L's igzip (a Debian library; kPngIsalLevel below): 2x faster
+// than libdeflate's level 1 on our 1080p frames, which was 2.2x faster than zlib's
+// (docs/performance.md "Thirteenth session", "Twenty-sixth session"); --compression none writes
+// libdeflate's stored blocks. The container is the PNG specification's (ISO/IEC 15948, W3C PNG 2nd
+// edition): signature, IHDR, sRGB with the gAMA and cHRM values the specification recommends beside
+// it (11.3.3.5), the description as a tEXt chunk (iTXt when it is not ASCII), one IDAT holding the
+// zlib stream of the rows (filter type 0 on every row: the paper grain makes the predictors
+// useless, the same choice as before), IEND. Files are read back by OpenImageIO like any PNG
+// (tests/core/png_test.cpp).
 //
 // The decoder (decode_png) reads 8-bit grey and RGB PNG files without OpenImageIO, for the same
 // reason as core/jpeg.h: loading OpenImageIO's module costs a process ~0.2 s of CPU in the dynamic
@@ -49,8 +49,9 @@ inline bool png_encodes(int channels) { return channels == 1 || channels == 3; }
 //! values quantised with to_unorm8 (core/io.h). A non-empty `description` becomes the
 //! "Description" text chunk (what OpenImageIO reads as ImageDescription). `rows` is scratch for the
 //! filtered rows; both vectors keep their capacity for the next call. `stored`: Compression::None,
-//! libdeflate's stored blocks (a valid stream, no compression); otherwise ISA-L at kPngIsalLevel. `drop_alpha`: img has 4 channels and the PNG gets the first three (RGB), the
-//! bytes of encoding the RGB copy. Throws aq::Error.
+//! libdeflate's stored blocks (a valid stream, no compression); otherwise ISA-L at kPngIsalLevel.
+//! `drop_alpha`: img has 4 channels and the PNG gets the first three (RGB), the bytes of encoding
+//! the RGB copy. Throws aq::Error.
 void encode_png(const ImageF& img, const std::string& description, std::vector<unsigned char>& out,
                 std::vector<unsigned char>& rows, bool stored = false, bool drop_alpha = false);
 
