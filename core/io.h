@@ -41,9 +41,11 @@ struct DecodeBudget {
 };
 
 //! How image files are compressed (lossless either way: the same pixels; only file size and
-//! writing time differ; measured in docs/performance.md "Fourteenth session").
+//! writing time differ; measured in docs/performance.md "Fourteenth session" and "Twenty-sixth
+//! session").
 enum class Compression {
-    Fast,  //!< PNG: ISA-L deflate level 2 (core/png.h; zlib level 1 through OpenImageIO for alpha); EXR: PIZ
+    //! PNG: ISA-L deflate level 2 (core/png.h; zlib level 1 through OpenImageIO for alpha); EXR: PIZ
+    Fast,
     None,  //!< PNG: stored deflate blocks (~2.2x larger WC18 frames); EXR: uncompressed
 };
 //! The name of a Compression on the command line and in manifests: "fast", "none".

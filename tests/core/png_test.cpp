@@ -176,8 +176,9 @@ TEST(Png, CompressionNoneStoresTheSamePixelsUncompressed) {
 }
 
 // The deflate encoders' extremes at a size of several deflate blocks: uniformly random bytes
-// (incompressible: both encoders fall back to stored blocks, the file at most ~0.1 % above the raw
-// rows) and one flat colour (the file a tiny fraction of them); every value read back exact.
+// (incompressible: neither encoder makes the file more than ~0.1 % larger than the raw rows, and
+// zlib_bound leaves room for that) and one flat colour (the file a tiny fraction of them); every
+// value read back exact.
 TEST(Png, IncompressibleAndFlatImagesRoundTripWithinTheirBounds) {
     const std::string dir = test::output_dir();
     const int w = 800, h = 300;
@@ -209,7 +210,6 @@ TEST(Png, IncompressibleAndFlatImagesRoundTripWithinTheirBounds) {
     }
 }
 
-// A description the text chunk cannot hold is an error naming the file, not a cut manifest.
 // An RGBA image written with drop_alpha: the bytes of writing its RGB copy, for PNG (encoded
 // straight from the RGBA values, both compression settings) and for EXR (through the copy); the
 // alpha values (out of range, NaN) play no part. A 3-channel image with drop_alpha is refused.
@@ -231,6 +231,7 @@ TEST(Png, DropAlphaWritesTheBytesOfTheRgbCopy) {
     EXPECT_THROW(write_image(dir + "/bad.png", rgb, "", Compression::Fast, true), Error);
 }
 
+// A description the text chunk cannot hold is an error naming the file, not a cut manifest.
 TEST(Png, ADescriptionWithANulByteIsRefused) {
     const std::string path = test::output_dir() + "/nul.png";
     try {
