@@ -8,6 +8,8 @@
 
 #include <immintrin.h>
 
+#include "core/sine.h"
+
 namespace aq::raster {
 
 namespace {
@@ -55,8 +57,8 @@ glm::vec2 tremor_offset_px(const TremorParams& p, float time_s, glm::vec3 p_obj,
     // turn a valid position into a dropped one).
     if (!(w > 0.0f)) return {0.0f, 0.0f};
     const float phase = (time_s * p.speed) * kTremorSpeedScale;
-    const float sx = std::sin(phase + (p_obj.x * p.frequency) * kTremorFreqScale);
-    const float sy = std::sin(phase + (p_obj.y * p.frequency) * kTremorFreqScale);
+    const float sx = sine(phase + (p_obj.x * p.frequency) * kTremorFreqScale);
+    const float sy = sine(phase + (p_obj.y * p.frequency) * kTremorFreqScale);
     return {(sx * p.tremor_px) * w, (sy * p.tremor_px) * w};
 }
 
@@ -182,8 +184,8 @@ inline void transform_one(const VertexConsts& k, DrawVertices& dv, std::size_t i
         // keep in step with tremor_offset_px).
         const float ndv = nv.x * vdir.x + nv.y * vdir.y + nv.z * vdir.z;
         const float w = std::min(sat(kTremorNdotVGain * ndv), 1.0f - tp.front);
-        const float sx = std::sin(k.phase + (p.x * tp.frequency) * kTremorFreqScale);
-        const float sy = std::sin(k.phase + (p.y * tp.frequency) * kTremorFreqScale);
+        const float sx = sine(k.phase + (p.x * tp.frequency) * kTremorFreqScale);
+        const float sy = sine(k.phase + (p.y * tp.frequency) * kTremorFreqScale);
         const bool on = w > 0.0f;
         const glm::vec2 off(on ? (sx * tp.tremor_px) * w : 0.0f, on ? (sy * tp.tremor_px) * w : 0.0f);
         // Pixels -> clip units: one output pixel is 2/W in NDC, times w to survive the divide.
@@ -203,8 +205,8 @@ inline void transform_one(const VertexConsts& k, DrawVertices& dv, std::size_t i
 #ifdef __AVX2__
 // Eight vertices [i, i + 8) with the operations of transform_one, lane by lane and in the same
 // order (IEEE operations round the same in a vector lane; no FMA is emitted, -mno-fma): the same
-// values, except that the payload of a NaN may come from another operand. The sines stay scalar
-// (glibc's sinf).
+// values, except that the payload of a NaN may come from another operand. The sines eight at a
+// time (core/sine.h sine8: the bits of sine()).
 using V = __m256;
 inline V bc(float x) { return _mm256_set1_ps(x); }
 inline V add(V a, V b) { return _mm256_add_ps(a, b); }
@@ -272,7 +274,8 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
         alignas(32) float ax[8], ay[8];
         _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
         _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
-        for (int l = 0; l < 8; ++l) ax[l] = std::sin(ax[l]), ay[l] = std::sin(ay[l]);
+        sine8(ax, ax);
+        sine8(ay, ay);
         const V on = _mm256_cmp_ps(w, bc(0.0f), _CMP_GT_OQ);
         const V offx = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ax), bc(tp.tremor_px)), w));
         const V offy = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ay), bc(tp.tremor_px)), w));
