@@ -246,6 +246,14 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
     }
     const V px = _mm256_load_ps(a[0]), py = _mm256_load_ps(a[1]), pz = _mm256_load_ps(a[2]);
     const V nx = _mm256_load_ps(a[3]), ny = _mm256_load_ps(a[4]), nz = _mm256_load_ps(a[5]);
+    // The tremor's sines first: the calls clobber every vector register, and here few are live.
+    alignas(32) float ax[8], ay[8];
+    if (k.do_tremor) {
+        _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
+        _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
+        sine8(ax, ax);
+        sine8(ay, ay);
+    }
     V dx = px, dy = py, dz = pz;
     if (k.do_bleed) {
         V cb = add(bc(k.bleed_const), _mm256_load_ps(a[6]));
@@ -271,11 +279,6 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
         }
         const V ndv = add(add(mul(mx, ux), mul(my, uy)), mul(mz, uz));
         const V w = min_of(sat8(mul(bc(kTremorNdotVGain), ndv)), bc(1.0f - tp.front));
-        alignas(32) float ax[8], ay[8];
-        _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
-        _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
-        sine8(ax, ax);
-        sine8(ay, ay);
         const V on = _mm256_cmp_ps(w, bc(0.0f), _CMP_GT_OQ);
         const V offx = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ax), bc(tp.tremor_px)), w));
         const V offy = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ay), bc(tp.tremor_px)), w));
