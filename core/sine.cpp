@@ -82,51 +82,51 @@ AQ_AVX2_FMA inline __m256d wide(__m128i mask) { return _mm256_castsi256_pd(_mm25
 AQ_AVX2_FMA inline __m128i bit_set(__m128i v, int b) {
     return _mm_cmpeq_epi32(_mm_and_si128(v, _mm_set1_epi32(b)), _mm_set1_epi32(b));
 }
+// kInvPio4[e] for e in [lo, lo + 16) in eight lanes, from the table in three registers.
+AQ_AVX2_FMA inline __m256i inv_pio4(const __m256i t[3], __m256i e) {
+    const __m256i p0 = _mm256_permutevar8x32_epi32(t[0], e), p1 = _mm256_permutevar8x32_epi32(t[1], e),
+                  p2 = _mm256_permutevar8x32_epi32(t[2], e);
+    const __m256i r = _mm256_blendv_epi8(p0, p1, _mm256_cmpgt_epi32(e, _mm256_set1_epi32(7)));
+    return _mm256_blendv_epi8(r, p2, _mm256_cmpgt_epi32(e, _mm256_set1_epi32(15)));
+}
 
-// Four lanes of sine() in AVX2 + FMA: both reductions computed for all lanes (the large one only
-// when a lane needs it) and selected; the quadrant signs as sign-bit flips, which equal glibc's
-// multiplications by +-1 and its negated cosine table (round to nearest is symmetric, and neither
-// polynomial's terms are zero there). Equal to sine() for every input (tests/core/sine_test.cpp).
-AQ_AVX2_FMA __m128 sine4(__m128 y) {
-    const __m128i bits = _mm_castps_si128(y);
-    const __m128i top = _mm_and_si128(_mm_srli_epi32(bits, 20), _mm_set1_epi32(0x7ff));
+// |y| < 120 for four lanes: n = (int(y * 2/pi * 2^24) + 2^23) >> 24, x = y - n pi/2.
+AQ_AVX2_FMA inline __m256d reduce_fast(__m128 y, __m128i& n) {
     const __m256d xd = _mm256_cvtps_pd(y);
-    // |y| < 120: n = (int(y * 2/pi * 2^24) + 2^23) >> 24, x = y - n pi/2.
-    __m128i n = _mm256_cvttpd_epi32(_mm256_mul_pd(xd, _mm256_set1_pd(kHalfPiInv24)));
+    n = _mm256_cvttpd_epi32(_mm256_mul_pd(xd, _mm256_set1_pd(kHalfPiInv24)));
     n = _mm_srai_epi32(_mm_add_epi32(n, _mm_set1_epi32(0x800000)), 24);
-    __m256d x = _mm256_fnmadd_pd(_mm256_cvtepi32_pd(n), _mm256_set1_pd(kHalfPi), xd);
-    __m128i q = n;
-    const __m128i large = _mm_cmpgt_epi32(top, _mm_set1_epi32(int(kTopLarge - 1)));
-    if (!_mm_testz_si128(large, large)) {
-        const int* table = reinterpret_cast<const int*>(kInvPio4);
-        const __m128i idx = _mm_and_si128(_mm_srli_epi32(bits, 26), _mm_set1_epi32(15));
-        const __m128i shift = _mm_and_si128(_mm_srli_epi32(bits, 23), _mm_set1_epi32(7));
-        const __m128i m = _mm_sllv_epi32(
-            _mm_or_si128(_mm_and_si128(bits, _mm_set1_epi32(0x7fffff)), _mm_set1_epi32(0x800000)), shift);
-        const __m128i a0 = _mm_i32gather_epi32(table, idx, 4);
-        const __m128i a4 = _mm_i32gather_epi32(table + 4, idx, 4);
-        const __m128i a8 = _mm_i32gather_epi32(table + 8, idx, 4);
-        const __m256i m64 = _mm256_cvtepu32_epi64(m);
-        const __m256i r0lo = _mm256_cvtepu32_epi64(_mm_mullo_epi32(m, a0));
-        const __m256i r1 = _mm256_mul_epu32(m64, _mm256_cvtepu32_epi64(a4));
-        const __m256i r2 = _mm256_mul_epu32(m64, _mm256_cvtepu32_epi64(a8));
-        __m256i r = _mm256_add_epi64(_mm256_or_si256(_mm256_slli_epi64(r0lo, 32), _mm256_srli_epi64(r2, 32)), r1);
-        const __m256i nl = _mm256_srli_epi64(_mm256_add_epi64(r, _mm256_set1_epi64x(std::int64_t(1) << 61)), 62);
-        r = _mm256_sub_epi64(r, _mm256_slli_epi64(nl, 62));
-        // int64 -> double, rounded once: hi * 2^32 and lo are exact, so is their sum's rounding.
-        const __m256i halves = _mm256_permutevar8x32_epi32(r, _mm256_setr_epi32(1, 3, 5, 7, 0, 2, 4, 6));
-        const __m256d hi = _mm256_cvtepi32_pd(_mm256_castsi256_si128(halves));
-        const __m128i lo32 = _mm256_extracti128_si256(halves, 1);
-        const __m256d lo = _mm256_add_pd(_mm256_cvtepi32_pd(_mm_xor_si128(lo32, _mm_set1_epi32(INT32_MIN))),
-                                         _mm256_set1_pd(0x1p31));
-        const __m256d xl = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(hi, _mm256_set1_pd(0x1p32)), lo),
-                                         _mm256_set1_pd(kPi63));
-        const __m128i nl32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(nl, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
-        const __m128i ql = _mm_add_epi32(nl32, _mm_srli_epi32(bits, 31));
-        x = _mm256_blendv_pd(x, xl, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(large)));
-        n = _mm_blendv_epi8(n, nl32, large);
-        q = _mm_blendv_epi8(q, ql, large);
-    }
+    return _mm256_fnmadd_pd(_mm256_cvtepi32_pd(n), _mm256_set1_pd(kHalfPi), xd);
+}
+
+// The large reduction of one set of four lanes, from the products' operands in the even 32-bit
+// halves of ms, a4s, a8s and r0 * 2^32 in r0_hi: r = r0 << 32 | (m a8) >> 32, plus m a4; the
+// quadrant from its top two bits. Replaces x, n, q in the lanes of y that need it.
+AQ_AVX2_FMA inline void reduce_large4(__m256i r0_hi, __m256i ms, __m256i a4s, __m256i a8s, __m128 y,
+                                      __m256d& x, __m128i& n, __m128i& q) {
+    __m256i r = _mm256_add_epi64(_mm256_or_si256(r0_hi, _mm256_srli_epi64(_mm256_mul_epu32(ms, a8s), 32)),
+                                 _mm256_mul_epu32(ms, a4s));
+    const __m256i nl = _mm256_srli_epi64(_mm256_add_epi64(r, _mm256_set1_epi64x(std::int64_t(1) << 61)), 62);
+    r = _mm256_sub_epi64(r, _mm256_slli_epi64(nl, 62));
+    // int64 -> double, rounded once: hi * 2^32 and lo are exact, so is their sum's rounding.
+    const __m256i halves = _mm256_permutevar8x32_epi32(r, _mm256_setr_epi32(1, 3, 5, 7, 0, 2, 4, 6));
+    const __m256d h = _mm256_cvtepi32_pd(_mm256_castsi256_si128(halves));
+    const __m256d l = _mm256_add_pd(
+        _mm256_cvtepi32_pd(_mm_xor_si128(_mm256_extracti128_si256(halves, 1), _mm_set1_epi32(INT32_MIN))),
+        _mm256_set1_pd(0x1p31));
+    const __m256d xl = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(h, _mm256_set1_pd(0x1p32)), l), _mm256_set1_pd(kPi63));
+    const __m128i nl32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(nl, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
+    const __m128i yb = _mm_castps_si128(y);
+    const __m128i big = _mm_cmpgt_epi32(_mm_and_si128(_mm_srli_epi32(yb, 20), _mm_set1_epi32(0x7ff)),
+                                        _mm_set1_epi32(int(kTopLarge - 1)));
+    x = _mm256_blendv_pd(x, xl, wide(big));
+    n = _mm_blendv_epi8(n, nl32, big);
+    q = _mm_blendv_epi8(q, _mm_add_epi32(nl32, _mm_srli_epi32(yb, 31)), big);
+}
+
+// Four lanes (one set: the even or the odd lanes of eight) of the polynomial and the special
+// cases, given the reduced x, the quadrant n and the sign index q.
+AQ_AVX2_FMA inline __m128 finish4(__m128 y, __m256d x, __m128i n, __m128i q) {
+    const __m128i top = _mm_and_si128(_mm_srli_epi32(_mm_castps_si128(y), 20), _mm_set1_epi32(0x7ff));
     const __m256d sign = _mm256_set1_pd(-0.0);
     const __m256d x2 = _mm256_mul_pd(x, x);
     // Sine: x signed where kQuadrantSign[q & 3] is -1 (q & 3 = 1 or 2).
@@ -149,6 +149,45 @@ AQ_AVX2_FMA __m128 sine4(__m128 y) {
     out = _mm_blendv_ps(out, y, _mm_castsi128_ps(tiny));
     const __m128 d = _mm_sub_ps(y, y);
     return _mm_blendv_ps(out, _mm_div_ps(d, d), _mm_castsi128_ps(nonfinite));
+}
+
+// Eight lanes of sine() in AVX2 + FMA. The large reduction's 32 x 32 -> 64-bit products
+// (_mm256_mul_epu32) take the even lanes, then the odd ones, so the double work runs on those two
+// sets of four (even: lanes 0 2 4 6, odd: 1 3 5 7) and the results are interleaved at the end.
+// Both reductions are computed (the large one only when a lane needs it) and selected; the
+// quadrant signs are sign-bit flips, which equal glibc's multiplications by +-1 and its negated
+// cosine table (round to nearest is symmetric, and neither polynomial's terms are zero there).
+// Equal to sine() for every input (tests/core/sine_test.cpp).
+AQ_AVX2_FMA void sine8_avx2(const float* in, float* out) {
+    const __m256 y = _mm256_loadu_ps(in);
+    const __m256i bits = _mm256_castps_si256(y);
+    const __m256 ysets = _mm256_permutevar8x32_ps(y, _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
+    const __m128 ye = _mm256_castps256_ps128(ysets), yo = _mm256_extractf128_ps(ysets, 1);
+    __m128i ne, no;
+    __m256d xe = reduce_fast(ye, ne), xo = reduce_fast(yo, no);
+    __m128i qe = ne, qo = no;
+    const __m256i top = _mm256_and_si256(_mm256_srli_epi32(bits, 20), _mm256_set1_epi32(0x7ff));
+    const __m256i large = _mm256_cmpgt_epi32(top, _mm256_set1_epi32(int(kTopLarge - 1)));
+    if (!_mm256_testz_si256(large, large)) {
+        const __m256i t[3] = {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(kInvPio4)),
+                              _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kInvPio4 + 8)),
+                              _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kInvPio4 + 16))};
+        const __m256i idx = _mm256_and_si256(_mm256_srli_epi32(bits, 26), _mm256_set1_epi32(15));
+        const __m256i shift = _mm256_and_si256(_mm256_srli_epi32(bits, 23), _mm256_set1_epi32(7));
+        const __m256i m = _mm256_sllv_epi32(
+            _mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi32(0x7fffff)), _mm256_set1_epi32(0x800000)), shift);
+        const __m256i a0 = inv_pio4(t, idx);
+        const __m256i a4 = inv_pio4(t, _mm256_add_epi32(idx, _mm256_set1_epi32(4)));
+        const __m256i a8 = inv_pio4(t, _mm256_add_epi32(idx, _mm256_set1_epi32(8)));
+        const __m256i r0 = _mm256_mullo_epi32(m, a0);  // the low 32 bits of m * a0
+        const __m256i hi32 = _mm256_set1_epi64x(std::int64_t(0xffffffff00000000ull));
+        reduce_large4(_mm256_slli_epi64(r0, 32), m, a4, a8, ye, xe, ne, qe);
+        reduce_large4(_mm256_and_si256(r0, hi32), _mm256_srli_epi64(m, 32), _mm256_srli_epi64(a4, 32),
+                      _mm256_srli_epi64(a8, 32), yo, xo, no, qo);
+    }
+    const __m128 re = finish4(ye, xe, ne, qe), ro = finish4(yo, xo, no, qo);
+    _mm_storeu_ps(out, _mm_unpacklo_ps(re, ro));
+    _mm_storeu_ps(out + 4, _mm_unpackhi_ps(re, ro));
 }
 
 #undef AQ_AVX2_FMA
@@ -182,9 +221,7 @@ float sine(float y) {
 void sine8(const float* in, float* out) {
 #ifdef __x86_64__
     if (cpu_has_avx2_fma()) {
-        const __m128 lo = sine4(_mm_loadu_ps(in)), hi = sine4(_mm_loadu_ps(in + 4));
-        _mm_storeu_ps(out, lo);
-        _mm_storeu_ps(out + 4, hi);
+        sine8_avx2(in, out);
         return;
     }
 #endif
