@@ -186,8 +186,8 @@ AQ_AVX2_FMA void sine8_avx2(const float* in, float* out) {
                       _mm256_srli_epi64(a8, 32), yo, xo, no, qo);
     }
     const __m128 re = finish4(ye, xe, ne, qe), ro = finish4(yo, xo, no, qo);
-    _mm_storeu_ps(out, _mm_unpacklo_ps(re, ro));
-    _mm_storeu_ps(out + 4, _mm_unpackhi_ps(re, ro));
+    // One 32-byte store: a caller's vector load of out then forwards from it.
+    _mm256_storeu_ps(out, _mm256_set_m128(_mm_unpackhi_ps(re, ro), _mm_unpacklo_ps(re, ro)));
 }
 
 #undef AQ_AVX2_FMA

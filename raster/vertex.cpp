@@ -233,19 +233,43 @@ inline V mat3_row(const glm::mat3& m, int r, V x, V y, V z) {
     return add(add(mul(bc(m[0][r]), x), mul(bc(m[1][r]), y)), mul(bc(m[2][r]), z));
 }
 
+// Eight consecutive vec3 (24 floats) as three registers: three loads, six blends, three
+// permutes. (Eight scalar stores to a stack array and one vector load per component stalled
+// every load on a failed store forward.)
+static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+inline void load_xyz8(const glm::vec3* p, V& x, V& y, V& z) {
+    const float* f = &p->x;
+    const V m0 = _mm256_loadu_ps(f), m1 = _mm256_loadu_ps(f + 8), m2 = _mm256_loadu_ps(f + 16);
+    // m0 = x0 y0 z0 x1 y1 z1 x2 y2, m1 = z2 x3 y3 z3 x4 y4 z4 x5, m2 = y5 z5 x6 y6 z6 x7 y7 z7
+    x = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b10010010), m2, 0b00100100),
+                                 _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    y = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b00100100), m2, 0b01001001),
+                                 _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    z = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b01001001), m2, 0b10010010),
+                                 _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+
+// Eight vec4 (x[l], y[l], z[l], w[l]) to p[0..7]: a 4 x 4 transposition per 128-bit half, four
+// 32-byte stores.
+static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
+inline void store_xyzw8(glm::vec4* p, V x, V y, V z, V w) {
+    const V t0 = _mm256_unpacklo_ps(x, y), t1 = _mm256_unpackhi_ps(x, y);  // x0 y0 x1 y1 | x4 y4 x5 y5
+    const V t2 = _mm256_unpacklo_ps(z, w), t3 = _mm256_unpackhi_ps(z, w);
+    const V v0 = _mm256_shuffle_ps(t0, t2, 0x44), v1 = _mm256_shuffle_ps(t0, t2, 0xee);  // vertex 0 | 4, 1 | 5
+    const V v2 = _mm256_shuffle_ps(t1, t3, 0x44), v3 = _mm256_shuffle_ps(t1, t3, 0xee);  // 2 | 6, 3 | 7
+    float* f = &p->x;
+    _mm256_storeu_ps(f, _mm256_permute2f128_ps(v0, v1, 0x20));
+    _mm256_storeu_ps(f + 8, _mm256_permute2f128_ps(v2, v3, 0x20));
+    _mm256_storeu_ps(f + 16, _mm256_permute2f128_ps(v0, v1, 0x31));
+    _mm256_storeu_ps(f + 24, _mm256_permute2f128_ps(v2, v3, 0x31));
+}
+
 void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
     const scene::Primitive& prim = *k.prim;
     const TremorParams& tp = k.tp;
-    alignas(32) float a[7][8];  // p.xyz, n.xyz, abstraction control
-    for (int l = 0; l < 8; ++l) {
-        const glm::vec3 p = prim.positions[i + l];
-        const glm::vec3 n = k.has_normals ? prim.normals[i + l] : glm::vec3(0, 0, 1);
-        a[0][l] = p.x, a[1][l] = p.y, a[2][l] = p.z;
-        a[3][l] = n.x, a[4][l] = n.y, a[5][l] = n.z;
-        a[6][l] = k.ctrl_abs->empty() ? 0.0f : (*k.ctrl_abs)[i + l].b;
-    }
-    const V px = _mm256_load_ps(a[0]), py = _mm256_load_ps(a[1]), pz = _mm256_load_ps(a[2]);
-    const V nx = _mm256_load_ps(a[3]), ny = _mm256_load_ps(a[4]), nz = _mm256_load_ps(a[5]);
+    V px, py, pz, nx = bc(0.0f), ny = bc(0.0f), nz = bc(1.0f);
+    load_xyz8(&prim.positions[i], px, py, pz);
+    if (k.has_normals) load_xyz8(&prim.normals[i], nx, ny, nz);
     // The tremor's sines first: the calls clobber every vector register, and here few are live.
     alignas(32) float ax[8], ay[8];
     if (k.do_tremor) {
@@ -256,7 +280,12 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
     }
     V dx = px, dy = py, dz = pz;
     if (k.do_bleed) {
-        V cb = add(bc(k.bleed_const), _mm256_load_ps(a[6]));
+        V ctrl = bc(0.0f);
+        if (!k.ctrl_abs->empty()) {
+            const glm::vec4* c = &(*k.ctrl_abs)[i];
+            ctrl = _mm256_setr_ps(c[0].b, c[1].b, c[2].b, c[3].b, c[4].b, c[5].b, c[6].b, c[7].b);
+        }
+        V cb = add(bc(k.bleed_const), ctrl);
         cb = min_of(max_of(cb, bc(-1.0f)), bc(1.0f));
         const V kk = mul(sat8(sub(cb, bc(kBleedThreshold))), bc(kBleedDistance));
         dx = add(px, mul(nx, kk));
@@ -322,25 +351,24 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
         _mm_store_si128(reinterpret_cast<__m128i*>(syi + 4 * h), _mm256_cvtpd_epi32(_mm256_mul_pd(sy, one_px)));
         _mm_store_ps(iwf + 4 * h, _mm256_cvtpd_ps(iw));
     }
-    alignas(32) float o[11][8];
-    _mm256_store_ps(o[0], cx), _mm256_store_ps(o[1], cy), _mm256_store_ps(o[2], cz), _mm256_store_ps(o[3], cw);
-    _mm256_store_ps(o[4], vx), _mm256_store_ps(o[5], vy), _mm256_store_ps(o[6], vz);
-    _mm256_store_ps(o[7], mx), _mm256_store_ps(o[8], my), _mm256_store_ps(o[9], mz);
-    _mm256_store_ps(o[10], fin);
+    store_xyzw8(&dv.clip[i], cx, cy, cz, cw);
+    alignas(32) float o[7][8];  // view position, view normal, finite mask
+    _mm256_store_ps(o[0], vx), _mm256_store_ps(o[1], vy), _mm256_store_ps(o[2], vz);
+    _mm256_store_ps(o[3], mx), _mm256_store_ps(o[4], my), _mm256_store_ps(o[5], mz);
+    _mm256_store_ps(o[6], fin);
     for (int l = 0; l < 8; ++l) {
         const std::size_t j = i + l;
-        dv.clip[j] = glm::vec4(o[0][l], o[1][l], o[2][l], o[3][l]);
-        dv.view[j].pos = glm::vec3(o[4][l], o[5][l], o[6][l]);
-        dv.view[j].normal = glm::vec3(o[7][l], o[8][l], o[9][l]);
+        dv.view[j].pos = glm::vec3(o[0][l], o[1][l], o[2][l]);
+        dv.view[j].normal = glm::vec3(o[3][l], o[4][l], o[5][l]);
         if (k.has_tan) transform_tangent(k, dv, j);
         SnapVertex& sv = dv.snap[j];
-        const bool finite_lane = std::bit_cast<std::uint32_t>(o[10][l]) != 0u;
+        const bool finite_lane = std::bit_cast<std::uint32_t>(o[6][l]) != 0u;
         const std::uint32_t c = finite_lane ? std::uint32_t(code[l]) : kOutNonFinite;
         if (c == 0) {
             sv.x = sxi[l];
             sv.y = syi[l];
             sv.inv_w = iwf[l];
-            sv.depth = -o[6][l];
+            sv.depth = -o[2][l];
             sv.code = 0;
         } else {
             snap_outside(c, sv);
