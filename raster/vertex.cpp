@@ -264,6 +264,26 @@ inline void store_xyzw8(glm::vec4* p, V x, V y, V z, V w) {
     _mm256_storeu_ps(f + 24, _mm256_permute2f128_ps(v2, v3, 0x31));
 }
 
+// Eight (position, normal) records: per group of four vertices the float pairs (p.x, p.y),
+// (p.z, n.x), (n.y, n.z) as 64-bit lanes A, B, C, interleaved A0 B0 C0 A1 | B1 C1 A2 B2 | C2 A3 B3
+// C3 by one permutation of each and two blends per store.
+static_assert(sizeof(DrawVertices::Shading) == 6 * sizeof(float));
+inline void store_shading8(DrawVertices::Shading* p, V px, V py, V pz, V nx, V ny, V nz) {
+    auto pairs = [](V a, V b, bool high) {  // (a[l], b[l]) for l in the low or the high four lanes
+        const V lo = _mm256_unpacklo_ps(a, b), hi = _mm256_unpackhi_ps(a, b);
+        return _mm256_castps_pd(high ? _mm256_permute2f128_ps(lo, hi, 0x31) : _mm256_permute2f128_ps(lo, hi, 0x20));
+    };
+    float* f = &p->pos.x;
+    for (int g = 0; g < 2; ++g, f += 24) {
+        const __m256d a = _mm256_permute4x64_pd(pairs(px, py, g), 0x6c);  // A0 A3 A2 A1
+        const __m256d b = _mm256_permute4x64_pd(pairs(pz, nx, g), 0xb1);  // B1 B0 B3 B2
+        const __m256d c = _mm256_permute4x64_pd(pairs(ny, nz, g), 0xc6);  // C2 C1 C0 C3
+        _mm256_storeu_pd(reinterpret_cast<double*>(f), _mm256_blend_pd(_mm256_blend_pd(a, b, 0b0010), c, 0b0100));
+        _mm256_storeu_pd(reinterpret_cast<double*>(f + 8), _mm256_blend_pd(_mm256_blend_pd(b, c, 0b0010), a, 0b0100));
+        _mm256_storeu_pd(reinterpret_cast<double*>(f + 16), _mm256_blend_pd(_mm256_blend_pd(c, a, 0b0010), b, 0b0100));
+    }
+}
+
 void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
     const scene::Primitive& prim = *k.prim;
     const TremorParams& tp = k.tp;
@@ -352,23 +372,21 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
         _mm_store_ps(iwf + 4 * h, _mm256_cvtpd_ps(iw));
     }
     store_xyzw8(&dv.clip[i], cx, cy, cz, cw);
-    alignas(32) float o[7][8];  // view position, view normal, finite mask
-    _mm256_store_ps(o[0], vx), _mm256_store_ps(o[1], vy), _mm256_store_ps(o[2], vz);
-    _mm256_store_ps(o[3], mx), _mm256_store_ps(o[4], my), _mm256_store_ps(o[5], mz);
-    _mm256_store_ps(o[6], fin);
+    store_shading8(&dv.view[i], vx, vy, vz, mx, my, mz);
+    alignas(32) float vzs[8], fins[8];
+    _mm256_store_ps(vzs, vz);
+    _mm256_store_ps(fins, fin);
     for (int l = 0; l < 8; ++l) {
         const std::size_t j = i + l;
-        dv.view[j].pos = glm::vec3(o[0][l], o[1][l], o[2][l]);
-        dv.view[j].normal = glm::vec3(o[3][l], o[4][l], o[5][l]);
         if (k.has_tan) transform_tangent(k, dv, j);
         SnapVertex& sv = dv.snap[j];
-        const bool finite_lane = std::bit_cast<std::uint32_t>(o[6][l]) != 0u;
+        const bool finite_lane = std::bit_cast<std::uint32_t>(fins[l]) != 0u;
         const std::uint32_t c = finite_lane ? std::uint32_t(code[l]) : kOutNonFinite;
         if (c == 0) {
             sv.x = sxi[l];
             sv.y = syi[l];
             sv.inv_w = iwf[l];
-            sv.depth = -o[2][l];
+            sv.depth = -vzs[l];
             sv.code = 0;
         } else {
             snap_outside(c, sv);
