@@ -290,14 +290,6 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
     V px, py, pz, nx = bc(0.0f), ny = bc(0.0f), nz = bc(1.0f);
     load_xyz8(&prim.positions[i], px, py, pz);
     if (k.has_normals) load_xyz8(&prim.normals[i], nx, ny, nz);
-    // The tremor's sines first: the calls clobber every vector register, and here few are live.
-    alignas(32) float ax[8], ay[8];
-    if (k.do_tremor) {
-        _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
-        _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
-        sine8(ax, ax);
-        sine8(ay, ay);
-    }
     V dx = px, dy = py, dz = pz;
     if (k.do_bleed) {
         V ctrl = bc(0.0f);
@@ -329,6 +321,14 @@ void transform8(const VertexConsts& k, DrawVertices& dv, std::size_t i) {
         const V ndv = add(add(mul(mx, ux), mul(my, uy)), mul(mz, uz));
         const V w = min_of(sat8(mul(bc(kTremorNdotVGain), ndv)), bc(1.0f - tp.front));
         const V on = _mm256_cmp_ps(w, bc(0.0f), _CMP_GT_OQ);
+        // The sines only where a lane has tremor (back faces and silhouettes have none).
+        alignas(32) float ax[8] = {}, ay[8] = {};
+        if (!_mm256_testz_ps(on, on)) {
+            _mm256_store_ps(ax, add(bc(k.phase), mul(mul(px, bc(tp.frequency)), bc(kTremorFreqScale))));
+            _mm256_store_ps(ay, add(bc(k.phase), mul(mul(py, bc(tp.frequency)), bc(kTremorFreqScale))));
+            sine8(ax, ax);
+            sine8(ay, ay);
+        }
         const V offx = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ax), bc(tp.tremor_px)), w));
         const V offy = _mm256_and_ps(on, mul(mul(_mm256_load_ps(ay), bc(tp.tremor_px)), w));
         cx = add(cx, mul(mul(offx, bc(k.px_x)), cw));
