@@ -82,7 +82,7 @@ AQ_AVX2_FMA inline __m256d wide(__m128i mask) { return _mm256_castsi256_pd(_mm25
 AQ_AVX2_FMA inline __m128i bit_set(__m128i v, int b) {
     return _mm_cmpeq_epi32(_mm_and_si128(v, _mm_set1_epi32(b)), _mm_set1_epi32(b));
 }
-// kInvPio4[e] for e in [lo, lo + 16) in eight lanes, from the table in three registers.
+// kInvPio4[e] (e in [0, 24)) in eight lanes, from the table in three registers.
 AQ_AVX2_FMA inline __m256i inv_pio4(const __m256i t[3], __m256i e) {
     const __m256i p0 = _mm256_permutevar8x32_epi32(t[0], e), p1 = _mm256_permutevar8x32_epi32(t[1], e),
                   p2 = _mm256_permutevar8x32_epi32(t[2], e);
@@ -100,9 +100,10 @@ AQ_AVX2_FMA inline __m256d reduce_fast(__m128 y, __m128i& n) {
 
 // The large reduction of one set of four lanes, from the products' operands in the even 32-bit
 // halves of ms, a4s, a8s and r0 * 2^32 in r0_hi: r = r0 << 32 | (m a8) >> 32, plus m a4; the
-// quadrant from its top two bits. Replaces x, n, q in the lanes of y that need it.
+// quadrant from its top two bits. Replaces x, n, q in the lanes marked in big (y's sign bits
+// enter q).
 AQ_AVX2_FMA inline void reduce_large4(__m256i r0_hi, __m256i ms, __m256i a4s, __m256i a8s, __m128 y,
-                                      __m256d& x, __m128i& n, __m128i& q) {
+                                      __m128i big, __m256d& x, __m128i& n, __m128i& q) {
     __m256i r = _mm256_add_epi64(_mm256_or_si256(r0_hi, _mm256_srli_epi64(_mm256_mul_epu32(ms, a8s), 32)),
                                  _mm256_mul_epu32(ms, a4s));
     const __m256i nl = _mm256_srli_epi64(_mm256_add_epi64(r, _mm256_set1_epi64x(std::int64_t(1) << 61)), 62);
@@ -115,18 +116,14 @@ AQ_AVX2_FMA inline void reduce_large4(__m256i r0_hi, __m256i ms, __m256i a4s, __
         _mm256_set1_pd(0x1p31));
     const __m256d xl = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(h, _mm256_set1_pd(0x1p32)), l), _mm256_set1_pd(kPi63));
     const __m128i nl32 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(nl, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
-    const __m128i yb = _mm_castps_si128(y);
-    const __m128i big = _mm_cmpgt_epi32(_mm_and_si128(_mm_srli_epi32(yb, 20), _mm_set1_epi32(0x7ff)),
-                                        _mm_set1_epi32(int(kTopLarge - 1)));
     x = _mm256_blendv_pd(x, xl, wide(big));
     n = _mm_blendv_epi8(n, nl32, big);
-    q = _mm_blendv_epi8(q, _mm_add_epi32(nl32, _mm_srli_epi32(yb, 31)), big);
+    q = _mm_blendv_epi8(q, _mm_add_epi32(nl32, _mm_srli_epi32(_mm_castps_si128(y), 31)), big);
 }
 
 // Four lanes (one set: the even or the odd lanes of eight) of the polynomial and the special
-// cases, given the reduced x, the quadrant n and the sign index q.
-AQ_AVX2_FMA inline __m128 finish4(__m128 y, __m256d x, __m128i n, __m128i q) {
-    const __m128i top = _mm_and_si128(_mm_srli_epi32(_mm_castps_si128(y), 20), _mm_set1_epi32(0x7ff));
+// cases, given y's top 12 bits, the reduced x, the quadrant n and the sign index q.
+AQ_AVX2_FMA inline __m128 finish4(__m128 y, __m128i top, __m256d x, __m128i n, __m128i q) {
     const __m256d sign = _mm256_set1_pd(-0.0);
     const __m256d x2 = _mm256_mul_pd(x, x);
     // Sine: x signed where kQuadrantSign[q & 3] is -1 (q & 3 = 1 or 2).
@@ -163,10 +160,11 @@ AQ_AVX2_FMA void sine8_avx2(const float* in, float* out) {
     const __m256i bits = _mm256_castps_si256(y);
     const __m256 ysets = _mm256_permutevar8x32_ps(y, _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
     const __m128 ye = _mm256_castps256_ps128(ysets), yo = _mm256_extractf128_ps(ysets, 1);
+    const __m256i top = _mm256_and_si256(_mm256_srli_epi32(_mm256_castps_si256(ysets), 20), _mm256_set1_epi32(0x7ff));
+    const __m128i tope = _mm256_castsi256_si128(top), topo = _mm256_extracti128_si256(top, 1);
     __m128i ne, no;
     __m256d xe = reduce_fast(ye, ne), xo = reduce_fast(yo, no);
     __m128i qe = ne, qo = no;
-    const __m256i top = _mm256_and_si256(_mm256_srli_epi32(bits, 20), _mm256_set1_epi32(0x7ff));
     const __m256i large = _mm256_cmpgt_epi32(top, _mm256_set1_epi32(int(kTopLarge - 1)));
     if (!_mm256_testz_si256(large, large)) {
         const __m256i t[3] = {_mm256_loadu_si256(reinterpret_cast<const __m256i*>(kInvPio4)),
@@ -181,11 +179,11 @@ AQ_AVX2_FMA void sine8_avx2(const float* in, float* out) {
         const __m256i a8 = inv_pio4(t, _mm256_add_epi32(idx, _mm256_set1_epi32(8)));
         const __m256i r0 = _mm256_mullo_epi32(m, a0);  // the low 32 bits of m * a0
         const __m256i hi32 = _mm256_set1_epi64x(std::int64_t(0xffffffff00000000ull));
-        reduce_large4(_mm256_slli_epi64(r0, 32), m, a4, a8, ye, xe, ne, qe);
+        reduce_large4(_mm256_slli_epi64(r0, 32), m, a4, a8, ye, _mm256_castsi256_si128(large), xe, ne, qe);
         reduce_large4(_mm256_and_si256(r0, hi32), _mm256_srli_epi64(m, 32), _mm256_srli_epi64(a4, 32),
-                      _mm256_srli_epi64(a8, 32), yo, xo, no, qo);
+                      _mm256_srli_epi64(a8, 32), yo, _mm256_extracti128_si256(large, 1), xo, no, qo);
     }
-    const __m128 re = finish4(ye, xe, ne, qe), ro = finish4(yo, xo, no, qo);
+    const __m128 re = finish4(ye, tope, xe, ne, qe), ro = finish4(yo, topo, xo, no, qo);
     // One 32-byte store: a caller's vector load of out then forwards from it.
     _mm256_storeu_ps(out, _mm256_set_m128(_mm_unpackhi_ps(re, ro), _mm_unpacklo_ps(re, ro)));
 }
