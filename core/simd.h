@@ -33,6 +33,17 @@ inline bool all_zero(v8i v) {
 #endif
 }
 
+//! Bit i set when lane i of the mask m (all ones or all zeros per lane, as comparisons give) is set.
+inline unsigned bits8(v8i m) {
+#ifdef __AVX__
+    return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(__m256i(m))));
+#else
+    unsigned b = 0;
+    for (int i = 0; i < 8; ++i) b |= unsigned(m[i] != 0) << i;
+    return b;
+#endif
+}
+
 //! sqrt lane by lane (correctly rounded, as std::sqrt).
 inline v8f sqrt8(v8f x) {
 #ifdef __AVX__
@@ -41,6 +52,27 @@ inline v8f sqrt8(v8f x) {
     for (int i = 0; i < 8; ++i) x[i] = __builtin_sqrtf(x[i]);
     return x;
 #endif
+}
+
+//! base[idx[i]] lane by lane (one vgatherdps with AVX2). Values are loaded, never computed.
+inline v8f gather8(const float* base, v8i idx) {
+#ifdef __AVX2__
+    return v8f(_mm256_i32gather_ps(base, __m256i(idx), 4));
+#else
+    v8f v;
+    for (int i = 0; i < 8; ++i) v[i] = base[idx[i]];
+    return v;
+#endif
+}
+
+//! Channel C of eight RGBA pixels at p (32 interleaved floats), in pixel order. Shuffles only.
+template <int C>
+inline v8f rgba_channel8(const float* p) {
+    static_assert(C >= 0 && C < 4);
+    const v8f r0 = load8(p), r1 = load8(p + 8), r2 = load8(p + 16), r3 = load8(p + 24);
+    const v8f lo = __builtin_shufflevector(r0, r1, C, C + 4, C + 8, C + 12, C, C + 4, C + 8, C + 12);
+    const v8f hi = __builtin_shufflevector(r2, r3, C, C + 4, C + 8, C + 12, C, C + 4, C + 8, C + 12);
+    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 8, 9, 10, 11);
 }
 
 //! Transposes the 8 x 8 matrix held in r[0..7] (row k = r[k]) in place: afterwards r[c][k] is the

@@ -29,6 +29,15 @@ int edge_blur_kernel_size(int width, float ctrl) {
     return int(vc);
 }
 
+simd::v8i edge_blur_kernel_size8(int width, simd::v8f ctrl) {
+    using simd::v8f;
+    const float wf = float(width);
+    const v8f v = wf + (0.0f + (3.0f * wf - 0.0f) * ctrl);  // lerp(0, 3W, ctrl) = 0 + (3W - 0) ctrl
+    const v8f one = v8f{} + 1.0f, kmax = v8f{} + float(4 * width);
+    const v8f vc = v >= one ? (v < kmax ? v : kmax) : one;
+    return __builtin_convertvector(vc, simd::v8i);  // truncation, as int(vc)
+}
+
 void edge_blur_wc17(ImageF& dst, const ImageF& color, const EdgeBlurWc17Params& p, const Exec& ex) {
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "edge_blur", "color");
     const int w = color.width(), h = color.height();
@@ -71,7 +80,13 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     // than a full-size table (8 MB at 1080p, faulted in and filled every frame).
     auto kernel_sizes = [&](std::size_t i0, std::size_t n, int* k) {
         const float* c = ctrl.data() + 4 * i0;
-        for (std::size_t i = 0; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + control::kEdgeWidth.channel]);
+        constexpr int kG = control::kEdgeWidth.channel;
+        std::size_t i = 0;
+        for (; i + 8 <= n; i += 8) {
+            const simd::v8i kv = edge_blur_kernel_size8(p.width, simd::rgba_channel8<kG>(c + 4 * i));
+            std::memcpy(k + i, &kv, sizeof kv);
+        }
+        for (; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + kG]);
     };
     ImageF tmp(w, h, 1, kUninitialized);  // pass 0 writes every value
     toolkit::ensure_output(dst, w, h, 1);
@@ -127,6 +142,13 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     std::vector<float> wflat(std::size_t(kmax + 1) * kWStride, 0.0f);
     for (int k = 1; k <= kmax; ++k)
         for (int o2 = 0; o2 < k; ++o2) wflat[std::size_t(k) * kWStride + std::size_t(o2)] = tab[std::size_t(k)][std::size_t(o2)];
+    // For kmax <= 16 (W <= 4, the published W = 3 included) the weights of one |a| for every K fit
+    // two registers: wperm[2 |a|] holds w_K[|a|] for K = 1..8, wperm[2 |a| + 1] for K = 9..16, and
+    // a lane's weight is a two-register permutation by K - 1 instead of a gather.
+    const bool permuted = kmax <= 16;
+    std::vector<toolkit::v8f> wperm(permuted ? std::size_t(2 * kmax) : 0);
+    for (int aa = 0; permuted && aa < kmax; ++aa)
+        for (int k = 1; k <= 16; ++k) wperm[std::size_t(2 * aa + (k - 1) / 8)][(k - 1) % 8] = k <= kmax ? wflat[std::size_t(k) * kWStride + std::size_t(aa)] : 0.0f;
     constexpr int kMinRun = 16;  // runs of equal K at least this long go to accumulate_taps
     for (int pass = 0; pass < 2; ++pass) {
         const float* s = pass == 0 ? edges.data() : tmp.data();
@@ -192,8 +214,18 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                 };
                 for (int x0 = sp.lo; x0 <= sp.hi;) {
                     const int k = kr[x0];
-                    int x1 = x0 + 1;
-                    while (x1 <= sp.hi && kr[x1] == k) ++x1;
+                    int x1 = x0 + 1;  // the run's end: eight K compared at a time, then one
+                    for (; x1 + 8 <= sp.hi + 1; x1 += 8) {
+                        toolkit::v8i kn;
+                        std::memcpy(&kn, kr + x1, sizeof kn);
+                        const unsigned same = simd::bits8(kn == k);
+                        if (same != 0xFFu) {
+                            x1 += std::countr_one(same);
+                            break;
+                        }
+                    }
+                    if (x1 + 8 > sp.hi + 1)
+                        while (x1 <= sp.hi && kr[x1] == k) ++x1;
                     if (x1 - x0 < kMinRun && x0 + 8 <= sp.hi + 1) {
                         using toolkit::v8f;
                         using toolkit::v8i;
@@ -201,14 +233,20 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                         int kmx = 1;
                         for (int i = 0; i < 8; ++i) kv[i] = kr[x0 + i], kmx = std::max(kmx, kr[x0 + i]);
                         const v8i kbase = kv * kWStride;
+                        v8f wv[4 * 16];  // lane i: w_{K_i}[|a|] (0 where |a| >= K_i, not taken)
+                        if (permuted) {
+                            const v8i sel = kv - 1;
+                            for (int aa = 0; aa < kmx; ++aa)
+                                wv[aa] = __builtin_shuffle(wperm[std::size_t(2 * aa)], wperm[std::size_t(2 * aa + 1)], sel);
+                        } else {
+                            for (int aa = 0; aa < kmx; ++aa) wv[aa] = simd::gather8(wflat.data(), kbase + aa);
+                        }
                         const v8f e0 = toolkit::load8(sr + x0);
                         v8f acc = e0;
                         for (int a = -(kmx - 1); a <= kmx - 1; ++a) {  // ascending, as the reference
                             const int aa = std::abs(a);
                             const v8i take = (v8i{} + aa) < kv;
-                            v8f wv;
-                            for (int i = 0; i < 8; ++i) wv[i] = wflat[std::size_t(kbase[i] + aa)];
-                            const v8f next = acc + wv * (toolkit::load8(tap_row(a) + x0) - e0);
+                            const v8f next = acc + wv[aa] * (toolkit::load8(tap_row(a) + x0) - e0);
                             acc = take ? next : acc;
                         }
                         toolkit::store8(orow + x0, acc);

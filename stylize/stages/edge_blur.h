@@ -9,6 +9,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
+#include "core/simd.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize {
@@ -40,6 +41,8 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl_edge, c
 
 //! K of WC18/MNPR for width W and painted control c (guarded).
 int edge_blur_kernel_size(int width, float ctrl);
+//! edge_blur_kernel_size of eight control values: its operations lane by lane, the same K.
+simd::v8i edge_blur_kernel_size8(int width, simd::v8f ctrl);
 
 void register_edge_blur(Registry& r);
 

@@ -62,6 +62,24 @@ TEST(EdgeBlurWc18, KernelSizeFollowsMnprAndIsGuarded) {
     EXPECT_EQ(edge_blur_kernel_size(3, 1e30f), 12);
 }
 
+// The eight-lane K (the fast traversal's) equals the scalar definition for every width, on a sweep
+// of the control's range and past it, and on the values that need the guards.
+TEST(EdgeBlurWc18, KernelSizeOfEightLanesEqualsTheScalarDefinition) {
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<float> c = {0.0f, -0.0f, 1.0f, -1.0f, nan, -nan, inf, -inf, 1e30f, -1e30f, 1e-40f, 0.5f};
+    for (int i = -3000; i <= 3000; ++i) c.push_back(float(i) / 2000.0f);          // the range and past it
+    for (int k = 1; k <= 64; ++k) c.push_back(std::nextafter(float(k) / 12.0f - 0.25f, 0.0f));  // near steps
+    while (c.size() % 8) c.push_back(0.25f);
+    for (int width = 1; width <= 16; ++width)
+        for (std::size_t i = 0; i < c.size(); i += 8) {
+            simd::v8f v;
+            std::memcpy(&v, &c[i], sizeof v);
+            const simd::v8i k = edge_blur_kernel_size8(width, v);
+            for (int l = 0; l < 8; ++l)
+                ASSERT_EQ(k[l], edge_blur_kernel_size(width, c[i + std::size_t(l)])) << "width " << width << " ctrl " << c[i + std::size_t(l)];
+        }
+}
+
 TEST(EdgeBlurWc18, ConstantStaysConstantWhateverTheWidth) {
     ImageF e(23, 17, 1, 0.6f), k(23, 17, 4), o;
     for (std::size_t i = 0; i < k.num_values(); ++i) k.data()[i] = float(int(i % 9) - 4) / 4.0f;
@@ -108,7 +126,8 @@ TEST(EdgeBlurWc18, FastEqualsReferenceOnSparseEdges) {
     blob(w - 2, 44, 0.125f);
     e.at(70, 60, 0) = -0.0f;  // not +0: its row and column are computed
     e.at(20, 66, 0) = std::numeric_limits<float>::quiet_NaN();
-    for (const int width : {1, 3, 5})
+    // W = 4 (K up to 16) is the widest whose weights are permuted from two registers, W = 5 gathers.
+    for (const int width : {1, 3, 4, 5})
         for (const Border b : {Border::Clamp, Border::Mirror}) {
             EdgeBlurWc18Params p;
             p.width = width;
