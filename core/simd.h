@@ -65,14 +65,23 @@ inline v8f gather8(const float* base, v8i idx) {
 #endif
 }
 
-//! Channel C of eight RGBA pixels at p (32 interleaved floats), in pixel order. Shuffles only.
-template <int C>
-inline v8f rgba_channel8(const float* p) {
-    static_assert(C >= 0 && C < 4);
-    const v8f r0 = load8(p), r1 = load8(p + 8), r2 = load8(p + 16), r3 = load8(p + 24);
-    const v8f lo = __builtin_shufflevector(r0, r1, C, C + 4, C + 8, C + 12, C, C + 4, C + 8, C + 12);
-    const v8f hi = __builtin_shufflevector(r2, r3, C, C + 4, C + 8, C + 12, C, C + 4, C + 8, C + 12);
-    return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 8, 9, 10, 11);
+//! q[0], q[S], ..., q[7 S] (S = 1, 3 or 4: one channel of eight pixels with S interleaved
+//! channels), reading only q[0 .. 7 S] (so it is safe at the end of an image). Shuffles only.
+template <int S>
+inline v8f strided8(const float* q) {
+    static_assert(S == 1 || S == 3 || S == 4);
+    if constexpr (S == 1) {
+        return load8(q);
+    } else if constexpr (S == 3) {  // q[0..7], q[8..15], q[14..21]
+        const v8f r0 = load8(q), r1 = load8(q + 8), r2 = load8(q + 14);
+        const v8f a = __builtin_shufflevector(r0, r1, 0, 3, 6, 9, 12, 15, 0, 0);
+        return __builtin_shufflevector(a, r2, 0, 1, 2, 3, 4, 5, 12, 15);
+    } else {  // q[0..7], q[8..15], q[16..23], q[21..28]
+        const v8f r0 = load8(q), r1 = load8(q + 8), r2 = load8(q + 16), r3 = load8(q + 21);
+        const v8f lo = __builtin_shufflevector(r0, r1, 0, 4, 8, 12, 0, 4, 8, 12);
+        const v8f hi = __builtin_shufflevector(r2, r3, 0, 4, 11, 15, 0, 4, 11, 15);
+        return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 8, 9, 10, 11);
+    }
 }
 
 //! Transposes the 8 x 8 matrix held in r[0..7] (row k = r[k]) in place: afterwards r[c][k] is the

@@ -83,7 +83,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
         constexpr int kG = control::kEdgeWidth.channel;
         std::size_t i = 0;
         for (; i + 8 <= n; i += 8) {
-            const simd::v8i kv = edge_blur_kernel_size8(p.width, simd::rgba_channel8<kG>(c + 4 * i));
+            const simd::v8i kv = edge_blur_kernel_size8(p.width, simd::strided8<4>(c + 4 * i + kG));
             std::memcpy(k + i, &kv, sizeof kv);
         }
         for (; i < n; ++i) k[i] = edge_blur_kernel_size(p.width, c[4 * i + kG]);

@@ -129,7 +129,16 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                     for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
                 continue;
             }
-            for (int i = 0; i < n; ++i) {
+            int i8 = 0;
+            for (; i8 + 8 <= n; i8 += 8) {
+                const float* cp = &c(xs + i8, y).x;
+                store8(cr + i8, simd::strided8<4>(cp));
+                store8(cg + i8, simd::strided8<4>(cp + 1));
+                store8(cb + i8, simd::strided8<4>(cp + 2));
+                store8(ev + i8, plane8(e, xs + i8, y));
+                store8(ci + i8, plane8(ctrl, xs + i8, y));
+            }
+            for (int i = i8; i < n; ++i) {
                 const glm::vec4 cv = c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z;
                 ev[i] = e(xs + i, y);

@@ -111,11 +111,19 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                 if (!in_place) std::memcpy(&o(xs, y).x, crow, sizeof(float) * 4 * std::size_t(n));
                 continue;
             }
-            for (int i = 0; i < n; ++i) {
+            int i8 = 0;
+            for (; i8 + 8 <= n; i8 += 8) {
+                const float* cp = crow + 4 * i8;
+                store8(cr + i8, simd::strided8<4>(cp));
+                store8(cg + i8, simd::strided8<4>(cp + 1));
+                store8(cb + i8, simd::strided8<4>(cp + 2));
+                store8(ca + i8, simd::strided8<4>(cp + 3));
+                store8(ht + i8, plane8(in.height, xs + i8, y));
+                store8(av + i8, plane8(in.ctrl, xs + i8, y));
+            }
+            for (int i = i8; i < n; ++i) {
                 const glm::vec4 cv = in.c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z, ca[i] = cv.w;
-            }
-            for (int i = 0; i < n; ++i) {
                 ht[i] = in.height(xs + i, y);
                 av[i] = in.ctrl(xs + i, y);
             }

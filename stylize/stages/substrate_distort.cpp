@@ -190,7 +190,13 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
                 stream_copy(&o(xs, y).x, &c(xs, y).x, 4 * std::size_t(n));  // non-temporal: no read of o's lines
                 continue;
             }
-            for (int i = 0; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
+            int i8 = 0;
+            for (; i8 + 8 <= n; i8 += 8) {
+                store8(tr + i8, plane8(nr, xs + i8, y));
+                store8(tg + i8, plane8(ng, xs + i8, y));
+                store8(tc + i8, plane8(ctrl, xs + i8, y));
+            }
+            for (int i = i8; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
             for (int i = 0; i < n; ++i) {
                 float vx = tr[i] * 2.0f - 1.0f, vy = tg[i] * 2.0f - 1.0f;
                 vx = vx > -1.0f ? (vx < 1.0f ? vx : 1.0f) : -1.0f;

@@ -412,6 +412,24 @@ inline Plane plane(const ImageF& img, int channel) {
 
 inline Plane constant_plane(const float* value, int w, int h) { return {value, 0, 0, w, h}; }
 
+//! p(x, y) .. p(x + 7, y) (x + 8 <= p.width): one load for a contiguous plane, shuffles for 3 or 4
+//! interleaved channels, a broadcast for a constant plane, else value by value. Values are moved,
+//! never computed.
+inline v8f plane8(const Plane& p, int x, int y) {
+    const float* q = p.p + y * p.row + x * p.px;
+    switch (p.px) {
+    case 0: return v8f{} + *q;
+    case 1: return simd::strided8<1>(q);
+    case 3: return simd::strided8<3>(q);
+    case 4: return simd::strided8<4>(q);
+    default: {
+        v8f v;
+        for (int i = 0; i < 8; ++i) v[i] = q[i * p.px];
+        return v;
+    }
+    }
+}
+
 //! Value at output pixel (x, y) of a w x h image of plane p resampled by the convention of
 //! kernels.h sample_resampled (texel_coord + sample_bilinear, clamp to edge; exactly the identity at
 //! equal sizes), computed directly: the plain counterpart of Resampler::sample.

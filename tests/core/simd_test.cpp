@@ -10,13 +10,22 @@
 namespace aq {
 namespace {
 
-TEST(Simd, RgbaChannel8PicksOneChannelOfEightPixelsInOrder) {
-    float px[32];
-    for (int i = 0; i < 32; ++i) px[i] = float(100 * (i / 4) + i % 4);  // pixel p, channel c: 100 p + c
-    const simd::v8f c[4] = {simd::rgba_channel8<0>(px), simd::rgba_channel8<1>(px), simd::rgba_channel8<2>(px),
-                            simd::rgba_channel8<3>(px)};
-    for (int ch = 0; ch < 4; ++ch)
-        for (int p = 0; p < 8; ++p) EXPECT_EQ(c[ch][p], float(100 * p + ch)) << "channel " << ch << " pixel " << p;
+// Each stride, from every start within a pixel, up to the last value of a buffer that ends at
+// q[7 S] (reading past it would fault under the sanitizer build or read garbage here).
+template <int S>
+void expect_strided(const char* name) {
+    for (int start = 0; start < S; ++start) {
+        std::vector<float> buf(std::size_t(start + 7 * S + 1));
+        for (std::size_t i = 0; i < buf.size(); ++i) buf[i] = float(i) + 0.25f;
+        const simd::v8f v = simd::strided8<S>(buf.data() + start);
+        for (int k = 0; k < 8; ++k) EXPECT_EQ(v[k], buf[std::size_t(start + k * S)]) << name << " start " << start << " lane " << k;
+    }
+}
+
+TEST(Simd, Strided8TakesEveryStthValueAndReadsNoFurther) {
+    expect_strided<1>("S = 1");
+    expect_strided<3>("S = 3");
+    expect_strided<4>("S = 4");
 }
 
 TEST(Simd, Gather8LoadsEachLanesIndex) {

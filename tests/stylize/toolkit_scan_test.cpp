@@ -3,6 +3,7 @@
 // each answer equals a plain scalar scan, for every channel count, for a single telling value at
 // every kind of position (first, inside a vector, the unvectorised tail, a parallel block's edge),
 // on the reference traversal and on 1, 2 and 8 threads.
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -127,6 +128,33 @@ TEST(ToolkitScan, AnyIndexAnswersLikeTheLoop) {
         for (const Exec& ex : traversals())
             EXPECT_EQ(toolkit::any_index(ex, n, [&](std::size_t i) { return i == hit; }), hit < n) << hit;
     }
+}
+
+// plane8 moves eight values of a plane into a register: for every channel layout a plane can
+// have (a constant, one channel, channel c of 2, 3 or 4 interleaved) and every
+// column up to the row's end (the last pixel's last channel is the image's last value), it
+// equals the plane's values one by one, bit for bit (a NaN payload and -0 included).
+TEST(ToolkitPlane8, EqualsThePlanesValuesOneByOne) {
+    using namespace toolkit;
+    const int w = 19, h = 3;
+    for (int C : {1, 2, 3, 4})
+        for (int c = 0; c < C; ++c) {
+            ImageF img(w, h, C);
+            for (std::size_t i = 0; i < img.num_values(); ++i) img.data()[i] = float(i) * 0.5f - 3.0f;
+            img.data()[c] = -0.0f;
+            img.data()[img.num_values() - 1] = std::bit_cast<float>(0x7fc01234u);
+            const Plane p = plane(img, c);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x + 8 <= w; ++x) {
+                    const v8f v = plane8(p, x, y);
+                    for (int l = 0; l < 8; ++l)
+                        ASSERT_EQ(std::bit_cast<std::uint32_t>(v[l]), std::bit_cast<std::uint32_t>(p(x + l, y)))
+                            << C << " channels, channel " << c << " at (" << x + l << ", " << y << ")";
+                }
+        }
+    const float k = 0.75f;
+    const v8f v = plane8(constant_plane(&k, w, h), 3, 2);
+    for (int l = 0; l < 8; ++l) EXPECT_EQ(v[l], k);
 }
 
 }  // namespace
