@@ -144,7 +144,8 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 ev[i] = e(xs + i, y);
                 ci[i] = ctrl(xs + i, y);
             }
-            for (int i = 0; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
+            for (int i = 0; i < i8; i += 8) store8(bl + i, up.sample8(bm, xs + i, y));
+            for (int i = i8; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
             for (int i = 0; i < n; ++i)
                 d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], substrate, p);
             int m = 0;  // pixels that darken (d != 1), packed

@@ -1,6 +1,7 @@
 // tests/stylize/resample_test.cpp — the half-resolution convention: toolkit::resample (tables, used
 // by the stages) equals kernels.h sample_resampled value for value; the even-size downsample is
 // the 2x2 box average; constants survive up- and down-sampling exactly.
+#include <array>
 #include <cstring>
 #include <limits>
 #include <utility>
@@ -182,4 +183,28 @@ TEST(Resample, HalvingRowsEqualTheTabledRows) {
 }
 
 }  // namespace
+// Resampler::sample8 (the row kernels' eight-pixel form) gives sample's bits lane by lane: half,
+// full and odd source sizes, 1- and 4-channel planes, every start column of a row.
+TEST(Resample, Sample8EqualsSample) {
+    for (auto [w, h, sw, sh] : {std::array{37, 23, 19, 12}, {37, 23, 37, 23}, {64, 9, 17, 5}, {16, 4, 16, 2}}) {
+        for (int C : {1, 4}) {
+            ImageF src = test::synthetic_target("color", 4, sw, sh, 7);
+            if (C == 1) src = test::synthetic_target("edges", 1, sw, sh, 7);
+            src.data()[3] = -0.0f;
+            src.data()[src.num_values() / 2] = std::numeric_limits<float>::infinity();
+            const toolkit::Resampler up(w, h, sw, sh);
+            const toolkit::Plane p = toolkit::plane(src, C - 1);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x + 8 <= w; ++x) {
+                    const toolkit::v8f v = up.sample8(p, x, y);
+                    for (int l = 0; l < 8; ++l) {
+                        const float want = up.sample(p, x + l, y);
+                        ASSERT_EQ(std::memcmp(&v[l], &want, sizeof want), 0) << w << "x" << h << " from " << sw << "x" << sh
+                                                                             << ", " << C << " channels, (" << x + l << ", " << y << ")";
+                    }
+                }
+        }
+    }
+}
+
 }  // namespace aq::stylize
