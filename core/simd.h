@@ -65,6 +65,20 @@ inline v8f gather8(const float* base, v8i idx) {
 #endif
 }
 
+//! Lane i: (lo, hi)[idx[i]], the sixteen values of lo then hi, for idx[i] in [0, 16) (two
+//! vpermps and a blend with AVX2). Values are moved, never computed.
+inline v8f permute16(v8f lo, v8f hi, v8i idx) {
+#ifdef __AVX2__
+    const __m256i i = __m256i(idx);
+    const __m256 a = _mm256_permutevar8x32_ps(__m256(lo), i), b = _mm256_permutevar8x32_ps(__m256(hi), i);
+    return v8f(_mm256_blendv_ps(a, b, _mm256_castsi256_ps(_mm256_slli_epi32(i, 28))));  // bit 3: from hi
+#else
+    v8f v;
+    for (int k = 0; k < 8; ++k) v[k] = idx[k] < 8 ? lo[idx[k]] : hi[idx[k] - 8];
+    return v;
+#endif
+}
+
 //! q[0], q[S], ..., q[7 S] (S = 1, 3 or 4: one channel of eight pixels with S interleaved
 //! channels), reading only q[0 .. 7 S] (so it is safe at the end of an image). Shuffles only.
 template <int S>

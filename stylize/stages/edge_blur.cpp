@@ -237,7 +237,7 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
                         if (permuted) {
                             const v8i sel = kv - 1;
                             for (int aa = 0; aa < kmx; ++aa)
-                                wv[aa] = __builtin_shuffle(wperm[std::size_t(2 * aa)], wperm[std::size_t(2 * aa + 1)], sel);
+                                wv[aa] = simd::permute16(wperm[std::size_t(2 * aa)], wperm[std::size_t(2 * aa + 1)], sel);
                         } else {
                             for (int aa = 0; aa < kmx; ++aa) wv[aa] = simd::gather8(wflat.data(), kbase + aa);
                         }

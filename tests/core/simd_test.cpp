@@ -36,6 +36,17 @@ TEST(Simd, Gather8LoadsEachLanesIndex) {
     for (int l = 0; l < 8; ++l) EXPECT_EQ(v[l], base[std::size_t(idx[l])]) << "lane " << l;
 }
 
+TEST(Simd, Permute16TakesEachLaneFromTheSixteenValues) {
+    simd::v8f lo, hi;
+    for (int k = 0; k < 8; ++k) lo[k] = float(k) + 0.5f, hi[k] = float(k + 8) + 0.5f;
+    for (int start = 0; start < 16; ++start) {
+        simd::v8i idx;
+        for (int k = 0; k < 8; ++k) idx[k] = (start + 5 * k) % 16;  // every index, in every lane
+        const simd::v8f v = simd::permute16(lo, hi, idx);
+        for (int k = 0; k < 8; ++k) EXPECT_EQ(v[k], float(idx[k]) + 0.5f) << "lane " << k << " index " << idx[k];
+    }
+}
+
 TEST(Simd, Bits8SetsTheBitOfEachSetLane) {
     for (unsigned want = 0; want < 256; ++want) {
         simd::v8i m;

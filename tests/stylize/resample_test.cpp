@@ -198,8 +198,8 @@ TEST(Resample, Sample8EqualsSample) {
                 for (int x = 0; x + 8 <= w; ++x) {
                     const toolkit::v8f v = up.sample8(p, x, y);
                     for (int l = 0; l < 8; ++l) {
-                        const float want = up.sample(p, x + l, y);
-                        ASSERT_EQ(std::memcmp(&v[l], &want, sizeof want), 0) << w << "x" << h << " from " << sw << "x" << sh
+                        const float want = up.sample(p, x + l, y), got = v[l];
+                        ASSERT_EQ(std::memcmp(&got, &want, sizeof want), 0) << w << "x" << h << " from " << sw << "x" << sh
                                                                              << ", " << C << " channels, (" << x + l << ", " << y << ")";
                     }
                 }
