@@ -19,7 +19,7 @@ namespace {
 
 struct GoKernel {
     View<const glm::vec4> c;
-    Plane e, ctrl, bleed;
+    Plane alpha, e, ctrl, bleed;  // alpha: c's fourth channel
     const Resampler* up;
     int w, h;
     glm::vec3 substrate;
@@ -51,10 +51,27 @@ struct GoKernel {
         if (!(col.w > p.alpha_threshold)) return col;
         const float ee = e(x, y);
         if (!(ee > p.edge_threshold)) return col;
-        const float m = float(p.steps);
-        const float go = ctrl(x, y) * m;
+        const float go = ctrl(x, y) * float(p.steps);
         if (!(go > kGoCtrlThreshold) && !(go < -kGoCtrlThreshold)) return col;
         if (!(bleed_at(x, y) < p.bleed_threshold)) return col;
+        return paint(x, y, col, ee, go);
+    }
+
+    //! Eight pixels from x (x + 8 <= w): bit i set when pixel x + i passes the activity tests of
+    //! operator() (the same comparisons of the same values, lane by lane), its go = ctrl * m in go.
+    unsigned active8(int x, int y, v8f& go) const {
+        using simd::bits8;
+        const v8f ee = plane8(e, x, y);
+        go = plane8(ctrl, x, y) * float(p.steps);
+        unsigned act = bits8(plane8(alpha, x, y) > p.alpha_threshold) & bits8(ee > p.edge_threshold) &
+                       bits8((go > kGoCtrlThreshold) | (go < -kGoCtrlThreshold));
+        if (act) act &= bits8(up->sample8(bleed, x, y) < p.bleed_threshold);
+        return act;
+    }
+
+    //! A pixel that passed the activity tests: its edge ee and go = ctrl * m.
+    glm::vec4 paint(int x, int y, glm::vec4 col, float ee, float go) const {
+        const float m = float(p.steps);
         const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
         if (go > kGoCtrlThreshold) {  // overlaps
             glm::vec2 g;
@@ -126,6 +143,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     static const float kZero = 0.0f;
     const Resampler up = bleed ? Resampler(w, h, bleed->width(), bleed->height()) : Resampler(w, h, w, h);
     const GoKernel k{color.view<glm::vec4>(),
+                     plane(color, 3),
                      plane(edges_ext, 0),
                      plane(ctrl_edge, control::kEdgeTransition.channel),
                      bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h),
@@ -141,6 +159,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
             const ImageF before = color;
             GoKernel kc = k;
             kc.c = before.view<glm::vec4>();
+            kc.alpha = plane(before, 3);
             plain_loop(w, h, [&](int x, int y) { o(x, y) = kc(x, y); });
             return;
         }
@@ -150,12 +169,13 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     // Fast: a pixel whose extended edge is not above the threshold (NaN included) is its colour, the
     // kernel's second test: 64-pixel chunks without such an edge (the background) are copied
     // whole, their one-channel edges tested eight at a time.
-    // In place those chunks are not touched, and the chunks with an edge are computed first (their
-    // values kept per row: the chunk starts, then the values) and written once every row is done.
+    // In place those chunks are not touched, and the chunks with an edge are computed first, the
+    // pixels whose value changes kept per row (their x and value: most active pixels fail a later
+    // test and keep their colour) and written once every row is done.
     const float* ed = edges_ext.channels() == 1 ? edges_ext.data() : nullptr;
     constexpr int kChunk = 64;
     struct RowValues {
-        std::vector<int> starts;
+        std::vector<int> xs;
         std::vector<glm::vec4> values;
     };
     std::vector<RowValues> later(in_place ? std::size_t(h) : 0);
@@ -166,22 +186,34 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                 if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
                 continue;
             }
-            if (in_place) {
-                RowValues& r = later[std::size_t(y)];
-                r.starts.push_back(xs);
-                for (int x = xs; x < xe; ++x) r.values.push_back(k(x, y));
-                continue;
+            // The activity tests eight pixels at a time; the pixels that pass are painted one by one.
+            auto put = [&](int x, const glm::vec4& v) {
+                if (!in_place) {
+                    o(x, y) = v;
+                } else if (std::memcmp(&v, &k.c(x, y), sizeof v) != 0) {  // changed, bit for bit
+                    RowValues& r = later[std::size_t(y)];
+                    r.xs.push_back(x);
+                    r.values.push_back(v);
+                }
+            };
+            int x = xs;
+            for (; x + 8 <= xe; x += 8) {
+                v8f go;
+                unsigned act = k.active8(x, y, go);
+                if (!in_place) std::memcpy(&o(x, y), &k.c(x, y), 8 * sizeof(glm::vec4));
+                for (; act; act &= act - 1) {
+                    const int i = __builtin_ctz(act);
+                    put(x + i, k.paint(x + i, y, k.c(x + i, y), k.e(x + i, y), go[i]));
+                }
             }
-            for (int x = xs; x < xe; ++x) o(x, y) = k(x, y);
+            for (; x < xe; ++x) put(x, k(x, y));
         }
         if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
     });
     if (!in_place) return;
-    for_each_row(ex, w, h, [&](int y, int, int x1) {
+    for_each_row(ex, w, h, [&](int y, int, int) {
         const RowValues& r = later[std::size_t(y)];
-        std::size_t v = 0;
-        for (const int xs : r.starts)
-            for (int x = xs, xe = std::min(x1, xs + kChunk); x < xe; ++x) o(x, y) = r.values[v++];
+        for (std::size_t i = 0; i < r.xs.size(); ++i) o(r.xs[i], y) = r.values[i];
     });
 }
 

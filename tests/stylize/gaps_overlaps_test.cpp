@@ -230,6 +230,36 @@ TEST(GapsOverlaps, TraversalsAgreeWithInactiveChunks) {
     }
 }
 
+// The fast traversal tests eight pixels at a time, the bleeding mask resampled eight at a time
+// (Resampler::sample8): with a mask around the threshold at full and half size, one channel or
+// four (alpha), a width that is no multiple of eight, gaps and overlaps, separate images and in
+// place, it gives the reference's bits; and the mask does hold some pixels back (fails when the
+// lanes' bleeding test is dropped).
+TEST(GapsOverlaps, TraversalsAgreeWithABleedingMaskAtFullAndHalfSize) {
+    const int w = 83, h = 21;
+    const ImageF color = noise(w, h, 4, 0.2f, 1.0f, 101);
+    const ImageF edges = noise(w, h, 1, 0.0f, 1.0f, 102);
+    for (const int half : {0, 1})
+        for (const int channels : {1, 4})
+            for (const float b : {-1.0f, 1.0f}) {
+                const ImageF mask = noise(half ? (w + 1) / 2 : w, half ? (h + 1) / 2 : h, channels, 0.0f, 0.02f, 103);
+                ImageF ctrl = noise(w, h, 4, 0.0f, 1.0f, 104);
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) ctrl.at(x, y, 2) *= b;
+                ImageF ref, fast, unmasked;
+                gaps_overlaps(ref, color, edges, ctrl, &mask, kPaper, {}, Exec::reference());
+                gaps_overlaps(fast, color, edges, ctrl, &mask, kPaper, {}, Exec::fast(2));
+                EXPECT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float)))
+                    << "half " << half << " channels " << channels << " b " << b;
+                ImageF in_place = color;
+                gaps_overlaps(in_place, in_place, edges, ctrl, &mask, kPaper, {}, Exec::fast(2));
+                EXPECT_EQ(0, std::memcmp(ref.data(), in_place.data(), ref.num_values() * sizeof(float)))
+                    << "in place, half " << half << " channels " << channels << " b " << b;
+                gaps_overlaps(unmasked, color, edges, ctrl, nullptr, kPaper, {}, Exec::reference());
+                EXPECT_FALSE(unmasked == ref) << "the mask changes nothing: half " << half << " b " << b;
+            }
+}
+
 // The fast traversal copies 64-pixel chunks whose extended edges are nowhere above the threshold,
 // testing eight edges at a time: one edge pixel per chunk, first, second, last and in a partial
 // last chunk, gaps and overlaps: the reference's bits, and the gaps open there (fails when the
