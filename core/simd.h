@@ -54,6 +54,17 @@ inline v8f sqrt8(v8f x) {
 #endif
 }
 
+//! floor lane by lane (one vroundps with AVX: the same value as std::floor for every input,
+//! -0, infinities and NaN included).
+inline v8f floor8(v8f x) {
+#ifdef __AVX__
+    return v8f(_mm256_floor_ps(__m256(x)));
+#else
+    for (int i = 0; i < 8; ++i) x[i] = __builtin_floorf(x[i]);
+    return x;
+#endif
+}
+
 //! base[idx[i]] lane by lane (one vgatherdps with AVX2). Values are loaded, never computed.
 inline v8f gather8(const float* base, v8i idx) {
 #ifdef __AVX2__

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "stylize/kernels.h"
@@ -59,14 +60,73 @@ struct GoKernel {
 
     //! Eight pixels from x (x + 8 <= w): bit i set when pixel x + i passes the activity tests of
     //! operator() (the same comparisons of the same values, lane by lane), its go = ctrl * m in go.
-    unsigned active8(int x, int y, v8f& go) const {
+    unsigned active8(int x, int y, v8f& ee, v8f& go) const {
         using simd::bits8;
-        const v8f ee = plane8(e, x, y);
+        ee = plane8(e, x, y);
         go = plane8(ctrl, x, y) * float(p.steps);
         unsigned act = bits8(plane8(alpha, x, y) > p.alpha_threshold) & bits8(ee > p.edge_threshold) &
                        bits8((go > kGoCtrlThreshold) | (go < -kGoCtrlThreshold));
         if (act) act &= bits8(up->sample8(bleed, x, y) < p.bleed_threshold);
         return act;
+    }
+
+    //! Of the pixels x + i in `lanes`, those whose gap march (paint's, below) finds an edge: bit i
+    //! set when pixel x + i is a gap. For pixels that passed the activity tests with go < -0.1 and
+    //! ee <= 2/m, x >= 1, x + 9 <= w and 1 <= y < h - 1 (the gradient's taps inside the image).
+    //! Lane by lane the operations of gradient() and of the scalar march; the march's bilinear taps
+    //! gathered, a lane whose footprint leaves the image sampled by sample_bilinear (the border rule).
+    unsigned gaps8(int x, int y, unsigned lanes, v8f go) const {
+        using simd::bits8;
+        using simd::v8i;
+        auto at8 = [&](int dx, int dy) { return plane8(e, x + dx, y + dy); };
+        const v8f r = at8(1, 0), l = at8(-1, 0), d = at8(0, 1), u = at8(0, -1);
+        const v8f tr = at8(1, -1), tl = at8(-1, -1), dr = at8(1, 1), dl = at8(-1, 1);
+        const v8f gu = (r + 0.5f * (tr + dr)) - (l + 0.5f * (tl + dl));
+        const v8f gv = (d + 0.5f * (dr + dl)) - (u + 0.5f * (tr + tl));
+        const v8f len = simd::sqrt8(gu * gu + gv * gv);
+        lanes &= bits8((len > 1e-12f) & (len < std::numeric_limits<float>::infinity()));  // gradient()'s test
+        const v8f gx = gu / len, gy = gv / len;
+        const v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+        const v8f cx = (float(x) + __builtin_convertvector(iota, v8f)) + 0.5f;  // float(x + i) + 0.5f, exact
+        const float cy = float(y) + 0.5f;
+        const v8f ag = -go;
+        const float above = 1.0f / float(p.steps);
+        // The march's taps lie within steps + 1 rows of y: gathered relative to the first of them.
+        const int ybase = std::max(0, y - p.steps - 1);
+        const float* base = e.p + std::ptrdiff_t(ybase) * e.row;
+        const int px = int(e.px), row = int(e.row);
+        unsigned still = lanes, gap = 0;
+        for (int i = 1; i <= p.steps; ++i) {
+            still &= ~bits8(ag < float(i));  // not enough gap parameter
+            if (!still) break;
+            const v8i on = ((v8i{} + int(still)) >> iota & 1) != 0;
+            const v8f sx = on ? cx + float(i) * gx : cx, sy = on ? cy + float(i) * gy : v8f{} + cy;
+            // sample_bilinear(e, sx, sy, b) lane by lane
+            const v8f fx = sx - 0.5f, fy = sy - 0.5f;
+            const v8f x0f = simd::floor8(fx), y0f = simd::floor8(fy);
+            const v8f tx = fx - x0f, ty = fy - y0f;
+            const v8i x0 = __builtin_convertvector(x0f, v8i), y0 = __builtin_convertvector(y0f, v8i);
+            const v8i inside = (x0 >= 0) & (x0 + 1 < w) & (y0 >= 0) & (y0 + 1 < h);
+            const v8i idx = (on & inside) ? (y0 - ybase) * row + x0 * px : v8i{};
+            const v8f a = simd::gather8(base, idx), c = simd::gather8(base, idx + px);
+            const v8f dd = simd::gather8(base, idx + row), ed = simd::gather8(base, idx + row + px);
+            const v8f top = a + (c - a) * tx;
+            const v8f bot = dd + (ed - dd) * tx;
+            v8f val = top + (bot - top) * ty;
+            for (unsigned out = still & ~bits8(inside); out; out &= out - 1) {
+                const int k = __builtin_ctz(out);
+                val[k] = sample_bilinear(e, sx[k], sy[k], b);
+            }
+            const unsigned hit = still & bits8(val > above);
+            gap |= hit;
+            still &= ~hit;
+        }
+        return gap;
+    }
+
+    //! What a gap writes in place of col.
+    glm::vec4 gap_colour(const glm::vec4& col) const {
+        return p.transparent_gaps ? glm::vec4(glm::vec3(col), 0.0f) : glm::vec4(substrate, col.w);
     }
 
     //! A pixel that passed the activity tests: its edge ee and go = ctrl * m.
@@ -104,7 +164,7 @@ struct GoKernel {
                     }
                 }
             }
-            if (gap) return p.transparent_gaps ? glm::vec4(glm::vec3(col), 0.0f) : glm::vec4(substrate, col.w);
+            if (gap) return gap_colour(col);
         }
         return col;
     }
@@ -196,11 +256,26 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                     r.values.push_back(v);
                 }
             };
+            // Gaps that need a march (not direct edges) are marched eight at a time where the
+            // gradient's taps are inside the image.
+            const bool rows_inside = y >= 1 && y + 1 < h;
+            const float direct = 2.0f / float(p.steps);
             int x = xs;
             for (; x + 8 <= xe; x += 8) {
-                v8f go;
-                unsigned act = k.active8(x, y, go);
+                v8f ee, go;
+                unsigned act = k.active8(x, y, ee, go);
                 if (!in_place) std::memcpy(&o(x, y), &k.c(x, y), 8 * sizeof(glm::vec4));
+                if (!act) continue;
+                if (rows_inside && x >= 1 && x + 9 <= w) {
+                    const unsigned march = act & simd::bits8(go < -kGoCtrlThreshold) & ~simd::bits8(ee > direct);
+                    if (march) {
+                        for (unsigned g = k.gaps8(x, y, march, go); g; g &= g - 1) {
+                            const int i = __builtin_ctz(g);
+                            put(x + i, k.gap_colour(k.c(x + i, y)));
+                        }
+                        act &= ~march;  // the others keep their colour
+                    }
+                }
                 for (; act; act &= act - 1) {
                     const int i = __builtin_ctz(act);
                     put(x + i, k.paint(x + i, y, k.c(x + i, y), k.e(x + i, y), go[i]));

@@ -1,6 +1,8 @@
-// tests/core/simd_test.cpp — core/simd.h's register helpers move values, never compute them:
-// every lane's value comes from the place the helper names, for every lane position.
+// tests/core/simd_test.cpp — core/simd.h's register helpers: those that move values take every
+// lane's value from the place the helper names, for every lane position; floor8 is std::floor.
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -9,6 +11,25 @@
 
 namespace aq {
 namespace {
+
+// floor8 computes (the one helper that does): the bits of std::floor in every lane, for values
+// around and between integers of both signs, -0, halves, the float range's ends, infinities, NaN.
+TEST(Simd, Floor8IsStdFloorInEveryLane) {
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::vector<float> values = {-0.0f, 0.0f, 0.5f, -0.5f, 0.999999f, -0.999999f, 1.0f, -1.0f, 1.5f, -1.5f,
+                                       2.4999998f, -2.5000002f, 8388607.5f, -8388607.5f, 16777216.0f, 3.0e38f,
+                                       -3.0e38f, 1.0e-40f, -1.0e-40f, inf, -inf,
+                                       std::numeric_limits<float>::quiet_NaN()};
+    for (std::size_t start = 0; start < values.size(); ++start) {
+        simd::v8f v;
+        for (int k = 0; k < 8; ++k) v[k] = values[(start + std::size_t(k)) % values.size()];
+        const simd::v8f f = simd::floor8(v);
+        for (int k = 0; k < 8; ++k) {
+            const float want = std::floor(v[k]), got = f[k];
+            EXPECT_EQ(0, std::memcmp(&want, &got, sizeof want)) << "floor(" << v[k] << ") lane " << k << ": " << got;
+        }
+    }
+}
 
 // Each stride, from every start within a pixel, up to the last value of a buffer that ends at
 // q[7 S] (reading past it would fault under the sanitizer build or read garbage here).

@@ -260,6 +260,34 @@ TEST(GapsOverlaps, TraversalsAgreeWithABleedingMaskAtFullAndHalfSize) {
             }
 }
 
+// The fast traversal marches gaps eight pixels at a time, its bilinear taps gathered, and samples a
+// lane whose footprint leaves the image by the border rule: faint edges inside (no tap above 1/m,
+// no direct edge, random gradients) and strong ones on the image's outer ring, 16-step marches, so
+// many marches leave the image before they meet the ring: clamp and mirror, the reference's bits,
+// and some pixels far from the ring become gaps (fails when the outside lanes are mis-sampled).
+TEST(GapsOverlaps, TraversalsAgreeWhereGapMarchesLeaveTheImage) {
+    const int w = 48, h = 40;
+    const ImageF color = noise(w, h, 4, 0.2f, 1.0f, 111);
+    ImageF edges = noise(w, h, 1, 0.051f, 0.062f, 112);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (x == 0 || y == 0 || x == w - 1 || y == h - 1) edges.at(x, y, 0) = 0.5f;
+    GapsOverlapsParams p;
+    p.steps = 16;
+    p.edge_threshold = 0.05f;
+    for (const int border : {0, 1}) {
+        p.border = border;
+        ImageF ref, fast;
+        gaps_overlaps(ref, color, edges, ctrl_b(-1.0f, w, h), nullptr, kPaper, p, Exec::reference());
+        gaps_overlaps(fast, color, edges, ctrl_b(-1.0f, w, h), nullptr, kPaper, p, Exec::fast(2));
+        EXPECT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "border " << border;
+        int inner_gaps = 0;
+        for (int y = 4; y < h - 4; ++y)
+            for (int x = 4; x < w - 4; ++x) inner_gaps += std::memcmp(&ref.data()[(std::size_t(y) * w + x) * 4], &color.data()[(std::size_t(y) * w + x) * 4], 16) != 0;
+        EXPECT_GT(inner_gaps, 0) << "border " << border;
+    }
+}
+
 // The fast traversal copies 64-pixel chunks whose extended edges are nowhere above the threshold,
 // testing eight edges at a time: one edge pixel per chunk, first, second, last and in a partial
 // last chunk, gaps and overlaps: the reference's bits, and the gaps open there (fails when the
