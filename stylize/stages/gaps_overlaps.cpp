@@ -20,7 +20,7 @@ namespace {
 
 struct GoKernel {
     View<const glm::vec4> c;
-    Plane alpha, e, ctrl, bleed;  // alpha: c's fourth channel
+    Plane e, ctrl, bleed;
     const Resampler* up;
     int w, h;
     glm::vec3 substrate;
@@ -62,6 +62,7 @@ struct GoKernel {
     //! operator() (the same comparisons of the same values, lane by lane), its go = ctrl * m in go.
     unsigned active8(int x, int y, v8f& ee, v8f& go) const {
         using simd::bits8;
+        const Plane alpha{&c.data->w, 4, 4 * c.stride, c.width, c.height};  // c's fourth channel
         ee = plane8(e, x, y);
         go = plane8(ctrl, x, y) * float(p.steps);
         unsigned act = bits8(plane8(alpha, x, y) > p.alpha_threshold) & bits8(ee > p.edge_threshold) &
@@ -203,7 +204,6 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
     static const float kZero = 0.0f;
     const Resampler up = bleed ? Resampler(w, h, bleed->width(), bleed->height()) : Resampler(w, h, w, h);
     const GoKernel k{color.view<glm::vec4>(),
-                     plane(color, 3),
                      plane(edges_ext, 0),
                      plane(ctrl_edge, control::kEdgeTransition.channel),
                      bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h),
@@ -219,7 +219,6 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
             const ImageF before = color;
             GoKernel kc = k;
             kc.c = before.view<glm::vec4>();
-            kc.alpha = plane(before, 3);
             plain_loop(w, h, [&](int x, int y) { o(x, y) = kc(x, y); });
             return;
         }
