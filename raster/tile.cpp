@@ -172,6 +172,16 @@ void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
     tp.specular[i] = 0.0f;
 }
 
+// Prefetch hints for every cache line of a setup record (no effect on results): 104 bytes at a
+// 104-byte stride span three lines in half the records, and then the bounds and flags that the
+// tile pass reads first are in the third.
+inline void prefetch_setup(const TriSetup& t) {
+    const char* a = reinterpret_cast<const char*>(&t);
+    __builtin_prefetch(a);
+    __builtin_prefetch(a + 64);
+    __builtin_prefetch(a + sizeof(TriSetup) - 1);
+}
+
 void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, float* zbuf, TileRef* ids) {
     for (std::uint32_t ci = 0; ci < fr.chunks.size(); ++ci) {
         const Chunk& ch = fr.chunks[ci];
@@ -179,9 +189,7 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
             const std::uint32_t ti = ch.bin_items[k];
             // The setups of one tile are scattered over the chunk: fetch ahead (latency-bound).
             if (k + 6 < ch.bin_offsets[tile + 1]) {
-                const char* ahead = reinterpret_cast<const char*>(&ch.tris[ch.bin_items[k + 6]]);
-                __builtin_prefetch(ahead);
-                __builtin_prefetch(ahead + 64);
+                prefetch_setup(ch.tris[ch.bin_items[k + 6]]);
             }
             const TriSetup& t = ch.tris[ti];
             const int x0 = std::max<int>(t.x0, X0), x1 = std::min<int>(t.x1, X1);
@@ -271,11 +279,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         // shade_fragment), a batch holding consecutive pixels of one material.
         Batch bt;
         for (; k < nc && covered[k] / kTile == ly; ++k) {
-            if (k + 12 < nc) {
-                const char* a = reinterpret_cast<const char*>(&setup_at(k + 12));
-                __builtin_prefetch(a);
-                __builtin_prefetch(a + 64);
-            }
+            if (k + 12 < nc) prefetch_setup(setup_at(k + 12));
             if (k + 6 < nc) prefetch_vertices(fr, setup_at(k + 6));
             const int lx = covered[k] % kTile;
             const TileRef r = ids[covered[k]];
