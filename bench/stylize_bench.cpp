@@ -1,11 +1,13 @@
 // bench/stylize_bench.cpp — Google Benchmark for the stylization library: one benchmark per
 // registered stage variant (found by iterating builtin_registry(), so every group's stages are
 // covered) at 1920x1080 and 640x360, reference and fast traversal, 1 and 2 threads, items =
-// output pixels; and every preset pipeline end to end (fast, 1 and 2 threads).
+// output pixels; and every preset pipeline end to end (fast, 1 and 2 threads); the overlaps' RYB
+// inverse one and four colours per call (stylize/ryb/inverse/{scalar,lanes}).
 // Inputs are the one synthetic G-buffer of tests, benchmarks and reference (tests/synthetic_gbuffer.h:
 // three spheres over a slanted ground plane, painted control over the signed range on the objects
 // and none on the background; intermediates get a smooth-plus-edges pattern).
 // Results: docs/performance.md "## Stylization".
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -19,6 +21,7 @@
 #include "bench/bench_inputs.h"
 #include "stylize/paper.h"
 #include "stylize/pipeline.h"
+#include "stylize/ryb.h"
 #include "stylize/stage.h"
 #include "tests/synthetic_gbuffer.h"
 
@@ -193,6 +196,32 @@ const bool kRegistered = [] {
                                                  bm_profile, preset, s, threads, mode != 0, mode == 2)
                         ->Unit(benchmark::kMillisecond)
                         ->UseRealTime();
+    return true;
+}();
+
+// The overlaps' RGB -> RYB inverse (stylize/ryb.h) over 4096 colours of the cube's image, some
+// darkened (as painted pixels are): one conversion per call, and all of them in one call (rgb_to_ryb_many: four lanes).
+void bm_ryb_inverse(benchmark::State& st, bool lanes) {
+    std::vector<glm::vec3> in(4096), out(in.size());
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        auto u = [&](unsigned k) { return float(((i * 4 + k) * 2654435761u) >> 8 & 0xffffff) / float(1 << 24); };
+        in[i] = ryb_to_rgb({u(0), u(1), u(2)}) * (i % 2 ? 1.0f : 0.3f + 0.7f * u(3));
+    }
+    for (auto _ : st) {
+        if (lanes) {
+            rgb_to_ryb_many(in.data(), out.data(), in.size());
+        } else {
+            for (std::size_t i = 0; i < in.size(); ++i) out[i] = rgb_to_ryb(in[i]);
+        }
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+    }
+    st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(in.size()));
+}
+
+const bool ryb_registered = [] {
+    benchmark::RegisterBenchmark("stylize/ryb/inverse/scalar", bm_ryb_inverse, false)->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("stylize/ryb/inverse/lanes", bm_ryb_inverse, true)->Unit(benchmark::kMicrosecond);
     return true;
 }();
 

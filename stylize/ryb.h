@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 
 #include <glm/glm.hpp>
 
@@ -40,6 +41,10 @@ glm::vec3 ryb_to_rgb(glm::vec3 ryb);
 //! Inverse of ryb_to_rgb in the least-squares sense, result in [0,1]^3.
 glm::vec3 rgb_to_ryb(glm::vec3 rgb);
 
+//! rgb_to_ryb of n colours (ryb[i] for rgb[i]; the arrays may not overlap), four at a time in
+//! the lanes of one vector: each result has rgb_to_ryb's bits.
+void rgb_to_ryb_many(const glm::vec3* rgb, glm::vec3* ryb, std::size_t n);
+
 //! sqrt(c^T M c) (Chen et al. 2015).
 float ryb_brightness(glm::vec3 rgb);
 
@@ -47,5 +52,9 @@ float ryb_brightness(glm::vec3 rgb);
 //! brightness_scale multiplies the target brightness (1 = preserve; MNPR darkens by 0.9).
 //! The result is clamped to [0,1].
 glm::vec3 mix_ryb(glm::vec3 a, glm::vec3 b, float t = 0.5f, float brightness_scale = 1.0f);
+
+//! mix_ryb given the inputs' RYB amounts ra = rgb_to_ryb(a), rb = rgb_to_ryb(b) (computed many
+//! at a time by rgb_to_ryb_many): the same result.
+glm::vec3 mix_ryb_converted(glm::vec3 a, glm::vec3 b, glm::vec3 ra, glm::vec3 rb, float t, float brightness_scale);
 
 }  // namespace aq::stylize

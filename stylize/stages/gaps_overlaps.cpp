@@ -130,32 +130,55 @@ struct GoKernel {
         return p.transparent_gaps ? glm::vec4(glm::vec3(col), 0.0f) : glm::vec4(substrate, col.w);
     }
 
+    //! What paint gives a pixel: `value`, or (mix) the RYB mix of its colour with `with`.
+    struct Painted {
+        glm::vec4 value;
+        bool mix = false;
+        glm::vec3 with{};
+    };
+
     //! A pixel that passed the activity tests: its edge ee and go = ctrl * m.
     glm::vec4 paint(int x, int y, glm::vec4 col, float ee, float go) const {
+        const Painted d = decide(x, y, col, ee, go);
+        return d.mix ? overlap_colour(col, d.with) : d.value;
+    }
+
+    //! An overlap: col mixed with the colour it meets, col's alpha.
+    glm::vec4 overlap_colour(const glm::vec4& col, const glm::vec3& with) const {
+        return {mix_ryb(glm::vec3(col), with, 0.5f, p.mix_brightness), col.w};
+    }
+    //! overlap_colour from the two colours' RYB amounts (rgb_to_ryb of glm::vec3(col) and with).
+    glm::vec4 overlap_colour(const glm::vec4& col, const glm::vec3& with, const glm::vec3& col_ryb,
+                             const glm::vec3& with_ryb) const {
+        return {mix_ryb_converted(glm::vec3(col), with, col_ryb, with_ryb, 0.5f, p.mix_brightness), col.w};
+    }
+
+    //! paint without the RYB mix: an overlap returns what to mix col with.
+    Painted decide(int x, int y, glm::vec4 col, float ee, float go) const {
         const float m = float(p.steps);
         const float cx = float(x) + 0.5f, cy = float(y) + 0.5f;
         if (go > kGoCtrlThreshold) {  // overlaps
             glm::vec2 g;
-            if (!gradient(x, y, g)) return col;
+            if (!gradient(x, y, g)) return {col};
             for (int i = 1; i <= p.steps; ++i) {
-                if (go < float(i)) return col;  // not enough overlap parameter
+                if (go < float(i)) return {col};  // not enough overlap parameter
                 const glm::vec4 cn = colour_at(cx + float(i) * g.x, cy + float(i) * g.y);
                 const glm::vec4 d = cn - col;
                 if (std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z + d.w * d.w) > p.color_difference) {
-                    if (length3(glm::vec3(cn) - substrate) < p.substrate_proximity) return col;
-                    return {mix_ryb(glm::vec3(col), glm::vec3(cn), 0.5f, p.mix_brightness), col.w};
+                    if (length3(glm::vec3(cn) - substrate) < p.substrate_proximity) return {col};
+                    return {col, true, glm::vec3(cn)};
                 }
             }
             // The march reached m without meeting another colour: we sit on the edge itself and the
             // gradient points away from the neighbour, so mix with the pixel behind.
             const glm::vec4 cn = colour_at(cx - g.x, cy - g.y);
-            return {mix_ryb(glm::vec3(col), glm::vec3(cn), 0.5f, p.mix_brightness), col.w};
+            return {col, true, glm::vec3(cn)};
         }
         if (go < -kGoCtrlThreshold) {  // gaps
             bool gap = ee > 2.0f / m;
             if (!gap) {
                 glm::vec2 g;
-                if (!gradient(x, y, g)) return col;
+                if (!gradient(x, y, g)) return {col};
                 const float ag = -go;
                 for (int i = 1; i <= p.steps; ++i) {
                     if (ag < float(i)) break;
@@ -165,9 +188,9 @@ struct GoKernel {
                     }
                 }
             }
-            if (gap) return gap_colour(col);
+            if (gap) return {gap_colour(col)};
         }
-        return col;
+        return {col};
     }
 };
 
@@ -238,23 +261,33 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         std::vector<glm::vec4> values;
     };
     std::vector<RowValues> later(in_place ? std::size_t(h) : 0);
+    // A row's overlaps are mixed together at its end: their colours' RYB inverses (most of an
+    // overlap's cost, 2 to 12 Gauss-Newton steps each) four at a time (rgb_to_ryb_many).
+    struct Overlaps {
+        std::vector<int> xs;
+        std::vector<glm::vec3> rgb, ryb;  // per overlap: the pixel's colour, then the one it meets
+    };
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
+        auto put = [&](int x, const glm::vec4& v) {
+            if (!in_place) {
+                o(x, y) = v;
+            } else if (std::memcmp(&v, &k.c(x, y), sizeof v) != 0) {  // changed, bit for bit
+                RowValues& r = later[std::size_t(y)];
+                r.xs.push_back(x);
+                r.values.push_back(v);
+            }
+        };
+        thread_local Overlaps ov;
+        ov.xs.clear();
+        ov.rgb.clear();
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int xe = std::min(x1, xs + kChunk);
             if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
                 if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
                 continue;
             }
-            // The activity tests eight pixels at a time; the pixels that pass are painted one by one.
-            auto put = [&](int x, const glm::vec4& v) {
-                if (!in_place) {
-                    o(x, y) = v;
-                } else if (std::memcmp(&v, &k.c(x, y), sizeof v) != 0) {  // changed, bit for bit
-                    RowValues& r = later[std::size_t(y)];
-                    r.xs.push_back(x);
-                    r.values.push_back(v);
-                }
-            };
+            // The activity tests eight pixels at a time; the pixels that pass are painted one by
+            // one, overlaps decided here and mixed at the row's end.
             // Gaps that need a march (not direct edges) are marched eight at a time where the
             // gradient's taps are inside the image.
             const bool rows_inside = y >= 1 && y + 1 < h;
@@ -277,10 +310,24 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                 }
                 for (; act; act &= act - 1) {
                     const int i = __builtin_ctz(act);
-                    put(x + i, k.paint(x + i, y, k.c(x + i, y), k.e(x + i, y), go[i]));
+                    const glm::vec4 col = k.c(x + i, y);
+                    const GoKernel::Painted d = k.decide(x + i, y, col, k.e(x + i, y), go[i]);
+                    if (!d.mix) {
+                        put(x + i, d.value);
+                        continue;
+                    }
+                    ov.xs.push_back(x + i);
+                    ov.rgb.push_back(glm::vec3(col));
+                    ov.rgb.push_back(d.with);
                 }
             }
             for (; x < xe; ++x) put(x, k(x, y));
+        }
+        ov.ryb.resize(ov.rgb.size());
+        rgb_to_ryb_many(ov.rgb.data(), ov.ryb.data(), ov.rgb.size());
+        for (std::size_t i = 0; i < ov.xs.size(); ++i) {
+            const int x = ov.xs[i];
+            put(x, k.overlap_colour(k.c(x, y), ov.rgb[2 * i + 1], ov.ryb[2 * i], ov.ryb[2 * i + 1]));
         }
         if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
     });

@@ -2,7 +2,11 @@
 // brightness-preserving mix used by WC18 overlaps.
 #include "stylize/ryb.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -99,6 +103,34 @@ TEST(Ryb, NonFiniteInputsDoNotCrash) {
     for (int c = 0; c < 3; ++c) EXPECT_TRUE(r[c] >= 0.0f && r[c] <= 1.0f);
     const glm::vec3 m = mix_ryb({nan, 0, 0}, {0, 0, 1});
     for (int c = 0; c < 3; ++c) EXPECT_FALSE(std::isinf(m[c]));
+}
+
+// rgb_to_ryb_many is rgb_to_ryb's schedule in four lanes: every result must have the scalar
+// bits, whatever the other lanes do (colours that need 2 to 12 steps, or none, share the lanes).
+TEST(Ryb, LaneInverseHasTheScalarBitsForEveryColour) {
+    std::mt19937 rng(20261204);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), wide(-0.5f, 1.5f);
+    const float nan = std::nanf(""), inf = INFINITY;
+    std::vector<glm::vec3> colours = {{0, 0, 0}, {1, 1, 1}, {nan, inf, -inf}, {nan, 0.5f, 0.5f}, {-1, 2, 0.5f},
+                                      {1e30f, -1e30f, 0}, {0.2f, 0.094f, 0.0f}};
+    for (const glm::vec3& c : kRybCorners) colours.push_back(c);
+    for (int i = 0; i < 20000; ++i)
+        colours.push_back(i % 4 == 3 ? glm::vec3(wide(rng), wide(rng), wide(rng))
+                                     : ryb_to_rgb({unit(rng), unit(rng), unit(rng)}) * (i % 4 == 1 ? unit(rng) : 1.0f));
+    std::shuffle(colours.begin(), colours.end(), rng);
+    // Every count up to 9 (empty, partly filled lanes) and the whole set.
+    for (std::size_t n : {std::size_t(0), std::size_t(1), std::size_t(2), std::size_t(3), std::size_t(4),
+                          std::size_t(5), std::size_t(9), colours.size()}) {
+        std::vector<glm::vec3> out(n + 1, glm::vec3(-7.0f));
+        rgb_to_ryb_many(colours.data(), out.data(), n);
+        std::size_t mismatches = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::vec3 s = rgb_to_ryb(colours[i]);
+            mismatches += std::memcmp(&s, &out[i], sizeof s) != 0;
+        }
+        EXPECT_EQ(mismatches, 0u) << n << " colours";
+        EXPECT_EQ(out[n], glm::vec3(-7.0f)) << "written past the end, " << n << " colours";
+    }
 }
 
 }  // namespace
