@@ -90,7 +90,7 @@ namespace {
 
 //! Damped Gauss-Newton on |f(p) - t|^2, projected onto the cube, from p; accepts only improving
 //! steps, stops when the residual is below 1e-14 (squared), the step vanishes, or after
-//! max_steps steps. The reference schedule of the inverse (refine4 runs it in four lanes).
+//! max_steps steps. The reference schedule of the inverse (Refine4 runs it in four lanes).
 V3 refine(V3 p, const V3& t, int max_steps = 24) {
     double best_d = dist2(eval(p), t);
     double lambda = 1e-6;
