@@ -197,10 +197,6 @@ int seed_index(double v) {
     return int(s);  // s in [0.5, kSeedN - 0.5]: a valid node index
 }
 
-}  // namespace
-
-namespace {
-
 //! The inverse's target and seed for one colour (non-finite components read as 0).
 V3 target_of(glm::vec3 rgb) {
     return {std::isfinite(rgb.x) ? rgb.x : 0.0, std::isfinite(rgb.y) ? rgb.y : 0.0, std::isfinite(rgb.z) ? rgb.z : 0.0};

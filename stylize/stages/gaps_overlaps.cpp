@@ -311,7 +311,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                 for (; act; act &= act - 1) {
                     const int i = __builtin_ctz(act);
                     const glm::vec4 col = k.c(x + i, y);
-                    const GoKernel::Painted d = k.decide(x + i, y, col, k.e(x + i, y), go[i]);
+                    const GoKernel::Painted d = k.decide(x + i, y, col, ee[i], go[i]);
                     if (!d.mix) {
                         put(x + i, d.value);
                         continue;
