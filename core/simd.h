@@ -54,6 +54,9 @@ inline v8f sqrt8(v8f x) {
 #endif
 }
 
+//! |x| lane by lane: the sign bit cleared, as std::fabs (NaN payloads kept).
+inline v8f abs8(v8f x) { return v8f(v8i(x) & 0x7fffffff); }
+
 //! floor lane by lane (one vroundps with AVX: the same value as std::floor for every input,
 //! -0, infinities and NaN included).
 inline v8f floor8(v8f x) {

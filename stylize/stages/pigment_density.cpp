@@ -86,7 +86,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
                 std::size_t j = 0;
                 for (; j + 2 <= n; j += 2) {
                     const v8f cv = load8(ci + 4 * j);
-                    const v8f c1 = (v8f)((v8i)cv & (v8i{} + 0x7fffffff));
+                    const v8f c1 = simd::abs8(cv);
                     const v8f r = sv * (one - one) + c1 * one;
                     store8(oi + 4 * j, alpha ? cv : r);
                 }

@@ -58,6 +58,10 @@ int equal_run(const float* cd, const float* zd, int zc, std::size_t i0, int n, i
     return k;
 }
 
+//! Lane offsets 0..7 and eight zero floats (the loads of a lane without taps).
+const v8i kLane8 = {0, 1, 2, 3, 4, 5, 6, 7};
+alignas(32) const float kNoTaps[8] = {};
+
 //! Reach of the taps in pixels: |offset| <= 5 * distortion, the bilinear footprint one more, and
 //! one of margin for the float rounding of the sample position. Also the stage's row halo.
 int distort_reach(const SubstrateDistortParams& p) {
@@ -183,6 +187,8 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
         float tr[kChunk], tg[kChunk], tc[kChunk], ox[kChunk], oy[kChunk], txs[kChunk], tys[kChunk];
         int xas[kChunk], yas[kChunk];
         const float dist5 = p.distortion;
+        const float* zp = z.p;
+        const int zpx = int(z.px), zrow = int(z.row);
         const float fyc = float(y) + 0.5f;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
@@ -212,15 +218,15 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
                 txs[i] = fx - x0f, tys[i] = fy - y0f;
                 xas[i] = int(x0f), yas[i] = int(y0f);
             }
-            for (int i = 0; i < n; ++i) {
+            auto one = [&](int i) {
                 const int x = xs + i;
                 if (ox[i] == 0.0f && oy[i] == 0.0f) {
                     o(x, y) = c(x, y);
-                    continue;
+                    return;
                 }
                 if (x < flat_lo || x > flat_hi) {
                     o(x, y) = blocked_flat ? c(x, y) : c(x, y) + 0.0f;
-                    continue;
+                    return;
                 }
                 const float tx = txs[i], ty = tys[i];
                 int xa = xas[i], ya = yas[i], xb = xa + 1, yb = ya + 1;
@@ -235,12 +241,60 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
                     p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
                 if (blocked) {
                     o(x, y) = c(x, y);
-                    continue;
+                    return;
                 }
                 const glm::vec4 ca = c(xa, ya), cc = c(xb, ya), cd = c(xa, yb), ce = c(xb, yb);
                 const glm::vec4 top = ca + (cc - ca) * tx, bot = cd + (ce - cd) * tx;
                 o(x, y) = top + (bot - top) * ty;
-            }
+            };
+            // Eight pixels at once where none of their taps needs the border rule: the depth taps
+            // gathered and tested in lanes, then each pixel's colour from two loads (a tap and its
+            // right neighbour are adjacent) and one 8-lane lerp for top and bottom — the operations
+            // of `one`, value by value, with the pixel's result selected instead of branched to.
+            auto eight = [&](int i) {
+                const int x = xs + i;
+                const v8i xv = kLane8 + x;
+                v8i xa, ya;
+                std::memcpy(&xa, xas + i, sizeof xa);
+                std::memcpy(&ya, yas + i, sizeof ya);
+                const v8f tx = load8(txs + i), ty = load8(tys + i);
+                const v8i zero = (load8(ox + i) == 0.0f) & (load8(oy + i) == 0.0f);
+                const v8i flat = (xv < flat_lo) | (xv > flat_hi);
+                const v8i tapped = ~zero & ~flat;
+                const v8i inside = (xa >= 0) & (ya >= 0) & (xa < w - 1) & (ya < h - 1);
+                if (!all_zero(tapped & ~inside)) return false;
+                // Lanes without taps read pixel (0, 0): their depth step is not used.
+                const v8i ia = (ya * zrow + xa * zpx) & tapped;
+                const v8f za = simd::gather8(zp, ia), zc = simd::gather8(zp, ia + zpx);
+                const v8f zd0 = simd::gather8(zp, ia + zrow), ze = simd::gather8(zp, ia + (zrow + zpx));
+                const v8f ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
+                const v8f dz = plane8(z, x, y) - (ztop + (zbot - ztop) * ty);
+                const v8i blocked =
+                    p.both_sides ? ~(simd::abs8(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
+                const v8i sample = tapped & ~blocked;
+                const v8i plus0 = blocked_flat ? v8i{} : ~zero & flat;
+                for (int l = 0; l < 8; ++l) {
+                    const float* pa = sample[l] ? &c(xa[l], ya[l]).x : kNoTaps;
+                    const float* pd = sample[l] ? &c(xa[l], ya[l] + 1).x : kNoTaps;
+                    const v8f top_pair = load8(pa), bot_pair = load8(pd);  // (a, a + 1) per row
+                    const v8f left = __builtin_shufflevector(top_pair, bot_pair, 0, 1, 2, 3, 8, 9, 10, 11);
+                    const v8f right = __builtin_shufflevector(top_pair, bot_pair, 4, 5, 6, 7, 12, 13, 14, 15);
+                    const v8f rows = left + (right - left) * tx[l];  // top | bottom
+                    const v4f top = __builtin_shufflevector(rows, rows, 0, 1, 2, 3);
+                    const v4f bot = __builtin_shufflevector(rows, rows, 4, 5, 6, 7);
+                    const v4f s = top + (bot - top) * ty[l];
+                    v4f own;
+                    std::memcpy(&own, &c(x + l, y).x, sizeof own);
+                    const v4f r = sample[l] ? s : (plus0[l] ? own + 0.0f : own);
+                    std::memcpy(&o(x + l, y).x, &r, sizeof r);
+                }
+                return true;
+            };
+            int i = 0;
+            for (; i + 8 <= n; i += 8)
+                if (!eight(i))
+                    for (int l = i; l < i + 8; ++l) one(l);
+            for (; i < n; ++i) one(i);
         }
         stream_fence();  // the copied margins' non-temporal stores, before the row is done
     });
