@@ -60,6 +60,18 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
                 continue;
             }
             int m = 0;
+            for (std::size_t j = 0; j < n; ++j) m += di[j] > 0.0f;
+            if (std::size_t(4 * m) >= n) {
+                // Mostly positive (inside a model's edges): every value takes the power, without
+                // packing, and the non-positive ones are replaced by 0 — a positive value's power
+                // is the same operations either way.
+                for (std::size_t j = 0; j < n; ++j) bs[j] = di[j] > 0.0f ? di[j] : 1.0f;
+                for (std::size_t j = 0; j < n; ++j) t[j] = (1.0f / bs[j]) * g;
+                for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(bs[j], t[j]);
+                for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? t[j] : 0.0f;
+                continue;
+            }
+            m = 0;
             for (std::size_t j = 0; j < n; ++j) {
                 idx[m] = int(j);
                 m += di[j] > 0.0f;

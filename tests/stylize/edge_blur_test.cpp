@@ -173,6 +173,36 @@ TEST(ExtendEdges, ZeroStaysZeroAndOneStaysOne) {
     for (std::size_t i = 0; i < o.num_values(); ++i) EXPECT_EQ(o.data()[i], 1.0f);
 }
 
+// The fast gamma takes the power of a whole 256-value chunk where at least a quarter of it is
+// positive, and of the packed positive values elsewhere: both must give the reference's bits, and
+// non-positive values (-0, negative, NaN) must give +0 in both.
+TEST(ExtendEdges, FastEqualsReferenceForSparseAndDenseEdges) {
+    const int w = 300, h = 40;
+    ImageF e(w, h, 1, 0.0f);
+    std::uint32_t s = 12345u;
+    auto rnd = [&] { return float((s = s * 1664525u + 1013904223u) >> 8) / float(1u << 24); };
+    for (int y = 0; y < h; ++y) {
+        // Rows 0-9: one value in 40 positive; 10-19: one in 6; 20-29: half; 30-39: all.
+        const int every = y < 10 ? 40 : y < 20 ? 6 : y < 30 ? 2 : 1;
+        for (int x = 0; x < w; ++x) {
+            float v = x % every == 0 ? 0.05f + rnd() : -rnd();
+            if (x % 37 == 5) v = -0.0f;
+            if (x % 53 == 7) v = std::numeric_limits<float>::quiet_NaN();
+            e.at(x, y, 0) = v;
+        }
+    }
+    for (int W : {1, 3}) {  // W = 1: the blur is the identity, so the gamma sees the values above
+        ExtendEdgesParams p;
+        p.width = W;
+        ImageF ref, f1, f2;
+        extend_edges(ref, e, p, Exec::reference());
+        extend_edges(f1, e, p, Exec::fast(1));
+        extend_edges(f2, e, p, Exec::fast(2));
+        ASSERT_EQ(0, std::memcmp(ref.data(), f1.data(), ref.num_values() * sizeof(float))) << "W " << W;
+        ASSERT_EQ(0, std::memcmp(ref.data(), f2.data(), ref.num_values() * sizeof(float))) << "W " << W;
+    }
+}
+
 TEST(ExtendEdges, ImpulseGivesTheLinearKernelThenMnprGamma) {
     const int n = 15, c = 7;
     for (int W : {3, 5}) {
