@@ -6,8 +6,8 @@
 //   acc_p = s_p;  for a = -r..r (ascending): acc_p = acc_p + W[a] * (bleed(a) ? d_p - s_p : 0)
 // for p in {R, G, B, C}. The reference traversal does exactly that per pixel with border-resolved
 // taps. The fast traversal runs the same expression in the same order per pixel, but over rows:
-// padded row copies (H) or row pointers (V), the x loop innermost so it vectorises, oneTBB row
-// blocks, and rows (or 128-pixel column chunks of a row) whose tap window holds no positive
+// padded row copies (H) or row pointers (V), eight pixels per register with the taps innermost
+// (the sums stay in registers), oneTBB row blocks, and rows (or 128-pixel column chunks of a row) whose tap window holds no positive
 // control are written as s + 0 (what the full sum yields bit for bit when every delta is zero: it
 // only turns -0 into +0). Hence fast == reference bit for bit.
 #include "stylize/stages/bleed.h"
@@ -89,9 +89,9 @@ void pass_reference(const Planes& in, const std::vector<float>& ctrl, const std:
         }
 }
 
-// ---- fast: rows, x innermost --------------------------------------------------------------
-// Column chunks of kChunk pixels keep the ~14 streams of a chunk in L1 while all taps run over
-// it; they are also the unit in which a pass skips pixels whose taps see no positive control.
+// ---- fast: rows, eight pixels per register, taps innermost ---------------------------------
+// Column chunks of kChunk pixels: the unit in which a pass skips pixels whose taps see no
+// positive control.
 constexpr int kChunk = 128;
 
 inline int chunk_count(int w) { return (w + kChunk - 1) / kChunk; }
