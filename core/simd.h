@@ -15,6 +15,9 @@ typedef float v8f __attribute__((vector_size(32)));
 typedef int v8i __attribute__((vector_size(32)));
 typedef float v4f __attribute__((vector_size(16)));  //!< one RGBA pixel in an SSE register
 
+//! Lane indices 0..7 (pixel offsets of a lane in an eight-pixel step).
+inline constexpr v8i kLaneIndex8 = {0, 1, 2, 3, 4, 5, 6, 7};
+
 inline v8f load8(const float* p) {
     v8f v;
     std::memcpy(&v, p, sizeof v);

@@ -7,9 +7,10 @@
 // for p in {R, G, B, C}. The reference traversal does exactly that per pixel with border-resolved
 // taps. The fast traversal runs the same expression in the same order per pixel, but over rows:
 // padded row copies (H) or row pointers (V), eight pixels per register with the taps innermost
-// (the sums stay in registers), oneTBB row blocks, and rows (or 128-pixel column chunks of a row) whose tap window holds no positive
-// control are written as s + 0 (what the full sum yields bit for bit when every delta is zero: it
-// only turns -0 into +0). Hence fast == reference bit for bit.
+// (the sums stay in registers), oneTBB row blocks, and rows (or 128-pixel column chunks of a
+// row) whose tap window holds no positive control are written as s + 0 (what the full sum
+// yields bit for bit when every delta is zero: it only turns -0 into +0). Hence fast ==
+// reference bit for bit.
 #include "stylize/stages/bleed.h"
 
 #include <algorithm>

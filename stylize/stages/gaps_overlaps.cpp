@@ -87,7 +87,7 @@ struct GoKernel {
         const v8f len = simd::sqrt8(gu * gu + gv * gv);
         lanes &= bits8((len > 1e-12f) & (len < std::numeric_limits<float>::infinity()));  // gradient()'s test
         const v8f gx = gu / len, gy = gv / len;
-        const v8i iota = {0, 1, 2, 3, 4, 5, 6, 7};
+        const v8i iota = simd::kLaneIndex8;
         const v8f cx = (float(x) + __builtin_convertvector(iota, v8f)) + 0.5f;  // float(x + i) + 0.5f, exact
         const float cy = float(y) + 0.5f;
         const v8f ag = -go;

@@ -58,8 +58,7 @@ int equal_run(const float* cd, const float* zd, int zc, std::size_t i0, int n, i
     return k;
 }
 
-//! Lane offsets 0..7 and eight zero floats (the loads of a lane without taps).
-const v8i kLane8 = {0, 1, 2, 3, 4, 5, 6, 7};
+//! Eight zero floats: the loads of a lane without taps.
 alignas(32) const float kNoTaps[8] = {};
 
 //! Reach of the taps in pixels: |offset| <= 5 * distortion, the bilinear footprint one more, and
@@ -253,7 +252,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
             // of `one`, value by value, with the pixel's result selected instead of branched to.
             auto eight = [&](int i) {
                 const int x = xs + i;
-                const v8i xv = kLane8 + x;
+                const v8i xv = simd::kLaneIndex8 + x;
                 v8i xa, ya;
                 std::memcpy(&xa, xas + i, sizeof xa);
                 std::memcpy(&ya, yas + i, sizeof ya);
