@@ -59,7 +59,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
                 const float d = edge_darken_dog_exponent(cv, blur_at(x, y), ctrl(x, y), p);
                 for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = d;
             }
-            for (int j = 0; j < 3 * n; ++j) r[j] = pow_c(base[j], dexp[j]);
+            pow_c_many(base, dexp, r, std::size_t(3 * n));
             for (int i = 0; i < n; ++i) {
                 const int x = xs + i;
                 o(x, y) = dexp[3 * i] == 1.0f ? c(x, y) : glm::vec4(r[3 * i], r[3 * i + 1], r[3 * i + 2], c(x, y).w);
@@ -158,7 +158,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 base[3 * k] = cr[i], base[3 * k + 1] = cg[i], base[3 * k + 2] = cb[i];
                 dexp[3 * k] = dexp[3 * k + 1] = dexp[3 * k + 2] = d[i];
             }
-            for (int j = 0; j < 3 * m; ++j) r[j] = pow_c(base[j], dexp[j]);
+            pow_c_many(base, dexp, r, std::size_t(3 * m));
             if (!in_place)
                 for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
             for (int k = 0; k < m; ++k) {

@@ -67,7 +67,7 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
                 // is the same operations either way.
                 for (std::size_t j = 0; j < n; ++j) bs[j] = di[j] > 0.0f ? di[j] : 1.0f;
                 for (std::size_t j = 0; j < n; ++j) t[j] = (1.0f / bs[j]) * g;
-                for (std::size_t j = 0; j < n; ++j) t[j] = pow_c(bs[j], t[j]);
+                pow_c_many(bs, t, t, n);
                 for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? t[j] : 0.0f;
                 continue;
             }
@@ -78,7 +78,7 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
             }
             for (int q = 0; q < m; ++q) bs[q] = di[idx[q]];
             for (int q = 0; q < m; ++q) t[q] = (1.0f / bs[q]) * g;
-            for (int q = 0; q < m; ++q) t[q] = pow_c(bs[q], t[q]);
+            pow_c_many(bs, t, t, std::size_t(m));
             for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;  // <= 0, NaN -> 0
             for (int q = 0; q < m; ++q) di[idx[q]] = t[q];
         }

@@ -61,7 +61,7 @@ void pigment_apply_wc17(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                 q[i] = pigment_apply_wc17_prepare(cv, in.height(x, y), in.ctrl(x, y), p);
                 for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = q[i].d;
             }
-            for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
+            pow_c_many(base, dexp, g, std::size_t(3 * n));
             for (int i = 0; i < n; ++i) {
                 const glm::vec4 cv = in.c(xs + i, y);
                 o(xs + i, y) = q[i].apply ? glm::vec4(pigment_apply_wc17_channel(cv.x, q[i].sub, g[3 * i]),
@@ -152,7 +152,7 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                     base[3 * i] = std::fabs(cr[i]), base[3 * i + 1] = std::fabs(cg[i]), base[3 * i + 2] = std::fabs(cb[i]);
                     dexp[3 * i] = dexp[3 * i + 1] = dexp[3 * i + 2] = da[i];
                 }
-                for (int j = 0; j < 3 * n; ++j) g[j] = pow_c(base[j], dexp[j]);
+                pow_c_many(base, dexp, g, std::size_t(3 * n));
                 for (int i = 0; i < n; ++i) {  // eq. 2, case 2, blended by the substrate fade
                     const float f = fade[i], u = 1.0f - f;
                     const bool gr = mode[i] == 2;

@@ -101,7 +101,7 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
             {
                 for (std::size_t j = 0; j < n; ++j)
                     for (int ch = 0; ch < 3; ++ch) dexp[3 * j + ch] = d[j];
-                for (std::size_t q = 0; q < 3 * n; ++q) cp[q] = pow_c(cp[q], dexp[q]);
+                pow_c_many(cp, dexp, cp, 3 * n);
             }
             // The blend two pixels per register: mix(s, c', t) = s (1 - t) + c' t lane by lane with
             // t = sat(d) of each pixel over its lanes, the alpha lanes from the colour; then one pixel.
