@@ -94,7 +94,7 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
         float cr[kChunk], cg[kChunk], cb[kChunk], ca[kChunk], ht[kChunk], av[kChunk];
         float outr[kChunk], outg[kChunk], outb[kChunk], da[kChunk], fade[kChunk];
         int mode[kChunk];
-        float base[3 * kChunk], dexp[3 * kChunk], g[3 * kChunk];
+        float base[3 * kChunk], g[3 * kChunk];
         const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
@@ -148,17 +148,17 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
             bool any = false;
             for (int i = 0; i < n; ++i) any |= mode[i] == 2;
             if (any) {
-                for (int i = 0; i < n; ++i) {
-                    base[3 * i] = std::fabs(cr[i]), base[3 * i + 1] = std::fabs(cg[i]), base[3 * i + 2] = std::fabs(cb[i]);
-                    dexp[3 * i] = dexp[3 * i + 1] = dexp[3 * i + 2] = da[i];
-                }
-                pow_c_many(base, dexp, g, std::size_t(3 * n));
+                // Channel planes (base[c * kChunk + i]): the exponent plane da serves all three.
+                for (int i = 0; i < n; ++i) base[i] = std::fabs(cr[i]);
+                for (int i = 0; i < n; ++i) base[kChunk + i] = std::fabs(cg[i]);
+                for (int i = 0; i < n; ++i) base[2 * kChunk + i] = std::fabs(cb[i]);
+                for (int ch = 0; ch < 3; ++ch) pow_c_many(base + ch * kChunk, da, g + ch * kChunk, std::size_t(n));
                 for (int i = 0; i < n; ++i) {  // eq. 2, case 2, blended by the substrate fade
                     const float f = fade[i], u = 1.0f - f;
                     const bool gr = mode[i] == 2;
-                    outr[i] = gr ? cr[i] * u + g[3 * i] * f : outr[i];
-                    outg[i] = gr ? cg[i] * u + g[3 * i + 1] * f : outg[i];
-                    outb[i] = gr ? cb[i] * u + g[3 * i + 2] * f : outb[i];
+                    outr[i] = gr ? cr[i] * u + g[i] * f : outr[i];
+                    outg[i] = gr ? cg[i] * u + g[kChunk + i] * f : outg[i];
+                    outb[i] = gr ? cb[i] * u + g[2 * kChunk + i] * f : outb[i];
                 }
             }
             for (int i = 0; i < n; ++i)
