@@ -1,9 +1,9 @@
 // stylize/fastmath.h — deterministic, vectorisable replacements for libm calls in stage inner
-// loops. Written with plain float multiply/add and selects only (no libm call, no branch), so GCC
-// vectorises loops over arrays of values and the scalar and vector forms perform the same IEEE
-// operations: the same bits on every machine and in both traversals (our flags forbid FMA
-// contraction, docs/determinism.md). Loops that should vectorise them need -fno-trapping-math in
-// their translation unit (see docs/stylize.md "Speed").
+// loops. Written once over the number type (one float, or eight lanes of core/simd.h) with plain
+// float multiply/add and selects only (no libm call, no branch), so the scalar and the lane forms
+// perform the same IEEE operations: the same bits on every machine and in both traversals (our
+// flags forbid FMA contraction, docs/determinism.md). Loops over arrays of values call the array
+// form (pow_c_many) rather than relying on GCC's vectorisation of the scalar.
 #pragma once
 
 #include <bit>
