@@ -85,9 +85,9 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
         });
         return;
     }
-    // Rows in chunks of 64 pixels, each step a simple loop over arrays so GCC vectorises it:
-    // gather (scalar copies), pigment_apply_wc18_prepare written with selects, the powers (for
-    // chunks where a pixel granulates), the blend. Value for value the operations of
+    // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather (eight pixels per
+    // register), pigment_apply_wc18_prepare written with selects (GCC vectorises it), the powers
+    // per channel plane in pow_c_many (for chunks where a pixel granulates), the blend. Value for value the operations of
     // pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
     for_each_row(ex, color.width(), color.height(), [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;

@@ -97,7 +97,7 @@ inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, co
             pigment_apply_wc17_channel(c.z, q.sub, pow_c(c.z, q.d)), c.w};
 }
 
-//! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c vectorises):
+//! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c_many):
 //! prepare decides dry-brush / granulation and the exponent d_a, finish blends.
 struct PigmentWc18Prep {
     glm::vec4 out;     //!< final colour when !granulate; else the input colour
