@@ -420,10 +420,37 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
 
 // How many triangles ahead of the pre-pass the vertices are fetched (schedule only).
 constexpr std::uint32_t kGatherAhead = 64;
+// A group of 8 triangles whose 24 vertex indices lie within this many vertices of each other
+// (320 KB of SnapVertex) is taken to come from a mesh in first-use vertex order (schedule only).
+constexpr std::uint32_t kFrontierSpan = 16384;
 // Prefetch hints for the snapped vertices of the 8 triangles whose indices start at ix (an index
 // out of range is clamped: the hint must name memory of the array; it changes no result).
+// Meshes whose vertices are numbered in order of first use (the Stanford dragons: 8 triangles'
+// indices span 5k vertices at the median, 11k at the 90th percentile) bring about 4 new vertices
+// per 8 triangles, at the largest index; the others were fetched for earlier triangles and are
+// still cached. Such a group gets two hints, the largest index and 3 vertices before it (the
+// 60 bytes of new vertices behind it may start on the line before); any other group gets all
+// 24. 24 hints per group had the pre-pass wait on the prefetches themselves (a sixth of
+// setup_triangles' samples on the 871k dragon; docs/performance.md, thirty-third session).
 inline void prefetch_snap(const SnapVertex* snap, std::size_t nv, const std::uint32_t* ix) {
-    for (int k = 0; k < 24; ++k) __builtin_prefetch(snap + std::min<std::size_t>(ix[k], nv - 1));
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix));
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix + 8));
+    const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix + 16));
+    const __m256i mx = _mm256_max_epu32(_mm256_max_epu32(a, b), c), mn = _mm256_min_epu32(_mm256_min_epu32(a, b), c);
+    __m128i hi = _mm_max_epu32(_mm256_castsi256_si128(mx), _mm256_extracti128_si256(mx, 1));
+    __m128i lo = _mm_min_epu32(_mm256_castsi256_si128(mn), _mm256_extracti128_si256(mn, 1));
+    hi = _mm_max_epu32(hi, _mm_shuffle_epi32(hi, 0x4e));
+    lo = _mm_min_epu32(lo, _mm_shuffle_epi32(lo, 0x4e));
+    hi = _mm_max_epu32(hi, _mm_shuffle_epi32(hi, 0xb1));
+    lo = _mm_min_epu32(lo, _mm_shuffle_epi32(lo, 0xb1));
+    const std::uint32_t top = std::uint32_t(_mm_cvtsi128_si32(hi)), bottom = std::uint32_t(_mm_cvtsi128_si32(lo));
+    if (top - bottom > kFrontierSpan) {
+        for (int k = 0; k < 24; ++k) __builtin_prefetch(snap + std::min<std::size_t>(ix[k], nv - 1));
+        return;
+    }
+    const std::size_t last = std::min<std::size_t>(top, nv - 1);
+    __builtin_prefetch(snap + last);
+    __builtin_prefetch(snap + (last >= 3 ? last - 3 : 0));
 }
 
 //! build()'s record for a lane surely_dropped8 kept as simple: set_edges of the re-ordered
