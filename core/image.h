@@ -134,7 +134,7 @@ public:
     //! started handing a frame's converted image to the writer; tests/core/image_test.cpp).
     ImageF(ImageF&& o) noexcept
         : w_(std::exchange(o.w_, 0)), h_(std::exchange(o.h_, 0)), c_(std::exchange(o.c_, 0)),
-          n_(std::exchange(o.n_, 0)), pixels_(std::move(o.pixels_)) {}
+          n_(std::exchange(o.n_, 0)), pixels_(std::move(o.pixels_)), stamp_(std::exchange(o.stamp_, 0)) {}
     ImageF& operator=(ImageF&& o) noexcept {
         if (this != &o) {
             w_ = std::exchange(o.w_, 0);
@@ -142,6 +142,7 @@ public:
             c_ = std::exchange(o.c_, 0);
             n_ = std::exchange(o.n_, 0);
             pixels_ = std::move(o.pixels_);
+            stamp_ = std::exchange(o.stamp_, 0);
         }
         return *this;
     }
@@ -151,9 +152,16 @@ public:
     int channels() const { return c_; }
     bool empty() const { return n_ == 0; }
     std::size_t num_values() const { return n_; }
-    float* data() { return pixels_.get(); }
+    //! Mutable access (data, at, view) clears the content stamp.
+    float* data() {
+        stamp_ = 0;
+        return pixels_.get();
+    }
     const float* data() const { return pixels_.get(); }
-    float& at(int x, int y, int c) { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
+    float& at(int x, int y, int c) {
+        stamp_ = 0;
+        return pixels_[(std::size_t(y) * w_ + x) * c_ + c];
+    }
     float at(int x, int y, int c) const { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
     bool same_size(const ImageF& o) const { return w_ == o.w_ && h_ == o.h_; }
 
@@ -172,6 +180,15 @@ public:
     //! Same size, channels and values (compared as floats, as std::vector's == did).
     bool operator==(const ImageF& o) const;
 
+    //! Content stamp: a writer that knows exactly what it last wrote into this image (the
+    //! rasterizer's frame, raster/raster.cpp) tags it with a non-zero value and, on its next write
+    //! into the same image, may leave alone what it would write again. The stamp moves with the
+    //! storage, a copy starts at 0, and every mutable access (data, at, view) clears it, so a
+    //! stamped image holds the stamping writer's values — provided nobody writes through a pointer
+    //! taken before the stamp was set (docs/raster.md "Background tiles kept between frames").
+    std::uint64_t stamp() const { return stamp_; }
+    void set_stamp(std::uint64_t s) { stamp_ = s; }
+
 private:
     using Free = detail::ImageFree;
     void allocate(int w, int h, int channels);
@@ -179,6 +196,7 @@ private:
     int w_ = 0, h_ = 0, c_ = 0;
     std::size_t n_ = 0;
     std::unique_ptr<float[], Free> pixels_;
+    std::uint64_t stamp_ = 0;
 };
 
 //! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller

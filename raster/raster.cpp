@@ -8,6 +8,8 @@
 // writer and visits triangles in submission order.
 #include "raster/raster.h"
 
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <mutex>
 
@@ -74,6 +76,42 @@ struct FrameScratch {
     std::mutex mu;
     std::vector<DrawVertices> draws;
     std::vector<Chunk> chunks;
+
+    // Background tiles kept between frames (docs/raster.md): what the fast traversal last wrote.
+    // Its stamp is on every target image it wrote (ImageF::stamp); a render into images that still
+    // carry it, at the same size and background depth, need not write again a tile that held only
+    // background then and does now — the ARM Mali "transaction elimination" idea for the one tile
+    // content known without computing it. One record process-wide: another render in between
+    // (other targets) only costs the next frame its full write.
+    struct Written {
+        std::uint64_t stamp = 0;
+        int W = 0, H = 0;
+        std::uint32_t bg_depth_bits = 0;
+        std::vector<std::uint8_t> background;  //!< per tile: only background written
+    };
+    Written last;
+    //! The previous frame's background tiles when `tg` holds exactly what it wrote, else empty.
+    static std::vector<std::uint8_t> kept_background(const Targets& tg, int W, int H, float bg_depth) {
+        if (tg.all().empty()) return {};
+        const std::uint64_t s = tg.all().begin()->second.stamp();
+        for (const auto& [name, img] : tg.all())
+            if (img.stamp() != s) return {};
+        FrameScratch& g = get();
+        std::lock_guard<std::mutex> lock(g.mu);
+        const Written& w = g.last;
+        if (s == 0 || w.stamp != s || w.W != W || w.H != H || w.bg_depth_bits != std::bit_cast<std::uint32_t>(bg_depth))
+            return {};
+        return w.background;
+    }
+    //! Stamps every image of `tg` (just written whole) and records its background tiles.
+    static void record(Targets& tg, int W, int H, float bg_depth, std::vector<std::uint8_t> background) {
+        static std::atomic<std::uint64_t> next{0};
+        const std::uint64_t s = ++next;
+        for (const std::string& name : tg.names()) tg.get_mut(name).set_stamp(s);
+        FrameScratch& g = get();
+        std::lock_guard<std::mutex> lock(g.mu);
+        g.last = Written{s, W, H, std::bit_cast<std::uint32_t>(bg_depth), std::move(background)};
+    }
 };
 
 }  // namespace
@@ -136,6 +174,7 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
                                    : target::kAllGBufferTargets;
     Targets tg;
     bool clear = false;
+    std::vector<std::uint8_t> kept;  // per tile: the reused targets hold only background there
     PhaseTimer timer;
     auto body = [&] {
         prepare(fr, sc, cam, fast, fast, warnings, timer);
@@ -149,6 +188,7 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             if (reuse && K == 1 && reusable(*reuse, W, H, mask)) {
                 tg = std::move(*reuse);
                 clear = true;
+                if (fast) kept = FrameScratch::kept_background(tg, W, H, fr.background_depth);
                 if (!fast) {
                     TargetPtrs bp = pointers(tg);
                     for (std::size_t i = 0; i < std::size_t(W) * H; ++i) write_background(bp, i, fr.background_depth);
@@ -161,14 +201,26 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             } else {
                 tg = allocate_targets(W, H, fr.background_depth, mask);
             }
-            tp = pointers(tg);
+            tp = pointers(tg);  // clears the stamps: stamped again below once written whole
         }
         timer.lap("allocate");
         if (!fast) {
             raster_reference(fr, tp, W, H, count);
         } else {
             const int ntiles = fr.tiles_x * fr.tiles_y;
-            tbb::parallel_for(0, ntiles, [&](int tile) { raster_tile(fr, tp, W, H, tile, count, clear); });
+            std::vector<std::uint8_t> background(std::size_t(ntiles), 0);
+            for (int t = 0; t < ntiles; ++t) background[std::size_t(t)] = !tile_binned(fr, t);
+            if (kept.size() != background.size()) kept.assign(background.size(), 0);
+            if (timer.on) {
+                int n = 0;
+                for (int t = 0; t < ntiles; ++t) n += kept[std::size_t(t)] && background[std::size_t(t)];
+                std::fprintf(stderr, "  raster tiles %d, background kept from the previous frame %d\n", ntiles, n);
+            }
+            tbb::parallel_for(0, ntiles, [&](int tile) {
+                const std::size_t t = std::size_t(tile);
+                raster_tile(fr, tp, W, H, tile, count, clear && !(kept[t] && background[t]));
+            });
+            if (mode == Mode::GBuffer && K == 1) FrameScratch::record(tg, W, H, fr.background_depth, std::move(background));
         }
         timer.lap("raster");
     };

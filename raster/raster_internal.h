@@ -89,6 +89,13 @@ struct Frame {
     float background_depth = 0;
 };
 
+//! Whether any triangle was binned to `tile` (fast path); a tile without one shows only background.
+inline bool tile_binned(const Frame& fr, int tile) {
+    bool binned = false;
+    for (const Chunk& ch : fr.chunks) binned = binned || ch.bin_offsets[tile] != ch.bin_offsets[tile + 1];
+    return binned;
+}
+
 template <class F>
 void run_for(bool parallel, std::size_t n, F&& f) {
     if (!parallel) {
@@ -142,6 +149,7 @@ void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float
 //! alpha test. zbuf and ids (kTile x kTile, row-major) hold +inf and kNoChunk, or an earlier state.
 void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, float* zbuf, TileRef* ids);
 //! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.
+//! `clear`: write the background pixels too (else the targets already hold them).
 void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear);
 //! Writes the background values of pixel i into every target.
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);

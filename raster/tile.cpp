@@ -211,8 +211,9 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
     }
 }
 
-// clear: the targets hold a previous frame (render_gbuffer_into), so background pixels are
-// written too; otherwise they already hold the background from the allocation.
+// clear: background pixels are written too (fresh or reused targets); otherwise the targets
+// already hold the background there (raster.cpp: a tile that showed only background in the
+// previous frame written into the same stamped targets).
 void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear) {
     const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
     const int X0 = tx * kTile, Y0 = ty * kTile;
@@ -234,9 +235,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
     TileRef ids[kTile * kTile];
     std::uint16_t covered[kTile * kTile];
     int nc = 0;
-    bool binned = false;
-    for (const Chunk& ch : fr.chunks) binned = binned || ch.bin_offsets[tile] != ch.bin_offsets[tile + 1];
-    if (binned) {
+    if (tile_binned(fr, tile)) {
         for (int i = 0; i < kTile * kTile; ++i) {
             zbuf[i] = std::numeric_limits<float>::infinity();
             ids[i].chunk = kNoChunk;

@@ -51,6 +51,40 @@ TEST(ImageF, MovedFromImageIsEmptyAndEnsureOutputAllocatesAgain) {
     EXPECT_FLOAT_EQ(c.at(19, 11, 2), 0.5f);
 }
 
+// ImageF::stamp (the rasterizer's background tiles kept between frames rely on it): it moves
+// with the storage, a copy starts unstamped, and every mutable access clears it; const access
+// keeps it.
+TEST(ImageF, ContentStampMovesWithTheStorageAndMutableAccessClearsIt) {
+    ImageF a(4, 3, 2, 0.0f);
+    EXPECT_EQ(a.stamp(), 0u);
+    a.set_stamp(42);
+    const ImageF& ca = a;
+    (void)ca.data();
+    (void)ca.at(1, 1, 1);
+    (void)ca.view<glm::vec2>();
+    EXPECT_EQ(a.stamp(), 42u) << "const access cleared the stamp";
+    ImageF b(std::move(a));
+    EXPECT_EQ(b.stamp(), 42u);
+    EXPECT_EQ(a.stamp(), 0u);  // NOLINT(bugprone-use-after-move)
+    ImageF c;
+    c = std::move(b);
+    EXPECT_EQ(c.stamp(), 42u);
+    EXPECT_EQ(b.stamp(), 0u);  // NOLINT(bugprone-use-after-move)
+    const ImageF copy(c);
+    EXPECT_EQ(copy.stamp(), 0u) << "a copy is not the stamping writer's image";
+    ImageF assigned;
+    assigned = c;
+    EXPECT_EQ(assigned.stamp(), 0u);
+    (void)c.data();
+    EXPECT_EQ(c.stamp(), 0u) << "data()";
+    c.set_stamp(7);
+    c.at(0, 0, 0) = 1.0f;
+    EXPECT_EQ(c.stamp(), 0u) << "at()";
+    c.set_stamp(7);
+    (void)c.view<glm::vec2>();
+    EXPECT_EQ(c.stamp(), 0u) << "view()";
+}
+
 TEST(ImageF, ViewChannelCountIsChecked) {
     ImageF img(3, 2, 4, 0.5f);
     EXPECT_NO_THROW(img.view<glm::vec4>());

@@ -456,6 +456,71 @@ TEST(GBuffer, RenderIntoReusesTargetsWithIdenticalBytes) {
     }
 }
 
+// Background tiles kept between frames (raster/raster.cpp, docs/raster.md): a render into the
+// stamped targets of the previous frame leaves alone the tiles that showed only background then
+// and do now. Every frame of a sequence that moves the model across tiles, empties the scene,
+// changes the background depth (the camera's far plane) and draws again must have the bytes of a
+// fresh render, at 1, 2 and 8 threads; the expected targets are rendered first, so each render
+// into `out` follows the one before it (the case where tiles are kept).
+TEST(GBuffer, ReusedTargetsKeepOnlyBackgroundTilesThatStayBackground) {
+    const scene::Scene& base = suzanne();
+    const scene::Camera cam = test::frame_scene(base, 1.2f);  // the model covers part of the frame
+    scene::Scene moved = base;
+    for (scene::Instance& inst : moved.instances)
+        inst.world = glm::translate(glm::mat4(1.0f), glm::vec3(0.6f * (base.world_bounds().max.x - base.world_bounds().min.x), 0, 0)) * inst.world;
+    scene::Camera far_cam = cam;
+    far_cam.zfar *= 2.0f;
+    struct Step {
+        const scene::Scene* scene;
+        const scene::Camera* camera;
+        int frame;
+    };
+    const scene::Scene empty;
+    const std::vector<Step> steps = {{&base, &cam, 1}, {&base, &cam, 2}, {&moved, &cam, 3}, {&empty, &cam, 4},
+                                     {&base, &cam, 5}, {&base, &far_cam, 6}, {&moved, &far_cam, 7}};
+    for (int threads : {1, 2, 8}) {
+        raster::RenderSettings st;
+        st.width = 256;
+        st.height = 192;
+        st.exec.threads = threads;
+        std::vector<Targets> expected;
+        for (const Step& s : steps) {
+            st.frame = s.frame;
+            expected.push_back(raster::render_gbuffer(*s.scene, *s.camera, st));
+        }
+        Targets out;
+        for (std::size_t i = 0; i < steps.size(); ++i) {
+            st.frame = steps[i].frame;
+            raster::render_gbuffer_into(out, *steps[i].scene, *steps[i].camera, st);
+            expect_same_targets(out, expected[i], "kept_tiles_t" + std::to_string(threads) + "_step" + std::to_string(i));
+        }
+    }
+}
+
+// What the kept tiles rest on: the stamped images hold the previous frame's values. A write
+// through the image (a mutable access clears its stamp) makes the next frame write every tile
+// again; a write through a pointer taken before the stamped render is not seen (the contract in
+// ImageF::stamp) — which shows the tiles are in fact left alone.
+TEST(GBuffer, KeptTilesAreThoseOfAStampedFrameOnly) {
+    raster::RenderSettings st;
+    st.width = 256;
+    st.height = 192;
+    st.exec.threads = 2;
+    const scene::Camera cam = test::frame_scene(suzanne(), 1.2f);
+    const Targets expected = raster::render_gbuffer(suzanne(), cam, st);
+    ASSERT_EQ(expected.get(target::kColor).at(0, 0, 3), 0.0f) << "pixel (0, 0) must be background";
+    Targets out;
+    raster::render_gbuffer_into(out, suzanne(), cam, st);
+    out.get_mut(target::kColor).at(0, 0, 3) = 0.5f;  // through the image: the stamp is cleared
+    raster::render_gbuffer_into(out, suzanne(), cam, st);
+    expect_same_targets(out, expected, "after_write_through_image");
+    float* early = out.get_mut(target::kColor).data();  // taken before the next (stamped) render
+    raster::render_gbuffer_into(out, suzanne(), cam, st);
+    early[3] = 0.5f;  // behind the stamp's back
+    raster::render_gbuffer_into(out, suzanne(), cam, st);
+    EXPECT_EQ(out.get(target::kColor).at(0, 0, 3), 0.5f) << "the background tile was written again";
+}
+
 namespace aq {
 namespace {
 
