@@ -319,8 +319,10 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     // Kept from frame to frame (issue 13): the G-buffer's memory (render_gbuffer_into), and for one
     // style the paper, every intermediate and the converted final image (run_pipeline with
     // reuse_outputs), so a frame neither allocates nor first-touches ~0.5 GB at 1080p, nor prepares
-    // the paper again. Every pixel of every target is written again each frame: the bytes are those
-    // of a fresh render (tests/app/golden_test.cpp GoldenAnimation.*).
+    // the paper again. Every target is written again each frame, except the G-buffer tiles that held
+    // only background in the previous frame and still do (docs/raster.md "Background tiles kept
+    // between frames"): the bytes are those of a fresh render (tests/app/golden_test.cpp
+    // GoldenAnimation.*).
     if (job.consumed) throw Error("render job: a one-shot job renders once (its scene was released)");
     // One image, nothing kept (RenderJob::one_shot): buffers released as soon as they are dead,
     // a smaller image pool (restored on return), the scene released after its G-buffer.

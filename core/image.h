@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstddef>
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -134,7 +135,8 @@ public:
     //! started handing a frame's converted image to the writer; tests/core/image_test.cpp).
     ImageF(ImageF&& o) noexcept
         : w_(std::exchange(o.w_, 0)), h_(std::exchange(o.h_, 0)), c_(std::exchange(o.c_, 0)),
-          n_(std::exchange(o.n_, 0)), pixels_(std::move(o.pixels_)), stamp_(std::exchange(o.stamp_, 0)) {}
+          n_(std::exchange(o.n_, 0)), pixels_(std::move(o.pixels_)),
+          stamp_(o.stamp_.exchange(0, std::memory_order_relaxed)) {}
     ImageF& operator=(ImageF&& o) noexcept {
         if (this != &o) {
             w_ = std::exchange(o.w_, 0);
@@ -142,7 +144,7 @@ public:
             c_ = std::exchange(o.c_, 0);
             n_ = std::exchange(o.n_, 0);
             pixels_ = std::move(o.pixels_);
-            stamp_ = std::exchange(o.stamp_, 0);
+            stamp_.store(o.stamp_.exchange(0, std::memory_order_relaxed), std::memory_order_relaxed);
         }
         return *this;
     }
@@ -154,12 +156,12 @@ public:
     std::size_t num_values() const { return n_; }
     //! Mutable access (data, at, view) clears the content stamp.
     float* data() {
-        stamp_ = 0;
+        clear_stamp();
         return pixels_.get();
     }
     const float* data() const { return pixels_.get(); }
     float& at(int x, int y, int c) {
-        stamp_ = 0;
+        clear_stamp();
         return pixels_[(std::size_t(y) * w_ + x) * c_ + c];
     }
     float at(int x, int y, int c) const { return pixels_[(std::size_t(y) * w_ + x) * c_ + c]; }
@@ -186,8 +188,8 @@ public:
     //! storage, a copy starts at 0, and every mutable access (data, at, view) clears it, so a
     //! stamped image holds the stamping writer's values — provided nobody writes through a pointer
     //! taken before the stamp was set (docs/raster.md "Background tiles kept between frames").
-    std::uint64_t stamp() const { return stamp_; }
-    void set_stamp(std::uint64_t s) { stamp_ = s; }
+    std::uint64_t stamp() const { return stamp_.load(std::memory_order_relaxed); }
+    void set_stamp(std::uint64_t s) { stamp_.store(s, std::memory_order_relaxed); }
 
 private:
     using Free = detail::ImageFree;
@@ -196,7 +198,12 @@ private:
     int w_ = 0, h_ = 0, c_ = 0;
     std::size_t n_ = 0;
     std::unique_ptr<float[], Free> pixels_;
-    std::uint64_t stamp_ = 0;
+    //! Atomic so that threads taking data() of one image at once do not race; stored only when
+    //! set (an unstamped image's cache line is only read), relaxed: a stamp orders nothing.
+    std::atomic<std::uint64_t> stamp_{0};
+    void clear_stamp() {
+        if (stamp_.load(std::memory_order_relaxed) != 0) stamp_.store(0, std::memory_order_relaxed);
+    }
 };
 
 //! Makes img a w x h x c image, reusing its storage when it already has that shape (a caller

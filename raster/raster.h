@@ -63,10 +63,13 @@ Targets render_gbuffer(const scene::Scene& scene, const scene::Camera& camera,
                        std::vector<std::string>* warnings = nullptr);
 
 //! Same as render_gbuffer, writing into `out`: when `out` already holds the targets at this
-//! size (a previous frame) and ssaa == 1 their memory is reused and every pixel is overwritten,
-//! which saves the allocation and first-touch of ~224 MB per 1080p frame (animations,
-//! benchmarks); otherwise `out` is replaced. The bytes are identical to render_gbuffer's.
-//! On an exception `out` is left valid but unspecified.
+//! size (a previous frame) and ssaa == 1 their memory is reused, which saves the allocation and
+//! first-touch of ~224 MB per 1080p frame (animations, benchmarks); otherwise `out` is replaced.
+//! Tiles that held only background in the frame that last wrote `out` and do again are not
+//! written, when every target still carries that frame's stamp (ImageF::stamp; any mutable
+//! access to an image clears it). The bytes are identical to render_gbuffer's, provided nobody
+//! writes a target through a pointer taken before the previous render (docs/raster.md
+//! "Background tiles kept between frames"). On an exception `out` is left valid but unspecified.
 void render_gbuffer_into(Targets& out, const scene::Scene& scene, const scene::Camera& camera,
                          const RenderSettings& settings,
                          std::vector<std::string>* warnings = nullptr);
