@@ -9,6 +9,8 @@
 //   BM_RasterFrame — render_gbuffer_into() with the previous frame's targets: the steady state of
 //                    an animation (no allocation of the 108 B/px G-buffer per frame; the tiles
 //                    that show only background in both frames are not written again);
+//   BM_RasterFrameAnimated — BM_RasterFrame with the frame number advancing every iteration (the
+//                    hand tremor moves every vertex, as in an animation of a still model);
 //   BM_RasterFrameRewrite — BM_RasterFrame with the targets' content declared unknown before each
 //                    frame (their stamps cleared, as any write into them does): every pixel is
 //                    written, what a frame costs without the previous frame's background;
@@ -78,7 +80,8 @@ std::uint32_t target_set(int i) {
     return i == 2 ? color_depth : kAllGBufferTargets;
 }
 
-void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0, bool rewrite = false) {
+void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0, bool rewrite = false,
+         bool animate = false) {
     const int mi = int(state.range(0));
     const int w = int(state.range(1)), h = int(state.range(2)), threads = int(state.range(3));
     const aq::scene::Scene& s = model(mi);
@@ -93,6 +96,7 @@ void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0
     aq::Targets out;
     if (reuse) aq::raster::render_gbuffer_into(out, s, cam, st);  // first frame: allocation
     for (auto _ : state) {
+        if (animate) ++st.frame;
         if (reuse) {
             if (rewrite)
                 for (const std::string& n : out.names()) out.get_mut(n).set_stamp(0);
@@ -115,6 +119,7 @@ void BM_RasterCold(benchmark::State& state) { run(state, false); }
 void BM_RasterFrameCull(benchmark::State& state) { run(state, true, true); }
 void BM_RasterFrameTargets(benchmark::State& state) { run(state, true, false, int(state.range(4))); }
 void BM_RasterFrameRewrite(benchmark::State& state) { run(state, true, false, 0, true); }
+void BM_RasterFrameAnimated(benchmark::State& state) { run(state, true, false, 0, false, true); }
 
 void args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"model", "w", "h", "threads"});
@@ -135,6 +140,11 @@ BENCHMARK(BM_RasterFrameCull)
     ->Args({1, 1920, 1080, 2})
     ->Args({2, 1920, 1080, 1})
     ->Args({2, 1920, 1080, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_RasterFrameAnimated)
+    ->ArgNames({"model", "w", "h", "threads"})
+    ->ArgsProduct({{0, 2}, {1920}, {1080}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_RasterFrameRewrite)
