@@ -77,15 +77,17 @@ void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
 //!   RowGroups  Steps with the compiled pipeline's row groups run band by band ("/row_groups")
 //!   Cli        what `aquarelle render` runs without --targets (app/render_job.cpp): fused pairs
 //!              (stage.h Fusion) and steps in place on dead intermediates ("/cli")
-enum class Schedule { Steps, RowGroups, Cli };
+//!   CliRowGroups Cli with the row groups the in-place steps leave ("/cli_row_groups": what
+//!              `aquarelle render --row-groups` runs)
+enum class Schedule { Steps, RowGroups, Cli, CliRowGroups };
 
 void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, Schedule schedule) {
     Pipeline p = load_pipeline(preset);
     Targets t = test::synthetic_gbuffer(s.w, s.h);
     RunOptions o;
     o.exec = Exec::fast(threads);
-    o.row_groups = schedule == Schedule::RowGroups;
-    o.fuse = o.in_place = schedule == Schedule::Cli;
+    o.row_groups = schedule == Schedule::RowGroups || schedule == Schedule::CliRowGroups;
+    o.fuse = o.in_place = schedule == Schedule::Cli || schedule == Schedule::CliRowGroups;
     o.reuse_outputs = true;  // a frame loop: outputs of the previous frame are reused
     run_pipeline(p, t, o);   // warm-up; prepares and keeps the "paper" target
     for (auto _ : st) {
@@ -175,11 +177,12 @@ const bool kRegistered = [] {
     for (const std::string& preset : image_presets)
         for (const Size& s : kSizes)
             for (int threads : {1, 2})
-                for (Schedule schedule : {Schedule::RowGroups, Schedule::Steps, Schedule::Cli})
+                for (Schedule schedule : {Schedule::RowGroups, Schedule::Steps, Schedule::Cli, Schedule::CliRowGroups})
                     benchmark::RegisterBenchmark(("pipeline/" + preset + "/" + s.name + "/fast/threads:" +
                                                   std::to_string(threads) +
                                                   (schedule == Schedule::RowGroups ? "/row_groups"
                                                    : schedule == Schedule::Cli     ? "/cli"
+                                                   : schedule == Schedule::CliRowGroups ? "/cli_row_groups"
                                                                                    : ""))
                                                      .c_str(),
                                                  bm_pipeline, preset, s, threads, schedule)
