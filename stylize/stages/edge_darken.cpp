@@ -77,12 +77,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_same_size(edges, color, st, "edges", "color");
     check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
-    if (bleed) {
-        check_input(bleed, 1, Channels::AtLeast, st, "bleed");
-        if (bleed->channels() != 1 && bleed->channels() != 4)
-            throw Error(st + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
-        check_full_or_half(*bleed, color, st, "bleed", "color");
-    }
+    check_bleed_mask(bleed, color, st);
     check_not_alias(dst, &edges, st, "edges");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");

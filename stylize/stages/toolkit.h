@@ -69,6 +69,17 @@ inline void check_full_or_half(const ImageF& img, const ImageF& like, const std:
                     std::to_string(half_size(h)) + ")");
 }
 
+//! The optional bleed mask of the edge stages (edge_darken/rgbd, gaps_overlaps/wc18): one channel or
+//! four (the mask in alpha, the bleed stage's RGBA output), full or half the size of `like`.
+//! nullptr (no bleed step) passes.
+inline void check_bleed_mask(const ImageF* bleed, const ImageF& like, const std::string& stage) {
+    if (!bleed) return;
+    check_input(bleed, 1, Channels::AtLeast, stage, "bleed");
+    if (bleed->channels() != 1 && bleed->channels() != 4)
+        throw Error(stage + ": input 'bleed' must have 1 channel or 4 (mask in alpha)");
+    check_full_or_half(*bleed, like, stage, "bleed", "color");
+}
+
 //! The paper texture of Globals::paper, when bound: >= 3 channels (MNPR layout), the size of `like`.
 //! nullptr (the flat paper) passes.
 inline void check_paper(const ImageF* paper, const ImageF& like, const std::string& stage, const std::string& like_port) {
