@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "app/render_job.h"
+#include "bench/bench_inputs.h"
 #include "raster/pass.h"
 
 namespace {
@@ -61,7 +62,7 @@ void BM_Ld06Frame(benchmark::State& st, const std::string& model, int threads) {
     ro.reuse_outputs = true;  // as an animation's frames
     ro.fuse = true;           // as the render job without --targets
     ro.in_place = std::getenv("AQ_NO_IN_PLACE") == nullptr;
-    stylize::run_pipeline(job.compiled[0], t, ro);  // warm-up: buffers, paper
+    for (int k = 0; k < bench::kWarmUpFrames; ++k) stylize::run_pipeline(job.compiled[0], t, ro);  // buffers, paper
     std::map<std::string, double> sum, step;
     const bool per_step = std::getenv("AQ_BENCH_STEPS") != nullptr;  // also one counter per step
     for (auto _ : st) {

@@ -79,9 +79,6 @@ void bm_stage(benchmark::State& st, const StageVariant* v, Size s, Exec ex) {
 //!              (stage.h Fusion) and steps in place on dead intermediates ("/cli")
 //!   CliRowGroups Cli with the row groups the in-place steps leave ("/cli_row_groups": what
 //!              `aquarelle render --row-groups` runs)
-//! Frames run before a frame loop is timed (bm_pipeline, bm_profile).
-constexpr int kWarmUpFrames = 2;
-
 enum class Schedule { Steps, RowGroups, Cli, CliRowGroups };
 
 void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, Schedule schedule) {
@@ -92,11 +89,7 @@ void bm_pipeline(benchmark::State& st, std::string preset, Size s, int threads, 
     o.row_groups = schedule == Schedule::RowGroups || schedule == Schedule::CliRowGroups;
     o.fuse = o.in_place = schedule == Schedule::Cli || schedule == Schedule::CliRowGroups;
     o.reuse_outputs = true;  // a frame loop: outputs of the previous frame are reused
-    // Warm-up: prepares and keeps the "paper" target; two frames, because with steps in place the
-    // images a frame recycles settle only in its second run (the first has none to recycle, so the
-    // second still allocates some anew) — one warm-up left first-touch page clearing in the timed
-    // frames.
-    for (int k = 0; k < kWarmUpFrames; ++k) run_pipeline(p, t, o);
+    for (int k = 0; k < bench::kWarmUpFrames; ++k) run_pipeline(p, t, o);  // also prepares and keeps "paper"
     for (auto _ : st) {
         run_pipeline(p, t, o);
         benchmark::DoNotOptimize(t.get(p.output).data());
@@ -150,7 +143,7 @@ void bm_profile(benchmark::State& st, std::string preset, Size s, int threads, b
         run_pipeline(p, t, o);
         ms[std::size_t(current)] += (Clock::now() - last).count();
     };
-    for (int k = 0; k < kWarmUpFrames; ++k) frame();  // as bm_pipeline
+    for (int k = 0; k < bench::kWarmUpFrames; ++k) frame();
     std::fill(ms.begin(), ms.end(), 0.0);
     for (auto _ : st) {
         frame();
