@@ -5,7 +5,7 @@
 // no back-face culling, ssaa 1). Each model is loaded once (static), never per iteration.
 // Counters: triangles/s (submitted triangles) and pixels/s (output pixels).
 //
-// Two variants:
+// Variants:
 //   BM_RasterFrame — render_gbuffer_into() with the previous frame's targets: the steady state of
 //                    an animation (no allocation of the 108 B/px G-buffer per frame; the tiles
 //                    that show only background in both frames are not written again);
