@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/manifest.h"
+#include "core/hash.h"
+#include "core/input.h"
 #include "core/io.h"
 #include "core/json_file.h"
 
@@ -167,9 +169,13 @@ struct LoadedFrame {
     }
     glm::dmat4 view_m{1.0}, proj_m{1.0};
     bool ortho = false;
+    json run;                                        //!< the manifest's request without its frame
+    std::map<std::string, std::string> target_sha;  //!< target name -> SHA-256 of its EXR
 };
 
-LoadedFrame load_frame(const std::string& image, const std::string& targets_dir) {
+//! A frame's manifest: its frame number, camera, the request of its run and the SHA-256 its run
+//! recorded for each G-buffer target file (outputs of kind "exr").
+LoadedFrame read_frame_manifest(const std::string& image) {
     LoadedFrame f;
     f.path = image;
     const std::string mp = manifest_path(image);
@@ -180,23 +186,44 @@ LoadedFrame load_frame(const std::string& image, const std::string& targets_dir)
     const std::string where = "manifest '" + mp + "'";
     try {
         const json& cam = m.at("image").at("camera");
-        f.frame = m.at("image").at("frame").get<int>();
+        f.frame = JsonReader{where}.integer(m.at("image").at("frame"), "image.frame", 0, request_limits::kMaxFrame);
         f.ortho = cam.at("orthographic").get<bool>();
         f.view_m = matrix(cam.at("view"), where + ": image.camera.view");
         f.proj_m = matrix(cam.at("projection"), where + ": image.camera.projection");
         if (!m.at("request").at("targets").get<bool>())
             throw Error(where + ": the run did not write --targets; render again with --targets DIR (the G-buffer is needed)");
+        f.run = m.at("request");
+        f.run.erase("frame");
+        for (const json& o : m.at("outputs"))
+            if (o.at("kind") == "exr") f.target_sha[o.at("target").get<std::string>()] = o.at("sha256").get<std::string>();
     } catch (const json::exception& e) {
-        throw Error(where + ": no camera or frame (" + std::string(e.what()) + ")");
+        throw Error(where + ": no camera, frame or outputs (" + std::string(e.what()) + ")");
     }
-    char sub[32];
-    std::snprintf(sub, sizeof sub, "/frame%04d/", f.frame);
-    const std::string t = targets_dir + sub;
-    f.image = read_image(image);
-    f.depth = read_image(t + "depth.linear.exr");
-    f.normal = read_image(t + "normal.exr");
-    f.id = read_image(t + "object_id.exr");
     return f;
+}
+
+//! One G-buffer target of frame f from the --targets folder, refused unless its bytes are the
+//! file the frame's run wrote (the SHA-256 in its manifest): another run's --targets is not read.
+ImageF read_target(const LoadedFrame& f, const std::string& dir, const std::string& target) {
+    const std::string path = dir + "/" + target + ".exr";
+    const auto it = f.target_sha.find(target);
+    if (it == f.target_sha.end())
+        throw Error("coherence: the manifest of '" + f.path + "' lists no " + target + " target (render with --targets DIR)");
+    const std::vector<unsigned char> bytes = read_input_file(path, kMaxModelFileBytes, "G-buffer target");
+    if (sha256_hex(bytes.data(), bytes.size()) != it->second)
+        throw Error("coherence: '" + path + "' is not the " + target + " target that rendered '" + f.path +
+                    "' (its SHA-256 differs from the manifest's): is --targets the folder of another run?");
+    return decode_image(bytes.data(), bytes.size(), path);
+}
+
+void load_pixels(LoadedFrame& f, const std::string& targets_dir) {
+    char sub[32];
+    std::snprintf(sub, sizeof sub, "/frame%04d", f.frame);
+    const std::string t = targets_dir + sub;
+    f.image = read_image(f.path);
+    f.depth = read_target(f, t, "depth.linear");
+    f.normal = read_target(f, t, "normal");
+    f.id = read_target(f, t, "object_id");
 }
 
 std::string pct(long long a, long long b) {
@@ -239,9 +266,24 @@ std::string coherence_report(const std::vector<std::string>& images, const std::
         "changed > 1/255 %\n";
     json per = json::array();
     CoherenceStats total;
-    LoadedFrame prev = load_frame(images[0], targets_dir);
-    for (std::size_t i = 1; i < images.size(); ++i) {
-        LoadedFrame cur = load_frame(images[i], targets_dir);
+    // Frames pair by the frame numbers their manifests record (never by file name: 9999 -> 10000
+    // sorts after 10000 as text), all of one run (one request but for the frame).
+    std::vector<LoadedFrame> frames;
+    for (const std::string& image : images) frames.push_back(read_frame_manifest(image));
+    std::stable_sort(frames.begin(), frames.end(), [](const LoadedFrame& a, const LoadedFrame& b) { return a.frame < b.frame; });
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+        if (frames[i].frame == frames[i - 1].frame)
+            throw Error("coherence: '" + frames[i - 1].path + "' and '" + frames[i].path + "' are both frame " +
+                        std::to_string(frames[i].frame));
+        if (frames[i].run != frames[0].run)
+            throw Error("coherence: '" + frames[i].path + "' and '" + frames[0].path +
+                        "' are not frames of one run (their manifests' requests differ beyond the frame number)");
+    }
+    LoadedFrame prev = std::move(frames[0]);
+    load_pixels(prev, targets_dir);
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+        LoadedFrame cur = std::move(frames[i]);
+        load_pixels(cur, targets_dir);
         const CoherenceStats s = frame_coherence(prev.view(), cur.view(), p);
         total.add(s);
         const std::string label = std::to_string(prev.frame) + "->" + std::to_string(cur.frame);

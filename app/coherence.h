@@ -60,14 +60,15 @@ struct CoherenceStats {
 //! Throws aq::Error on mismatched sizes or channel counts.
 CoherenceStats frame_coherence(const CoherenceFrame& prev, const CoherenceFrame& cur, const CoherenceParams& p = {});
 
-//! `aquarelle coherence` on files: images in frame order (each with its sidecar manifest) and the
-//! --targets folder of their run. Returns the report (one line per frame pair, then the total);
+//! `aquarelle coherence` on files: images of one run (each with its sidecar manifest), taken in the
+//! order of the frame numbers their manifests record, and the --targets folder of their run (each
+//! target file checked against the SHA-256 its frame's manifest records). Returns the report (one line per frame pair, then the total);
 //! writes it as JSON to json_out when not empty. Throws aq::Error.
 std::string coherence_report(const std::vector<std::string>& images, const std::string& targets_dir,
                              const CoherenceParams& p, const std::string& json_out);
 
 //! The images of a folder rendered with --frames: every .png/.exr/.tif/.jpg with a sidecar
-//! manifest, sorted by name.
+//! manifest (coherence_report orders them by frame number).
 std::vector<std::string> sequence_in_folder(const std::string& dir);
 
 }  // namespace aq::app

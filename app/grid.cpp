@@ -10,8 +10,12 @@
 
 #include "app/cli_args.h"
 #include "app/visualize.h"
+#include "core/build_info.h"
 #include "core/compare.h"
+#include "core/hash.h"
+#include "core/input.h"
 #include "core/io.h"
+#include "core/json_file.h"
 #include "core/oiio.h"
 
 namespace aq::app {
@@ -63,6 +67,64 @@ struct CellResult {
     std::vector<ImageF> step_thumbs;  //!< first output of each step (report only)
     std::map<std::string, std::string> params;  //!< "step.param" -> value (report only)
 };
+
+//! What made combination k of a grid: a cell written by a shard carries it in a sidecar
+//! (cell_KKKK.exr.json, with the SHA-256 of the cell's bytes), and --from-cells refuses a cell whose
+//! identity is not the assembling command's (another study, size, frame, ...; docs/grid.md).
+nlohmann::json cell_identity(const GridOptions& g, const std::vector<GridCell>& cells, std::size_t k) {
+    const RenderOptions& o = g.base;
+    const bool procedural = o.scene.rfind("procedural:", 0) == 0;
+    std::error_code ec;
+    const fs::path scene = procedural ? fs::path(o.scene) : fs::absolute(o.scene, ec).lexically_normal();
+    return {{"aquarelle_grid_cell", 1},
+            {"scene", scene.string()},
+            {"style", cells[k].style},
+            {"variants", cells[k].assignments.variants},
+            {"sets", cells[k].assignments.sets},
+            {"combination", k},
+            {"combinations", cells.size()},
+            {"width", o.width},
+            {"height", o.height},
+            {"frame", o.frame_first},
+            {"control", o.neutral_control ? "neutral" : "default"},
+            {"working_space", o.working_space == WorkingSpace::Linear ? "linear" : "display"},
+            {"build", build_info().describe()}};
+}
+
+//! Reads cell k written by a shard, refused unless its sidecar names the same identity and the
+//! SHA-256 of the bytes read.
+ImageF read_cell(const std::string& path, const nlohmann::json& identity) {
+    const std::string side = path + ".json";
+    std::error_code ec;
+    if (!fs::is_regular_file(side, ec))
+        throw Error("grid --from-cells: '" + path + "' has no sidecar '" + side + "' (write the cells with this version's --shard)");
+    nlohmann::json meta = read_json_file(side, "grid cell sidecar");
+    if (!meta.is_object() || !meta.contains("sha256") || !meta.at("sha256").is_string())
+        throw Error("grid --from-cells: '" + side + "' is not a grid cell sidecar");
+    const std::string sha = meta.at("sha256").get<std::string>();
+    meta.erase("sha256");
+    if (meta != identity) {
+        const nlohmann::json patch = nlohmann::json::diff(identity, meta);
+        std::string what = patch.empty() ? "" : patch.front().value("path", std::string("/"));
+        const auto ptr = nlohmann::json::json_pointer(what.empty() ? "/" : what);
+        throw Error("grid --from-cells: '" + path + "' was made by another grid (" + what.substr(1) + ": " +
+                    (meta.contains(ptr) ? meta.at(ptr).dump() : std::string("(absent)")) + ", this command: " +
+                    (identity.contains(ptr) ? identity.at(ptr).dump() : std::string("(absent)")) +
+                    "); give the axes, size and options the shards were run with");
+    }
+    const std::vector<unsigned char> bytes = read_input_file(path, kMaxModelFileBytes, "grid cell");
+    if (sha256_hex(bytes.data(), bytes.size()) != sha)
+        throw Error("grid --from-cells: '" + path + "' is not the file its sidecar describes (SHA-256 differs): "
+                    "a shard was interrupted or another run wrote the folder; render that shard again");
+    return decode_image(bytes.data(), bytes.size(), path);
+}
+
+//! The sidecar of a written cell: its identity and the SHA-256 of its file's bytes.
+void write_cell_sidecar(const std::string& path, nlohmann::json identity, const std::string& sha) {
+    identity["sha256"] = sha;
+    const std::string text = identity.dump(2) + "\n";
+    write_file_atomically(path + ".json", text.data(), text.size());
+}
 
 }  // namespace
 
@@ -172,10 +234,22 @@ void run_grid(const GridOptions& g, const Reporter& report) {
         std::snprintf(name, sizeof name, "/cell_%04zu.exr", k);
         return g.cells_dir + name;
     };
+    // Every output checked before anything is written (docs/grid.md "Writing"): the sheet is not one
+    // of the report's own files; the report folder is made once every job is prepared.
+    if (with_report) {
+        std::error_code ec;
+        const fs::path rdir = fs::weakly_canonical(g.report_dir, ec);
+        const fs::path out = fs::weakly_canonical(g.out, ec);
+        const fs::path rel = out.lexically_relative(rdir);
+        const std::string first = rel.empty() ? "" : rel.begin()->string();
+        if (!rel.empty() && first != ".." && (rel == "index.html" || first == "img" || first.rfind("img.", 0) == 0))
+            throw cli::UsageError("grid: --out '" + g.out + "' is one of the report's own files (index.html, img*/); put the "
+                                  "sheet elsewhere");
+    }
     std::vector<CellResult> results(cells.size());
     if (g.from_cells) {
         // Assemble the sheet from the cells a (sharded) run wrote; nothing is rendered.
-        for (std::size_t k = 0; k < cells.size(); ++k) results[k].image = read_image(cell_path(k));
+        for (std::size_t k = 0; k < cells.size(); ++k) results[k].image = read_cell(cell_path(k), cell_identity(g, cells, k));
     } else {
         // Every style's job prepared (names, values and ranges of every combination checked)
         // before any rendering starts; a shard keeps only its combinations (k mod N == I).
@@ -199,6 +273,7 @@ void run_grid(const GridOptions& g, const Reporter& report) {
             cell_of.push_back(std::move(mine));
         }
         if (!g.cells_dir.empty()) ensure_directory(g.cells_dir);
+        if (with_report) ensure_directory(g.report_dir);
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             RenderJob& job = jobs[j];
             run_render(job, [&](RenderedImage& img) {
@@ -206,7 +281,8 @@ void run_grid(const GridOptions& g, const Reporter& report) {
                 CellResult& r = results[k];
                 r.image = img.final_image();
                 r.step_ms = img.step_ms;
-                if (!g.cells_dir.empty()) write_image(cell_path(k), r.image);
+                if (!g.cells_dir.empty())
+                    write_cell_sidecar(cell_path(k), cell_identity(g, cells, k), write_image(cell_path(k), r.image));
                 report.progress("[grid " + std::to_string(k + 1) + "/" + std::to_string(cells.size()) + "] " +
                                 cells[k].assignments.label);
                 if (!with_report) return;
@@ -229,13 +305,19 @@ void run_grid(const GridOptions& g, const Reporter& report) {
         images.push_back(results[k].image);
         labels.push_back(cells[k].assignments.label);
     }
-    write_image(g.out, contact_sheet(images, labels, rows, columns));
-    report.progress("wrote " + g.out + " (" + std::to_string(rows) + " x " + std::to_string(columns) + ")");
-    if (!with_report) return;
+    const ImageF sheet = contact_sheet(images, labels, rows, columns);
+    if (!with_report) {
+        write_image(g.out, sheet);
+        report.progress("wrote " + g.out + " (" + std::to_string(rows) + " x " + std::to_string(columns) + ")");
+        return;
+    }
 
-    // The report: DIR/index.html and DIR/img/*.png (relative links: the folder is self-contained).
-    ensure_directory(g.report_dir);
-    ensure_directory(g.report_dir + "/img");
+    // The report: DIR/index.html and its images in DIR/img.TAG/ (relative links: the folder is
+    // self-contained), TAG from the sheet's pixels. Written as a set: the new images first, in a
+    // folder no old index.html names, then the sheet, then index.html (atomically: readers see the
+    // old report or the new one), then the image folders of older reports are removed.
+    const std::string img_dir = "img." + sha256_hex(sheet).substr(0, 12);
+    ensure_directory(g.report_dir + "/" + img_dir);
     const std::size_t n = cells.size(), b = std::size_t(g.baseline);
     std::size_t max_steps = 0;
     for (const CellResult& r : results) max_steps = std::max(max_steps, r.step_labels.size());
@@ -264,7 +346,7 @@ void run_grid(const GridOptions& g, const Reporter& report) {
              (k == b ? " (baseline)" : "") + "</th>";
     h += "</tr>\n<tr><th>final</th>";
     for (std::size_t k = 0; k < n; ++k) {
-        const std::string f = "img/c" + std::to_string(k) + "_final.png";
+        const std::string f = img_dir + "/c" + std::to_string(k) + "_final.png";
         write_image(g.report_dir + "/" + f, thumbnail(results[k].image));
         h += "<td><img src=\"" + f + "\"></td>";
     }
@@ -275,7 +357,7 @@ void run_grid(const GridOptions& g, const Reporter& report) {
             continue;
         }
         const CompareStats s = compare_images(results[b].image, results[k].image, 1.0 / 255.0);
-        const std::string f = "img/c" + std::to_string(k) + "_diff.png";
+        const std::string f = img_dir + "/c" + std::to_string(k) + "_diff.png";
         write_image(g.report_dir + "/" + f, thumbnail(diff_heatmap(results[b].image, results[k].image)));
         h += "<td><img src=\"" + f + "\">mean abs " + fmt("%.5f", s.mean_abs) + "<br>max abs " + fmt("%.4f", s.max_abs) +
              "<br>over 1/255 " + fmt("%.2f", 100.0 * s.frac_over) + " %<br>PSNR " + fmt("%.2f", s.psnr) + " dB</td>";
@@ -291,7 +373,7 @@ void run_grid(const GridOptions& g, const Reporter& report) {
             }
             h += "<td>" + html_escape(r.step_labels[i]) + "<br>" + (i < r.step_ms.size() ? fmt("%.1f ms", r.step_ms[i]) : "");
             if (!r.step_thumbs[i].empty()) {
-                const std::string f = "img/c" + std::to_string(k) + "_s" + std::to_string(i) + ".png";
+                const std::string f = img_dir + "/c" + std::to_string(k) + "_s" + std::to_string(i) + ".png";
                 write_image(g.report_dir + "/" + f, r.step_thumbs[i]);
                 h += "<img src=\"" + f + "\">";
             }
@@ -308,7 +390,17 @@ void run_grid(const GridOptions& g, const Reporter& report) {
         h += "</tr>\n" + diff_rows + "</table>\n";
     }
     h += "</body></html>\n";
+    write_image(g.out, sheet);
+    report.progress("wrote " + g.out + " (" + std::to_string(rows) + " x " + std::to_string(columns) + ")");
     write_file_atomically(g.report_dir + "/index.html", h.data(), h.size());
+    std::error_code ec;
+    for (fs::directory_iterator it(g.report_dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string n = it->path().filename().string();
+        if (n != img_dir && (n == "img" || n.rfind("img.", 0) == 0) && it->is_directory()) {
+            std::error_code rm;
+            fs::remove_all(it->path(), rm);
+        }
+    }
     report.progress("wrote " + g.report_dir + "/index.html");
 }
 

@@ -115,21 +115,27 @@ constexpr const char* kReproduceHelp = R"(usage: aquarelle reproduce MANIFEST.js
 
 Every image `aquarelle render` writes gets a manifest beside it (IMAGE.json: build, request,
 every input file's SHA-256, the compiled pipeline, every output file's SHA-256; docs/provenance.md).
-reproduce checks that this build is the manifest's and that every input is present and unchanged,
-renders the image again with the recorded request, and compares every output file's SHA-256. It
-prints "identical", or what differs: changed inputs, the pipeline, and the first differing output
-(in pipeline order) with compare's metrics when the original file is beside the manifest.
+reproduce checks that this build is the manifest's, that the manifest is well formed (its request
+typed and in range exactly as render's options), that every input is present and every output
+file beside the manifest has its recorded SHA-256; it renders the image again with the recorded
+request and compares the files read and every output file's SHA-256. It prints "identical" only
+when all of that holds, else what differs: changed or unread inputs, changed or missing originals,
+the pipeline, and the first differing output (in pipeline order) with compare's metrics.
 
 options:
-  --keep DIR       render into DIR and keep it (default: a temporary folder, removed)
+  --keep DIR       render into DIR and keep it; DIR must be new or empty (default: a temporary
+                   folder, removed, also on Ctrl-C)
   --threads N      worker threads, 0 = all cores (default 0); the bytes do not depend on it
   --any-version    render and compare even when the manifest was made by another build
+  --allow-outside-files
+                   needed to reproduce an image rendered with --allow-outside-files (a manifest
+                   cannot lift the path policy by itself)
   --quiet          no progress on stderr
   --help           this text
 
 Exit status: 0 identical; 3 something differs (reported on stdout); 1 the image cannot be
-reproduced (not a manifest, another build without --any-version, a missing input file, an error
-while rendering); 2 usage error.
+reproduced (not a manifest, a malformed or out-of-range field, another build without
+--any-version, a missing input file, an error while rendering); 2 usage error.
 )";
 
 constexpr const char* kCoherenceHelp = R"(usage: aquarelle coherence (FOLDER | IMAGE IMAGE...) --targets DIR [options]
@@ -181,6 +187,7 @@ options:
 )";
 
 using aq::app::RenderOptions;
+namespace lim = aq::app::request_limits;
 
 void check_output_path(const std::string& path, const std::string& opt) {
     const fs::path p(path);
@@ -209,7 +216,8 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
     } else if (arg == "--height") {
         o.height = int(aq::cli::parse_int(arg, a.value(arg), 1, aq::kMaxImageSide));
     } else if (arg == "--frame") {
-        o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, 10'000'000));
+        o.frame_first = o.frame_last = int(aq::cli::parse_int(arg, a.value(arg), 0, lim::kMaxFrame));
+        o.frame_given = true;
     } else if (arg == "--control") {
         const std::string v = a.value(arg);
         if (v != "neutral" && v != "default") throw UsageError("--control expects default or neutral, got '" + v + "'");
@@ -219,7 +227,7 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
         if (v != "display" && v != "linear") throw UsageError("--working-space expects display or linear, got '" + v + "'");
         o.working_space = v == "linear" ? aq::WorkingSpace::Linear : aq::WorkingSpace::Display;
     } else if (arg == "--threads") {
-        o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+        o.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, lim::kMaxThreads));
     } else if (arg == "--shard") {
         const std::string v = a.value(arg);
         const auto slash = v.find('/');
@@ -265,11 +273,12 @@ RenderOptions parse_render(Args& a) {
             const auto dash = v.find('-');
             if (dash == 0 || v.empty()) throw UsageError("--frames expects A-B or N, e.g. 0-23 or 12");
             // N alone: the one frame N, numbered as in an animation (A-A).
-            o.frame_first = int(aq::cli::parse_int(arg, v.substr(0, dash), 0, 10'000'000));
+            o.frame_first = int(aq::cli::parse_int(arg, v.substr(0, dash), 0, lim::kMaxFrame));
             o.frame_last = dash == std::string::npos ? o.frame_first
-                                                     : int(aq::cli::parse_int(arg, v.substr(dash + 1), 0, 10'000'000));
+                                                     : int(aq::cli::parse_int(arg, v.substr(dash + 1), 0, lim::kMaxFrame));
             if (o.frame_last < o.frame_first) throw UsageError("--frames: last frame before first");
-            if (o.frame_last - o.frame_first >= 100'000) throw UsageError("--frames: more than 100000 frames");
+            if (o.frame_last - o.frame_first >= lim::kMaxFramesPerRun)
+                throw UsageError("--frames: more than " + std::to_string(lim::kMaxFramesPerRun) + " frames");
             o.animation = true;
         } else if (arg == "--sweep") {
             // STEP.PARAM=FROM:TO:COUNT
@@ -280,15 +289,15 @@ RenderOptions parse_render(Args& a) {
             if (eq == std::string::npos || c1 == std::string::npos || c2 == std::string::npos || eq == 0)
                 throw UsageError("--sweep expects STEP.PARAM=FROM:TO:COUNT, e.g. edge_darken.intensity=0:4:9");
             o.sweep = v.substr(0, eq);
-            o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -1e30, 1e30);
-            o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -1e30, 1e30);
-            o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), 2, 1000));
+            o.sweep_from = aq::cli::parse_double(arg, v.substr(eq + 1, c1 - eq - 1), -lim::kMaxSweepValue, lim::kMaxSweepValue);
+            o.sweep_to = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -lim::kMaxSweepValue, lim::kMaxSweepValue);
+            o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), lim::kMinSweepCount, lim::kMaxSweepCount));
         } else if (arg == "--orbit") {
-            o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -360.0, 360.0);
+            o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
         } else if (arg == "--fps") {
-            o.fps = aq::cli::parse_double(arg, a.value(arg), 0.001, 10000.0);
+            o.fps = aq::cli::parse_double(arg, a.value(arg), lim::kMinFps, lim::kMaxFps);
         } else if (arg == "--ssaa") {
-            o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, 4));
+            o.ssaa = int(aq::cli::parse_int(arg, a.value(arg), 1, lim::kMaxSsaa));
         } else if (arg == "--compression") {
             const std::string v = a.value(arg);
             if (!aq::compression_from_name(v, o.compression))
@@ -309,6 +318,8 @@ RenderOptions parse_render(Args& a) {
         throw UsageError("render: with --frames, --out must contain #### for the frame number");
     if (!o.sweep.empty() && o.animation)
         throw UsageError("render: --sweep and --frames cannot be combined");
+    if (o.frame_given && o.animation)
+        throw UsageError("render: --frame N and --frames A-B cannot be combined (--frames N renders the one frame N)");
     if (o.shard_count > 1 && !o.animation && o.sweep.empty())
         throw UsageError("render: --shard splits --frames or --sweep; give one of them");
     if (!o.sweep.empty() && o.out.find("####") == std::string::npos)
@@ -447,9 +458,11 @@ int cmd_reproduce(Args& a) {
         } else if (arg == "--keep") {
             ro.keep_dir = a.value(arg);
         } else if (arg == "--threads") {
-            ro.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, 1024));
+            ro.threads = int(aq::cli::parse_int(arg, a.value(arg), 0, lim::kMaxThreads));
         } else if (arg == "--any-version") {
             ro.any_version = true;
+        } else if (arg == "--allow-outside-files") {
+            ro.allow_outside_files = true;
         } else if (arg == "--quiet" || arg == "-q") {
             ro.quiet = true;
         } else if (!arg.empty() && arg[0] == '-') {

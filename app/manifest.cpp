@@ -1,11 +1,20 @@
 // app/manifest.cpp — see manifest.h.
 #include "app/manifest.h"
 
+#include <fcntl.h>
 #include <stdlib.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
 
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "app/render_files.h"
 #include "core/build_info.h"
@@ -13,6 +22,7 @@
 #include "core/hash.h"
 #include "core/input.h"
 #include "core/io.h"
+#include "core/image.h"
 #include "core/json_file.h"
 #include "raster/vertex.h"
 
@@ -102,16 +112,102 @@ json pipeline_json(const stylize::CompiledPipeline& c) {
     return p;
 }
 
-//! Removes a temporary folder when reproduce leaves (also on errors).
+// --- reproduce's temporary folder -------------------------------------------------------------
+// `TMPDIR/aquarelle-reproduce.PID.XXXXXX`: removed when reproduce returns or throws, by the signal
+// handler on SIGINT, SIGTERM and SIGHUP (async-signal-safe: raw openat/getdents64/unlinkat over
+// the folder's two levels), and, after a SIGKILL, by the next reproduce (its PID no longer alive).
+
+constexpr const char* kReproducePrefix = "aquarelle-reproduce.";
+
+std::string temp_base() {
+    const char* base = std::getenv("TMPDIR");
+    return base && *base ? base : "/tmp";
+}
+
+char g_temp_dir[4096];                       // the folder the handler removes ("" when none)
+volatile std::sig_atomic_t g_temp_set = 0;
+
+//! Removes the entries of the folder `fd` (files, and folders `depth` levels deep), then closes fd.
+//! Only system calls: safe in a signal handler.
+void remove_entries_raw(int fd, int depth) {
+    alignas(8) char buf[4096];
+    for (;;) {
+        const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
+        if (n <= 0) break;
+        for (long off = 0; off < n;) {
+            struct Dirent {
+                std::uint64_t ino;
+                std::int64_t off;
+                unsigned short reclen;
+                unsigned char type;
+                char name[1];
+            };
+            const auto* d = reinterpret_cast<const Dirent*>(buf + off);
+            off += d->reclen;
+            const char* nm = d->name;
+            if (nm[0] == '.' && (nm[1] == 0 || (nm[1] == '.' && nm[2] == 0))) continue;
+            if (::unlinkat(fd, nm, 0) == 0) continue;
+            if (depth > 0) {
+                const int sub = ::openat(fd, nm, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+                if (sub >= 0) remove_entries_raw(sub, depth - 1);
+            }
+            ::unlinkat(fd, nm, AT_REMOVEDIR);
+        }
+    }
+    ::close(fd);
+}
+
+void remove_temp_dir_on_signal(int sig) {
+    if (g_temp_set) {
+        const int fd = ::open(g_temp_dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        if (fd >= 0) remove_entries_raw(fd, 3);
+        ::rmdir(g_temp_dir);
+    }
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+}
+
+//! Removes the reproduce folders that killed processes left under TMPDIR.
+void remove_stale_reproduce_folders() {
+    std::error_code ec;
+    const std::string prefix = kReproducePrefix;
+    for (fs::directory_iterator it(temp_base(), ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string n = it->path().filename().string();
+        if (n.rfind(prefix, 0) != 0) continue;
+        const std::size_t dot = n.find('.', prefix.size());
+        long pid = 0;
+        try {
+            pid = std::stol(n.substr(prefix.size(), dot - prefix.size()));
+        } catch (...) {
+            continue;
+        }
+        if (pid <= 0 || pid == long(::getpid()) || ::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+        std::error_code rm;
+        fs::remove_all(it->path(), rm);
+    }
+}
+
+//! Removes a temporary folder when reproduce leaves (also on errors and the signals above).
 struct TempDir {
     std::string path;
     bool keep = false;
     ~TempDir() {
         if (keep || path.empty()) return;
+        g_temp_set = 0;
         std::error_code ec;
         fs::remove_all(path, ec);
     }
 };
+
+std::string make_reproduce_folder() {
+    std::string tmpl = temp_base() + "/" + kReproducePrefix + std::to_string(::getpid()) + ".XXXXXX";
+    if (tmpl.size() >= sizeof g_temp_dir) throw Error("reproduce: TMPDIR '" + temp_base() + "' is too long a path");
+    if (!::mkdtemp(tmpl.data())) throw Error("reproduce: cannot create a temporary folder under " + temp_base());
+    std::memcpy(g_temp_dir, tmpl.c_str(), tmpl.size() + 1);
+    g_temp_set = 1;
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_temp_dir_on_signal);
+    return tmpl;
+}
 
 std::string short_sha(const std::string& s) { return s.substr(0, 16); }
 
@@ -179,56 +275,139 @@ T get(const json& j, const char* key, const std::string& where) {
     }
 }
 
-//! The render request of a manifest as RenderOptions writing into `dir`.
+//! The render request of a manifest as RenderOptions writing into `dir`. Every field is read
+//! strictly (JsonReader: an integer is a JSON integer, not 160.9 or true; a size is not wrapped
+//! modulo 2^32) and within the same ranges as the command line's options (request_limits; 0 for
+//! width, height and fps: "not given", as the CLI records it). A manifest cannot lift a safety
+//! switch: a request made with --allow-outside-files reproduces only when the user passes it again.
 RenderOptions options_from(const json& m, const std::string& where, const std::string& dir, const ReproduceOptions& ro) {
+    namespace lim = request_limits;
     const json& r = need(m, "request", where);
-    const std::string w = where + ": request";
+    const JsonReader rd{where};
+    auto at = [&](const json& j, const char* key) -> const json& { return need(j, key, where + ": request"); };
     RenderOptions o;
-    o.scene = get<std::string>(r, "scene", w);
-    o.style = get<std::string>(r, "style", w);
-    o.style_given = get<bool>(r, "style_given", w);
-    o.sets = get<std::vector<std::string>>(r, "set", w);
-    o.variants = get<std::vector<std::string>>(r, "variant", w);
-    o.width = get<int>(r, "width", w);
-    o.height = get<int>(r, "height", w);
-    o.frame_first = o.frame_last = get<int>(r, "frame", w);
-    o.fps = get<double>(r, "fps", w);
-    o.orbit_deg = get<double>(r, "orbit_deg", w);
-    o.ssaa = get<int>(r, "ssaa", w);
-    const std::string control = get<std::string>(r, "control", w);
+    o.scene = rd.string(at(r, "scene"), "request.scene");
+    o.style = rd.string(at(r, "style"), "request.style");
+    o.style_given = rd.boolean(at(r, "style_given"), "request.style_given");
+    for (const char* list : {"set", "variant"}) {
+        const json& v = at(r, list);
+        if (!v.is_array()) rd.bad(std::string("request.") + list, "expected a list of strings");
+        for (std::size_t i = 0; i < v.size(); ++i)
+            (list[0] == 's' ? o.sets : o.variants)
+                .push_back(rd.string(v[i], "request." + std::string(list) + "[" + std::to_string(i) + "]"));
+    }
+    o.width = rd.integer(at(r, "width"), "request.width", 0, kMaxImageSide);
+    o.height = rd.integer(at(r, "height"), "request.height", 0, kMaxImageSide);
+    o.frame_first = o.frame_last = rd.integer(at(r, "frame"), "request.frame", 0, lim::kMaxFrame);
+    o.fps = rd.number(at(r, "fps"), "request.fps", 0.0, lim::kMaxFps);
+    if (o.fps != 0.0 && o.fps < lim::kMinFps) rd.bad("request.fps", "value outside 0 (not given) or [" + std::to_string(lim::kMinFps) + ", " + std::to_string(lim::kMaxFps) + "]");
+    o.orbit_deg = rd.number(at(r, "orbit_deg"), "request.orbit_deg", -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
+    o.ssaa = rd.integer(at(r, "ssaa"), "request.ssaa", 1, lim::kMaxSsaa);
+    const std::string w = where + ": request";
+    const std::string control = rd.string(at(r, "control"), "request.control");
     if (control != "default" && control != "neutral") throw Error(w + ": control '" + control + "' is not default or neutral");
     o.neutral_control = control == "neutral";
-    const std::string ws = get<std::string>(r, "working_space", w);
+    const std::string ws = rd.string(at(r, "working_space"), "request.working_space");
     if (ws != "display" && ws != "linear") throw Error(w + ": working_space '" + ws + "' is not display or linear");
     o.working_space = ws == "linear" ? WorkingSpace::Linear : WorkingSpace::Display;
     // Manifests written before --compression existed have no key: their files were compressed "fast".
-    const std::string comp = r.contains("compression") ? get<std::string>(r, "compression", w) : "fast";
+    const std::string comp = r.contains("compression") ? rd.string(r.at("compression"), "request.compression") : "fast";
     if (!compression_from_name(comp, o.compression)) throw Error(w + ": compression '" + comp + "' is not fast or none");
-    o.allow_outside_files = get<bool>(r, "allow_outside_files", w);
-    const std::string ext = get<std::string>(r, "output_format", w);
+    o.allow_outside_files = rd.boolean(at(r, "allow_outside_files"), "request.allow_outside_files");
+    if (o.allow_outside_files && !ro.allow_outside_files)
+        throw Error(where + ": the image was rendered with --allow-outside-files (its model may read files outside "
+                            "its own folder); a manifest cannot lift that policy: pass --allow-outside-files to "
+                            "reproduce it");
+    const std::string ext = rd.string(at(r, "output_format"), "request.output_format");
     if (ext != ".png" && ext != ".exr" && ext != ".tif" && ext != ".tiff" && ext != ".jpg")
         throw Error(w + ": output_format '" + ext + "' is not .png, .exr, .tif or .jpg");
     if (r.contains("sweep")) {
         const json& s = r.at("sweep");
-        o.sweep = get<std::string>(s, "param", w + ".sweep");
-        o.sweep_from = get<double>(s, "from", w + ".sweep");
-        o.sweep_to = get<double>(s, "to", w + ".sweep");
-        o.sweep_count = get<int>(s, "count", w + ".sweep");
-        const int index = get<int>(s, "index", w + ".sweep");
-        if (o.sweep_count < 2 || o.sweep_count > 1000 || index < 0 || index >= o.sweep_count)
-            throw Error(w + ".sweep: index " + std::to_string(index) + " of " + std::to_string(o.sweep_count) + " is not a sweep value");
+        o.sweep = rd.string(at(s, "param"), "request.sweep.param");
+        o.sweep_from = rd.number(at(s, "from"), "request.sweep.from", -lim::kMaxSweepValue, lim::kMaxSweepValue);
+        o.sweep_to = rd.number(at(s, "to"), "request.sweep.to", -lim::kMaxSweepValue, lim::kMaxSweepValue);
+        o.sweep_count = rd.integer(at(s, "count"), "request.sweep.count", lim::kMinSweepCount, lim::kMaxSweepCount);
+        const int index = rd.integer(at(s, "index"), "request.sweep.index", 0, o.sweep_count - 1);
         o.shard_count = o.sweep_count;  // render only this sweep value
         o.shard_index = index;
         o.out = dir + "/image_####" + ext;
     } else {
         o.out = dir + "/image" + ext;
     }
-    if (get<bool>(r, "targets", w)) o.targets_dir = dir + "/targets";
-    if (get<bool>(r, "targets_png", w)) o.targets_png_dir = dir + "/targets_png";
+    if (rd.boolean(at(r, "targets"), "request.targets")) o.targets_dir = dir + "/targets";
+    if (rd.boolean(at(r, "targets_png"), "request.targets_png")) o.targets_png_dir = dir + "/targets_png";
     o.keep_intermediates = !o.targets_dir.empty() || !o.targets_png_dir.empty();
     o.threads = ro.threads;
     o.quiet = ro.quiet;
     return o;
+}
+
+//! One file a manifest lists as written for its image ("outputs").
+struct ListedOutput {
+    std::string file, target, kind, sha256;
+    std::string name() const { return target.empty() ? "the image (" + file + ")" : "target " + target + " (" + file + ")"; }
+};
+
+bool is_sha256_hex(const std::string& s) {
+    return s.size() == 64 && std::all_of(s.begin(), s.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+}
+
+//! The manifest's "outputs", checked: a non-empty list of at most kMaxManifestOutputs entries, each
+//! a file inside the manifest's folder (relative, no '..'), a known kind, a SHA-256; exactly one
+//! image ("out"); no (kind, target) or file twice.
+std::vector<ListedOutput> listed_outputs(const json& m, const std::string& where) {
+    const json& outs = need(m, "outputs", where);
+    if (!outs.is_array()) throw Error(where + ": 'outputs' is not a list");
+    if (outs.empty()) throw Error(where + ": 'outputs' lists no file; a manifest names at least the image it describes");
+    if (outs.size() > kMaxManifestOutputs)
+        throw Error(where + ": 'outputs' lists " + std::to_string(outs.size()) + " files (at most " +
+                    std::to_string(kMaxManifestOutputs) + ")");
+    const JsonReader rd{where};
+    std::vector<ListedOutput> v;
+    std::set<std::pair<std::string, std::string>> keys;
+    std::set<std::string> files;
+    int images = 0;
+    for (std::size_t i = 0; i < outs.size(); ++i) {
+        const std::string k = "outputs[" + std::to_string(i) + "]";
+        rd.check_keys(outs[i], k, {"file", "target", "kind", "sha256"});
+        ListedOutput o{rd.string(need(outs[i], "file", where), k + ".file"), rd.string(need(outs[i], "target", where), k + ".target"),
+                       rd.string(need(outs[i], "kind", where), k + ".kind"), rd.string(need(outs[i], "sha256", where), k + ".sha256")};
+        const fs::path f(o.file);
+        if (o.file.empty() || f.is_absolute() || f.lexically_normal() != f ||
+            std::any_of(f.begin(), f.end(), [](const fs::path& part) { return part == ".." || part == "."; }))
+            rd.bad(k + ".file", "'" + o.file + "' is not a file inside the manifest's folder");
+        if (o.kind != "out" && o.kind != "exr" && o.kind != "png") rd.bad(k + ".kind", "'" + o.kind + "' is not out, exr or png");
+        if ((o.kind == "out") != o.target.empty()) rd.bad(k + ".target", "the image has no target name; every other file has one");
+        if (!is_sha256_hex(o.sha256)) rd.bad(k + ".sha256", "not a SHA-256 (64 lower-case hex digits)");
+        if (!keys.insert({o.kind, o.target}).second || !files.insert(o.file).second) rd.bad(k, "listed twice");
+        images += o.kind == "out";
+        v.push_back(std::move(o));
+    }
+    if (images != 1) throw Error(where + ": 'outputs' lists " + std::to_string(images) + " images (kind \"out\"); exactly one expected");
+    return v;
+}
+
+//! The manifest's "inputs", checked: at most kMaxManifestInputs entries, each an absolute path
+//! listed once with a SHA-256. Nothing is read here: a listed file is hashed only by the render
+//! that reads it again, so a manifest cannot make reproduce read files the render does not.
+std::map<std::string, std::string> listed_inputs(const json& m, const std::string& where) {
+    const json& inputs = need(m, "inputs", where);
+    if (!inputs.is_array()) throw Error(where + ": 'inputs' is not a list");
+    if (inputs.size() > kMaxManifestInputs)
+        throw Error(where + ": 'inputs' lists " + std::to_string(inputs.size()) + " files (at most " +
+                    std::to_string(kMaxManifestInputs) + ")");
+    const JsonReader rd{where};
+    std::map<std::string, std::string> v;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const std::string k = "inputs[" + std::to_string(i) + "]";
+        const std::string path = rd.string(need(inputs[i], "path", where), k + ".path");
+        const std::string sha = rd.string(need(inputs[i], "sha256", where), k + ".sha256");
+        if (!fs::path(path).is_absolute() || fs::path(path).lexically_normal() != fs::path(path))
+            rd.bad(k + ".path", "'" + path + "' is not an absolute, normalised path (as render records them)");
+        if (!is_sha256_hex(sha)) rd.bad(k + ".sha256", "not a SHA-256 (64 lower-case hex digits)");
+        if (!v.emplace(path, sha).second) rd.bad(k + ".path", "'" + path + "' listed twice");
+    }
+    return v;
 }
 
 //! The first difference between two JSON values, as "PATH: A -> B" (RFC 6902 patch of nlohmann).
@@ -274,24 +453,13 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         res.status = kReproduceDiffers;
     }
 
-    // 2. Every input, present and unchanged, before anything is rendered.
-    const json& inputs = need(m, "inputs", where);
-    if (!inputs.is_array()) throw Error(where + ": 'inputs' is not a list");
+    // 2. Every input listed (bounded, each once) and present, before anything is rendered; their
+    //    bytes are compared with what the render reads again (step 5).
+    const std::map<std::string, std::string> inputs = listed_inputs(m, where);
     std::vector<std::string> missing;
-    for (const json& in : inputs) {
-        const std::string path = get<std::string>(in, "path", where + ": inputs");
-        const std::string sha = get<std::string>(in, "sha256", where + ": inputs");
+    for (const auto& [path, sha] : inputs) {
         std::error_code ec;
-        if (!fs::is_regular_file(path, ec)) {
-            missing.push_back(path);
-            continue;
-        }
-        const std::vector<unsigned char> bytes = read_input_file(path, kMaxModelFileBytes, "input");
-        const std::string now = sha256_hex(bytes.data(), bytes.size());
-        if (now != sha) {
-            res.lines.push_back("input changed: " + path + " (sha256 " + short_sha(sha) + "... in the manifest, " + short_sha(now) + "... now)");
-            res.status = kReproduceDiffers;
-        }
+        if (!fs::is_regular_file(path, ec)) missing.push_back(path);
     }
     if (!missing.empty()) {
         std::string s;
@@ -299,17 +467,48 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         throw Error(where + ": " + std::to_string(missing.size()) + " input file(s) missing: " + s);
     }
 
-    // 3. Render again into a folder of our own.
+    // 3. Every output the manifest names is beside it with the SHA-256 it records: "identical" is a
+    //    statement about those files. Hashing them also protects them from being written over.
+    const std::vector<ListedOutput> outs = listed_outputs(m, where);
+    const fs::path mdir = fs::path(absolute_path(ro.manifest)).parent_path();
+    for (const ListedOutput& f : outs) {
+        const fs::path original = mdir / f.file;
+        std::error_code ec;
+        if (!fs::is_regular_file(original, ec)) {
+            res.lines.push_back("missing beside the manifest: " + f.name());
+            res.status = kReproduceDiffers;
+            continue;
+        }
+        const std::vector<unsigned char> bytes = read_input_file(original.string(), kMaxModelFileBytes, "output file");
+        forget_input_record(original.string());  // read about the render, not for it (stays protected)
+        const std::string now = sha256_hex(bytes.data(), bytes.size());
+        if (now != f.sha256) {
+            res.lines.push_back("changed since it was written: " + f.name() + " (sha256 " + short_sha(f.sha256) +
+                                "... in the manifest, " + short_sha(now) + "... now)");
+            res.status = kReproduceDiffers;
+        }
+    }
+
+    // 4. Render again into a folder of our own: a new or empty --keep folder (never the originals'),
+    //    else a temporary one, removed on every exit (signals included, app/manifest.h).
+    remove_stale_reproduce_folders();
     TempDir dir;
     if (!ro.keep_dir.empty()) {
+        std::error_code ec;
+        if (fs::exists(ro.keep_dir, ec)) {
+            if (!fs::is_directory(ro.keep_dir, ec)) throw Error("reproduce --keep: '" + ro.keep_dir + "' exists and is not a folder");
+            if (fs::equivalent(ro.keep_dir, mdir, ec))
+                throw Error("reproduce --keep: '" + ro.keep_dir + "' is the manifest's own folder: the reproduction would "
+                            "replace the originals. Give a new or empty folder");
+            if (!fs::is_empty(ro.keep_dir, ec) || ec)
+                throw Error("reproduce --keep: '" + ro.keep_dir + "' is not empty; give a new or empty folder "
+                            "(reproduce never writes over existing files)");
+        }
         ensure_directory(ro.keep_dir);
         dir.path = ro.keep_dir;
         dir.keep = true;
     } else {
-        const char* base = std::getenv("TMPDIR");
-        std::string tmpl = std::string(base && *base ? base : "/tmp") + "/aquarelle-reproduce.XXXXXX";
-        if (!::mkdtemp(tmpl.data())) throw Error("reproduce: cannot create a temporary folder under " + tmpl);
-        dir.path = tmpl;
+        dir.path = make_reproduce_folder();
     }
     RenderOptions o = options_from(m, where, dir.path, ro);
     RenderJob job = prepare_render(o, report);
@@ -319,40 +518,54 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
     const int index = o.sweep.empty() ? o.frame_first : o.shard_index;
     const json again = read_json_file(manifest_path(frame_path(o.out, index)), "manifest of the reproduction");
 
-    // 4. Compare: the pipeline, then every output in the manifest's order (pipeline order).
+    // 5. Compare: the files read (the same set, the same bytes), the pipeline, then every output in
+    //    the manifest's order (pipeline order), and nothing produced that the manifest leaves out.
+    const std::map<std::string, std::string> read_again = listed_inputs(again, "the reproduction's manifest");
+    for (const auto& [path, sha] : inputs) {
+        const auto it = read_again.find(path);
+        if (it == read_again.end()) {
+            res.lines.push_back("input not read by the render: " + path);
+            res.status = kReproduceDiffers;
+        } else if (it->second != sha) {
+            res.lines.push_back("input changed: " + path + " (sha256 " + short_sha(sha) + "... in the manifest, " +
+                                short_sha(it->second) + "... now)");
+            res.status = kReproduceDiffers;
+        }
+    }
+    for (const auto& [path, sha] : read_again)
+        if (!inputs.count(path)) {
+            res.lines.push_back("input not in the manifest: " + path);
+            res.status = kReproduceDiffers;
+        }
     if (m.value("pipeline", json()) != again.value("pipeline", json())) {
         res.lines.push_back("pipeline differs: " + first_difference(m.value("pipeline", json()), again.value("pipeline", json())));
         res.status = kReproduceDiffers;
     }
-    const json& outs = need(m, "outputs", where);
-    const json& new_outs = need(again, "outputs", "the reproduction's manifest");
-    std::map<std::pair<std::string, std::string>, json> by_key;
-    for (const json& f : new_outs) by_key[{f.value("kind", ""), f.value("target", "")}] = f;
-    const fs::path mdir = fs::path(absolute_path(ro.manifest)).parent_path();
+    std::map<std::pair<std::string, std::string>, ListedOutput> by_key;
+    for (ListedOutput& f : listed_outputs(again, "the reproduction's manifest")) by_key[{f.kind, f.target}] = std::move(f);
     const fs::path ndir = fs::path(absolute_path(manifest_path(frame_path(o.out, index)))).parent_path();
     int differing = 0;
-    for (const json& f : outs) {
-        const std::string kind = get<std::string>(f, "kind", where + ": outputs");
-        const std::string target = get<std::string>(f, "target", where + ": outputs");
-        const std::string file = get<std::string>(f, "file", where + ": outputs");
-        const std::string name = target.empty() ? "the image (" + file + ")" : "target " + target + " (" + file + ")";
-        const auto it = by_key.find({kind, target});
+    for (const ListedOutput& f : outs) {
+        const std::string name = f.name();
+        const auto it = by_key.find({f.kind, f.target});
         if (it == by_key.end()) {
             res.lines.push_back("not produced again: " + name);
             res.status = kReproduceDiffers;
             ++differing;
             continue;
         }
-        if (it->second.value("sha256", "") == get<std::string>(f, "sha256", where + ": outputs")) continue;
+        const ListedOutput again_file = it->second;
+        by_key.erase(it);
+        if (again_file.sha256 == f.sha256) continue;
         res.status = kReproduceDiffers;
         if (differing++ > 0) continue;  // details for the first one only
-        std::string line = "first differing output: " + name + ": sha256 " + short_sha(f.value("sha256", "")) + "... -> " +
-                           short_sha(it->second.value("sha256", "")) + "...";
-        const fs::path original = mdir / file;
+        std::string line = "first differing output: " + name + ": sha256 " + short_sha(f.sha256) + "... -> " +
+                           short_sha(again_file.sha256) + "...";
+        const fs::path original = mdir / f.file;
         std::error_code ec;
         if (fs::is_regular_file(original, ec)) {
             const ImageF a = read_image(original.string());
-            const ImageF b = read_image((ndir / it->second.value("file", "")).string());
+            const ImageF b = read_image((ndir / again_file.file).string());
             if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) {
                 line += "; size " + std::to_string(a.width()) + "x" + std::to_string(a.height()) + "x" +
                         std::to_string(a.channels()) + " -> " + std::to_string(b.width()) + "x" + std::to_string(b.height()) +
@@ -369,8 +582,13 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         }
         res.lines.push_back(line);
     }
+    for (const auto& [key, f] : by_key) {
+        res.lines.push_back("produced again but not in the manifest: " + f.name());
+        res.status = kReproduceDiffers;
+    }
     if (differing > 1) res.lines.push_back(std::to_string(differing) + " of " + std::to_string(outs.size()) + " outputs differ");
-    if (res.status == 0) res.lines.push_back("identical: " + std::to_string(outs.size()) + " output file(s), same SHA-256");
+    if (res.status == 0)
+        res.lines.push_back("identical: " + std::to_string(outs.size()) + " output file(s), same SHA-256, beside the manifest and rendered again");
     if (dir.keep) res.lines.push_back("reproduction kept in " + dir.path);
     return res;
 }

@@ -48,11 +48,21 @@ std::string manifest_text(const nlohmann::json& manifest);
 //! `aquarelle reproduce` (docs/provenance.md "Reproducing an image").
 struct ReproduceOptions {
     std::string manifest;
-    std::string keep_dir;      //!< render into this folder and keep it; else a temporary folder, removed
+    //! Render into this folder and keep it: it must be new or empty (never the manifest's own
+    //! folder); else a temporary folder, removed on every exit.
+    std::string keep_dir;
+    //! The user's own --allow-outside-files: a manifest whose request has it is refused without.
+    bool allow_outside_files = false;
     int threads = 0;
     bool any_version = false;  //!< render even when the build differs from the manifest's
     bool quiet = false;
 };
+
+//! Bounds of what a manifest may list (docs/limits.md): a render reads a scene file, a style, a
+//! model with its buffers and textures, a paper: tens of files; it writes the image and, with
+//! --targets/--targets-png, two files per target: at most a few hundred.
+inline constexpr std::size_t kMaxManifestInputs = 4096;
+inline constexpr std::size_t kMaxManifestOutputs = 4096;
 
 //! Exit status of reproduce when something differs (0: identical; 1: could not reproduce).
 inline constexpr int kReproduceDiffers = 3;
@@ -62,11 +72,15 @@ struct ReproduceResult {
     std::vector<std::string> lines;  //!< the report, one line each ("identical" when status 0)
 };
 
-//! Checks the manifest (format, build, every input present with its SHA-256), renders the image
-//! again with the recorded request and compares every output's SHA-256; for the first differing
-//! output whose original file is still beside the manifest, the pixel metrics of core/compare.h.
-//! Throws aq::Error when the image cannot be reproduced at all (not a manifest, another build
-//! without any_version, a missing input).
+//! Checks the manifest (format, build, its lists bounded and well formed, every input present,
+//! every output file beside it with its recorded SHA-256, the request strictly typed and within
+//! the command line's ranges), renders the image again with the recorded request and compares:
+//! the files the render read (the same set, the same SHA-256), the pipeline, and every output's
+//! SHA-256 both ways (none missing, none extra); for the first differing output, the pixel metrics
+//! of core/compare.h. Status 0 ("identical") only when all of that holds. Throws aq::Error when the
+//! image cannot be reproduced at all (not a manifest, a malformed or out-of-range field, another
+//! build without any_version, a missing input, --allow-outside-files not given again, a --keep
+//! folder that is not new or empty).
 ReproduceResult reproduce(const ReproduceOptions& options, const Reporter& report);
 
 }  // namespace aq::app

@@ -25,6 +25,20 @@ namespace aq::app {
 //! on the 871k dragon at 1080p through WC18 (docs/performance.md "Memory of a one-shot render").
 inline constexpr std::size_t kOneShotPoolBytes = std::size_t(32) << 20;
 
+//! The ranges of a render request: the command line (app/main.cpp) and a provenance manifest's
+//! request (`aquarelle reproduce`, app/manifest.cpp) are checked against these same numbers, so a
+//! manifest can ask for nothing the command line refuses (docs/limits.md).
+namespace request_limits {
+inline constexpr long long kMaxFrame = 10'000'000;         //!< --frame, --frames ends
+inline constexpr long long kMaxFramesPerRun = 100'000;     //!< --frames A-B: B - A < this
+inline constexpr double kMinFps = 0.001, kMaxFps = 10000.0;  //!< --fps
+inline constexpr double kMaxOrbitDeg = 360.0;              //!< --orbit in [-this, this]
+inline constexpr long long kMaxSsaa = 4;                   //!< --ssaa in [1, this]
+inline constexpr long long kMinSweepCount = 2, kMaxSweepCount = 1000;  //!< --sweep count
+inline constexpr double kMaxSweepValue = 1e30;             //!< --sweep ends in [-this, this]
+inline constexpr long long kMaxThreads = 1024;             //!< --threads
+}  // namespace request_limits
+
 //! What `aquarelle render` was asked (app/main.cpp parses it; docs in its --help).
 struct RenderOptions {
     std::string scene, out, targets_dir, targets_png_dir, style;
@@ -32,7 +46,8 @@ struct RenderOptions {
     std::vector<std::string> sets, variants;
     int width = 0, height = 0, ssaa = 1, threads = 0;
     int frame_first = 0, frame_last = 0;
-    bool animation = false;
+    bool animation = false;    //!< --frames given
+    bool frame_given = false;  //!< --frame given (refused together with --frames)
     double fps = 0;
     double orbit_deg = 0;  //!< --orbit: camera turned by frame x this about +Y through the bounds' centre
     //! --shard I/N (docs/shards.md): this run renders the items k (frame f - frame_first, or sweep

@@ -457,10 +457,55 @@ int remove_stale_temporaries(const std::string& dir) {
     return removed;
 }
 
-void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+namespace {
+
+//! The file a destination path finally names: symbolic links followed (at most 40, as the kernel).
+fs::path follow_links(const std::string& path) {
+    fs::path p(path);
+    std::error_code ec;
+    for (int hops = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+        if (hops == 40) fail_write(path, "too many levels of symbolic links");
+        const fs::path t = fs::read_symlink(p, ec);
+        if (ec) fail_write(path, "cannot read the symbolic link: " + ec.message());
+        p = t.is_absolute() ? t : p.parent_path() / t;
+    }
+    return p;
+}
+
+//! Writes into an existing character device or FIFO (e.g. /dev/null, a pipe a reader waits on)
+//! instead of replacing it: opened without creating or truncating, non-blocking so that a FIFO
+//! with no reader is refused instead of hanging.
+void write_through(const std::string& path, const void* data, std::size_t size) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0)
+        fail_write(path, errno == ENXIO ? std::string("is a FIFO with no reader") : std::string("cannot open: ") + std::strerror(errno));
+    int err = 0;
+    const int flags = ::fcntl(fd, F_GETFL);
+    const bool ok = flags >= 0 && ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) == 0 &&
+                    write_all(fd, static_cast<const unsigned char*>(data), size, &err);
+    if (!ok) err = err ? err : errno;
+    if (::close(fd) != 0 && ok) fail_write(path, std::string("close failed: ") + std::strerror(errno));
+    if (!ok) fail_write(path, std::string("write failed: ") + std::strerror(err));
+}
+
+}  // namespace
+
+void write_file_atomically(const std::string& requested, const void* data, std::size_t size) {
+    // A symbolic link stays: the file it names is replaced. A character device or FIFO is written
+    // through, never replaced (`--json /dev/null` must not put a regular file in place of the
+    // device); any other special file is refused (docs/limits.md "Writing files").
+    const std::string path = follow_links(requested).string();
+    std::error_code ec;
+    const fs::file_status kind = fs::status(path, ec);
+    if (fs::is_character_file(kind) || fs::is_fifo(kind)) {
+        if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
+        write_through(path, data, size);
+        return;
+    }
+    if (fs::exists(kind) && !fs::is_regular_file(kind) && !fs::is_directory(kind))
+        fail_write(path, "is a block device, socket or other special file; refusing to replace it");
     const fs::path dst(path);
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
-    std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail_write(path, "folder '" + dir.string() + "' does not exist");
     if (fs::is_directory(dst, ec)) fail_write(path, "is a folder");
     if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");

@@ -113,6 +113,9 @@ double JsonReader::number_or_flag(const json& j, const std::string& key) const {
 
 int JsonReader::integer(const json& j, const std::string& key, long long lo, long long hi) const {
     if (!j.is_number_integer()) bad(key, std::string("expected an integer, got ") + j.type_name());
+    // An unsigned value above LLONG_MAX would wrap to a negative one in get<long long>().
+    if (j.is_number_unsigned() && (hi < 0 || j.get<unsigned long long>() > static_cast<unsigned long long>(hi)))
+        bad(key, "value " + j.dump() + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     const long long v = j.get<long long>();
     if (v < lo || v > hi) bad(key, "value " + std::to_string(v) + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return int(v);

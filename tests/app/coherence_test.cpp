@@ -155,5 +155,42 @@ TEST(CoherenceCli, MissingInputsAreClearErrors) {
     EXPECT_NE(log.find("did not write --targets"), std::string::npos) << log;
 }
 
+// Issue 47 item 7: frames pair by the frame numbers their manifests record (9999 -> 10000, not by
+// file name), and another run's --targets is refused (its files are not the ones the frames'
+// manifests record). Item 4: --json /dev/null writes through the device.
+TEST(CoherenceCli, FramesPairByNumberAndAnotherRunsTargetsAreRefused) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    const std::string size = " --width 32 --height 32 --quiet ";
+    std::filesystem::create_directories(dir + "/a");
+    std::filesystem::create_directories(dir + "/b");
+    ASSERT_EQ(test::run_command(cli() + " render procedural:swatches" + size + "--frames 9998-10001 --orbit 5 --targets " +
+                                    test::shell_quote(dir + "/a/t") + " --out " + test::shell_quote(dir + "/a/f_####.png"), &log), 0)
+        << log;
+    ASSERT_EQ(test::run_command(cli() + " coherence " + test::shell_quote(dir + "/a") + " --targets " + test::shell_quote(dir + "/a/t") +
+                                    " --json /dev/null", &log), 0) << log;
+    const std::size_t p1 = log.find("9998->9999"), p2 = log.find("9999->10000"), p3 = log.find("10000->10001");
+    ASSERT_NE(p1, std::string::npos) << log;
+    ASSERT_NE(p2, std::string::npos) << log;
+    ASSERT_NE(p3, std::string::npos) << log;
+    EXPECT_LT(p1, p2);
+    EXPECT_LT(p2, p3);
+    EXPECT_EQ(log.find("10001->9998"), std::string::npos) << log;
+    EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+
+    // Another run (another orbit: other depths) of the same frame numbers: its targets are refused.
+    ASSERT_EQ(test::run_command(cli() + " render procedural:swatches" + size + "--frames 9998-10001 --orbit 40 --targets " +
+                                    test::shell_quote(dir + "/b/t") + " --out " + test::shell_quote(dir + "/b/f_####.png"), &log), 0)
+        << log;
+    EXPECT_EQ(test::run_command(cli() + " coherence " + test::shell_quote(dir + "/a") + " --targets " + test::shell_quote(dir + "/b/t"),
+                                &log), 1) << log;
+    EXPECT_NE(log.find("another run"), std::string::npos) << log;
+    // Frames of two runs mixed: refused.
+    EXPECT_EQ(test::run_command(cli() + " coherence " + test::shell_quote(dir + "/a/f_9998.png") + " " +
+                                    test::shell_quote(dir + "/b/f_9999.png") + " --targets " + test::shell_quote(dir + "/a/t"), &log), 1)
+        << log;
+    EXPECT_NE(log.find("not frames of one run"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace aq::app

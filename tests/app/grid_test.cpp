@@ -21,6 +21,16 @@ std::string cli() { return test::shell_quote(AQ_CLI_EXE); }
 const std::string kScene = "procedural:swatches";
 const std::string kSize = " --width " + std::to_string(kW) + " --height " + std::to_string(kH) + " --quiet ";
 
+//! The report's one image folder (img.TAG): "" when there is none or more than one.
+std::string img_folder(const std::string& report) {
+    std::string found;
+    int n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(report, ec))
+        if (e.is_directory() && e.path().filename().string().rfind("img", 0) == 0) found = e.path().filename().string(), ++n;
+    return n == 1 ? found : "";
+}
+
 TEST(GridCli, TwoByTwoLayoutCellsAndLabels) {
     const std::string dir = test::output_dir();
     std::string log;
@@ -68,8 +78,8 @@ TEST(GridCli, TwoByTwoLayoutCellsAndLabels) {
     EXPECT_NE(html.find("<th>step 0</th>"), std::string::npos);
     EXPECT_NE(html.find(" ms"), std::string::npos);
     EXPECT_NE(html.find("edge_darken.intensity</th>"), std::string::npos) << "the differing parameter is not listed";
-    EXPECT_TRUE(fs::exists(dir + "/report/img/c3_diff.png"));
-    EXPECT_TRUE(fs::exists(dir + "/report/img/c0_s0.png"));
+    EXPECT_TRUE(fs::exists(dir + "/report/" + img_folder(dir + "/report") + "/c3_diff.png"));
+    EXPECT_TRUE(fs::exists(dir + "/report/" + img_folder(dir + "/report") + "/c0_s0.png"));
 }
 
 TEST(GridCli, BadStudiesAreRefusedBeforeAnythingIsWritten) {
@@ -90,6 +100,52 @@ TEST(GridCli, BadStudiesAreRefusedBeforeAnythingIsWritten) {
     EXPECT_EQ(test::run_command(cli() + " grid " + kScene + kSize + "--set edge_darken.intensity=" + out, &log), 2) << log;
     EXPECT_FALSE(fs::exists(dir + "/sheet.png"));
     EXPECT_FALSE(fs::exists(dir + "/r"));
+}
+
+// Issue 47 items 7 and 8: cells carry what made them (another study, size or a tampered cell is
+// refused by --from-cells); the sheet may not be one of the report's own files; a second report
+// replaces the first as a set (one image folder, the one index.html names).
+TEST(GridCli, CellsFromAnotherStudyOrSizeAreRefusedAndReportsAreWrittenAsASet) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    const std::string axes = " --set edge_darken.intensity=1,2 ";
+    const std::string cells = " --cells " + test::shell_quote(dir + "/cells");
+    for (int i = 0; i < 2; ++i)
+        ASSERT_EQ(test::run_command(cli() + " grid " + kScene + kSize + axes + "--shard " + std::to_string(i) + "/2" + cells, &log), 0)
+            << log;
+    const std::string sheet = " --out " + test::shell_quote(dir + "/sheet.png");
+    EXPECT_EQ(test::run_command(cli() + " grid " + kScene + kSize + axes + "--from-cells" + cells + sheet, &log), 0) << log;
+    EXPECT_TRUE(fs::exists(dir + "/sheet.png"));
+    // Another size (the default 640 x 360), another study: refused, naming the field.
+    EXPECT_EQ(test::run_command(cli() + " grid " + kScene + " --quiet" + axes + "--from-cells" + cells + sheet, &log), 1) << log;
+    EXPECT_NE(log.find("another grid (height: 48, this command: 360)"), std::string::npos) << log;
+    EXPECT_EQ(test::run_command(cli() + " grid " + kScene + kSize + "--set edge_darken.intensity=1,3 --from-cells" + cells + sheet, &log),
+              1) << log;
+    EXPECT_NE(log.find("another grid (sets"), std::string::npos) << log;
+    // A cell replaced by another file: refused.
+    fs::copy_file(dir + "/cells/cell_0000.exr", dir + "/cells/cell_0001.exr", fs::copy_options::overwrite_existing);
+    EXPECT_EQ(test::run_command(cli() + " grid " + kScene + kSize + axes + "--from-cells" + cells + sheet, &log), 1) << log;
+    EXPECT_NE(log.find("SHA-256 differs"), std::string::npos) << log;
+
+    // The sheet inside the report's own files: a usage error before anything is rendered.
+    const std::string rep = " --report " + test::shell_quote(dir + "/report");
+    fs::create_directories(dir + "/report/img");
+    EXPECT_EQ(test::run_command(cli() + " grid " + kScene + kSize + axes + rep + " --out " +
+                                    test::shell_quote(dir + "/report/img/c0_final.png"), &log), 2) << log;
+    EXPECT_NE(log.find("one of the report's own files"), std::string::npos) << log;
+    EXPECT_TRUE(fs::is_empty(dir + "/report/img"));
+    EXPECT_FALSE(fs::exists(dir + "/report/index.html"));
+    // Two reports into one folder: the second's images replace the first's as a set.
+    ASSERT_EQ(test::run_command(cli() + " grid " + kScene + kSize + axes + rep + " --out " + test::shell_quote(dir + "/report/s.png"),
+                                &log), 0) << log;
+    const std::string first = img_folder(dir + "/report");
+    ASSERT_FALSE(first.empty());
+    ASSERT_EQ(test::run_command(cli() + " grid " + kScene + kSize + " --set edge_darken.intensity=1,3" + rep + " --out " +
+                                    test::shell_quote(dir + "/report/s.png"), &log), 0) << log;
+    const std::string second = img_folder(dir + "/report");
+    ASSERT_FALSE(second.empty()) << "more than one image folder left";
+    EXPECT_NE(first, second);
+    EXPECT_NE(test::file_bytes(dir + "/report/index.html").find(second + "/c1_final.png"), std::string::npos);
 }
 
 TEST(Grid, CellsAndLayoutFollowTheAxes) {

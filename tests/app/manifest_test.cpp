@@ -5,6 +5,7 @@
 // named; a missing input, another build and a file that is not a manifest are refused with exit 1.
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -197,6 +198,167 @@ TEST(Manifest, AnotherBuildOrNotAManifestIsRefused) {
     EXPECT_NE(log.find("format 99"), std::string::npos) << log;
     EXPECT_EQ(reproduce(dir + "/nothing_here.json", "", &log), 1) << log;
     EXPECT_EQ(run_command(cli() + " reproduce", &log), 2) << log;
+}
+
+// Issue 47 item 1: "identical" means every file the manifest names is there with its SHA-256, the
+// request is read strictly, and the render matches. Each way of fooling it is refused.
+TEST(ManifestTrust, ReplacedOrMissingOriginalsAndEditedOutputListsAreNotIdentical) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--targets " + shell_quote(dir + "/t") + " --out " +
+                              shell_quote(dir + "/p.png"), &log), 0) << log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--set edge_darken.intensity=3 --out " +
+                              shell_quote(dir + "/other.png"), &log), 0) << log;
+    const std::string m = dir + "/p.png.json";
+    ASSERT_EQ(reproduce(m, "", &log), 0) << log;
+    const std::string good = file_bytes(dir + "/p.png");
+
+    // The image beside the manifest replaced by another picture: exit 3, named.
+    write(dir + "/p.png", file_bytes(dir + "/other.png"));
+    EXPECT_EQ(reproduce(m, "", &log), 3) << log;
+    EXPECT_NE(log.find("changed since it was written: the image (p.png)"), std::string::npos) << log;
+    EXPECT_EQ(log.find("identical"), std::string::npos) << log;
+    // ... or gone.
+    fs::remove(dir + "/p.png");
+    EXPECT_EQ(reproduce(m, "", &log), 3) << log;
+    EXPECT_NE(log.find("missing beside the manifest: the image (p.png)"), std::string::npos) << log;
+    write(dir + "/p.png", good);
+    ASSERT_EQ(reproduce(m, "", &log), 0) << log;
+
+    const json orig = load(m);
+    auto try_edit = [&](const std::function<void(json&)>& edit, int status, const std::string& message) {
+        json e = orig;
+        edit(e);
+        write(dir + "/edited.json", e.dump());
+        EXPECT_EQ(reproduce(dir + "/edited.json", "", &log), status) << e.dump().substr(0, 300) << "\n" << log;
+        EXPECT_NE(log.find(message), std::string::npos) << log;
+        EXPECT_EQ(log.find("identical"), std::string::npos) << log;
+    };
+    // The outputs list emptied, or one target left out, or a file outside the manifest's folder.
+    try_edit([](json& e) { e["outputs"] = json::array(); }, 1, "lists no file");
+    try_edit([](json& e) { e["outputs"].erase(0); }, 3, "produced again but not in the manifest");
+    try_edit([](json& e) { e["outputs"][0]["file"] = "../../../../etc/passwd"; }, 1, "not a file inside the manifest's folder");
+    try_edit([](json& e) { e["outputs"].push_back(e["outputs"][0]); }, 1, "listed twice");
+    // Request fields typed and ranged exactly as the command line's options.
+    try_edit([](json& e) { e["request"]["width"] = 4294967296ull + 96; }, 1, "request.width");
+    try_edit([](json& e) { e["request"]["width"] = 96.9; }, 1, "expected an integer");
+    try_edit([](json& e) { e["request"]["height"] = true; }, 1, "expected an integer");
+    try_edit([](json& e) { e["request"]["width"] = -96; }, 1, "request.width");
+    try_edit([](json& e) { e["request"]["ssaa"] = 9; }, 1, "request.ssaa");
+    try_edit([](json& e) { e["request"]["frame"] = 2147483647; }, 1, "request.frame");
+    try_edit([](json& e) { e["request"]["fps"] = 1e300; }, 1, "request.fps");
+    try_edit([](json& e) { e["request"]["orbit_deg"] = "15"; }, 1, "expected a number");
+    try_edit([](json& e) { e["request"]["targets"] = 1; }, 1, "expected a boolean");
+}
+
+// Item 3: a manifest lifts no safety switch, and its input list is bounded and never read by itself.
+TEST(ManifestTrust, SafetySwitchesNeedTheUsersFlagAndInputsAreBoundedAndNotReadForTheManifest) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--out " + shell_quote(dir + "/p.png"), &log), 0) << log;
+    const json orig = load(dir + "/p.png.json");
+    // A render made with --allow-outside-files reproduces only with the user's own flag.
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--allow-outside-files --out " +
+                              shell_quote(dir + "/o.png"), &log), 0) << log;
+    EXPECT_EQ(reproduce(dir + "/o.png.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("pass --allow-outside-files"), std::string::npos) << log;
+    EXPECT_EQ(reproduce(dir + "/o.png.json", "--allow-outside-files", &log), 0) << log;
+    // A manifest edited to switch it on: refused without the flag; with it, not identical (the
+    // files beside it were made without).
+    json e = orig;
+    e["request"]["allow_outside_files"] = true;
+    write(dir + "/outside.json", e.dump());
+    EXPECT_EQ(reproduce(dir + "/outside.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("pass --allow-outside-files"), std::string::npos) << log;
+    EXPECT_EQ(reproduce(dir + "/outside.json", "--allow-outside-files", &log), 3) << log;
+
+    // A file the render never reads, listed with its true SHA-256: not identical, and its hash is
+    // not printed (reproduce does not read it).
+    write(dir + "/secret.txt", "not an input of any render");
+    const std::string secret = file_bytes(dir + "/secret.txt");
+    e = orig;
+    e["inputs"].push_back({{"path", fs::path(dir + "/secret.txt").lexically_normal().string()},
+                           {"bytes", secret.size()},
+                           {"sha256", sha256_hex(secret.data(), secret.size())}});
+    write(dir + "/extra.json", e.dump());
+    EXPECT_EQ(reproduce(dir + "/extra.json", "", &log), 3) << log;
+    EXPECT_NE(log.find("input not read by the render: "), std::string::npos) << log;
+    EXPECT_EQ(log.find(sha256_hex(secret.data(), secret.size()).substr(0, 16)), std::string::npos) << log;
+    // The same path twice, a relative path, more entries than the bound: refused before rendering.
+    e["inputs"].push_back(e["inputs"].back());
+    write(dir + "/dup.json", e.dump());
+    EXPECT_EQ(reproduce(dir + "/dup.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("listed twice"), std::string::npos) << log;
+    e = orig;
+    e["inputs"] = json::array();
+    for (int i = 0; i < 5000; ++i)
+        e["inputs"].push_back({{"path", "/nonexistent/" + std::to_string(i)}, {"bytes", 1}, {"sha256", std::string(64, 'a')}});
+    write(dir + "/many.json", e.dump());
+    EXPECT_EQ(reproduce(dir + "/many.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("at most 4096"), std::string::npos) << log;
+    e["inputs"] = json::array({{{"path", "relative/file"}, {"bytes", 1}, {"sha256", std::string(64, 'a')}}});
+    write(dir + "/rel.json", e.dump());
+    EXPECT_EQ(reproduce(dir + "/rel.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("not an absolute, normalised path"), std::string::npos) << log;
+}
+
+// Item 2: --keep never writes over anything: the manifest's own folder and non-empty folders are
+// refused, and the originals keep their bytes.
+TEST(ManifestTrust, KeepRefusesTheOriginalsFolderAndNonEmptyFolders) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    fs::create_directories(dir + "/run");
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--targets " + shell_quote(dir + "/run/t") +
+                              " --out " + shell_quote(dir + "/run/p.png"), &log), 0) << log;
+    const std::string before = file_bytes(dir + "/run/p.png"), m_before = file_bytes(dir + "/run/p.png.json");
+    const auto mtime = fs::last_write_time(dir + "/run/p.png");
+    EXPECT_EQ(reproduce(dir + "/run/p.png.json", "--keep " + shell_quote(dir + "/run"), &log), 1) << log;
+    EXPECT_NE(log.find("manifest's own folder"), std::string::npos) << log;
+    fs::create_directories(dir + "/full");
+    write(dir + "/full/x.txt", "x");
+    EXPECT_EQ(reproduce(dir + "/run/p.png.json", "--keep " + shell_quote(dir + "/full"), &log), 1) << log;
+    EXPECT_NE(log.find("is not empty"), std::string::npos) << log;
+    EXPECT_EQ(file_bytes(dir + "/run/p.png"), before);
+    EXPECT_EQ(file_bytes(dir + "/run/p.png.json"), m_before);
+    EXPECT_EQ(fs::last_write_time(dir + "/run/p.png"), mtime);
+    // A new folder and an empty one are fine.
+    EXPECT_EQ(reproduce(dir + "/run/p.png.json", "--keep " + shell_quote(dir + "/new"), &log), 0) << log;
+    EXPECT_TRUE(fs::exists(dir + "/new/image.png"));
+    fs::create_directories(dir + "/empty");
+    EXPECT_EQ(reproduce(dir + "/run/p.png.json", "--keep " + shell_quote(dir + "/empty"), &log), 0) << log;
+}
+
+// Item 8: SIGTERM during reproduce leaves no temporary folder (the kill is asserted to have landed
+// mid-render: the exit status is the signal's), and a folder a SIGKILLed run left is removed by the
+// next reproduce.
+TEST(ManifestTrust, ATerminatedOrKilledReproduceLeavesNoTemporaryFolder) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    // A render slow enough to be caught (1024 x 1024, 4 x 4 supersampled: a second or more).
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches --width 1024 --height 1024 --ssaa 4 --quiet --out " +
+                              shell_quote(dir + "/big.png"), &log), 0) << log;
+    const std::string tmp = dir + "/tmp";
+    fs::create_directories(tmp);
+    // A folder of a process that no longer exists (PID 2^22 + 1 is above pid_max's default).
+    fs::create_directories(tmp + "/aquarelle-reproduce.4194305.abcdef/targets");
+    const std::string script = "TMPDIR=" + shell_quote(tmp) + " " + cli() + " reproduce --quiet " + shell_quote(dir + "/big.png.json") +
+                               " & pid=$!; i=0; while [ -z \"$(ls " + shell_quote(tmp) + " | grep -v 4194305)\" ] && [ $i -lt 3000 ]; do "
+                               "sleep 0.01; i=$((i+1)); done; kill -TERM $pid; wait $pid; echo \"status=$?\"";
+    ASSERT_EQ(run_command(script, &log), 0) << log;
+    EXPECT_NE(log.find("status=143"), std::string::npos) << "the reproduce was not terminated mid-render: " << log;
+    EXPECT_TRUE(fs::is_empty(tmp)) << "a temporary folder was left in " << tmp;
+}
+
+// Item 7: --frames A-B with --frame N is a usage error (it used to render only N).
+TEST(ManifestTrust, FramesAndFrameTogetherAreAUsageError) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    EXPECT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--frames 0-3 --frame 2 --out " +
+                              shell_quote(dir + "/f_####.png"), &log), 2) << log;
+    EXPECT_NE(log.find("cannot be combined"), std::string::npos) << log;
+    EXPECT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--frame 2 --frames 0-3 --out " +
+                              shell_quote(dir + "/f_####.png"), &log), 2) << log;
+    EXPECT_FALSE(fs::exists(dir + "/f_0002.png"));
 }
 
 }  // namespace

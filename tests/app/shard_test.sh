@@ -42,7 +42,8 @@ same "$dir/sweep_one" "$dir/sweep_four" "sweep"
 axes=(--styles wc16,wc18 --set edge_darken.intensity=0.5,1,2)
 "$bin" grid "${common[@]}" "${axes[@]}" --cells "$dir/grid_one" --out "$dir/grid_one.png"
 parallel --will-cite -j 4 "$bin" grid "${common[@]}" "${axes[@]}" --shard {}/4 --cells "$dir/grid_four" ::: 0 1 2 3
-[ "$(ls "$dir/grid_one" | wc -l)" = 6 ] || fail "the unsharded grid wrote $(ls "$dir/grid_one" | wc -l) cells, not 6"
+[ "$(ls "$dir/grid_one"/*.exr | wc -l)" = 6 ] || fail "the unsharded grid wrote $(ls "$dir/grid_one"/*.exr | wc -l) cells, not 6"
+[ "$(ls "$dir/grid_one"/*.exr.json | wc -l)" = 6 ] || fail "the unsharded grid wrote $(ls "$dir/grid_one"/*.exr.json | wc -l) cell sidecars, not 6"
 same "$dir/grid_one" "$dir/grid_four" "grid"
 "$bin" grid "${common[@]}" "${axes[@]}" --cells "$dir/grid_four" --from-cells --out "$dir/grid_four.png"
 cmp "$dir/grid_one.png" "$dir/grid_four.png" || fail "the sheet assembled from shards differs from one run's"

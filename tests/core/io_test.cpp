@@ -3,6 +3,9 @@
 
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -341,6 +345,72 @@ TEST(ImageIO, RefusesToOverwriteAnInputOfTheRun) {
         EXPECT_NE(std::string(e.what()).find("input of this run"), std::string::npos) << e.what();
     }
     EXPECT_EQ(file_bytes(p), before);
+}
+
+// Issue 47 item 4: a destination that exists and is not a regular file is never replaced by one.
+TEST(ImageIO, SpecialFilesAreWrittenThroughOrRefusedNeverReplaced) {
+    namespace fs = std::filesystem;
+    const std::string dir = test::output_dir();
+    const std::string text = "{\"x\": 1}\n";
+    // A character device: written through (here /dev/null; it stays a device).
+    write_file_atomically("/dev/null", text.data(), text.size());
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    // A FIFO with no reader: refused at once (never blocks), and it stays a FIFO.
+    const std::string fifo = dir + "/pipe";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    try {
+        write_file_atomically(fifo, text.data(), text.size());
+        ADD_FAILURE() << "wrote into a FIFO with no reader";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("FIFO with no reader"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    // A FIFO with a reader: the bytes go to the reader.
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        std::ifstream in(fifo, std::ios::binary);  // blocks until the writer opens
+        std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::_Exit(got == text ? 0 : 1);
+    }
+    bool written = false;
+    for (int i = 0; i < 500 && !written; ++i) {  // until the child has opened its end (<= 5 s)
+        try {
+            write_file_atomically(fifo, text.data(), text.size());
+            written = true;
+        } catch (const Error&) {
+            ::usleep(10000);
+        }
+    }
+    EXPECT_TRUE(written);
+    int st = 0;
+    ::waitpid(child, &st, 0);
+    EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "the reader did not get the bytes";
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    // A symbolic link: the file it names is replaced, the link stays (also a link to a link).
+    write_file_atomically(dir + "/target.json", "old", 3);
+    fs::create_symlink("target.json", dir + "/link1");
+    fs::create_symlink(dir + "/link1", dir + "/link2");
+    write_file_atomically(dir + "/link2", text.data(), text.size());
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir + "/link1")));
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir + "/link2")));
+    EXPECT_EQ(file_bytes(dir + "/target.json"), text);
+    // A loop of links is refused.
+    fs::create_symlink(dir + "/loop_b", dir + "/loop_a");
+    fs::create_symlink(dir + "/loop_a", dir + "/loop_b");
+    EXPECT_THROW(write_file_atomically(dir + "/loop_a", text.data(), text.size()), Error);
+    EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir + "/loop_a")));
+    // A socket: refused.
+    const std::string sock = dir + "/sock";
+    const int sfd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, sock.c_str(), sizeof addr.sun_path - 1);
+    if (sock.size() < sizeof addr.sun_path && ::bind(sfd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+        EXPECT_THROW(write_file_atomically(sock, text.data(), text.size()), Error);
+        EXPECT_TRUE(fs::is_socket(sock));
+    }
+    ::close(sfd);
 }
 
 TEST(ImageIO, StaleTemporariesOfDeadProcessesAreRemoved) {
