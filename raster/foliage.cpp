@@ -83,9 +83,13 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " +
                     std::to_string(out->height) + " is not a usable radius");
     out->surface = build_implicit_surface(points, ip, ex);
-    for (int k = 0; k < kFitThresholdSteps && p.fit_threshold && out->surface.indices.empty(); ++k) {
-        ip.threshold *= 0.5f;
-        out->surface = build_implicit_surface(points, ip, ex);
+    if (p.fit_threshold && out->surface.indices.empty()) {
+        // The field does not depend on T and the surface is empty exactly when its maximum is not
+        // above T: the first of T/2, T/4, ... (at most kFitThresholdSteps halvings) below the
+        // maximum is found without building, then the surface is built once more at it.
+        int k = 0;
+        while (k < kFitThresholdSteps && !(out->surface.field_max > ip.threshold)) ip.threshold *= 0.5f, ++k;
+        if (out->surface.field_max > ip.threshold) out->surface = build_implicit_surface(points, ip, ex);
         if (!out->surface.indices.empty() && warnings) {
             char msg[256];
             std::snprintf(msg, sizeof msg,

@@ -78,6 +78,16 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
         throw Error("implicit surface: the field grid would have " + std::to_string(std::llround(std::min(nodes, 1e18))) +
                     " nodes (limit " + std::to_string(kMaxImplicitGridNodes) +
                     "); raise r, lower cells_per_radius or abstract a smaller selection");
+    // The field's work, bounded before the grid is allocated (docs/limits.md "Work budgets"): every
+    // point adds its kernel at the nodes of its support's bounding box (at most 2c + 3 nodes a side,
+    // c = cells_per_radius), and every node is visited a few times more to polygonise.
+    const double side = 2.0 * p.cells_per_radius + 3.0;
+    const double work = double(pts.size()) * side * side * side + kImplicitWorkPerNode * nodes;
+    if (!(work <= double(kMaxImplicitWork)))
+        throw Error("implicit surface: " + std::to_string(pts.size()) + " points at cells_per_radius " +
+                    std::to_string(p.cells_per_radius) + " would take " + std::to_string(std::llround(work / 1e6)) +
+                    " million kernel evaluations, over the budget of " + std::to_string(kMaxImplicitWork / 1'000'000) +
+                    " million (docs/limits.md \"Work budgets\"); lower cells_per_radius or raise r");
     g.nx = int(n[0]);
     g.ny = int(n[1]);
     g.nz = int(n[2]);
@@ -118,7 +128,10 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
     } else {
         with_arena(ex, [&] { tbb::parallel_for(0, g.nz, fill_slab); });
     }
-    for (float& v : f) v -= p.threshold;  // inside: f > 0
+    for (float& v : f) {
+        out.field_max = std::max(out.field_max, v);
+        v -= p.threshold;  // inside: f > 0 (exactly where the sum exceeds T: IEEE subtraction keeps the sign)
+    }
 
     // Vertices: one per cell with corners on both sides, at the mean of its edge crossings.
     const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;

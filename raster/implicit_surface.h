@@ -26,6 +26,14 @@ inline constexpr float kLd06RadiusPerHeight = 2.8f / 37.1f;
 //! Grid nodes allowed for one surface (floats: 128 MiB); larger requests are refused up front.
 inline constexpr std::int64_t kMaxImplicitGridNodes = std::int64_t(1) << 25;
 
+//! Work budget of one surface build, in kernel evaluations (points x support nodes, plus
+//! kImplicitWorkPerNode per grid node), checked before the grid is allocated (docs/limits.md
+//! "Work budgets"). Measured on our 2-core machines, about 1e9 a second: the dense oak (117,120
+//! foliage points) is 0.04e9 at its cells_per_radius 2, 0.8e9 at 8 (1 s) and 5.1e9 at 16 (5.4 s),
+//! so the budget admits every setting on it and caps a build at about 6 s.
+inline constexpr std::uint64_t kMaxImplicitWork = 6'000'000'000ull;
+inline constexpr double kImplicitWorkPerNode = 8.0;
+
 struct ImplicitSurfaceParams {
     float threshold = kLd06Threshold;  //!< T of eq. 7, > 0
     float radius = 1.0f;               //!< r of eq. 6 in world units, > 0 (resolve relative values first)
@@ -37,6 +45,9 @@ struct ImplicitSurface {
     std::vector<glm::vec3> normals;    //!< unit, outward (towards lower density)
     std::vector<std::uint32_t> indices;  //!< triangle list, counter-clockwise seen from outside
     std::int64_t grid_nodes = 0;         //!< size of the field grid used
+    //! The largest summed density Σ D_j at a grid node: the surface is empty exactly when it is not
+    //! above T (so a fitted T can be chosen without building the surface again per candidate).
+    float field_max = 0;
 };
 
 //! The density field of eq. 6 summed at p (plain loop over every point: the test reference).

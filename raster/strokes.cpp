@@ -544,6 +544,35 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         for (int l = 0; l < n; ++l) out_a[l] = r[l];
     };
 #endif
+    // The drawing's work, bounded before any pixel is touched (docs/limits.md "Work budgets"): in
+    // pixel-segment distance tests as the chosen traversal makes them. The reference tries every
+    // segment of a stroke at every pixel of the stroke's bounds; the tiled traversal tries each
+    // segment over its capsule bounds within the image, and looks at every segment of a stroke once
+    // per tile the stroke's bounds touch.
+    {
+        double work = 0;
+        for (const PStroke& st : ps_strokes) {
+            const double bw = st.bx1 - st.bx0 + 1, bh = st.by1 - st.by0 + 1;
+            if (ex.traversal == Traversal::Reference) {
+                work += bw * bh * double(st.count);
+                continue;
+            }
+            const double tiles = double(st.bx1 / kTile - st.bx0 / kTile + 1) * double(st.by1 / kTile - st.by0 / kTile + 1);
+            work += tiles * double(st.count);
+            for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                if (!segs[k].valid) continue;
+                const PxBox b = capsule_box(segs[k], half);
+                const double w = std::min(b.x1, W - 1) - std::max(b.x0, 0) + 1 + 2 * (kGroup - 1);  // widened to 8-pixel groups
+                const double h = std::min(b.y1, H - 1) - std::max(b.y0, 0) + 1;
+                if (w > 0 && h > 0) work += w * h;
+            }
+        }
+        if (work > double(kMaxStrokeWork))
+            throw Error("strokes: drawing these strokes at " + std::to_string(W) + "x" + std::to_string(H) + " would take " +
+                        std::to_string(static_cast<long long>(work / 1e6)) + " million pixel-segment tests, over the budget of " +
+                        std::to_string(kMaxStrokeWork / 1'000'000) + " million (docs/limits.md \"Work budgets\"); use fewer or "
+                        "shorter segments, a narrower stroke or a smaller image");
+    }
     float* img = out.data();
     if (ex.traversal == Traversal::Reference) {
         for (const PStroke& st : ps_strokes)

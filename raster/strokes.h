@@ -22,6 +22,12 @@ namespace aq::raster {
 inline constexpr std::size_t kMaxStrokes = 1'000'000;
 inline constexpr std::size_t kMaxStrokeVertices = 4'000'000;
 inline constexpr float kMaxStrokeWidthPx = 64.0f;
+//! Work budget of one strokes pass, in pixel-segment distance tests, checked after projection and
+//! before drawing (docs/limits.md "Work budgets"). Measured on our 2-core machines: a 20,000-point
+//! stroke zig-zagging over a 720 x 720 image is 2.2e9 tests, drawn in 0.95 s on 2 threads, so the
+//! budget caps a pass at about 4.5 s there (9 s on one thread). Hand-drawn and contour strokes are
+//! short segments: 1,000,000 points of them are about 1e8 tests.
+inline constexpr std::uint64_t kMaxStrokeWork = 10'000'000'000ull;
 //! Stroke widths are given in pixels at a 720-pixel-wide raster (LD06's output) and scaled.
 inline constexpr int kLd06SizeReferenceStrokes = 720;
 

@@ -222,11 +222,8 @@ bool finite(const glm::mat4& m) {
 
 class Loader {
 public:
-    Loader(const std::string& path, const tinygltf::Model& m, std::size_t texture_budget) : path_(path), m_(m) {
-        texture_budget_.bytes_left = texture_budget;
-        texture_budget_.what = "the textures of one glTF file (" + std::to_string(texture_budget) +
-                               " bytes decoded as RGBA float)";
-    }
+    Loader(const std::string& path, const tinygltf::Model& m, std::size_t texture_budget)
+        : path_(path), m_(m), texture_budget_(render_decode_budget(texture_budget)) {}
 
     Scene run();
     std::vector<std::string> warnings;
@@ -830,6 +827,7 @@ Scene Loader::run() {
         }
     }
     scene_.warnings = warnings;
+    scene_.decode_budget = texture_budget_;  // what is left for the scene file's images
     return std::move(scene_);
 }
 
@@ -954,9 +952,9 @@ ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const st
     return to_rgba(img.data(), img.width(), img.height(), img.channels());
 }
 
-ImageF read_texture_file(const std::string& path) {
+ImageF read_texture_file(const std::string& path, DecodeBudget* budget) {
     const std::vector<unsigned char> bytes = read_input_file(path, kMaxImageFileBytes, "image");
-    return decode_image_bytes(bytes.data(), bytes.size(), path);
+    return decode_image_bytes(bytes.data(), bytes.size(), path, budget);
 }
 
 Scene load_gltf(const std::string& path, std::vector<std::string>* warnings, const LoadOptions& options) {

@@ -23,9 +23,9 @@ inline constexpr std::size_t kMaxTriangles = 50'000'000;     //!< per file, afte
 inline constexpr std::size_t kMaxVertices = 50'000'000;      //!< per accessor, and summed over
                                                              //!< the triangle primitives of a file
 inline constexpr std::size_t kMaxFileBytes = 2'000'000'000;  //!< .gltf/.glb and each external buffer
-//! Decoded texture bytes of one file, counted as RGBA float (16 B/texel), checked from each
-//! image's header before it is decoded: 1 GiB = 64 Mpx (16 textures of 2048x2048).
-inline constexpr std::size_t kMaxDecodedTextureBytes = std::size_t(1) << 30;
+//! Decoded texture bytes of one render (scene.h kMaxDecodedBytesPerRender): the model's textures
+//! and the scene file's images share it.
+inline constexpr std::size_t kMaxDecodedTextureBytes = kMaxDecodedBytesPerRender;
 //! Accessor data read from one file (count x element size summed over every accessor use,
 //! repeats included): 2 GiB.
 inline constexpr std::size_t kMaxAccessorBytes = std::size_t(2) << 30;
@@ -37,7 +37,8 @@ struct LoadOptions {
     //! Allow buffer and image URIs that resolve outside the model's folder (docs/limits.md
     //! "Path policy"; CLI --allow-outside-files).
     bool allow_outside_files = false;
-    //! Budget for the decoded textures of the file (tests lower it; docs/limits.md).
+    //! Budget for everything the render decodes: the file's textures, then the scene file's images
+    //! (Scene::decode_budget; tests lower it; docs/limits.md).
     std::size_t texture_budget_bytes = kMaxDecodedTextureBytes;
     //! Scene files: called with the resolved path of the file's "paper" as soon as it is known,
     //! before the model loads, so a caller can decode it meanwhile (the CLI does; issue 13 item 3).
@@ -78,6 +79,6 @@ ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const st
                           DecodeBudget* budget = nullptr);
 
 //! Reads an image file into RGBA float, stored values (grey -> RGB replicated, alpha 1 if absent).
-ImageF read_texture_file(const std::string& path);
+ImageF read_texture_file(const std::string& path, DecodeBudget* budget);
 
 }  // namespace aq::scene

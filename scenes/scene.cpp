@@ -137,6 +137,11 @@ void FoliageSelection::add(std::vector<std::string>& list, const std::string& na
     if (it == list.end() || *it != name) list.insert(it, name);
 }
 
+DecodeBudget render_decode_budget(std::size_t bytes) {
+    return {bytes, "the images one render decodes (the model's textures, the scene file's intensity and control textures: " +
+                       std::to_string(bytes) + " bytes as RGBA float; docs/limits.md)"};
+}
+
 bool is_foliage(const Scene& sc, const Instance& inst, const Primitive& prim) {
     const Material* m = prim.material >= 0 && prim.material < int(sc.materials.size()) ? &sc.materials[prim.material] : nullptr;
     if (sc.foliage.set) {

@@ -18,6 +18,7 @@
 #include <glm/glm.hpp>
 
 #include "core/image.h"
+#include "core/io.h"
 
 namespace aq::scene {
 
@@ -213,6 +214,14 @@ struct LayerSpec {
     std::optional<float> alpha;
 };
 
+//! Bytes one render may decode into a scene (counted as RGBA float, 16 B/texel, from each image's
+//! header before it is decoded), whatever names the image: the model's textures, the scene file's
+//! intensity and control textures (docs/limits.md "Sizes"). 1 GiB = 64 Mpx (16 textures of 2048x2048).
+inline constexpr std::size_t kMaxDecodedBytesPerRender = std::size_t(1) << 30;
+
+//! A decode budget of `bytes` for one render's scene.
+DecodeBudget render_decode_budget(std::size_t bytes = kMaxDecodedBytesPerRender);
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Instance> instances;
@@ -226,6 +235,8 @@ struct Scene {
     FoliageSelection foliage;           //!< LD06 foliage chosen by the scene file (see is_foliage)
     std::vector<Stroke> strokes;        //!< LD06 hand-made strokes (scene files)
     std::vector<LayerSpec> layers;      //!< LD06 layer groups (scene files); empty: one layer per material
+    //! What is left of the render's decode budget: every image decoded into this scene draws from it.
+    DecodeBudget decode_budget = render_decode_budget();
 
     Bounds world_bounds() const;  //!< over finite positions of all instances
     std::size_t triangle_count() const;

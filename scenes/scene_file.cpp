@@ -157,7 +157,7 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
         } else {
             Texture t;
             t.name = r.file;
-            t.image = read_texture_file(r.file);
+            t.image = read_texture_file(r.file, &scene.decode_budget);
             t.codes = texture_codes(t.image);
             float* d = t.image.data();
             // The rasterizer decodes a control texel t as 2t - 1 (raster/material.cpp); store the
@@ -489,6 +489,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             } catch (const Error& e) {
                 ctx.bad("gltf", e.what());
             }
+            d.scene.decode_budget = render_decode_budget(options.texture_budget_bytes);
             procedural = true;
         } else {
             d.scene = load_gltf(ctx.file(j["gltf"], "gltf"), nullptr, options);
@@ -564,17 +565,23 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     if (j.contains("materials")) {
         const json& m = j["materials"];
         if (!m.is_object()) ctx.bad("materials", "expected an object keyed by material name, index or \"*\"");
+        std::map<std::string, int> intensity_of;  // one decode per file, however many keys name it
         for (auto it = m.begin(); it != m.end(); ++it) {
             const std::string k = "materials." + it.key();
             int intensity = -1;  // LD06 §4.3: one texture, shared by the matched materials
             if (it.value().is_object() && it.value().contains("intensity_texture")) {
-                Texture t;
-                t.name = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
-                t.image = read_texture_file(t.name);
-                t.codes = texture_codes(t.image);
-                texture_codes_finish(t.codes, t.image);
-                d.scene.textures.push_back(std::move(t));
-                intensity = int(d.scene.textures.size()) - 1;
+                const std::string file = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
+                if (const auto seen = intensity_of.find(file); seen != intensity_of.end()) {
+                    intensity = seen->second;
+                } else {
+                    Texture t;
+                    t.name = file;
+                    t.image = read_texture_file(t.name, &d.scene.decode_budget);
+                    t.codes = texture_codes(t.image);
+                    texture_codes_finish(t.codes, t.image);
+                    d.scene.textures.push_back(std::move(t));
+                    intensity = intensity_of[file] = int(d.scene.textures.size()) - 1;
+                }
             }
             for (int mi : match_materials(ctx, d.scene, it.key(), k)) {
                 detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".",

@@ -132,5 +132,41 @@ TEST(ImplicitSurface, BadInputIsRefusedBeforeAllocating) {
               build_implicit_surface({{0, 0, 0}}, p).indices.size());
 }
 
+// Issue 47 item 5: the field's work is bounded before the grid is allocated. 400,000 points in a
+// small cube at cells_per_radius 16 (35^3 support nodes each: 1.7e10 kernel evaluations, minutes of
+// work) are refused at once, naming the budget; the grid itself would be small.
+TEST(ImplicitSurface, WorkBeyondTheBudgetIsRefusedBeforeBuilding) {
+    std::vector<glm::vec3> pts;
+    for (int i = 0; i < 400000; ++i) pts.push_back({float(i % 73) * 0.01f, float(i % 89) * 0.01f, float(i % 97) * 0.01f});
+    ImplicitSurfaceParams p;
+    p.radius = 1.0f;
+    p.threshold = 0.5f;
+    p.cells_per_radius = 16;
+    try {
+        build_implicit_surface(pts, p);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("over the budget"), std::string::npos) << e.what();
+    }
+    p.cells_per_radius = 1;  // 5^3 per point: within the budget
+    EXPECT_FALSE(build_implicit_surface(pts, p).indices.empty());
+}
+
+// The surface is empty exactly when the field's maximum is not above T (what the threshold fit of
+// the foliage abstraction relies on to build once instead of once per candidate).
+TEST(ImplicitSurface, TheSurfaceIsEmptyExactlyWhenTheFieldMaximumIsNotAboveT) {
+    const std::vector<glm::vec3> pts = {{0, 0, 0}, {0.3f, 0.1f, 0}, {0.2f, 0.5f, 0.1f}};
+    ImplicitSurfaceParams p;
+    p.radius = 1.0f;
+    p.threshold = 0.1f;
+    const float max = build_implicit_surface(pts, p).field_max;
+    ASSERT_GT(max, 1.0f);
+    EXPECT_LE(max, implicit_density(pts, 1.0f, {0.17f, 0.2f, 0.03f}) * 1.5f);
+    p.threshold = max;
+    EXPECT_TRUE(build_implicit_surface(pts, p).indices.empty());
+    p.threshold = std::nextafter(max, 0.0f);
+    EXPECT_FALSE(build_implicit_surface(pts, p).indices.empty());
+}
+
 }  // namespace
 }  // namespace aq::raster

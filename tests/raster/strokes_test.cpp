@@ -237,6 +237,23 @@ TEST(Strokes, BadInputIsDroppedOrRefused) {
     p.test = DepthTest::Binary;
     std::vector<Stroke> many(kMaxStrokes + 1);
     EXPECT_THROW(render_strokes(out, f.ps, many, p), Error);
+    // Issue 47 item 5: the drawing's work is bounded before a pixel is touched. 700,000 points
+    // zig-zagging across the whole 160 x 120 image: every segment's capsule bounds cover it (about
+    // 1.4e10 pixel-segment tests, minutes of work), refused with the budget named.
+    {
+        std::vector<glm::vec3> zig;
+        for (int i = 0; i < 700000; ++i) zig.push_back({i % 2 ? 5.0f : -5.0f, i % 2 ? -4.0f : 4.0f, 0.0f});
+        StrokeParams w = p;
+        w.width_px = kMaxStrokeWidthPx;
+        for (const Exec& ex : {Exec::fast(2), Exec::reference()}) {
+            try {
+                render_strokes(out, f.ps, {Stroke{zig, {}, false}}, w, ex);
+                ADD_FAILURE() << "no error";
+            } catch (const Error& e) {
+                EXPECT_NE(std::string(e.what()).find("over the budget"), std::string::npos) << e.what();
+            }
+        }
+    }
     // A stroke crossing the camera's near plane is clipped, not dropped.
     render_strokes(out, f.ps, {Stroke{{{0, 0, 0}, {0, 0, 10}}, {}, false}}, p, Exec::reference(), &dropped);
     EXPECT_EQ(dropped, 0u);

@@ -523,6 +523,31 @@ TEST(SceneFile, MaterialsNameAnIntensityTexture) {
                  "materials.*.intensity_texture");
 }
 
+// Issue 47 item 6: one decode budget for everything a render decodes, whatever names it. A file
+// named by several material keys is decoded once; two files over the budget are refused before the
+// second is decoded.
+TEST(SceneFile, IntensityTexturesShareTheRendersDecodeBudget) {
+    const std::string tex = fs::absolute(aq::test::asset("paper/mnpr/rough_default_2k.jpg")).string();  // 2048^2: 64 MiB as RGBA float
+    const std::string other = fs::absolute(aq::test::asset("paper/ambientcg_Paper001/Paper001_2K-JPG_Roughness.jpg")).string();
+    LoadOptions opt;
+    opt.texture_budget_bytes = std::size_t(100) << 20;  // one such texture, not two
+    const SceneDesc d = load_scene(write_scene("intensity_twice.json", R"({"gltf": ")" + box_path() +
+                                                                            R"(", "materials": {"*": {"intensity_texture": ")" + tex +
+                                                                            R"("}, "0": {"intensity_texture": ")" + tex + R"("}}})"),
+                                   opt);
+    EXPECT_EQ(d.scene.textures.size(), 1u) << "the same file was decoded more than once";
+    EXPECT_EQ(d.scene.decode_budget.bytes_left, (std::size_t(100) << 20) - (std::size_t(64) << 20));
+    try {
+        load_scene(write_scene("intensity_two_files.json", R"({"gltf": ")" + box_path() +
+                                                               R"(", "materials": {"*": {"intensity_texture": ")" + tex +
+                                                               R"("}, "0": {"intensity_texture": ")" + other + R"("}}})"),
+                   opt);
+        ADD_FAILURE() << "two 64 MiB decodes fit a 100 MiB budget";
+    } catch (const aq::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the images one render decodes"), std::string::npos) << e.what();
+    }
+}
+
 TEST(SceneFile, HandMadeStrokesAreReadInOrder) {
     const SceneDesc d = load_scene(write_scene("strokes.json", R"({"gltf": ")" + box_path() + R"(", "strokes": [
         {"points": [[0, 0, 0], [1, 0, 0], [1, 1, 0]], "normals": [[0, 0, 1], [0, 0, 1], [0, 0, 1]], "hatching": true},
