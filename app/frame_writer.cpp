@@ -1,6 +1,10 @@
 // app/frame_writer.cpp — see frame_writer.h.
 #include "app/frame_writer.h"
 
+#include <unistd.h>
+
+#include <optional>
+
 #include "core/io.h"
 
 namespace aq::app {
@@ -44,9 +48,17 @@ void FrameWriter::run() {
         }
         std::exception_ptr err;
         try {
-            std::vector<std::string> sha;
-            for (const File& file : f.files)
-                sha.push_back(write_image(file.path, file.image, f.description, f.compression, file.drop_alpha));
+            std::optional<WriteLock> lock;
+            if (!f.claim.empty()) lock.emplace(f.claim);
+            std::vector<std::string> sha(f.files.size());
+            std::vector<PreparedFile> prepared;
+            prepared.reserve(f.files.size());
+            for (std::size_t i = 0; i < f.files.size(); ++i) {
+                const File& file = f.files[i];
+                prepared.push_back(prepare_image(file.path, file.image, &sha[i], f.description, f.compression, file.drop_alpha));
+            }
+            if (!f.claim.empty()) ::unlink(f.claim.c_str());  // the old set's claim, gone before its files change
+            for (PreparedFile& p : prepared) p.commit();
             if (f.after) f.after(sha);
             if (report_ && !f.done_message.empty()) report_(f.done_message);
         } catch (...) {

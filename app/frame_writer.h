@@ -5,7 +5,8 @@
 // guarantees (encoded in memory, flushed and checked, renamed into place). At most
 // `max_in_flight` frames wait: memory stays bounded, and a slow disk holds the renderer back
 // instead of piling up frames. Files are written in submission order; the bytes do not depend on
-// the overlap. The first failure stops the job: submit() and finish() rethrow it, and nothing is
+// the overlap. A frame is written as a set (Frame::claim): every file prepared first, then all put
+// in place. The first failure stops the job: submit() and finish() rethrow it, and nothing is
 // written after it.
 #pragma once
 
@@ -44,6 +45,12 @@ public:
         //! bytes in `files` order (the provenance sidecar, app/manifest.h). A throw stops the job
         //! like a write failure.
         std::function<void(const std::vector<std::string>& sha256)> after;
+        //! The file that claims the set (the provenance sidecar `after` writes), or empty. While the
+        //! frame is written its WriteLock is held (a second process writing it is refused), and the
+        //! old claim is removed only once every new file is written and flushed, just before they
+        //! are renamed into place: a failure leaves the old set whole, and a kill in the renames
+        //! leaves no claim on files that are not its own.
+        std::string claim;
     };
 
     //! max_in_flight >= 1 frames may wait; `report` is called from the writer thread.

@@ -102,6 +102,7 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
             write_file_atomically(sidecar, text.data(), text.size());
         };
         frame.done_message = img.tag + "wrote " + out;
+        frame.claim = manifest_path(out);
         writer.submit(std::move(frame));
     }, serialised);
     writer.finish();

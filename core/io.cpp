@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -302,6 +303,7 @@ void to_unorm8_rgb_n(const float* rgba, unsigned char* rgb, std::size_t pixels) 
 namespace {
 
 constexpr const char* kTmpPrefix = ".aqtmp.";  //!< `.aqtmp.PID.N.NAME`: recognisable leftovers
+constexpr const char* kLockPrefix = ".aqlock.";  //!< `.aqlock.NAME`: a WriteLock of NAME
 
 // PNG: grey and RGB images (every stylised --out image) are encoded by core/png.h (libdeflate; its
 // settings and their measurement are there). Images with alpha (--style none, some targets) and
@@ -440,6 +442,12 @@ int remove_stale_temporaries(const std::string& dir) {
     std::error_code ec;
     for (fs::directory_iterator it(dir.empty() ? "." : dir, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string n = it->path().filename().string();
+        if (n.rfind(kLockPrefix, 0) == 0) {  // a lock its holder left (killed): free to take, so removed
+            const int fd = ::open(it->path().c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW);
+            if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::unlink(it->path().c_str()) == 0) ++removed;
+            if (fd >= 0) ::close(fd);
+            continue;
+        }
         if (n.rfind(kTmpPrefix, 0) != 0) continue;
         const std::size_t a = std::strlen(kTmpPrefix), b = n.find('.', a);
         if (b == std::string::npos) continue;
@@ -490,7 +498,23 @@ void write_through(const std::string& path, const void* data, std::size_t size) 
 
 }  // namespace
 
-void write_file_atomically(const std::string& requested, const void* data, std::size_t size) {
+PreparedFile& PreparedFile::operator=(PreparedFile&& o) noexcept {
+    if (this != &o) {
+        discard();
+        path_ = std::move(o.path_), tmp_ = std::move(o.tmp_), dir_ = std::move(o.dir_);
+        fd_ = o.fd_, named_ = o.named_;
+        o.fd_ = -1, o.named_ = false;
+    }
+    return *this;
+}
+
+void PreparedFile::discard() noexcept {
+    if (fd_ >= 0) ::close(fd_);
+    if (named_) ::unlink(tmp_.c_str());
+    fd_ = -1, named_ = false;
+}
+
+PreparedFile prepare_file(const std::string& requested, const void* data, std::size_t size) {
     // A symbolic link stays: the file it names is replaced. A character device or FIFO is written
     // through, never replaced (`--json /dev/null` must not put a regular file in place of the
     // device); any other special file is refused (docs/limits.md "Writing files").
@@ -500,7 +524,7 @@ void write_file_atomically(const std::string& requested, const void* data, std::
     if (fs::is_character_file(kind) || fs::is_fifo(kind)) {
         if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
         write_through(path, data, size);
-        return;
+        return {};  // nothing left to commit
     }
     if (fs::exists(kind) && !fs::is_regular_file(kind) && !fs::is_directory(kind))
         fail_write(path, "is a block device, socket or other special file; refusing to replace it");
@@ -511,28 +535,30 @@ void write_file_atomically(const std::string& requested, const void* data, std::
     if (is_input_of_run(path)) fail_write(path, "it is an input of this run; refusing to overwrite it");
     remove_stale_temporaries(dir.string());
 
-    // A named temporary beside the destination (same file system, so rename is atomic). It first
-    // exists without a name (O_TMPFILE) while being written, so a crash there leaves nothing.
-    const std::string tmp = (dir / (std::string(kTmpPrefix) + std::to_string(::getpid()) + "." +
-                                    std::to_string(g_tmp_counter++) + "." + dst.filename().string()))
-                                .string();
-    bool named = false;
-    int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
-    if (fd < 0) {
-        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0) fail_write(path, std::string("cannot create a temporary file in '") + dir.string() + "': " + std::strerror(errno));
-        named = true;
+    // A temporary beside the destination (same file system, so rename is atomic). It exists without
+    // a name (O_TMPFILE) while being written and until commit(), so a crash before then leaves
+    // nothing.
+    PreparedFile f;
+    f.path_ = path;
+    f.dir_ = dir.string();
+    f.tmp_ = (dir / (std::string(kTmpPrefix) + std::to_string(::getpid()) + "." + std::to_string(g_tmp_counter++) + "." +
+                     dst.filename().string()))
+                 .string();
+    f.fd_ = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (f.fd_ < 0) {
+        f.fd_ = ::open(f.tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (f.fd_ < 0) fail_write(path, std::string("cannot create a temporary file in '") + dir.string() + "': " + std::strerror(errno));
+        f.named_ = true;
     }
     auto abandon = [&](const std::string& why) {
-        ::close(fd);
-        if (named) ::unlink(tmp.c_str());
+        f.discard();
         fail_write(path, why + "; the previous file, if any, is unchanged");
     };
+    const int fd = f.fd_;
     int err = 0;
     // Large files (an animation's frames) bypass the page cache: copying them into fresh
-    // page-cache pages cost ~2 ms of CPU per MB on our VMs, against ~0.3 ms per MB this way
-    // (docs/performance.md "Twenty-third session"); the file is flushed below either way. Where the
-    // file system refuses O_DIRECT, the ordinary write.
+    // page-cache pages cost ~2 ms of CPU per MB on our VMs, against ~0.3 ms per MB this way; the
+    // file is flushed below either way. Where the file system refuses O_DIRECT, the ordinary write.
     bool written = false;
     if (size >= kDirectWriteBytes && size <= kKeptScratchBytes) {
         const int flags = ::fcntl(fd, F_GETFL);
@@ -549,31 +575,78 @@ void write_file_atomically(const std::string& requested, const void* data, std::
     struct stat st {};
     if (::fstat(fd, &st) != 0 || std::size_t(st.st_size) != size)
         abandon("the written file has " + std::to_string(st.st_size) + " bytes, expected " + std::to_string(size));
-    if (!named) {
-        const std::string proc = "/proc/self/fd/" + std::to_string(fd);
-        if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) != 0)
-            abandon(std::string("cannot name the temporary file: ") + std::strerror(errno));
-        named = true;
+    return f;
+}
+
+void PreparedFile::commit() {
+    if (fd_ < 0 && !named_) return;  // written through, or already committed
+    if (!named_) {
+        const std::string proc = "/proc/self/fd/" + std::to_string(fd_);
+        if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, tmp_.c_str(), AT_SYMLINK_FOLLOW) != 0) {
+            const int e = errno;
+            discard();
+            fail_write(path_, std::string("cannot name the temporary file: ") + std::strerror(e) + "; the previous file, if any, is unchanged");
+        }
+        named_ = true;
     }
+    const int fd = fd_;
+    fd_ = -1;
     if (::close(fd) != 0) {
         const int e = errno;
-        ::unlink(tmp.c_str());
-        fail_write(path, std::string("close failed: ") + std::strerror(e) + "; the previous file, if any, is unchanged");
+        discard();
+        fail_write(path_, std::string("close failed: ") + std::strerror(e) + "; the previous file, if any, is unchanged");
     }
-    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
         const int e = errno;
-        ::unlink(tmp.c_str());
-        fail_write(path, std::string("cannot rename the finished file into place: ") + std::strerror(e));
+        discard();
+        fail_write(path_, std::string("cannot rename the finished file into place: ") + std::strerror(e));
     }
+    named_ = false;
     // Make the rename itself durable.
-    if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+    if (const int dfd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
         ::fsync(dfd);
         ::close(dfd);
     }
 }
 
-std::string write_image(const std::string& path, const ImageF& img, const std::string& description,
-                        Compression compression, bool drop_alpha) {
+void write_file_atomically(const std::string& path, const void* data, std::size_t size) {
+    prepare_file(path, data, size).commit();
+}
+
+// --- WriteLock ----------------------------------------------------------------------------------
+
+WriteLock::WriteLock(const std::string& path) {
+    const fs::path p(path);
+    lock_path_ = ((p.has_parent_path() ? p.parent_path() : fs::path(".")) / (std::string(kLockPrefix) + p.filename().string())).string();
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+        if (fd_ < 0) fail_write(path, std::string("cannot create its lock '") + lock_path_ + "': " + std::strerror(errno));
+        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+            const int e = errno;
+            ::close(fd_);
+            fd_ = -1;
+            if (e == EWOULDBLOCK)
+                fail_write(path, "another process is writing it and the files that go with it (its lock '" + lock_path_ +
+                                     "' is held): two runs must not write one output at once");
+            fail_write(path, std::string("cannot lock '") + lock_path_ + "': " + std::strerror(e));
+        }
+        // The lock is ours unless its holder removed the file between our open and our flock.
+        struct stat a {}, b {};
+        if (::fstat(fd_, &a) == 0 && ::stat(lock_path_.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino) return;
+        ::close(fd_);
+        fd_ = -1;
+    }
+    fail_write(path, "cannot take its lock '" + lock_path_ + "': it keeps being replaced");
+}
+
+WriteLock::~WriteLock() {
+    if (fd_ < 0) return;
+    ::unlink(lock_path_.c_str());  // while still held: a waiting process sees another inode and retries
+    ::close(fd_);
+}
+
+PreparedFile prepare_image(const std::string& path, const ImageF& img, std::string* sha256, const std::string& description,
+                           Compression compression, bool drop_alpha) {
     if (img.empty()) fail_write(path, "the image is empty");
     const fs::path dst(path);
     const fs::path dir = dst.has_parent_path() ? dst.parent_path() : fs::path(".");
@@ -589,8 +662,16 @@ std::string write_image(const std::string& path, const ImageF& img, const std::s
         }
     } trim{scratch};
     encode_image(path, img, description, scratch.encoded, scratch.quantised, compression, drop_alpha);
-    write_file_atomically(path, scratch.encoded.data(), scratch.encoded.size());
-    return sha256_hex(scratch.encoded.data(), scratch.encoded.size());
+    PreparedFile f = prepare_file(path, scratch.encoded.data(), scratch.encoded.size());
+    if (sha256) *sha256 = sha256_hex(scratch.encoded.data(), scratch.encoded.size());
+    return f;
+}
+
+std::string write_image(const std::string& path, const ImageF& img, const std::string& description,
+                        Compression compression, bool drop_alpha) {
+    std::string sha;
+    prepare_image(path, img, &sha, description, compression, drop_alpha).commit();
+    return sha;
 }
 
 }  // namespace aq

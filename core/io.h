@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 
 #include "core/image.h"
 
@@ -85,8 +86,56 @@ void to_unorm8_n(const float* src, unsigned char* dst, std::size_t n);
 //! (alpha left out; eight pixels per AVX2 step). Same bytes as to_unorm8 (tests/core/io_test.cpp).
 void to_unorm8_rgb_n(const float* rgba, unsigned char* rgb, std::size_t pixels);
 
+//! A file written and flushed beside its destination but not yet in place: the first half of
+//! write_file_atomically, so a set of files (a frame's targets, image and manifest) can be written
+//! whole before any of them replaces the old set (app/frame_writer.h). The temporary has no name
+//! (O_TMPFILE) until commit(), which names it and renames it over the destination; destroyed
+//! uncommitted, it leaves the destination as it was. A character device or FIFO destination is
+//! written through by prepare_file itself (commit does nothing).
+class PreparedFile {
+public:
+    PreparedFile() = default;
+    PreparedFile(PreparedFile&& o) noexcept { *this = std::move(o); }
+    PreparedFile& operator=(PreparedFile&& o) noexcept;
+    ~PreparedFile() { discard(); }
+    //! Puts the file in place (atomic rename, folder fsync'ed). Throws aq::Error.
+    void commit();
+
+private:
+    friend PreparedFile prepare_file(const std::string& path, const void* data, std::size_t size);
+    void discard() noexcept;
+    std::string path_, tmp_, dir_;
+    int fd_ = -1;
+    bool named_ = false;
+};
+
+//! Writes bytes beside `path` (every check and flush of write_file_atomically) for a later commit().
+PreparedFile prepare_file(const std::string& path, const void* data, std::size_t size);
+
+//! write_image's first half: encoded, written and flushed, not yet in place; *sha256 (when given)
+//! receives the SHA-256 of the bytes.
+PreparedFile prepare_image(const std::string& path, const ImageF& img, std::string* sha256,
+                           const std::string& description = {}, Compression compression = Compression::Fast,
+                           bool drop_alpha = false);
+
 //! Writes bytes to path with the same guarantees as write_image (sidecar files, reports).
 void write_file_atomically(const std::string& path, const void* data, std::size_t size);
+
+//! Held while one writer writes `path` and the files that go with it: `.aqlock.NAME` beside it,
+//! flock'ed; a second process asking for the same lock gets aq::Error at once (two runs writing
+//! one --out). Removed when released; a lock whose holder was killed is free (the kernel drops
+//! flocks) and removed by the next write into its folder (remove_stale_temporaries).
+class WriteLock {
+public:
+    explicit WriteLock(const std::string& path);
+    ~WriteLock();
+    WriteLock(const WriteLock&) = delete;
+    WriteLock& operator=(const WriteLock&) = delete;
+
+private:
+    std::string lock_path_;
+    int fd_ = -1;
+};
 
 //! Reads an image file as float with its stored values, keeping up to 4 channels. Throws aq::Error.
 ImageF read_image(const std::string& path, DecodeBudget* budget = nullptr);
@@ -105,7 +154,8 @@ std::string lower_extension(const std::string& path);
 //! Replaces characters outside [A-Za-z0-9._-] so a target name is a safe file name.
 std::string safe_file_name(const std::string& name);
 
-//! Removes temporaries (`.aqtmp.PID.*`) that a killed process left in `dir` (PID no longer alive).
+//! Removes temporaries (`.aqtmp.PID.*`) that a killed process left in `dir` (PID no longer alive),
+//! and write locks (`.aqlock.*`) no process holds.
 //! write_file_atomically() calls it for its destination folder. Returns how many were removed.
 int remove_stale_temporaries(const std::string& dir);
 
