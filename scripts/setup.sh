@@ -17,14 +17,14 @@ done
 
 # Every package the build, the tests and the GL reference need (../shared/platform-notes.md);
 # GNU parallel for the shard test and Slurm (slurmctld, slurmd, munge) for the cluster test
-# (docs/shards.md); the label font of `aquarelle grid`
+# (docs/shards.md); gdb to stop a render mid-write for the CLI test's SIGKILL checks; the label font of `aquarelle grid`
 # (docs/grid.md); git for the commit recorded in provenance manifests (docs/provenance.md).
 pkgs=(build-essential cmake ninja-build pkg-config
       libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev libbenchmark-dev libgtest-dev
       nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev
       libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       parallel fonts-dejavu-core git
-      slurmctld slurmd slurm-client munge)
+      slurmctld slurmd slurm-client munge gdb)
 
 [ "$install" = 1 ] && bash scripts/install_packages.sh setup "${pkgs[@]}"
 

@@ -157,17 +157,34 @@ expect_rc "box scaled by 1e6 renders" 0 "$bin" render "$work/bigbox.gltf" "${sma
 mkdir -p "$work/kill"
 "$bin" render procedural:swatches --width 64 --height 64 --quiet --out "$work/kill/k.png" >/dev/null 2>&1
 kill_sum=$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)
-# A kill can come after the render finished (a fast machine renders this in well under a second), so
-# the file must be either the old image or the whole new one -- never anything else.
-"$bin" render "$src/scenes/data/suzanne.json" --width 1920 --height 1080 --quiet --out "$work/kill/full.png" >/dev/null 2>&1
+# SIGKILL at the exact moments of writing, stopped there by gdb (a breakpoint on the system call,
+# then `kill`): before the new image's temporary gets a name (linkat), before it is renamed into
+# place (rename #1), and after it, before its manifest is renamed (rename #2). Each breakpoint must
+# be hit (asserted: the check checks); after each kill the image is the old one or the whole new one,
+# and a manifest beside it, if any, describes the image beside it (docs/limits.md "Writing files").
+kill_args=("$src/scenes/data/suzanne.json" --width 320 --height 180 --quiet --threads 2)
+"$bin" render "${kill_args[@]}" --out "$work/kill/full.png" >/dev/null 2>&1
 full_sum=$(sha256sum "$work/kill/full.png" | cut -d' ' -f1)
-rm -f "$work/kill/full.png"
-for i in 1 2 3; do
-  "$bin" render "$src/scenes/data/suzanne.json" --width 1920 --height 1080 --quiet --out "$work/kill/k.png" >/dev/null 2>&1 &
-  pid=$!; sleep 0.$((3 * i)); kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
-done
-now_sum=$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)
-{ [ "$now_sum" = "$kill_sum" ] || [ "$now_sum" = "$full_sum" ]; } && ok "SIGKILL: file is the old or the whole new image" || bad "SIGKILL: old file damaged"
+rm -f "$work/kill/full.png" "$work/kill/full.png.json"
+if command -v gdb >/dev/null; then
+  for stop in "linkat 0" "rename 0" "rename 1"; do
+    set -- $stop
+    "$bin" render procedural:swatches --width 64 --height 64 --quiet --out "$work/kill/k.png" >/dev/null 2>&1
+    kill_sum=$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)
+    log=$(timeout 120 gdb -batch -nx -ex 'set breakpoint pending on' -ex "break $1" -ex "ignore 1 $2" -ex run -ex kill \
+      --args "$bin" render "${kill_args[@]}" --out "$work/kill/k.png" 2>&1 || true)
+    grep -Eq "Breakpoint 1(\.[0-9]+)?, .*$1" <<<"$log" || { bad "SIGKILL at $1 #$(( $2 + 1 )): the breakpoint was not hit"; continue; }
+    now_sum=$(sha256sum "$work/kill/k.png" | cut -d' ' -f1)
+    { [ "$now_sum" = "$kill_sum" ] || [ "$now_sum" = "$full_sum" ]; } || bad "SIGKILL at $1 #$(( $2 + 1 )): the image is neither the old nor the new one"
+    if [ -f "$work/kill/k.png.json" ]; then
+      python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); sys.exit(0 if [o["sha256"] for o in m["outputs"] if o["kind"]=="out"]==[sys.argv[2]] else 1)' \
+        "$work/kill/k.png.json" "$now_sum" || bad "SIGKILL at $1 #$(( $2 + 1 )): the manifest beside the image describes another image"
+    fi
+    ok "SIGKILL at $1 #$(( $2 + 1 )) (stopped there by gdb): the image is the old or the whole new one, no manifest describes another"
+  done
+else
+  bad "gdb is not installed (scripts/setup.sh installs it): the SIGKILL checks cannot stop the render mid-write"
+fi
 true & dead=$!; wait $dead  # a PID that is no longer alive
 echo half > "$work/kill/.aqtmp.$dead.0.k.png"
 expect_rc "render after a killed one" 0 "$bin" render procedural:swatches --width 32 --height 32 --quiet --out "$work/kill/k2.png"
