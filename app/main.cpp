@@ -90,9 +90,9 @@ options:
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
   --compression C       fast | none: how PNG and EXR files are compressed, losslessly either way
-                        (default fast: deflate level 1, EXR PIZ). none writes ~2.3x larger 1080p
-                        PNG frames, faster where the disk keeps up (docs/performance.md
-                        "Fourteenth session")
+                        (default fast: PNG deflated by ISA-L's igzip at level 2, EXR PIZ). none
+                        writes ~2.3x larger 1080p PNG frames, faster where the disk keeps up
+                        (docs/performance.md "Writing files")
   --threads N           worker threads, 0 = all cores (default 0); output does not depend on it
   --row-groups          run the pipeline's row groups band by band (a fused schedule, the same
                         bytes; pays where the cache is smaller than a frame, docs/stylize.md)

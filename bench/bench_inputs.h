@@ -10,8 +10,8 @@ namespace aq::bench {
 //! The paper of the single-stage benchmarks at w x h: the WC18 preset's paper (the rough 2k scan
 //! the WC presets use), prepared once per size. With the flat paper, the stages that read it
 //! (substrate distortion and lighting, pigment application) ran their identity paths (zero
-//! offsets, constant height) and the benchmarks timed little more than a copy; numbers from the
-//! fourteenth session on (docs/performance.md) are with this paper.
+//! offsets, constant height) and the benchmarks timed little more than a copy; every stage/* figure
+//! in docs/performance.md is with this paper.
 const ImageF& stage_paper(int w, int h);
 
 //! Frames a frame-loop benchmark runs before it is timed (pipeline/*, profile/*, BM_Ld06Frame/*):

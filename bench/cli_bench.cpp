@@ -139,7 +139,7 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
     };
     // One untimed run first: on these VMs the first process after an idle spell runs up to 2x
     // slower (the host reclaimed the VM's memory), which made a repetition's short run slower than
-    // its long one (a difference clamped to ~0, docs/performance.md "Seventeenth session").
+    // its long one (a difference clamped to ~0; docs/performance.md "Design decisions that hold").
     {
         double warm = 0.0;
         if (!timed(short_run, &warm)) {

@@ -6,7 +6,7 @@
 // Inputs are the one synthetic G-buffer of tests, benchmarks and reference (tests/synthetic_gbuffer.h:
 // three spheres over a slanted ground plane, painted control over the signed range on the objects
 // and none on the background; intermediates get a smooth-plus-edges pattern).
-// Results: docs/performance.md "## Stylization".
+// Results: docs/performance.md "Stylization".
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

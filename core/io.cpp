@@ -315,8 +315,8 @@ constexpr const char* kLockPrefix = ".aqlock.";  //!< `.aqlock.NAME`: a WriteLoc
 
 //! Per-thread encoder scratch, kept between calls: an animation's writer thread encodes every
 //! frame into the same pages instead of faulting ~13 MB of fresh ones per 1080p PNG frame (fresh
-//! pages cost ~2 ms per MB on our VMs; docs/performance.md "Thirteenth session"). Bounded: a buffer
-//! that grew past kKeptScratchBytes is released after the call instead of kept.
+//! pages cost ~2 ms per MB on our VMs; docs/performance.md "Design decisions that hold").
+//! Bounded: a buffer that grew past kKeptScratchBytes is released after the call instead of kept.
 struct EncodeScratch {
     std::vector<unsigned char> quantised, encoded;
 };

@@ -42,8 +42,7 @@ struct DecodeBudget {
 };
 
 //! How image files are compressed (lossless either way: the same pixels; only file size and
-//! writing time differ; measured in docs/performance.md "Fourteenth session" and "Twenty-sixth
-//! session").
+//! writing time differ; measured in docs/performance.md "Writing files").
 enum class Compression {
     //! PNG: ISA-L deflate level 2 (core/png.h; zlib level 1 through OpenImageIO for alpha); EXR: PIZ
     Fast,

@@ -8,7 +8,7 @@
 // ld.so's symbol lookup), whether or not it reads or writes one image through OpenImageIO. Behind
 // this table, `aquarelle --help`, argument errors and renders that never need it (grey/RGB PNG
 // output is core/png.h) do not load it, and a render starts loading it on a second thread while the
-// scene loads (preload_oiio(), core/oiio.h). docs/performance.md "Sixteenth session".
+// scene loads (preload_oiio(), core/oiio.h). docs/performance.md "Design decisions that hold".
 //
 // The table is internal: core/io.cpp, core/compare.cpp and app/grid.cpp call it through oiio()
 // (core/oiio.h). The module depends on OpenImageIO and the C++ library only (no aq_core symbol: it

@@ -6,7 +6,7 @@
 // deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can
 // only use zlib. The deflate is ISA-L's igzip (a Debian library; kPngIsalLevel below): 2x faster
 // than libdeflate's level 1 on our 1080p frames, which was 2.2x faster than zlib's
-// (docs/performance.md "Thirteenth session", "Twenty-sixth session"); --compression none writes
+// (docs/performance.md "Writing files"); --compression none writes
 // libdeflate's stored blocks. The container is the PNG specification's (ISO/IEC 15948, W3C PNG 2nd
 // edition): signature, IHDR, sRGB with the gAMA and cHRM values the specification recommends beside
 // it (11.3.3.5), the description as a tEXt chunk (iTXt when it is not ASCII), one IDAT holding the
@@ -34,7 +34,7 @@
 namespace aq {
 
 //! The ISA-L (igzip) compression level of PNG files (Compression::Fast). Measured on a steady
-//! Suzanne WC18 1080p frame (6.2 MB of rows; docs/performance.md "Twenty-sixth session"): ISA-L
+//! Suzanne WC18 1080p frame (6.2 MB of rows; docs/performance.md "Writing files"): ISA-L
 //! level 2 2.86 MB in 20-22 ms, level 1 2.97 MB in 20-26 ms, level 3 2.84 MB in 39 ms; libdeflate
 //! level 1 (used before) 2.72 MB in 36-46 ms in the same runs. Level 2: half the CPU of the frame's
 //! deflate for 5 % larger files. ISA-L picks its code path by CPU (SSE4.2, AVX, AVX2); every one of

@@ -431,7 +431,7 @@ constexpr std::uint32_t kFrontierSpan = 16384;
 // still cached. Such a group gets two hints, the largest index and 3 vertices before it (the
 // 60 bytes of new vertices behind it may start on the line before); any other group gets all
 // 24. 24 hints per group had the pre-pass wait on the prefetches themselves (a sixth of
-// setup_triangles' samples on the 871k dragon; docs/performance.md, thirty-third session).
+// setup_triangles' samples on the 871k dragon before 9c32fa5; docs/performance.md "Rasterizer").
 inline void prefetch_snap(const SnapVertex* snap, std::size_t nv, const std::uint32_t* ix) {
     const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix));
     const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ix + 8));

@@ -35,7 +35,7 @@ float noise_field(const NoiseField& f, const glm::vec3& p);
 
 //! out[i] = noise_field(f, p[i] * scale) for i < n, bit for bit, eight vertices at a time (the
 //! default control of a bare 871k-triangle model evaluates ~2.2 million value noises:
-//! docs/performance.md "Nineteenth session"). noise_field is its plain reference.
+//! docs/performance.md "Stylization" times both). noise_field is its plain reference.
 void noise_field_n(const NoiseField& f, const glm::vec3* p, std::size_t n, float scale, float* out);
 
 }  // namespace aq::scene

@@ -5,7 +5,7 @@
 # One instrumented build serves the sanitizer tests and the fuzzers: build-fuzz/, configured with
 # clang, AQ_BUILD_FUZZ=ON (fuzz/flags.cmake adds the sanitizers and libFuzzer's coverage to every
 # target) and the tests on. scripts/fuzz.sh then reuses it. One clang build instead of a GCC ASan
-# build plus a clang fuzz build roughly halves this part of CI (docs/testing.md "Measured").
+# build plus a clang fuzz build roughly halves this part of CI (docs/testing.md "Sanitizers").
 # The GL reference tests are not part of this build: llvmpipe JIT-compiles shaders into code ASan
 # cannot instrument, and Mesa's allocations at exit are reported as leaks that are not ours; they
 # run in the normal build (docs/testing.md). Leaks inside third-party libraries are suppressed by

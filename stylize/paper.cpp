@@ -62,7 +62,8 @@ ImageF derive_normals(const ImageF& src, float strength) {
 
 //! Converts a decoded file to the MNPR layout (3 channels) according to `layout`. Takes the
 //! decoded image by value: a 3-channel "mnpr" file is moved, not copied (a 2k paper is 50 MB of
-//! floats, and fresh pages cost ~2 ms per MB on our VMs: docs/performance.md "Thirteenth session").
+//! floats, and fresh pages cost ~2 ms per MB on our VMs: docs/performance.md "Design decisions
+//! that hold").
 ImageF to_mnpr_layout(ImageF img, const std::string& layout, const std::string& path) {
     if (layout == "mnpr") {
         if (img.channels() < 3)

@@ -35,7 +35,8 @@ ImageF prepare_paper(const PaperSpec& spec, int width, int height, const Exec& e
 std::future<void> prefetch_paper(const PaperSpec& spec);
 
 //! Drops the decoded paper files kept by prepare_paper (one-shot renders: the source image is not
-//! needed once the paper is prepared at the output size; docs/performance.md "Memory").
+//! needed once the paper is prepared at the output size; docs/performance.md "Memory of a
+//! one-shot render").
 void clear_paper_cache();
 
 //! A flat paper (normal (0,0,1) -> 0.5, 0.5; height 0.5) for pipelines without a paper file.

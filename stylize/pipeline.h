@@ -115,7 +115,7 @@ struct RunOptions {
     //! "Row groups"): the same output bytes and the same targets as step by step, with each band's
     //! intermediate rows read again while they are in the cache. Off by default: on our machines
     //! (arithmetic-bound stages, prefetched rows) it measured no faster than step by step
-    //! (docs/performance.md "Eighteenth session"); `aquarelle render --row-groups` turns it on.
+    //! (docs/performance.md "Where things stand"); `aquarelle render --row-groups` turns it on.
     bool row_groups = false;
     //! Rows per band of a row group (each step of the group advances by this many rows at a time).
     int band_rows = 16;

@@ -114,10 +114,10 @@ TEST(Sine, ValuesWithAKnownAnswer) {
     EXPECT_NEAR(aq::sine(1e6f), -0.34999350217129294, 1e-7);
 }
 
-// The regression check behind the golden hashes: the tremor called std::sin (glibc's sinf) until
-// the twenty-seventh session. On x86-64 glibc 2.36 with FMA (the platform of the goldens) glibc
-// picks __sinf_fma, whose results sine() reproduces (all 2^32 inputs checked once, docs/
-// determinism.md). Elsewhere the C library may round differently, and sine() does not follow it.
+// The regression check behind the golden hashes: they hold the tremor of std::sin (glibc's sinf),
+// which the tremor called before core/sine.h. On x86-64 glibc 2.36 with FMA (the platform of the
+// goldens) glibc picks __sinf_fma, whose results sine() reproduces (all 2^32 inputs checked once,
+// docs/determinism.md). Elsewhere the C library may round differently; sine() does not follow it.
 TEST(Sine, EqualsTheSinfOfTheGoldensPlatform) {
     if (std::strcmp(gnu_get_libc_version(), "2.36") != 0 || !__builtin_cpu_supports("fma"))
         GTEST_SKIP() << "not the goldens' platform (glibc " << gnu_get_libc_version() << ")";
