@@ -12,10 +12,18 @@
 #      instrumented build (scripts/fuzz.sh --smoke: a fixed number of inputs per target from a
 #      fixed seed, the same on every run; $AQ_FUZZ_SECONDS caps each target, default 120).
 # Usage: scripts/test.sh                 everything (what .ci/run runs)
+#        scripts/test.sh --quick         the inner loop: build what changed, then the unit and CLI tests
+#                                        of the normal build (no GL reference, goldens, sanitizers,
+#                                        benchmarks or fuzzing; about 1.5 minutes on 2 cores)
 #        scripts/test.sh CTEST_ARGS...   only step 1, with extra ctest args (e.g. -L reference, -R raster)
 # AQ_SKIP_SANITIZERS=1 / AQ_SKIP_BENCH=1 / AQ_SKIP_FUZZ=1 skip steps 2 / 3 / 4 for a quick local run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--quick" ]; then
+  shift
+  bash scripts/setup.sh --no-install
+  exec ctest --test-dir build --output-on-failure --timeout 900 -j "$(nproc)" -L "unit|cli" "$@"
+fi
 bash scripts/setup.sh
 start=$SECONDS
 ctest --test-dir build --output-on-failure --timeout 900 -j "$(nproc)" "$@"
