@@ -266,15 +266,6 @@ const json& need(const json& j, const char* key, const std::string& where) {
     return j.at(key);
 }
 
-template <class T>
-T get(const json& j, const char* key, const std::string& where) {
-    try {
-        return need(j, key, where).get<T>();
-    } catch (const json::exception&) {
-        throw Error(where + ": key '" + std::string(key) + "' has the wrong type");
-    }
-}
-
 //! The render request of a manifest as RenderOptions writing into `dir`. Every field is read
 //! strictly (JsonReader: an integer is a JSON integer, not 160.9 or true; a size is not wrapped
 //! modulo 2^32) and within the same ranges as the command line's options (request_limits; 0 for
