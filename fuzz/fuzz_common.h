@@ -7,6 +7,12 @@
 
 namespace aq::fuzz {
 
+//! Decoded image bytes a fuzz input may cost (images, glTF textures, scene-file images): 64 MiB,
+//! not the product's 1 GiB (scenes/scene.h kMaxDecodedBytesPerRender). An image within every
+//! limit may decode to hundreds of megabytes, seconds under ASan: long enough on a slow machine
+//! for libFuzzer's slow-unit report (fuzz/README.md finding 10). Same check, smaller amount.
+inline constexpr std::size_t kDecodeBytes = std::size_t(64) << 20;
+
 //! This process's scratch folder, made once with mkdtemp under $TMPDIR (else /tmp) and removed at
 //! normal exit. A crashing process leaves it behind; scripts/fuzz.sh points TMPDIR at its own
 //! temporary folder and removes that, so nothing is left in /tmp or in the repository.

@@ -29,7 +29,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string path = aq::fuzz::write_temp("in.gltf", data, size);
     aq::fuzz::expect_only_aq_errors("load_gltf", [&] {
         std::vector<std::string> warnings;
-        const aq::scene::Scene s = aq::scene::load_gltf(path, &warnings);
+        aq::scene::LoadOptions options;
+        options.texture_budget_bytes = aq::fuzz::kDecodeBytes;
+        const aq::scene::Scene s = aq::scene::load_gltf(path, &warnings, options);
         (void)s.world_bounds();
     });
     return 0;

@@ -6,6 +6,7 @@
 // from the file name's extension, which a user controls. So that every decoder is reachable, the
 // fuzzer names its input after the format its first bytes announce (a wider table than the
 // loader's), falling back to .tga, the common format without a magic number.
+// Each read draws from the fuzzers' decode budget (fuzz_common.h kDecodeBytes).
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -39,13 +40,21 @@ std::string extension_for(const std::uint8_t* b, std::size_t n) {
     return ".tga";
 }
 
+aq::DecodeBudget fuzz_budget() { return aq::DecodeBudget{aq::fuzz::kDecodeBytes, "the fuzzer's images (64 MiB)"}; }
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string ext = extension_for(data, size);
     aq::fuzz::expect_only_aq_errors("decode_image_bytes",
-                                    [&] { (void)aq::scene::decode_image_bytes(data, size, "fuzz-input" + ext); });
+                                    [&] {
+        aq::DecodeBudget budget = fuzz_budget();
+        (void)aq::scene::decode_image_bytes(data, size, "fuzz-input" + ext, &budget);
+    });
     const std::string path = aq::fuzz::write_temp("in" + ext, data, size);
-    aq::fuzz::expect_only_aq_errors("read_image", [&] { (void)aq::read_image(path); });
+    aq::fuzz::expect_only_aq_errors("read_image", [&] {
+        aq::DecodeBudget budget = fuzz_budget();
+        (void)aq::read_image(path, &budget);
+    });
     return 0;
 }

@@ -70,6 +70,10 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string path = aq::fuzz::write_temp("scene.json", data, size);
-    aq::fuzz::expect_only_aq_errors("load_scene", [&] { (void)aq::scene::load_scene(path); });
+    aq::fuzz::expect_only_aq_errors("load_scene", [&] {
+        aq::scene::LoadOptions options;
+        options.texture_budget_bytes = aq::fuzz::kDecodeBytes;
+        (void)aq::scene::load_scene(path, options);
+    });
     return 0;
 }
