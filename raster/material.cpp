@@ -87,11 +87,12 @@ inline void wrap_pair(int i, int n, scene::Wrap w, int& a, int& b) {
 }  // namespace
 
 namespace {
-//! The sampling maths, once for both texel stores: fetch(x, y) is the widened RGBA texel.
+//! The sampling maths of one level with filter f, once for every texel store: fetch(x, y) is the
+//! widened RGBA texel.
 template <class Fetch>
-inline glm::vec4 sample_with(int w, int h, const scene::Sampler& s, glm::vec2 uv, const Fetch& fetch) {
+inline glm::vec4 sample_with(int w, int h, scene::Filter f, const scene::Sampler& s, glm::vec2 uv, const Fetch& fetch) {
     const float u = safe_coord(uv.x) * float(w), v = safe_coord(uv.y) * float(h);
-    if (s.mag == scene::Filter::Nearest) {
+    if (f == scene::Filter::Nearest) {
         const int x = wrap_texel(int(std::floor(u)), w, s.wrap_s);
         const int y = wrap_texel(int(std::floor(v)), h, s.wrap_t);
         return fetch(x, y);
@@ -109,34 +110,119 @@ inline glm::vec4 sample_with(int w, int h, const scene::Sampler& s, glm::vec2 uv
 }
 }  // namespace
 
-glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv) {
-    return sample_with(img.width(), img.height(), s, uv, [&](int x, int y) { return texel(img, x, y); });
+namespace {
+glm::vec4 sample_image(const ImageF& img, scene::Filter f, const scene::Sampler& s, glm::vec2 uv) {
+    return sample_with(img.width(), img.height(), f, s, uv, [&](int x, int y) { return texel(img, x, y); });
 }
-
-glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv) {
+//! Level 0 of a scene texture with filter f, through its 8-bit codes where it has them.
+glm::vec4 sample_level0(const scene::Texture& t, scene::Filter f, const scene::Sampler& s, glm::vec2 uv) {
     const ImageF& img = t.image;
-    if (t.codes.empty()) return sample_texture(img, s, uv);
+    if (t.codes.empty()) return sample_image(img, f, s, uv);
     const std::uint8_t* codes = t.codes.codes.data();
     const auto& lut = t.codes.lut;
     const int w = img.width();
-    return sample_with(w, img.height(), s, uv, [&](int x, int y) {
+    return sample_with(w, img.height(), f, s, uv, [&](int x, int y) {
         const std::uint8_t* c = codes + 4 * (std::size_t(y) * std::size_t(w) + std::size_t(x));
         return glm::vec4(lut[0][c[0]], lut[1][c[1]], lut[2][c[2]], lut[3][c[3]]);
     });
 }
+//! GL's c: the level of detail above which a texture is minified.
+inline float minification_threshold(const scene::Sampler& s) {
+    return s.mag == scene::Filter::Linear && s.min == scene::Filter::Nearest && s.mip != scene::MipFilter::None ? 0.5f
+                                                                                                                 : 0.0f;
+}
+}  // namespace
+
+glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv) {
+    return sample_image(img, s.mag, s, uv);
+}
+
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv) {
+    return sample_level0(t, s.mag, s, uv);
+}
+
+float texture_lod(int w, int h, const UvGrad& g) {
+    const float ax = g.dx.x * float(w), ay = g.dx.y * float(h);
+    const float bx = g.dy.x * float(w), by = g.dy.y * float(h);
+    const float rho2 = std::max(ax * ax + ay * ay, bx * bx + by * by);
+    return 0.5f * std::log2(rho2);  // log2(sqrt(rho2)); log2(0) = -inf
+}
 
 namespace {
-//! sample_texture of the n (1-8) uvs into out[0, n): the lanes whose bilinear footprint lies inside
-//! the texture (every wrap mode is the identity there, the common case) in one register — the
+//! One minified sample at level of detail `lod` (> c): GL's minification filter `min` within a
+//! level and `mip` between levels.
+glm::vec4 sample_minified(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, float lod) {
+    const int q = int(t.mips.size());
+    auto level = [&](int d) {
+        return d == 0 ? sample_level0(t, s.min, s, uv) : sample_image(t.mips[std::size_t(d - 1)], s.min, s, uv);
+    };
+    switch (s.mip) {
+        case scene::MipFilter::None: return level(0);
+        case scene::MipFilter::Nearest:
+            if (!(lod < float(q))) return level(q);
+            return level(lod <= 0.5f ? 0 : std::min(q, int(std::ceil(lod + 0.5f)) - 1));
+        default: {
+            if (!(lod < float(q))) return level(q);
+            if (!(lod > 0.0f)) return level(0);
+            const float fl = std::floor(lod);
+            const int d = int(fl);
+            return lerp4(level(d), level(d + 1), lod - fl);
+        }
+    }
+}
+}  // namespace
+
+AnisoFootprint aniso_footprint(int w, int h, const UvGrad& g) {
+    const glm::vec2 sz{float(w), float(h)};
+    const glm::vec2 a = g.dx * sz, b = g.dy * sz;
+    const float px = std::sqrt(a.x * a.x + a.y * a.y), py = std::sqrt(b.x * b.x + b.y * b.y);
+    const bool x_major = !(py > px);
+    const float pmax = x_major ? px : py, pmin = x_major ? py : px;
+    AnisoFootprint f;
+    f.major = x_major ? g.dx : g.dy;
+    const float ratio = pmax / std::max(pmin, pmax * (1.0f / float(kMaxAnisotropy)));
+    f.samples = ratio > 1.0f ? std::min(kMaxAnisotropy, int(std::ceil(ratio))) : 1;  // NaN: 1
+    f.lod = std::log2(pmax / float(f.samples));
+    f.iso_lod = std::log2(pmax);
+    return f;
+}
+
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const UvGrad& g) {
+    const AnisoFootprint f = aniso_footprint(t.image.width(), t.image.height(), g);
+    if (!(f.iso_lod > minification_threshold(s))) return sample_level0(t, s.mag, s, uv);  // NaN too
+    if (f.samples == 1) return sample_minified(t, s, uv, f.lod);
+    // Anisotropic: samples spread evenly along the footprint's major axis, each at the level of
+    // the minor axis (lod <= 0: level 0 with the minification filter), averaged.
+    glm::vec4 sum(0.0f);
+    const float inv = 1.0f / float(f.samples);
+    for (int i = 0; i < f.samples; ++i) {
+        const float o = (float(i) + 0.5f) * inv - 0.5f;
+        sum += sample_minified(t, s, uv + f.major * o, f.lod);
+    }
+    return sum * inv;
+}
+
+namespace {
+//! sample_texture of the n (1-8) uvs and derivatives into out[0, n): the magnified lanes (level 0)
+//! whose bilinear footprint lies inside the texture (every wrap mode is the identity there, the
+//! common case) in one register — the
 //! operations of sample_with in their order, lane by lane: safe_coord, floor, the three lerps of
 //! lerp4 — and the other lanes, Nearest filtering and textures other than 8-bit codes or RGBA
 //! floats through sample_texture. Schedule only: each lane's value is sample_texture's.
-void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm::vec2* uv, int n, glm::vec4* out) {
+void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm::vec2* uv, const UvGrad* g, int n,
+                     glm::vec4* out) {
     const ImageF& img = t.image;
     const int w = img.width(), h = img.height();
 #ifdef __AVX2__
     const bool codes = !t.codes.empty();
-    if (s.mag == scene::Filter::Linear && w >= 2 && h >= 2 && (codes || img.channels() == 4)) {
+    // Minified lanes (mip levels) are sampled one by one; the rest read level 0 here.
+    std::uint32_t magnified = 0;
+    const float c = minification_threshold(s);
+    for (int i = 0; i < n; ++i) {
+        const AnisoFootprint f = aniso_footprint(w, h, g[i]);
+        magnified |= std::uint32_t(!(f.iso_lod > c)) << i;
+    }
+    if (magnified && s.mag == scene::Filter::Linear && w >= 2 && h >= 2 && (codes || img.channels() == 4)) {
         alignas(32) float us[8], vs[8];
         for (int i = 0; i < 8; ++i) {
             const glm::vec2 q = uv[i < n ? i : 0];
@@ -160,7 +246,7 @@ void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm
         const __m256i inside = _mm256_and_si256(
             _mm256_and_si256(_mm256_cmpgt_epi32(ix, minus1), _mm256_cmpgt_epi32(_mm256_set1_epi32(w - 1), ix)),
             _mm256_and_si256(_mm256_cmpgt_epi32(iy, minus1), _mm256_cmpgt_epi32(_mm256_set1_epi32(h - 1), iy)));
-        const std::uint32_t lanes = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & ((1u << n) - 1u);
+        const std::uint32_t lanes = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & magnified;
         if (lanes) {
             // Texel indices of the footprint (0 in the lanes computed by sample_texture).
             const __m256i i00 = _mm256_and_si256(inside, _mm256_add_epi32(_mm256_mullo_epi32(iy, _mm256_set1_epi32(w)), ix));
@@ -186,12 +272,12 @@ void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm
             for (int c = 0; c < 4; ++c)
                 _mm256_store_ps(r[c], lerp(lerp(tex[0][c], tex[1][c], tx), lerp(tex[2][c], tex[3][c], tx), ty));
             for (int i = 0; i < n; ++i)
-                out[i] = (lanes >> i) & 1u ? glm::vec4(r[0][i], r[1][i], r[2][i], r[3][i]) : sample_texture(t, s, uv[i]);
+                out[i] = (lanes >> i) & 1u ? glm::vec4(r[0][i], r[1][i], r[2][i], r[3][i]) : sample_texture(t, s, uv[i], g[i]);
             return;
         }
     }
 #endif
-    for (int i = 0; i < n; ++i) out[i] = sample_texture(t, s, uv[i]);
+    for (int i = 0; i < n; ++i) out[i] = sample_texture(t, s, uv[i], g[i]);
 }
 }  // namespace
 
@@ -203,7 +289,7 @@ float material_alpha(const ShadeContext& ctx, const scene::Material& m, const Fr
     float a = m.base_color.a;
     if (in.has_uv)
         if (const scene::Texture* t = texture_of(ctx, m.base_color_texture))
-            a = a * sample_texture(*t, m.base_color_texture.sampler, in.uv).a;
+            a = a * sample_texture(*t, m.base_color_texture.sampler, in.uv).a;  // level 0: docs/raster.md
     return a * in.color.a;
 }
 
@@ -228,7 +314,7 @@ struct MaterialTextures {
     glm::vec3 C(m.base_color);
     if (in.has_uv)
         if (const scene::Texture* t = base_texture)
-            C = C * glm::vec3(sample ? *sample : sample_texture(*t, m.base_color_texture.sampler, in.uv));
+            C = C * glm::vec3(sample ? *sample : sample_texture(*t, m.base_color_texture.sampler, in.uv, in.uv_grad));
     return C * glm::vec3(in.color);
 }
 [[gnu::always_inline]] inline glm::vec3 base_color_step(const ShadeContext& ctx, const scene::Material& m,
@@ -454,14 +540,15 @@ void fill_lane(const ShadeContext& ctx, const scene::Material& m, const Material
     put(li.normal, in.normal);
     put(li.view_pos, in.view_pos);
     if (st.normal) {
-        put(li.nmap, glm::vec3(ls.normal ? *ls.normal : sample_texture(*st.normal, m.normal_texture.sampler, in.uv)));
+        put(li.nmap, glm::vec3(ls.normal ? *ls.normal : sample_texture(*st.normal, m.normal_texture.sampler, in.uv, in.uv_grad)));
         put(li.tangent, glm::vec3(in.tangent));
     }
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
         put(li.ctrl[k], in.ctrl[k]);
         if (st.ctrl[k])
             put(li.ctrl_tex[k], glm::vec3(ls.ctrl[k] ? *ls.ctrl[k]
-                                                    : sample_texture(*st.ctrl[k], m.wc.control_texture[k].sampler, in.uv)));
+                                                    : sample_texture(*st.ctrl[k], m.wc.control_texture[k].sampler, in.uv,
+                                                                     in.uv_grad)));
     }
 }
 
@@ -538,15 +625,16 @@ void shade_fragments(const ShadeContext& ctx, const scene::Material& m, const Fr
     // it (no draw constant), the normal map and control textures of `st`.
     constexpr int L = FragmentLanes::kLanes;
     glm::vec2 uv[L];
-    for (int i = 0; i < n; ++i) uv[i] = in[i].uv;
+    UvGrad grad[L];
+    for (int i = 0; i < n; ++i) uv[i] = in[i].uv, grad[i] = in[i].uv_grad;
     bool base_needed = false;
     if (tex.base && in[0].has_uv)
         for (int i = 0; i < n && !base_needed; ++i) base_needed = in[i].base == nullptr;
     glm::vec4 base_s[L], normal_s[L], ctrl_s[scene::kNumControlTargets][L];
-    if (base_needed) sample_texture8(*tex.base, m.base_color_texture.sampler, uv, n, base_s);
-    if (st.normal) sample_texture8(*st.normal, m.normal_texture.sampler, uv, n, normal_s);
+    if (base_needed) sample_texture8(*tex.base, m.base_color_texture.sampler, uv, grad, n, base_s);
+    if (st.normal) sample_texture8(*st.normal, m.normal_texture.sampler, uv, grad, n, normal_s);
     for (int k = 0; k < scene::kNumControlTargets; ++k)
-        if (st.ctrl[k]) sample_texture8(*st.ctrl[k], m.wc.control_texture[k].sampler, uv, n, ctrl_s[k]);
+        if (st.ctrl[k]) sample_texture8(*st.ctrl[k], m.wc.control_texture[k].sampler, uv, grad, n, ctrl_s[k]);
     auto samples_of = [&](int i) {
         LaneSamples ls;
         ls.base = base_needed ? &base_s[i] : nullptr;

@@ -72,14 +72,50 @@ const scene::Texture* texture_of(const ShadeContext& ctx, const scene::TextureRe
 //! period 2n).
 int wrap_texel(int i, int n, scene::Wrap w);
 
-//! Samples a texture at uv (GL conventions: texel centres at (i + 0.5) / n, v = 0 at row 0).
-//! Linear: bilinear of the 4 nearest texels; Nearest: floor(u * n). No mipmaps: the
-//! magnification filter is used everywhere. Non-finite uv reads texel (0, 0).
+//! Samples level 0 of a texture at uv with the magnification filter (GL conventions: texel
+//! centres at (i + 0.5) / n, v = 0 at row 0). Linear: bilinear of the 4 nearest texels; Nearest:
+//! floor(u * n). Non-finite uv reads texel (0, 0).
 //! Channels are widened to RGBA: 1 -> (g, g, g, 1), 2 -> (r, g, 0, 1), 3 -> (r, g, b, 1).
 glm::vec4 sample_texture(const ImageF& img, const scene::Sampler& s, glm::vec2 uv);
 //! The same value for a scene texture, read through its 8-bit codes where it has them
 //! (scene::TextureCodes: a quarter of the bytes, the same texel values).
 glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv);
+
+//! A fragment's texture-coordinate derivatives per pixel, d uv / d x and d uv / d y (the
+//! rasterizer's analytic derivatives of the perspective-correct interpolation; zero: none).
+struct UvGrad {
+    glm::vec2 dx{0.0f}, dy{0.0f};
+};
+
+//! GL's level of detail (GL 4.6 §8.14.1, isotropic, no bias): lambda = log2(rho),
+//! rho = max(|dx * (w, h)|, |dy * (w, h)|) in level-0 texels per pixel. -inf for zero derivatives,
+//! NaN for non-finite ones.
+float texture_lod(int w, int h, const UvGrad& g);
+
+//! Most samples along an anisotropic footprint (GL's usual MAX_TEXTURE_MAX_ANISOTROPY).
+inline constexpr int kMaxAnisotropy = 16;
+
+//! The anisotropic footprint of a pixel (the GL anisotropic filtering extension's model): with
+//! P_x = |dx * (w, h)| and P_y = |dy * (w, h)| in level-0 texels, `samples` N = min(ceil(P_max /
+//! P_min), kMaxAnisotropy) probes along the major axis (`major`: dx or dy in uv), each at
+//! lambda = log2(P_max / N). N = 1 is GL's isotropic filtering, lambda = texture_lod.
+struct AnisoFootprint {
+    int samples = 1;
+    float lod = 0.0f;
+    float iso_lod = 0.0f;  //!< log2(P_max) = texture_lod: <= c is magnification, whatever N
+    glm::vec2 major{0.0f};
+};
+AnisoFootprint aniso_footprint(int w, int h, const UvGrad& g);
+
+//! Samples a texture as GL does with mipmaps (GL 4.6 §8.14-8.15) and anisotropic filtering.
+//! iso_lod (aniso_footprint) <= c (c = 0.5 for a LINEAR magnification with a NEAREST_MIPMAP_*
+//! minification, else 0), or not a number: magnification, sample_texture above (no axis of the
+//! footprint spans more than a texel). Otherwise, with one probe, the minification filter `min` within a level and `mip` between levels: None,
+//! level 0; Nearest, level ceil(lambda + 1/2) - 1 (0 for lambda <= 1/2); Linear, levels
+//! floor(lambda) and floor(lambda) + 1 blended by the fraction of lambda. Levels past the last
+//! (Texture::mips) read the last. With N > 1 probes: the mean of N such minified samples at
+//! uv + major * ((i + 1/2) / N - 1/2).
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const UvGrad& g);
 
 // ---- The fragment ------------------------------------------------------------------------------
 
@@ -89,6 +125,7 @@ struct FragmentInput {
     glm::vec3 normal{0, 0, 1};     //!< interpolated, not yet normalised
     glm::vec4 tangent{0};          //!< interpolated xyz + handedness; valid if has_tangent
     glm::vec2 uv{0};
+    UvGrad uv_grad;                //!< d uv / d x, d uv / d y (valid if has_uv)
     glm::vec4 color{1};            //!< COLOR_0 (1 if absent)
     glm::vec3 ctrl[scene::kNumControlTargets]{};  //!< interpolated per-vertex control RGB
     bool has_tangent = false, has_uv = false, back = false;
@@ -121,7 +158,10 @@ struct FragmentOutput {
     float diffuse = 0, specular = 0;
 };
 
-//! Material alpha: base_color.a * texture.a * COLOR_0.a (for alpha mode MASK).
+//! Material alpha: base_color.a * texture.a * COLOR_0.a (for alpha mode MASK). The texture's
+//! alpha is read from level 0 with the magnification filter, never from mip levels: averaged
+//! alpha falls below the cutoff with distance and alpha-tested leaves would thin out and vanish
+//! (docs/raster.md "Texture filtering").
 float material_alpha(const ShadeContext& ctx, const scene::Material& m, const FragmentInput& in);
 
 //! Step 1 of the material: base colour factor x texture x COLOR_0, in the working space.

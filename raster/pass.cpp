@@ -176,7 +176,7 @@ inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk&
             if (!tex) return 0.0f;
             const FragmentInput in = interpolate(fr, ch, t, b);
             if (!in.has_uv) return 0.0f;
-            return sample_texture(*tex, m.intensity_texture.sampler, in.uv)[p.channel];
+            return sample_texture(*tex, m.intensity_texture.sampler, in.uv, in.uv_grad)[p.channel];
         }
         case PassValue::LayerId: {
             const DrawVertices& dv = fr.draws[t.draw];

@@ -86,6 +86,7 @@ inline void for_each_inside(const TriSetup& t, int x0, int x1, int y0, int y1, F
 struct Bary {
     float b[3];
     float depth;
+    float r;  //!< 1 / sum of e_i / w_i (the weights' normaliser; derivatives: bary_derivatives)
 };
 inline Bary perspective_bary(const TriSetup& t, const std::int64_t e[3]) {
     const float q0 = float(e[0]) * t.inv_w[0];
@@ -97,7 +98,27 @@ inline Bary perspective_bary(const TriSetup& t, const std::int64_t e[3]) {
     b.b[1] = q1 * r;
     b.b[2] = q2 * r;
     b.depth = t.depth[0] + b.b[1] * (t.depth[1] - t.depth[0]) + b.b[2] * (t.depth[2] - t.depth[0]);
+    b.r = r;
     return b;
+}
+
+//! The derivatives of perspective_bary's weights per pixel step in x and y, analytic: with
+//! q_i = e_i / w_i (affine in the pixel position, steps a_i = A_i * kSubpixelOne / w_i) and
+//! b_i = q_i / S, d b_i = (a_i - b_i * sum a) / S. Only the depth-free weights are set.
+inline void bary_derivatives(const TriSetup& t, const Bary& b, Bary& dx, Bary& dy) {
+    constexpr float k = float(kSubpixelOne);
+    float ax[3], ay[3];
+    for (int i = 0; i < 3; ++i) {
+        ax[i] = float(t.A[i]) * k * t.inv_w[i];
+        ay[i] = float(t.B[i]) * k * t.inv_w[i];
+    }
+    const float sx = (ax[0] + ax[1]) + ax[2], sy = (ay[0] + ay[1]) + ay[2];
+    for (int i = 0; i < 3; ++i) {
+        dx.b[i] = (ax[i] - b.b[i] * sx) * b.r;
+        dy.b[i] = (ay[i] - b.b[i] * sy) * b.r;
+    }
+    dx.depth = dy.depth = 0.0f;
+    dx.r = dy.r = 0.0f;
 }
 
 struct SetupCounters {

@@ -25,6 +25,17 @@ void interpolate(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary
     in.tangent = in.has_tangent ? lerp3(dv.view_tangent[i0], dv.view_tangent[i1], dv.view_tangent[i2]) : glm::vec4(0.0f);
     in.has_uv = p.uv0.size() == p.positions.size();
     in.uv = in.has_uv ? lerp3(p.uv0[i0], p.uv0[i1], p.uv0[i2]) : glm::vec2(0.0f);
+    in.uv_grad = {};
+    if (in.has_uv) {  // d uv / d x, d uv / d y for the textures' level of detail
+        Bary bx, by;
+        bary_derivatives(t, b, bx, by);
+        float ox[3], oy[3];
+        original_weights(ch, t, bx, ox);
+        original_weights(ch, t, by, oy);
+        const glm::vec2 e1 = p.uv0[i1] - p.uv0[i0], e2 = p.uv0[i2] - p.uv0[i0];
+        in.uv_grad.dx = e1 * ox[1] + e2 * ox[2];
+        in.uv_grad.dy = e1 * oy[1] + e2 * oy[2];
+    }
     in.color = p.colors.size() == p.positions.size() ? lerp3(p.colors[i0], p.colors[i1], p.colors[i2]) : glm::vec4(1.0f);
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
         const auto& c = p.control[k];

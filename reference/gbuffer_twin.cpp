@@ -25,20 +25,8 @@ struct Samplers {
         if (!ids.empty()) gl::DeleteSamplers(GLsizei(ids.size()), ids.data());
     }
     GLuint make(const scene::Sampler& s) {
-        auto wrap = [](scene::Wrap w) {
-            return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE
-                   : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
-        };
-        // No mipmaps: the magnification filter is used everywhere (raster/material.h sample_texture).
-        const GLint f = s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR;
-        GLuint id = 0;
-        gl::GenSamplers(1, &id);
-        ids.push_back(id);
-        gl::SamplerParameteri(id, GL_TEXTURE_MIN_FILTER, f);
-        gl::SamplerParameteri(id, GL_TEXTURE_MAG_FILTER, f);
-        gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
-        gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
-        return id;
+        ids.push_back(scene_sampler(s));
+        return ids.back();
     }
 };
 
@@ -85,7 +73,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
     gl::FrontFace(GL_CW);
     if (s.cull_backfaces) gl::CullFace(GL_BACK);
 
-    const GLuint prog = program(load_shader_file("gbuffer.vert.glsl"), load_shader_file("gbuffer.frag.glsl"),
+    const GLuint prog = program(load_shader_file("gbuffer.vert.glsl"), with_texture_filter(load_shader_file("gbuffer.frag.glsl")),
                                 "G-buffer twin");
     gl::UseProgram(prog);
     gl::GenVertexArrays(1, &vao);
@@ -127,7 +115,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
     // Scene textures, uploaded once.
     std::vector<Texture> tex(sc.textures.size());
     for (std::size_t i = 0; i < sc.textures.size(); ++i)
-        if (!sc.textures[i].image.empty()) tex[i] = Texture::upload(sc.textures[i].image);
+        if (!sc.textures[i].image.empty()) tex[i] = Texture::upload(sc.textures[i].image, sc.textures[i].mips);
     Samplers samplers;
     auto bind = [&](int unit, const scene::TextureRef& r) {
         const bool ok = r.texture >= 0 && r.texture < int(tex.size()) && tex[r.texture].valid();

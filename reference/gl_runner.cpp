@@ -11,6 +11,7 @@
 
 #include "reference/gl_api.h"
 #include "reference/gl_context.h"
+#include "scenes/scene.h"
 
 namespace aq::ref {
 
@@ -120,6 +121,42 @@ Texture Texture::upload(const ImageF& img) {
     gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
     check_gl("uploading a float texture");
     return t;
+}
+
+Texture Texture::upload(const ImageF& level0, const std::vector<ImageF>& mips) {
+    Texture t = upload(level0);
+    for (std::size_t k = 0; k < mips.size(); ++k) {
+        const ImageF& m = mips[k];
+        gl::TexImage2D(GL_TEXTURE_2D, GLint(k + 1), internal_format(t.c_), m.width(), m.height(), 0,
+                       pixel_format(t.c_), GL_FLOAT, m.data());
+    }
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, GLint(mips.size()));
+    check_gl("uploading mip levels");
+    return t;
+}
+
+std::string with_texture_filter(std::string src) {
+    const std::string mark = "#include_texture_filter";
+    const auto at = src.find(mark);
+    if (at == std::string::npos) throw Error("reference shader: no " + mark + " line");
+    return src.replace(at, mark.size(), load_shader_file("texture_filter.glsl"));
+}
+
+unsigned scene_sampler(const scene::Sampler& s) {
+    auto wrap = [](scene::Wrap w) {
+        return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
+    };
+    const bool near = s.min == scene::Filter::Nearest;
+    GLint min = near ? GL_NEAREST : GL_LINEAR;
+    if (s.mip == scene::MipFilter::Nearest) min = near ? GL_NEAREST_MIPMAP_NEAREST : GL_LINEAR_MIPMAP_NEAREST;
+    if (s.mip == scene::MipFilter::Linear) min = near ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
+    GLuint id = 0;
+    gl::GenSamplers(1, &id);
+    gl::SamplerParameteri(id, GL_TEXTURE_MIN_FILTER, min);
+    gl::SamplerParameteri(id, GL_TEXTURE_MAG_FILTER, s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR);
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
+    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
+    return id;
 }
 
 Texture::~Texture() {

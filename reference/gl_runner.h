@@ -21,7 +21,19 @@
 
 #include "core/image.h"
 
+namespace aq::scene {
+struct Sampler;
+}
+
 namespace aq::ref {
+
+//! A GL sampler object for a scene sampler: its wrap modes, magnification filter and
+//! minification filter within and between mip levels (raster/material.h sample_texture). The
+//! caller deletes it.
+unsigned scene_sampler(const scene::Sampler& s);
+//! A fragment shader's source with texture_filter.glsl (aq_texture: the CPU's anisotropic mip
+//! filtering) in place of its `#include_texture_filter` line.
+std::string with_texture_filter(std::string src);
 
 enum class Filter { Nearest, Linear };
 enum class Wrap { Clamp, Mirror };  //!< GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT
@@ -32,6 +44,9 @@ public:
     Texture() = default;
     Texture(int w, int h, int channels);  //!< uninitialised storage; 3 channels stored as RGBA32F
     static Texture upload(const ImageF& img);
+    //! Level 0 and the given mip levels 1, 2, ... (scene::Texture::mips: the CPU's own levels, so
+    //! both sides filter the same texels; GL_TEXTURE_MAX_LEVEL = mips.size()).
+    static Texture upload(const ImageF& level0, const std::vector<ImageF>& mips);
     ~Texture();
     Texture(Texture&& o) noexcept { *this = std::move(o); }
     Texture& operator=(Texture&& o) noexcept;

@@ -22,21 +22,6 @@ GLuint linear_sampler(GLint wrap) {
     return id;
 }
 
-//! A GL sampler with a scene sampler's filter and wrap modes (no mipmaps, as raster/material.h).
-GLuint scene_sampler(const scene::Sampler& s) {
-    auto wrap = [](scene::Wrap w) {
-        return w == scene::Wrap::ClampToEdge ? GL_CLAMP_TO_EDGE : w == scene::Wrap::MirroredRepeat ? GL_MIRRORED_REPEAT : GL_REPEAT;
-    };
-    const GLint f = s.mag == scene::Filter::Nearest ? GL_NEAREST : GL_LINEAR;
-    GLuint id = 0;
-    gl::GenSamplers(1, &id);
-    gl::SamplerParameteri(id, GL_TEXTURE_MIN_FILTER, f);
-    gl::SamplerParameteri(id, GL_TEXTURE_MAG_FILTER, f);
-    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_S, wrap(s.wrap_s));
-    gl::SamplerParameteri(id, GL_TEXTURE_WRAP_T, wrap(s.wrap_t));
-    return id;
-}
-
 //! A twin's fragment shader with ld06_common.glsl in place of its `#include_ld06_common` line.
 std::string ld06_fragment(const std::string& file) {
     std::string src = load_shader_file(file);
@@ -94,7 +79,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
     gl::FrontFace(GL_CW);  // the y flip mirrors the winding (as the G-buffer twin)
     gl::Disable(GL_CULL_FACE);
 
-    const GLuint prog = program(load_shader_file("pass.vert.glsl"), ld06_fragment("pass.frag.glsl"), "raster pass twin");
+    const GLuint prog = program(load_shader_file("pass.vert.glsl"), with_texture_filter(ld06_fragment("pass.frag.glsl")), "raster pass twin");
     gl::UseProgram(prog);
     gl::GenVertexArrays(1, &vao);
     gl::BindVertexArray(vao);
@@ -167,7 +152,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
             const int ti = m.base_color_texture.texture;
             if (mask && has_uv && ti >= 0 && ti < int(tex.size()) && !sc.textures[std::size_t(ti)].image.empty()) {
                 gl::ActiveTexture(GL_TEXTURE0);  // before the upload: it binds to the active unit
-                if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].image);
+                if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].image, sc.textures[std::size_t(ti)].mips);
                 gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ti)].id());
                 samplers.push_back(scene_sampler(m.base_color_texture.sampler));
                 gl::BindSampler(0, samplers.back());
@@ -177,7 +162,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
             const bool has_intensity = has_uv && ii >= 0 && ii < int(tex.size()) && !sc.textures[std::size_t(ii)].image.empty();
             if (has_intensity) {
                 gl::ActiveTexture(GL_TEXTURE3);
-                if (!tex[std::size_t(ii)].valid()) tex[std::size_t(ii)] = Texture::upload(sc.textures[std::size_t(ii)].image);
+                if (!tex[std::size_t(ii)].valid()) tex[std::size_t(ii)] = Texture::upload(sc.textures[std::size_t(ii)].image, sc.textures[std::size_t(ii)].mips);
                 gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ii)].id());
                 samplers.push_back(scene_sampler(m.intensity_texture.sampler));
                 gl::BindSampler(3, samplers.back());

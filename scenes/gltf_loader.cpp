@@ -378,12 +378,20 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
         ref.sampler.wrap_s = wrap(s.wrapS);
         ref.sampler.wrap_t = wrap(s.wrapT);
         ref.sampler.mag = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
-        // Mipmaps are not built: each minification filter maps to its base filter.
+        // minFilter: the filter within a level and between levels (GL's names: FILTER_MIPMAP_MIP).
+        // Undefined (or unknown) is trilinear (scene.h Sampler).
         ref.sampler.min = (s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ||
                            s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
                            s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR)
                               ? Filter::Nearest
                               : Filter::Linear;
+        switch (s.minFilter) {
+            case TINYGLTF_TEXTURE_FILTER_NEAREST:
+            case TINYGLTF_TEXTURE_FILTER_LINEAR: ref.sampler.mip = MipFilter::None; break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+            case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: ref.sampler.mip = MipFilter::Nearest; break;
+            default: ref.sampler.mip = MipFilter::Linear; break;
+        }
     }
     const std::string fallback = srgb ? "white base colour" : "flat normal";
     if (t.source < 0) {
@@ -423,7 +431,7 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
             tex.srgb = srgb;
             tex.codes = texture_codes(tex.image);      // 8-bit files: the texels as codes
             if (srgb) decode_srgb_texture(tex.image);  // glTF §3.9.2: base colour textures are sRGB
-            texture_codes_finish(tex.codes, tex.image);
+            finish_texture(tex);
             scene_.textures.push_back(std::move(tex));
             result = int(scene_.textures.size()) - 1;
         } catch (const BudgetError& e) {

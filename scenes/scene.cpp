@@ -124,6 +124,63 @@ void texture_codes_finish(TextureCodes& c, const ImageF& img) {
 }
 
 namespace {
+//! The taps of destination texel i of a mip level of n texels (texture_mip_level): index of the
+//! first source texel, count (1-3) and weights.
+struct MipTaps {
+    int first, count;
+    float w[3];
+};
+MipTaps mip_taps(int n, int i) {
+    if (n == 1) return {0, 1, {1.0f, 0.0f, 0.0f}};
+    if (n % 2 == 0) return {2 * i, 2, {0.5f, 0.5f, 0.0f}};
+    const int m = n / 2;
+    const float inv = 1.0f / float(n);
+    return {2 * i, 3, {float(m - i) * inv, float(m) * inv, float(i + 1) * inv}};
+}
+}  // namespace
+
+ImageF texture_mip_level(const ImageF& level) {
+    const int w = level.width(), h = level.height(), nc = level.channels();
+    const int w2 = std::max(1, w / 2), h2 = std::max(1, h / 2);
+    // Rows first (w -> w2 over every source row), then columns (h -> h2).
+    ImageF rows(w2, h, nc, kUninitialized);
+    for (int y = 0; y < h; ++y) {
+        const float* src = level.data() + std::size_t(y) * std::size_t(w) * std::size_t(nc);
+        float* dst = rows.data() + std::size_t(y) * std::size_t(w2) * std::size_t(nc);
+        for (int x = 0; x < w2; ++x) {
+            const MipTaps t = mip_taps(w, x);
+            for (int c = 0; c < nc; ++c) {
+                float sum = 0.0f;
+                for (int k = 0; k < t.count; ++k) sum += t.w[k] * src[std::size_t(t.first + k) * std::size_t(nc) + std::size_t(c)];
+                dst[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
+            }
+        }
+    }
+    ImageF out(w2, h2, nc, kUninitialized);
+    const std::size_t row = std::size_t(w2) * std::size_t(nc);
+    for (int y = 0; y < h2; ++y) {
+        const MipTaps t = mip_taps(h, y);
+        float* dst = out.data() + std::size_t(y) * row;
+        for (std::size_t j = 0; j < row; ++j) {
+            float sum = 0.0f;
+            for (int k = 0; k < t.count; ++k) sum += t.w[k] * rows.data()[std::size_t(t.first + k) * row + j];
+            dst[j] = sum;
+        }
+    }
+    return out;
+}
+
+void finish_texture(Texture& t) {
+    texture_codes_finish(t.codes, t.image);
+    t.mips.clear();
+    const ImageF* level = &t.image;
+    while (!level->empty() && (level->width() > 1 || level->height() > 1)) {
+        t.mips.push_back(texture_mip_level(*level));
+        level = &t.mips.back();
+    }
+}
+
+namespace {
 bool names_foliage(std::string n) {
     for (char& c : n) c = char(std::tolower(static_cast<unsigned char>(c)));
     for (const char* w : {"foliage", "leaf", "leaves"})

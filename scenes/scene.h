@@ -24,10 +24,16 @@ namespace aq::scene {
 
 enum class Wrap { Repeat, ClampToEdge, MirroredRepeat };
 enum class Filter { Nearest, Linear };
+//! How a minified texture uses its mip levels (GL's *_MIPMAP_* minification filters).
+enum class MipFilter { None, Nearest, Linear };
 
+//! A glTF sampler. `min` filters within a mip level, `mip` between levels (glTF minFilter 9984-9987
+//! set both; 9728/9729 give MipFilter::None). A sampler a file leaves undefined is trilinear
+//! (LINEAR_MIPMAP_LINEAR): docs/raster.md "Texture filtering".
 struct Sampler {
     Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
-    Filter mag = Filter::Linear, min = Filter::Linear;  //!< mipmaps are not used: min maps to its base filter
+    Filter mag = Filter::Linear, min = Filter::Linear;
+    MipFilter mip = MipFilter::Linear;
 };
 
 //! The texels of an 8-bit texture as codes, with the float each code stands for: texel (x, y) as
@@ -58,7 +64,22 @@ struct Texture {
     bool srgb = false;  //!< the file declares the values sRGB-encoded (glTF base colour)
     //! The same texels as 8-bit codes where the file held 8-bit values (loaders fill it; may be empty).
     TextureCodes codes;
+    //! Mip levels 1, 2, ... (level 0 is `image`): level k is max(1, w >> k) x max(1, h >> k), down
+    //! to 1 x 1, each the area average of the level above (texture_mip_level), in the values
+    //! `image` holds (linear light for sRGB textures). Built once by finish_texture; empty: only
+    //! level 0 (then every minified sample reads level 0).
+    std::vector<ImageF> mips;
 };
+
+//! The next mip level of `level`: max(1, w / 2) x max(1, h / 2) texels, each the area average of
+//! the texels its footprint covers (2 taps per axis for an even size; for an odd size the 3 taps
+//! of the exact box, weights (n' - i, n', i + 1) / n with n' = n / 2 — the NPOT mipmapping of
+//! NVIDIA's "Non-Power-of-Two Mipmap Creation" note). Separable, rows then columns, float sums
+//! in tap order: the same bits on every machine and thread count.
+ImageF texture_mip_level(const ImageF& level);
+//! The loaders' last step for a texture whose `image` (and codes) are final: texture_codes_finish,
+//! then every mip level down to 1 x 1. The levels add at most a third of the image's bytes.
+void finish_texture(Texture& t);
 
 struct TextureRef {
     int texture = -1;  //!< index into Scene::textures, -1 = none

@@ -163,7 +163,7 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
             // The rasterizer decodes a control texel t as 2t - 1 (raster/material.cpp); store the
             // mapped value v = file*scale + bias as (v + 1) / 2 so it decodes to exactly v.
             for (std::size_t i = 0; i < t.image.num_values(); ++i) d[i] = (d[i] * r.scale + r.bias + 1.0f) * 0.5f;
-            texture_codes_finish(t.codes, t.image);
+            finish_texture(t);
             scene.textures.push_back(std::move(t));
             ti = int(scene.textures.size()) - 1;
             tex_cache[key] = ti;
@@ -578,7 +578,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                     t.name = file;
                     t.image = read_texture_file(t.name, &d.scene.decode_budget);
                     t.codes = texture_codes(t.image);
-                    texture_codes_finish(t.codes, t.image);
+                    finish_texture(t);
                     d.scene.textures.push_back(std::move(t));
                     intensity = intensity_of[file] = int(d.scene.textures.size()) - 1;
                 }

@@ -7,8 +7,10 @@
 // the key light; WC17 reflectance with the key light: DA = max((L.N + dA - 1) / dA, 0),
 // Cc = C + DA c, Cd = d DA (Cp - Cc) + Cc; + specular, clamped; optional object-space turbulence
 // (eq. 6). Control = interpolated vertex value + material constant + control texture (2t - 1),
-// clamped to [-1, 1]. Textures are sampled with the scene's wrap and filter, no mipmaps.
+// clamped to [-1, 1]. Textures are sampled with the scene's wrap and filters, mipmapped with the
+// CPU's own levels (GL's level of detail from its derivatives; the CPU's are analytic).
 #version 450 core
+#include_texture_filter
 in vec3 v_view_pos;
 in vec3 v_normal;
 in vec4 v_tangent;
@@ -65,20 +67,22 @@ vec3 base_color_to_working(vec3 c) {
 }
 
 vec4 ctrl_tex(int k) {
-    if (k == 0) return texture(s_ctrl0, v_uv);
-    if (k == 1) return texture(s_ctrl1, v_uv);
-    if (k == 2) return texture(s_ctrl2, v_uv);
-    return texture(s_ctrl3, v_uv);
+    if (k == 0) return aq_texture(s_ctrl0, v_uv);
+    if (k == 1) return aq_texture(s_ctrl1, v_uv);
+    if (k == 2) return aq_texture(s_ctrl2, v_uv);
+    return aq_texture(s_ctrl3, v_uv);
 }
 
 void main() {
-    vec4 base = (u_has_uv && u_has_base_tex) ? texture(s_base, v_uv) : vec4(1.0);
-    if (u_alpha_mask && u_base_color.a * base.a * v_color.a < u_alpha_cutoff) discard;
+    vec4 base = (u_has_uv && u_has_base_tex) ? aq_texture(s_base, v_uv) : vec4(1.0);
+    // The alpha test reads level 0 (lod 0: the magnification filter), as raster/material.h material_alpha.
+    float base_a = (u_has_uv && u_has_base_tex) ? textureLod(s_base, v_uv, 0.0).a : 1.0;
+    if (u_alpha_mask && u_base_color.a * base_a * v_color.a < u_alpha_cutoff) discard;
     vec3 C = base_color_to_working(u_base_color.rgb * base.rgb * v_color.rgb);
 
     vec3 N = safe_normalize(v_normal);
     if (u_has_uv && u_has_tangent && u_has_normal_tex) {
-        vec4 s = texture(s_normal, v_uv);
+        vec4 s = aq_texture(s_normal, v_uv);
         vec3 tn = vec3((s.xy * 2.0 - 1.0) * u_normal_scale, s.z * 2.0 - 1.0);
         vec3 T = safe_normalize(v_tangent.xyz);
         vec3 B = cross(N, T) * (v_tangent.w < 0.0 ? -1.0 : 1.0);

@@ -6,6 +6,7 @@
 // clamped sum equals the sequential clamp of eq. 12), over (ONE, ONE_MINUS_SRC_ALPHA).
 #version 450 core
 #include_ld06_common
+#include_texture_filter
 in vec3 v_view_pos;
 in vec3 v_normal;
 in vec2 v_uv;
@@ -42,7 +43,7 @@ uniform sampler2D s_intensity;
 void main() {
     if (u_alpha_mask) {
         float a = u_base_alpha * v_color.a;
-        if (u_has_base_tex) a *= texture(s_base, v_uv).a;
+        if (u_has_base_tex) a *= textureLod(s_base, v_uv, 0.0).a;  // level 0, as material_alpha
         if (a < u_alpha_cutoff) discard;
     }
     float fd = (-v_view_pos.z - u_depth_near) / (u_depth_far - u_depth_near);
@@ -69,7 +70,7 @@ void main() {
         if (u_shadow_test == 2) D = rgba8(D);
         v = 1.0 - visibility(D, ld, u_shadow_test == 0 ? 0.0 : u_shadow_delta, u_shadow_beta);
     } else if (u_value == 4) {
-        v = u_has_intensity ? texture(s_intensity, v_uv)[u_channel] : 0.0;
+        v = u_has_intensity ? aq_texture(s_intensity, v_uv)[u_channel] : 0.0;
     }
     if (u_blend == 2) {
         float a = fv * u_alpha;

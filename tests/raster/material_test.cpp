@@ -168,6 +168,127 @@ TEST(Texture, EightBitCodesOnlyForEightBitValues) {
     EXPECT_TRUE(scene::texture_codes(img).empty());
 }
 
+// Mip levels (scene::texture_mip_level): GL's sizes max(1, n / 2) down to 1 x 1, and each level
+// is the area average of the one above: an even size averages texel pairs exactly; for odd sizes
+// (the three-tap box) the mean over the level is kept, and a constant stays that constant.
+TEST(Texture, MipLevelsHaveGlSizesAndKeepTheAreaAverage) {
+    std::mt19937 rng(5);
+    scene::Texture t;
+    t.image = ImageF(13, 6, 3);
+    for (std::size_t i = 0; i < t.image.num_values(); ++i) t.image.data()[i] = float(rng() % 1000) / 999.0f;
+    scene::finish_texture(t);
+    ASSERT_EQ(t.mips.size(), 3u);  // 13x6 -> 6x3 -> 3x1 -> 1x1
+    const int sizes[3][2] = {{6, 3}, {3, 1}, {1, 1}};
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(t.mips[k].width(), sizes[k][0]);
+        EXPECT_EQ(t.mips[k].height(), sizes[k][1]);
+        EXPECT_EQ(t.mips[k].channels(), 3);
+    }
+    auto mean = [](const ImageF& im, int c) {
+        double s = 0;
+        for (int y = 0; y < im.height(); ++y)
+            for (int x = 0; x < im.width(); ++x) s += im.at(x, y, c);
+        return s / (double(im.width()) * im.height());
+    };
+    for (int c = 0; c < 3; ++c)
+        for (const ImageF& m : t.mips) EXPECT_NEAR(mean(m, c), mean(t.image, c), 2e-6) << "channel " << c;
+    // Rows: 13 is odd, so texel 0 of level 1 weighs source texels 0, 1, 2 by 6/13, 6/13, 1/13;
+    // columns: 6 is even, rows 0 and 1 by 1/2 each.
+    auto row = [&](int y, int c) {
+        return (6.0f / 13.0f) * t.image.at(0, y, c) + (6.0f / 13.0f) * t.image.at(1, y, c) + (1.0f / 13.0f) * t.image.at(2, y, c);
+    };
+    EXPECT_NEAR(t.mips[0].at(0, 0, 1), 0.5f * row(0, 1) + 0.5f * row(1, 1), 1e-6f);
+    ImageF flat(7, 9, 4, 0.3f);
+    for (ImageF lv = flat; lv.width() > 1 || lv.height() > 1;) {
+        lv = scene::texture_mip_level(lv);
+        for (std::size_t i = 0; i < lv.num_values(); ++i) ASSERT_NEAR(lv.data()[i], 0.3f, 1e-6f);
+    }
+    scene::Texture one;
+    one.image = ImageF(1, 1, 4, 0.5f);
+    scene::finish_texture(one);
+    EXPECT_TRUE(one.mips.empty());
+}
+
+// Sampling with derivatives is GL's: no derivatives (or magnified, or NaN ones) read level 0 with
+// the magnification filter, bit for bit the sample without derivatives; a checkerboard of single
+// texels seen 4 texels per pixel reads as its average (it would alias to black or white without
+// mip levels); trilinear blends the two nearest levels by the fraction of the level of detail;
+// MipFilter::None minifies on level 0; derivatives past the last level read the 1 x 1 average.
+TEST(Texture, MinifiedSamplesReadTheMipLevelsAsGlDoes) {
+    scene::Texture t;
+    t.image = ImageF(64, 64, 1);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) t.image.at(x, y, 0) = float((x + y) % 2);
+    scene::finish_texture(t);
+    scene::Sampler s;  // trilinear, repeat
+    const glm::vec2 uv(0.3f, 0.55f);
+    auto same = [](glm::vec4 a, glm::vec4 b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    EXPECT_TRUE(same(sample_texture(t, s, uv, {}), sample_texture(t, s, uv)));
+    EXPECT_TRUE(same(sample_texture(t, s, uv, {{0.5f / 64, 0}, {0, 0.5f / 64}}), sample_texture(t, s, uv)));
+    EXPECT_TRUE(same(sample_texture(t, s, uv, {{NAN, 0}, {0, 0}}), sample_texture(t, s, uv)));
+    EXPECT_FLOAT_EQ(texture_lod(64, 64, {{4.0f / 64, 0}, {0, 1.0f / 64}}), 2.0f);
+    for (float u = 0.1f; u < 0.9f; u += 0.037f)
+        EXPECT_NEAR(sample_texture(t, s, {u, 0.4f}, {{4.0f / 64, 0}, {0, 4.0f / 64}}).r, 0.5f, 1e-6f);
+    // lambda = 1.5 on a noise texture: halfway between levels 1 and 2 (read alone at lambda 1, 2).
+    scene::Texture n;
+    n.image = ImageF(64, 64, 1);
+    std::mt19937 rng(9);
+    for (std::size_t i = 0; i < n.image.num_values(); ++i) n.image.data()[i] = float(rng() % 256) / 255.0f;
+    scene::finish_texture(n);
+    const float k15 = std::exp2(1.5f) / 64;
+    const UvGrad g15{{k15, 0}, {0, k15}};
+    const float l1 = sample_texture(n, s, uv, {{2.0f / 64, 0}, {0, 2.0f / 64}}).r;
+    const float l2 = sample_texture(n, s, uv, {{4.0f / 64, 0}, {0, 4.0f / 64}}).r;
+    ASSERT_GT(std::abs(l1 - l2), 1e-3f);
+    EXPECT_NEAR(sample_texture(n, s, uv, g15).r, 0.5f * (l1 + l2), 1e-5f);
+    scene::Sampler none = s;
+    none.mip = scene::MipFilter::None;
+    none.min = scene::Filter::Nearest;
+    const float v = sample_texture(t, none, {0.3f, 0.55f}, {{4.0f / 64, 0}, {0, 4.0f / 64}}).r;
+    EXPECT_TRUE(v == 0.0f || v == 1.0f);  // a texel of level 0
+    // A gradient image: far past the last level, the 1 x 1 average.
+    scene::Texture r;
+    r.image = ImageF(8, 4, 1);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) r.image.at(x, y, 0) = float(x) / 7.0f;
+    scene::finish_texture(r);
+    EXPECT_NEAR(sample_texture(r, s, uv, {{1e6f, 0}, {0, 1e6f}}).r, 0.5f, 1e-6f);
+    EXPECT_NEAR(sample_texture(r, s, uv, {{INFINITY, 0}, {0, INFINITY}}).r, 0.5f, 1e-6f);
+}
+
+// Anisotropic footprints (aniso_footprint): a pixel 8 texels long and 1 wide takes 8 probes at
+// level 0 along its long axis. Stripes across the long axis average to grey; stripes along it keep
+// their contrast (isotropic filtering at lambda = 3 would blur them to grey too). Ratios beyond
+// kMaxAnisotropy are capped and the level rises to cover the rest.
+TEST(Texture, AnisotropicFootprintsKeepTheDetailAlongTheirShortAxis) {
+    auto stripes = [](bool along_x) {
+        scene::Texture t;
+        t.image = ImageF(64, 64, 1);
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) t.image.at(x, y, 0) = float((along_x ? x : y) % 2);
+        scene::finish_texture(t);
+        return t;
+    };
+    const scene::Texture vertical = stripes(true), horizontal = stripes(false);
+    const UvGrad g{{8.0f / 64, 0}, {0, 1.0f / 64}};
+    const AnisoFootprint f = aniso_footprint(64, 64, g);
+    EXPECT_EQ(f.samples, 8);
+    EXPECT_FLOAT_EQ(f.lod, 0.0f);
+    scene::Sampler s;
+    for (int k = 0; k < 10; ++k) {
+        const float u = 0.1f + 0.07f * float(k);
+        const float v = (float(20 + k) + 0.5f) / 64.0f;  // a texel row's centre
+        EXPECT_NEAR(sample_texture(vertical, s, {u, v}, g).r, 0.5f, 0.07f) << k;
+        const float across = sample_texture(horizontal, s, {u, v}, g).r;
+        EXPECT_NEAR(across, float((20 + k) % 2), 1e-5f) << k;
+        const UvGrad iso{{8.0f / 64, 0}, {0, 8.0f / 64}};
+        EXPECT_NEAR(sample_texture(horizontal, s, {u, v}, iso).r, 0.5f, 1e-5f) << k;
+    }
+    const AnisoFootprint capped = aniso_footprint(64, 64, {{64.0f / 64, 0}, {0, 1.0f / 64}});
+    EXPECT_EQ(capped.samples, kMaxAnisotropy);
+    EXPECT_FLOAT_EQ(capped.lod, 2.0f);  // 64 texels / 16 probes = 4 texels each
+}
+
 TEST(VertexStage, TremorOffsetAndBleedDisplacement) {
     TremorParams p;  // MNPR defaults: 4 px, front 0.4, speed 10, frequency 10
     const glm::vec3 n(0, 0, 1), v(0, 0, 1);
@@ -230,10 +351,11 @@ TEST(ShadeFragments, EachLaneIsShadeFragment) {
         tx.image = ImageF(13, 11, 4);
         for (std::size_t i = 0; i < tx.image.num_values(); ++i) tx.image.data()[i] = float(rng() % 256) / 255.0f;
         tx.codes = scene::texture_codes(tx.image);
-        scene::texture_codes_finish(tx.codes, tx.image);
+        scene::finish_texture(tx);  // codes and mip levels, as the loaders do
         ASSERT_FALSE(tx.codes.empty());
         sc.textures.push_back(tx);
     }
+    scene::finish_texture(sc.textures[0]);  // a float texture with mip levels (1 and 2 have none)
     const scene::Wrap wraps[] = {scene::Wrap::Repeat, scene::Wrap::ClampToEdge, scene::Wrap::MirroredRepeat};
     int fragments = 0, nan_lanes = 0, mixed = 0;
     for (int trial = 0; trial < 3000; ++trial) {
@@ -245,6 +367,8 @@ TEST(ShadeFragments, EachLaneIsShadeFragment) {
         m.base_color_texture.sampler.wrap_s = wraps[rng() % 3];
         m.base_color_texture.sampler.wrap_t = wraps[rng() % 3];
         if (rng() % 4 == 0) m.base_color_texture.sampler.mag = scene::Filter::Nearest;
+        if (rng() % 4 == 0) m.base_color_texture.sampler.min = scene::Filter::Nearest;
+        m.base_color_texture.sampler.mip = scene::MipFilter(rng() % 3);
         if (rng() % 2) m.normal_texture.texture = 1, m.normal_texture.scale = U(-1, 2);
         for (int k = 0; k < scene::kNumControlTargets; ++k) {
             m.wc.control[k] = {U(-1, 1), odd(U(-1, 1)), U(-1, 1), 0};
@@ -278,6 +402,9 @@ TEST(ShadeFragments, EachLaneIsShadeFragment) {
             f.tangent = {odd(U(-1, 1)), U(-1, 1), U(-1, 1), rng() % 2 ? -1.0f : odd(1.0f)};
             // Mostly inside the texture (a batch's footprints in one register), else anywhere.
             f.uv = rng() % 3 ? glm::vec2(odd(U(0, 1)), U(0, 1)) : glm::vec2(odd(U(-2, 2)), U(-2, 2));
+            // Magnified (level 0, the batch's register path), minified (mip levels) or odd.
+            const float g = rng() % 2 ? U(0, 0.05f) : U(0, 1.5f);
+            f.uv_grad = {{odd(g), U(-g, g)}, {U(-g, g), odd(g)}};
             f.color = {U(0, 1), U(0, 1), odd(U(0, 1)), 1};
             for (int k = 0; k < scene::kNumControlTargets; ++k)
                 f.ctrl[k] = {odd(U(-1.5f, 1.5f)), U(-1.5f, 1.5f), U(-1.5f, 1.5f)};

@@ -238,3 +238,49 @@ TEST(TriangleSetup, BoundsOnTheWidestGridReachTheLastColumn) {
 
 }  // namespace
 }  // namespace aq::raster
+
+namespace aq::raster {
+namespace {
+
+// bary_derivatives (the textures' level of detail) is the derivative of perspective_bary: it
+// matches the central difference of the weights at the neighbouring pixels, for every setup of a
+// perspective mesh (clipped ones included) with enough pixels around. Wrong scale (the sub-pixel
+// factor), sign or normaliser would be off by far more than the second-order difference error.
+TEST(TriangleSetup, BarycentricDerivativesAreThoseOfThePerspectiveWeights) {
+    Mesh m;
+    make_mesh(m, 77);
+    const SetupRun r = one_by_one(m, 0, {});
+    int checked = 0;
+    double worst = 0;
+    for (const TriSetup& t : r.setups)
+        for (int y = t.y0 + 1; y < t.y1; ++y)
+            for (int x = t.x0 + 1; x < t.x1; ++x) {
+                std::int64_t e[5][3];
+                const int off[5][2] = {{0, 0}, {1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+                bool all = true;
+                for (int k = 0; k < 5; ++k) {
+                    edge_values(t, x + off[k][0], y + off[k][1], e[k]);
+                    all = all && inside(t, e[k]);
+                }
+                if (!all) continue;
+                const Bary b = perspective_bary(t, e[0]);
+                Bary dx, dy;
+                bary_derivatives(t, b, dx, dy);
+                const Bary px = perspective_bary(t, e[1]), mx = perspective_bary(t, e[2]);
+                const Bary py = perspective_bary(t, e[3]), my = perspective_bary(t, e[4]);
+                for (int i = 0; i < 3; ++i) {
+                    const double fx = 0.5 * (double(px.b[i]) - mx.b[i]), fy = 0.5 * (double(py.b[i]) - my.b[i]);
+                    const double ex = std::abs(fx - dx.b[i]) / (1e-4 + std::abs(fx));
+                    const double ey = std::abs(fy - dy.b[i]) / (1e-4 + std::abs(fy));
+                    worst = std::max({worst, ex, ey});
+                    ASSERT_LT(ex, 0.05) << "d/dx of weight " << i << " at " << x << "," << y << ": " << dx.b[i] << " vs " << fx;
+                    ASSERT_LT(ey, 0.05) << "d/dy of weight " << i << " at " << x << "," << y << ": " << dy.b[i] << " vs " << fy;
+                }
+                ++checked;
+            }
+    EXPECT_GT(checked, 1000);
+    RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+}  // namespace
+}  // namespace aq::raster

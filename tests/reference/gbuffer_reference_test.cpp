@@ -35,6 +35,14 @@ constexpr double kMaxIdMismatch = 0.005;        //!< covered in both, different 
 constexpr double kMaxDepthRelError = 1e-3;
 constexpr double kAttrAbsTol = 1.0 / 255.0;     //!< per-value error counted as "off"
 constexpr double kMaxAttrOffFraction = 0.01;    //!< same-object values beyond kAttrAbsTol
+//! The colour of a scene with textures: the twin filters as the CPU does (texture_filter.glsl:
+//! the same mip levels, probes and level of detail) but from GL's derivatives, differences over
+//! 2x2 quads, where the CPU's are analytic, so where a texture is minified the level blend and
+//! the probes differ slightly (docs/reference.md). Measured at 192x108: Fox 1.1 % of values
+//! beyond 1/255 (mean 4.7e-4), BoxTextured (NEAREST_MIPMAP_LINEAR: a texel switch within a level)
+//! 2.4 % (mean 5.4e-4).
+constexpr double kMaxTexturedColorOffFraction = 0.05;
+constexpr double kMaxTexturedColorMean = 1e-3;
 
 struct GStats {
     double coverage_mismatch = 0, id_mismatch = 0, depth_rel_p999 = 0, depth_rel_max = 0;
@@ -130,7 +138,14 @@ void check_scene(const std::string& name, const std::string& label, const raster
     EXPECT_LE(s.coverage_mismatch, kMaxCoverageMismatch) << name << " " << label;
     EXPECT_LE(s.id_mismatch, kMaxIdMismatch) << name << " " << label;
     EXPECT_LE(s.depth_rel_p999, kMaxDepthRelError) << name << " " << label;
+    const bool textured = !d.scene.textures.empty();
     for (auto& [t, v] : s.attr) {
+        if (textured && t == target::kColor) {
+            EXPECT_LE(v.second, kMaxTexturedColorOffFraction) << name << " " << label << " " << t;
+            EXPECT_LE(s.attr_mean.at(t), kMaxTexturedColorMean) << name << " " << label << " " << t;
+            ok = ok && v.second <= kMaxTexturedColorOffFraction && s.attr_mean.at(t) <= kMaxTexturedColorMean;
+            continue;
+        }
         EXPECT_LE(v.second, kMaxAttrOffFraction) << name << " " << label << " " << t;
         ok = ok && v.second <= kMaxAttrOffFraction;
     }
