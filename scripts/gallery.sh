@@ -52,4 +52,7 @@ for m in "${bare_models[@]}"; do
     done
   fi
 done
+# Each render writes its provenance manifest beside the picture (docs/provenance.md); the gallery
+# keeps the pictures only (a manifest names this machine's paths and build).
+find "$out" -name '*.png.json' -delete
 echo "gallery: wrote $(find "$out" -name '*.png' | wc -l) images under $out/"

@@ -66,4 +66,7 @@ for view in near:45 far:250; do
     --targets-png "$tmp/fig11_$name"
   for t in ld06.particles.medium ld06.particles.wash; do cp "$tmp/fig11_$name/$t.png" "$out/fig11_${name}_$t.png"; done
 done
+# Each render writes its provenance manifest beside the picture (docs/provenance.md); the gallery
+# keeps the pictures only (a manifest names this machine's paths and build).
+find "$out" -name '*.png.json' -delete
 echo "ld06 gallery: wrote $(find "$out" -name '*.png' | wc -l) images under $out/"
