@@ -141,13 +141,6 @@ glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::
     return sample_level0(t, s.mag, s, uv);
 }
 
-float texture_lod(int w, int h, const UvGrad& g) {
-    const float ax = g.dx.x * float(w), ay = g.dx.y * float(h);
-    const float bx = g.dy.x * float(w), by = g.dy.y * float(h);
-    const float rho2 = std::max(ax * ax + ay * ay, bx * bx + by * by);
-    return 0.5f * std::log2(rho2);  // log2(sqrt(rho2)); log2(0) = -inf
-}
-
 namespace {
 //! One minified sample at level of detail `lod` (> c): GL's minification filter `min` within a
 //! level and `mip` between levels.
@@ -187,8 +180,9 @@ AnisoFootprint aniso_footprint(int w, int h, const UvGrad& g) {
     return f;
 }
 
-glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const UvGrad& g) {
-    const AnisoFootprint f = aniso_footprint(t.image.width(), t.image.height(), g);
+namespace {
+//! sample_texture with the pixel's footprint (aniso_footprint) computed already.
+glm::vec4 sample_footprint(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const AnisoFootprint& f) {
     if (!(f.iso_lod > minification_threshold(s))) return sample_level0(t, s.mag, s, uv);  // NaN too
     if (f.samples == 1) return sample_minified(t, s, uv, f.lod);
     // Anisotropic: samples spread evenly along the footprint's major axis, each at the level of
@@ -200,6 +194,11 @@ glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::
         sum += sample_minified(t, s, uv + f.major * o, f.lod);
     }
     return sum * inv;
+}
+}  // namespace
+
+glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const UvGrad& g) {
+    return sample_footprint(t, s, uv, aniso_footprint(t.image.width(), t.image.height(), g));
 }
 
 namespace {
@@ -213,15 +212,14 @@ void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm
                      glm::vec4* out) {
     const ImageF& img = t.image;
     const int w = img.width(), h = img.height();
+    AnisoFootprint fp[FragmentLanes::kLanes];
+    for (int i = 0; i < n; ++i) fp[i] = aniso_footprint(w, h, g[i]);
 #ifdef __AVX2__
     const bool codes = !t.codes.empty();
     // Minified lanes (mip levels) are sampled one by one; the rest read level 0 here.
     std::uint32_t magnified = 0;
     const float c = minification_threshold(s);
-    for (int i = 0; i < n; ++i) {
-        const AnisoFootprint f = aniso_footprint(w, h, g[i]);
-        magnified |= std::uint32_t(!(f.iso_lod > c)) << i;
-    }
+    for (int i = 0; i < n; ++i) magnified |= std::uint32_t(!(fp[i].iso_lod > c)) << i;
     if (magnified && s.mag == scene::Filter::Linear && w >= 2 && h >= 2 && (codes || img.channels() == 4)) {
         alignas(32) float us[8], vs[8];
         for (int i = 0; i < 8; ++i) {
@@ -272,12 +270,12 @@ void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm
             for (int c = 0; c < 4; ++c)
                 _mm256_store_ps(r[c], lerp(lerp(tex[0][c], tex[1][c], tx), lerp(tex[2][c], tex[3][c], tx), ty));
             for (int i = 0; i < n; ++i)
-                out[i] = (lanes >> i) & 1u ? glm::vec4(r[0][i], r[1][i], r[2][i], r[3][i]) : sample_texture(t, s, uv[i], g[i]);
+                out[i] = (lanes >> i) & 1u ? glm::vec4(r[0][i], r[1][i], r[2][i], r[3][i]) : sample_footprint(t, s, uv[i], fp[i]);
             return;
         }
     }
 #endif
-    for (int i = 0; i < n; ++i) out[i] = sample_texture(t, s, uv[i], g[i]);
+    for (int i = 0; i < n; ++i) out[i] = sample_footprint(t, s, uv[i], fp[i]);
 }
 }  // namespace
 

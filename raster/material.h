@@ -87,22 +87,19 @@ struct UvGrad {
     glm::vec2 dx{0.0f}, dy{0.0f};
 };
 
-//! GL's level of detail (GL 4.6 §8.14.1, isotropic, no bias): lambda = log2(rho),
-//! rho = max(|dx * (w, h)|, |dy * (w, h)|) in level-0 texels per pixel. -inf for zero derivatives,
-//! NaN for non-finite ones.
-float texture_lod(int w, int h, const UvGrad& g);
-
 //! Most samples along an anisotropic footprint (GL's usual MAX_TEXTURE_MAX_ANISOTROPY).
 inline constexpr int kMaxAnisotropy = 16;
 
 //! The anisotropic footprint of a pixel (the GL anisotropic filtering extension's model): with
 //! P_x = |dx * (w, h)| and P_y = |dy * (w, h)| in level-0 texels, `samples` N = min(ceil(P_max /
 //! P_min), kMaxAnisotropy) probes along the major axis (`major`: dx or dy in uv), each at
-//! lambda = log2(P_max / N). N = 1 is GL's isotropic filtering, lambda = texture_lod.
+//! lambda = log2(P_max / N). N = 1 is GL's isotropic filtering.
 struct AnisoFootprint {
     int samples = 1;
     float lod = 0.0f;
-    float iso_lod = 0.0f;  //!< log2(P_max) = texture_lod: <= c is magnification, whatever N
+    //! GL's isotropic level of detail (GL 4.6 §8.14.1, no bias), log2(P_max): <= c is
+    //! magnification, whatever N; -inf for zero derivatives, NaN for non-finite ones.
+    float iso_lod = 0.0f;
     glm::vec2 major{0.0f};
 };
 AnisoFootprint aniso_footprint(int w, int h, const UvGrad& g);

@@ -378,19 +378,16 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
         ref.sampler.wrap_s = wrap(s.wrapS);
         ref.sampler.wrap_t = wrap(s.wrapT);
         ref.sampler.mag = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
-        // minFilter: the filter within a level and between levels (GL's names: FILTER_MIPMAP_MIP).
+        // minFilter (GL's names: FILTER_MIPMAP_MIP): the filter within a level and between levels.
         // Undefined (or unknown) is trilinear (scene.h Sampler).
-        ref.sampler.min = (s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ||
-                           s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST ||
-                           s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR)
-                              ? Filter::Nearest
-                              : Filter::Linear;
+        auto min_mip = [&](Filter f, MipFilter m) { ref.sampler.min = f, ref.sampler.mip = m; };
         switch (s.minFilter) {
-            case TINYGLTF_TEXTURE_FILTER_NEAREST:
-            case TINYGLTF_TEXTURE_FILTER_LINEAR: ref.sampler.mip = MipFilter::None; break;
-            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
-            case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: ref.sampler.mip = MipFilter::Nearest; break;
-            default: ref.sampler.mip = MipFilter::Linear; break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST: min_mip(Filter::Nearest, MipFilter::None); break;
+            case TINYGLTF_TEXTURE_FILTER_LINEAR: min_mip(Filter::Linear, MipFilter::None); break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: min_mip(Filter::Nearest, MipFilter::Nearest); break;
+            case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: min_mip(Filter::Linear, MipFilter::Nearest); break;
+            case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: min_mip(Filter::Nearest, MipFilter::Linear); break;
+            default: min_mip(Filter::Linear, MipFilter::Linear); break;
         }
     }
     const std::string fallback = srgb ? "white base colour" : "flat normal";

@@ -143,12 +143,14 @@ ImageF texture_mip_level(const ImageF& level) {
     const int w = level.width(), h = level.height(), nc = level.channels();
     const int w2 = std::max(1, w / 2), h2 = std::max(1, h / 2);
     // Rows first (w -> w2 over every source row), then columns (h -> h2).
+    std::vector<MipTaps> xt(std::size_t(w2), MipTaps{});
+    for (int x = 0; x < w2; ++x) xt[std::size_t(x)] = mip_taps(w, x);
     ImageF rows(w2, h, nc, kUninitialized);
     for (int y = 0; y < h; ++y) {
         const float* src = level.data() + std::size_t(y) * std::size_t(w) * std::size_t(nc);
         float* dst = rows.data() + std::size_t(y) * std::size_t(w2) * std::size_t(nc);
         for (int x = 0; x < w2; ++x) {
-            const MipTaps t = mip_taps(w, x);
+            const MipTaps& t = xt[std::size_t(x)];
             for (int c = 0; c < nc; ++c) {
                 float sum = 0.0f;
                 for (int k = 0; k < t.count; ++k) sum += t.w[k] * src[std::size_t(t.first + k) * std::size_t(nc) + std::size_t(c)];

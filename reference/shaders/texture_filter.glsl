@@ -1,9 +1,11 @@
 // texture_filter.glsl — raster/material.h sample_texture's filtering on the CPU's own mip levels
 // (uploaded by Texture::upload(level0, mips)): the footprint of aniso_footprint, i.e. N probes
 // along the major axis, N = min(ceil(P_max / P_min), 16), each textureLod at
-// lambda = log2(P_max / N), averaged; log2(P_max) <= 0 is magnification (textureLod at 0: GL
-// applies the sampler's c itself), one probe GL's isotropic filtering. The derivatives are GL's differences
-// (dFdx/dFdy over the 2x2 quad); the CPU's are analytic (docs/reference.md).
+// lambda = log2(P_max / N), averaged; log2(P_max) <= 0 is magnification (textureLod at 0), one
+// probe GL's isotropic filtering (GL applies the sampler's c there itself). Not mirrored: the
+// CPU's c = 0.5 of NEAREST_MIPMAP_* samplers with several probes and 0 < log2(P_max) <= 0.5
+// (GLSL cannot read a sampler's filters); the CPU magnifies, this probes. The derivatives are
+// GL's differences (dFdx/dFdy over the 2x2 quad); the CPU's are analytic (docs/reference.md).
 const int kMaxAnisotropy = 16;  // raster/material.h kMaxAnisotropy
 vec4 aq_texture(sampler2D s, vec2 uv) {
     vec2 size = vec2(textureSize(s, 0));

@@ -476,7 +476,9 @@ TEST(Textures, LoadedWithSamplerAndMaterialFields) {
     EXPECT_EQ(m.base_color_texture.sampler.wrap_t, Wrap::MirroredRepeat);
     EXPECT_EQ(m.base_color_texture.sampler.mag, Filter::Nearest);
     EXPECT_EQ(m.base_color_texture.sampler.min, Filter::Linear);
+    EXPECT_EQ(m.base_color_texture.sampler.mip, MipFilter::Linear);  // 9987 LINEAR_MIPMAP_LINEAR
     EXPECT_EQ(m.normal_texture.sampler.wrap_s, Wrap::Repeat);  // no sampler: glTF defaults
+    EXPECT_EQ(m.normal_texture.sampler.mip, MipFilter::Linear);  // undefined: trilinear
     EXPECT_FLOAT_EQ(m.normal_texture.scale, 0.5f);
     EXPECT_EQ(m.alpha_mode, AlphaMode::Mask);
     EXPECT_FLOAT_EQ(m.alpha_cutoff, 0.3f);
@@ -569,8 +571,15 @@ TEST(Textures, RealSamplersMapToWrapAndFilter) {
     EXPECT_EQ(s.textures[std::size_t(t.texture)].image.width(), 211);
     EXPECT_EQ(t.sampler.mag, Filter::Linear);
     EXPECT_EQ(t.sampler.min, Filter::Nearest);
+    EXPECT_EQ(t.sampler.mip, MipFilter::Linear);
     EXPECT_EQ(t.sampler.wrap_s, Wrap::MirroredRepeat);
     EXPECT_EQ(t.sampler.wrap_t, Wrap::ClampToEdge);
+    // Its mip levels, built at load: 211 -> 105 -> 52 -> 26 -> 13 -> 6 -> 3 -> 1.
+    const std::vector<ImageF>& mips = s.textures[std::size_t(t.texture)].mips;
+    ASSERT_EQ(mips.size(), 7u);
+    EXPECT_EQ(mips[0].width(), 105);
+    EXPECT_EQ(mips.back().width(), 1);
+    EXPECT_EQ(mips.back().height(), 1);
 }
 
 TEST(Materials, BlendIsKeptAndDefaultMaterialAppended) {
