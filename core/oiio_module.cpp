@@ -14,8 +14,8 @@
 namespace aq::oiio_module {
 namespace {
 
-// PNG with alpha goes through OpenImageIO's writer (grey and RGB PNG are core/png.h), which turns
-// the associated alpha of memory into PNG's unassociated alpha (and its reader back), with these
+// PNG with alpha goes through OpenImageIO's writer (grey and RGB PNG are core/png.h), told that
+// memory holds straight alpha as PNG does (oiio:UnassociatedAlpha, on read too), with these
 // settings, chosen for speed (issue 13): zlib level 1 and no row filter (libpng's
 // PNG_FILTER_NONE). Measured on WC18 1080p Suzanne frames, 12-frame CLI animation, 2 cores:
 // libpng's defaults (level 6, adaptive filters) 845-911 ms/frame and 2.78 MB/frame; level 1 +
@@ -46,6 +46,9 @@ std::string decode(const unsigned char* bytes, std::size_t size, const char* for
     OIIO::ImageSpec config;
     void* proxy = &mem;
     config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    // Straight (unassociated) alpha in memory, as the files that hold it (PNG, TGA) store it and as
+    // glTF 2.0 defines its textures: OpenImageIO would otherwise multiply colour by alpha on read.
+    config.attribute("oiio:UnassociatedAlpha", 1);
     OIIO::ImageSpec opened;
     if (!in->open(fake_name, opened, config)) {
         const std::string e = in->geterror();
@@ -68,6 +71,10 @@ std::string encode(const EncodeRequest& r, std::vector<unsigned char>& out) {
     // 8-bit images are display images: sRGB-encoded in either working space (docs/look.md), tagged
     // so (the PNG writer emits an sRGB chunk). Float files hold the working-space values untagged.
     if (eight_bit) spec.attribute("oiio:ColorSpace", "sRGB");
+    // Our RGBA images hold straight alpha (the G-buffer colour: docs/raster.md "Targets"): written
+    // as they are. Without this the PNG writer divides colour by alpha (it takes memory as
+    // associated), which turned every partly covered pixel of a --style none image white.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     if (r.extension == ".png") {
         spec.attribute("png:compressionLevel", r.stored ? 0 : kPngCompressionLevel);
         spec.attribute("png:filter", kPngFilterNone);

@@ -1,8 +1,7 @@
 // core/png.h — the PNG encoder of display images (issue 13: animations at 1080p).
 //
-// Every other format, and PNG images with alpha, are encoded by OpenImageIO (core/oiio_module.cpp):
-// its writer converts memory's associated alpha to PNG's unassociated alpha, and this encoder does
-// not repeat that. Grey and RGB PNG (every stylised --out image) are written here because the
+// Every other format, and PNG images with alpha, are encoded by OpenImageIO (core/oiio_module.cpp),
+// told that memory holds straight alpha as PNG does; this encoder writes grey and RGB only. Grey and RGB PNG (every stylised --out image) are written here because the
 // deflate step is most of an animation's writing time and OpenImageIO's PNG writer (libpng) can
 // only use zlib. The deflate is ISA-L's igzip (a Debian library; kPngIsalLevel below): 2x faster
 // than libdeflate's level 1 on our 1080p frames, which was 2.2x faster than zlib's

@@ -172,6 +172,17 @@ ImageF texture_mip_level(const ImageF& level) {
     return out;
 }
 
+namespace {
+//! A colour texture with some texel less than opaque: its levels average colour weighted by alpha.
+bool has_coverage_alpha(const Texture& t) {
+    if (!t.srgb || t.image.channels() != 4) return false;
+    const float* p = t.image.data();
+    for (std::size_t i = 0, n = t.image.num_values(); i < n; i += 4)
+        if (p[i + 3] != 1.0f) return true;
+    return false;
+}
+}  // namespace
+
 void finish_texture(Texture& t) {
     texture_codes_finish(t.codes, t.image);
     t.mips.clear();
@@ -179,6 +190,23 @@ void finish_texture(Texture& t) {
     while (!level->empty() && (level->width() > 1 || level->height() > 1)) {
         t.mips.push_back(texture_mip_level(*level));
         level = &t.mips.back();
+    }
+    if (!has_coverage_alpha(t)) return;
+    // Straight alpha (glTF): the colour of a level is the alpha-weighted average, the average of the
+    // premultiplied colours divided by the average alpha, so the colour of transparent texels
+    // (often white or black in leaf atlases) does not bleed into the leaves' colour as they shrink.
+    // Where no texel of the footprint has alpha, the plain average (the level as built above).
+    ImageF pre = t.image;
+    float* q = pre.data();
+    for (std::size_t i = 0, n = pre.num_values(); i < n; i += 4)
+        for (int c = 0; c < 3; ++c) q[i + c] *= q[i + 3];
+    for (ImageF& lv : t.mips) {
+        pre = texture_mip_level(pre);
+        const float* p = pre.data();
+        float* d = lv.data();
+        for (std::size_t i = 0, n = lv.num_values(); i < n; i += 4)
+            if (p[i + 3] > 0.0f)
+                for (int c = 0; c < 3; ++c) d[i + c] = p[i + c] / p[i + 3];
     }
 }
 

@@ -66,8 +66,9 @@ struct Texture {
     TextureCodes codes;
     //! Mip levels 1, 2, ... (level 0 is `image`): level k is max(1, w >> k) x max(1, h >> k), down
     //! to 1 x 1, each the area average of the level above (texture_mip_level), in the values
-    //! `image` holds (linear light for sRGB textures). Built once by finish_texture; empty: only
-    //! level 0 (then every minified sample reads level 0).
+    //! `image` holds (linear light for sRGB textures; colour weighted by alpha in a colour texture
+    //! with transparent texels). Built once by finish_texture; empty: only level 0 (then every
+    //! minified sample reads level 0).
     std::vector<ImageF> mips;
 };
 

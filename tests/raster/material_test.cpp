@@ -209,6 +209,44 @@ TEST(Texture, MipLevelsHaveGlSizesAndKeepTheAreaAverage) {
     EXPECT_TRUE(one.mips.empty());
 }
 
+// A colour texture with transparent texels (glTF straight alpha: leaf atlases) averages colour
+// weighted by alpha, so the transparent texels' colour (here white) does not pale the leaves as
+// they shrink; alpha is the plain average; a footprint with no alpha keeps the plain average; an
+// opaque colour texture and a data texture (not sRGB) have the plain levels.
+TEST(Texture, ColourLevelsWeighColourByAlpha) {
+    scene::Texture t;
+    t.srgb = true;
+    t.image = ImageF(4, 1, 4);
+    const float texels[4][4] = {{0.8f, 0.2f, 0.1f, 1.0f}, {1, 1, 1, 0}, {0.4f, 0.6f, 0.2f, 0.5f}, {1, 1, 1, 0}};
+    for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 4; ++c) t.image.at(x, 0, c) = texels[x][c];
+    scene::finish_texture(t);
+    ASSERT_EQ(t.mips.size(), 2u);
+    EXPECT_FLOAT_EQ(t.mips[0].at(0, 0, 0), 0.8f);  // the leaf's colour, not halfway to white
+    EXPECT_FLOAT_EQ(t.mips[0].at(0, 0, 1), 0.2f);
+    EXPECT_FLOAT_EQ(t.mips[0].at(0, 0, 3), 0.5f);
+    EXPECT_FLOAT_EQ(t.mips[0].at(1, 0, 0), 0.4f);
+    EXPECT_FLOAT_EQ(t.mips[0].at(1, 0, 3), 0.25f);
+    // Level 2: (0.8 * 1 + 0.4 * 0.5) / 1.5 = 0.6667 in red.
+    EXPECT_NEAR(t.mips[1].at(0, 0, 0), (0.8f + 0.2f) / 1.5f, 1e-6f);
+    EXPECT_FLOAT_EQ(t.mips[1].at(0, 0, 3), 0.375f);
+    scene::Texture clear = t;
+    for (int x = 0; x < 4; ++x) clear.image.at(x, 0, 3) = 0.0f;
+    scene::finish_texture(clear);
+    EXPECT_FLOAT_EQ(clear.mips[0].at(0, 0, 0), 0.9f);  // (0.8 + 1) / 2
+    for (bool srgb : {true, false}) {
+        scene::Texture plain = t;
+        plain.srgb = srgb;
+        if (srgb)
+            for (int x = 0; x < 4; ++x) plain.image.at(x, 0, 3) = 1.0f;
+        scene::finish_texture(plain);
+        for (std::size_t k = 0; k < plain.mips.size(); ++k) {
+            const ImageF ref = scene::texture_mip_level(k == 0 ? plain.image : plain.mips[k - 1]);
+            EXPECT_EQ(std::memcmp(ref.data(), plain.mips[k].data(), ref.num_values() * sizeof(float)), 0) << srgb << k;
+        }
+    }
+}
+
 // Sampling with derivatives is GL's: no derivatives (or magnified, or NaN ones) read level 0 with
 // the magnification filter, bit for bit the sample without derivatives; a checkerboard of single
 // texels seen 4 texels per pixel reads as its average (it would alias to black or white without
