@@ -89,6 +89,8 @@ options:
                         rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
   --ssaa K              ordered-grid supersampling K x K, K in [1, 4] (default 1)
+  --antialias A         coverage | none: at --ssaa 1, silhouette pixels get the coverage of the
+                        4x4 samples of --ssaa 4 (default coverage); none: one sample per pixel
   --compression C       fast | none: how PNG and EXR files are compressed, losslessly either way
                         (default fast: PNG deflated by ISA-L's igzip at level 2, EXR PIZ). none
                         writes ~2.3x larger 1080p PNG frames, faster where the disk keeps up
@@ -181,8 +183,8 @@ options:
                           no report); then assemble with the same axes and --from-cells
   --from-cells            make the sheet from the cells in --cells DIR instead of rendering
   --width W, --height H   size of each combination's image (default 640x360)
-  --frame N, --control C, --working-space W, --threads N, --row-groups, --allow-outside-files,
-  --quiet                 as in render
+  --frame N, --control C, --working-space W, --antialias A, --threads N, --row-groups,
+  --allow-outside-files, --quiet as in render
   --help                  this text
 )";
 
@@ -222,6 +224,10 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
         const std::string v = a.value(arg);
         if (v != "neutral" && v != "default") throw UsageError("--control expects default or neutral, got '" + v + "'");
         o.neutral_control = v == "neutral";
+    } else if (arg == "--antialias") {
+        const std::string v = a.value(arg);
+        if (v != "coverage" && v != "none") throw UsageError("--antialias expects coverage or none, got '" + v + "'");
+        o.antialias = v == "none" ? aq::raster::RenderSettings::Antialias::None : aq::raster::RenderSettings::Antialias::Coverage;
     } else if (arg == "--working-space") {
         const std::string v = a.value(arg);
         if (v != "display" && v != "linear") throw UsageError("--working-space expects display or linear, got '" + v + "'");

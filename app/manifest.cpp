@@ -66,6 +66,7 @@ json request_json(const RenderJob& job, const RenderedImage& img) {
         {"fps", o.fps},
         {"orbit_deg", o.orbit_deg},
         {"ssaa", o.ssaa},
+        {"antialias", o.antialias == raster::RenderSettings::Antialias::None ? "none" : "coverage"},
         {"control", o.neutral_control ? "neutral" : "default"},
         {"working_space", o.working_space == WorkingSpace::Linear ? "linear" : "display"},
         {"compression", compression_name(o.compression)},
@@ -301,6 +302,11 @@ RenderOptions options_from(const json& m, const std::string& where, const std::s
     const std::string ws = rd.string(at(r, "working_space"), "request.working_space");
     if (ws != "display" && ws != "linear") throw Error(w + ": working_space '" + ws + "' is not display or linear");
     o.working_space = ws == "linear" ? WorkingSpace::Linear : WorkingSpace::Display;
+    // Manifests written before --antialias existed have no key: their images had one sample per
+    // pixel, so they reproduce with none (the same bytes as then).
+    const std::string aa = r.contains("antialias") ? rd.string(r.at("antialias"), "request.antialias") : "none";
+    if (aa != "coverage" && aa != "none") throw Error(w + ": antialias '" + aa + "' is not coverage or none");
+    o.antialias = aa == "none" ? raster::RenderSettings::Antialias::None : raster::RenderSettings::Antialias::Coverage;
     // Manifests written before --compression existed have no key: their files were compressed "fast".
     const std::string comp = r.contains("compression") ? rd.string(r.at("compression"), "request.compression") : "fast";
     if (!compression_from_name(comp, o.compression)) throw Error(w + ": compression '" + comp + "' is not fast or none");

@@ -118,6 +118,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
     rs.height = o.height ? o.height : (desc.height ? desc.height : 720);
     rs.ssaa = o.ssaa;
+    rs.antialias = o.antialias;
     rs.fps = float(o.fps > 0 ? o.fps : desc.fps);
     rs.exec = o.reference ? Exec::reference() : Exec::fast(o.threads);
     check_image_size(rs.width, rs.height, "output");

@@ -63,6 +63,8 @@ struct RenderOptions {
     //! the same bytes, a schedule for machines whose cache is smaller than a frame.
     bool row_groups = false;
     WorkingSpace working_space = WorkingSpace::Display;
+    //! --antialias: coverage antialiasing of the silhouettes at ssaa 1 (docs/raster.md).
+    raster::RenderSettings::Antialias antialias = raster::RenderSettings::Antialias::Coverage;
     //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
     Compression compression = Compression::Fast;
     //! `aquarelle grid` (app/grid.h): render these combinations of --variant/--set assignments

@@ -17,6 +17,8 @@
 //   BM_RasterCold  — render_gbuffer(): allocates and zero-fills fresh targets every call (the
 //                    page faults of ~224 MB at 1080p are part of the time);
 //   BM_RasterFrameCull — BM_RasterFrame with cull_backfaces (dragons only, 1080p);
+//   BM_RasterFrameNoAA — BM_RasterFrame with antialias None: one sample per pixel, without the
+//                    coverage pass along the silhouettes (what the default's antialiasing costs);
 //   BM_RasterFrameTargets — BM_RasterFrame writing a subset of the targets (set 0: all ten, 108
 //                    B/px; 1: what WC18 reads, colour + four controls + depth, 84 B/px; 2: colour +
 //                    depth, 20 B/px): what the G-buffer's bytes cost, for issue 13's compact formats.
@@ -81,7 +83,7 @@ std::uint32_t target_set(int i) {
 }
 
 void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0, bool rewrite = false,
-         bool animate = false) {
+         bool animate = false, bool coverage = true) {
     const int mi = int(state.range(0));
     const int w = int(state.range(1)), h = int(state.range(2)), threads = int(state.range(3));
     const aq::scene::Scene& s = model(mi);
@@ -93,6 +95,7 @@ void run(benchmark::State& state, bool reuse, bool cull = false, int targets = 0
     st.frame = 1;
     st.cull_backfaces = cull;
     st.targets = target_set(targets);
+    if (!coverage) st.antialias = aq::raster::RenderSettings::Antialias::None;
     aq::Targets out;
     if (reuse) aq::raster::render_gbuffer_into(out, s, cam, st);  // first frame: allocation
     for (auto _ : state) {
@@ -120,6 +123,7 @@ void BM_RasterFrameCull(benchmark::State& state) { run(state, true, true); }
 void BM_RasterFrameTargets(benchmark::State& state) { run(state, true, false, int(state.range(4))); }
 void BM_RasterFrameRewrite(benchmark::State& state) { run(state, true, false, 0, true); }
 void BM_RasterFrameAnimated(benchmark::State& state) { run(state, true, false, 0, false, true); }
+void BM_RasterFrameNoAA(benchmark::State& state) { run(state, true, false, 0, false, false, false); }
 
 void args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"model", "w", "h", "threads"});
@@ -133,6 +137,7 @@ void args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_RasterFrame)->Apply(args);
 BENCHMARK(BM_RasterCold)->Apply(args);
+BENCHMARK(BM_RasterFrameNoAA)->Apply(args);
 // Same as BM_RasterFrame with back-face culling (closed meshes: the same visible surfaces, about
 // half the triangles set up and rasterized).
 BENCHMARK(BM_RasterFrameCull)

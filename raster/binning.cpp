@@ -106,6 +106,9 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                     r.clips.clear();
                     r.bin_offsets.clear();
                     r.bin_items.clear();
+                    r.fine_offsets.clear();
+                    r.fine_items.clear();
+                    r.bounds.clear();
                     r.counters = SetupCounters{};
                 } else {
                     fr.chunks.emplace_back();
@@ -131,9 +134,10 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
         // (stable, so each tile's list stays in submission order). The 104-byte setups are
         // written once and not re-read here.
-        std::vector<std::uint64_t> pairs;
+        std::vector<std::uint64_t> pairs, fine;  // fine: the sub-pixel setups (coverage pass only)
         pairs.reserve(c.size);
         c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
+        c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
         for (const Chunk::Segment& sg : c.segments) {
             const DrawVertices& dv = fr.draws[sg.draw];
             for (std::uint32_t t = sg.begin; t < sg.end;) {
@@ -143,19 +147,33 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                 t = te;
                 for (; k < c.tris.size(); ++k) {
                     const TriSetup& st = c.tris[k];
-                    for (int ty = st.y0 / kTile; ty <= st.y1 / kTile; ++ty)
-                        for (int tx = st.x0 / kTile; tx <= st.x1 / kTile; ++tx) {
+                    if (fr.sopt.keep_subpixel) c.bounds.push_back({st.x0, st.y0, st.x1, st.y1});
+                    // Bounds widened by the frame's bin margin (the coverage pass: samples one
+                    // pixel beyond the pixel-centre bounds), clamped to the raster.
+                    const int m = fr.bin_margin;
+                    const int bx0 = std::max(st.x0 - m, 0) / kTile, bx1 = std::min(st.x1 + m, fr.fp.vp.width - 1) / kTile;
+                    const int by0 = std::max(st.y0 - m, 0) / kTile, by1 = std::min(st.y1 + m, fr.fp.vp.height - 1) / kTile;
+                    const bool sub = st.subpixel();
+                    std::vector<std::uint32_t>& offsets = sub ? c.fine_offsets : c.bin_offsets;
+                    std::vector<std::uint64_t>& to = sub ? fine : pairs;
+                    for (int ty = by0; ty <= by1; ++ty)
+                        for (int tx = bx0; tx <= bx1; ++tx) {
                             const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
-                            ++c.bin_offsets[tile + 1];
-                            pairs.push_back(std::uint64_t(tile) << 32 | k);
+                            ++offsets[tile + 1];
+                            to.push_back(std::uint64_t(tile) << 32 | k);
                         }
                 }
             }
         }
-        for (int i = 0; i < ntiles; ++i) c.bin_offsets[i + 1] += c.bin_offsets[i];
-        c.bin_items.resize(pairs.size());
-        std::vector<std::uint32_t> fill(c.bin_offsets.begin(), c.bin_offsets.end() - 1);
-        for (const std::uint64_t p : pairs) c.bin_items[fill[p >> 32]++] = std::uint32_t(p);
+        auto sort = [ntiles](std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
+                             const std::vector<std::uint64_t>& ps) {
+            for (int i = 0; i < ntiles; ++i) offsets[i + 1] += offsets[i];
+            items.resize(ps.size());
+            std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+            for (const std::uint64_t p : ps) items[fill[p >> 32]++] = std::uint32_t(p);
+        };
+        sort(c.bin_offsets, c.bin_items, pairs);
+        if (!c.fine_offsets.empty()) sort(c.fine_offsets, c.fine_items, fine);
     });
     SetupCounters total;
     std::size_t nsetup = 0, nbinned = 0;

@@ -176,6 +176,10 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
     bool clear = false;
     std::vector<std::uint8_t> kept;  // per tile: the reused targets hold only background there
     PhaseTimer timer;
+    // Coverage antialiasing (docs/raster.md): single-sample G-buffers only.
+    const bool aa = mode == Mode::GBuffer && K == 1 && s.antialias == RenderSettings::Antialias::Coverage;
+    fr.bin_margin = aa ? 1 : 0;
+    fr.sopt.keep_subpixel = aa;
     auto body = [&] {
         prepare(fr, sc, cam, fast, fast, warnings, timer);
         timer.lap("setup+bin");
@@ -204,8 +208,16 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             tp = pointers(tg);  // clears the stamps: stamped again below once written whole
         }
         timer.lap("allocate");
+        CoverageBits cov;
+        if (aa) cov.reset(W, H);
         if (!fast) {
             raster_reference(fr, tp, W, H, count);
+            if (aa) {
+                cov.from_alpha(tp);
+                timer.lap("raster");
+                coverage_reference(fr, tp, cov);
+                timer.lap("coverage");
+            }
         } else {
             const int ntiles = fr.tiles_x * fr.tiles_y;
             std::vector<std::uint8_t> background(std::size_t(ntiles), 0);
@@ -218,8 +230,17 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             }
             tbb::parallel_for(0, ntiles, [&](int tile) {
                 const std::size_t t = std::size_t(tile);
-                raster_tile(fr, tp, W, H, tile, count, clear && !(kept[t] && background[t]));
+                raster_tile(fr, tp, W, H, tile, count, clear && !(kept[t] && background[t]), aa ? &cov : nullptr);
             });
+            if (aa) {
+                timer.lap("raster");
+                // A tile along a silhouette may have been written by the pass even if no
+                // triangle was binned to it: not kept as background for the next frame.
+                tbb::parallel_for(0, ntiles, [&](int tile) {
+                    if (coverage_tile(fr, tp, cov, tile)) background[std::size_t(tile)] = 0;
+                });
+                timer.lap("coverage");
+            }
             if (mode == Mode::GBuffer && K == 1) FrameScratch::record(tg, W, H, fr.background_depth, std::move(background));
         }
         timer.lap("raster");

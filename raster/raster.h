@@ -33,6 +33,10 @@ struct TremorParams {
 struct RenderSettings {
     int width = 1280, height = 720;
     int ssaa = 1;                   //!< ordered-grid supersampling factor per axis, [1, 4]
+    //! Silhouette antialiasing when ssaa == 1 (docs/raster.md "Coverage antialiasing"): Coverage
+    //! gives the pixels along silhouettes the coverage of the 4x4 samples of ssaa 4 as alpha (and
+    //! the uncovered ones there their covered neighbours' values); None keeps one sample per pixel.
+    enum class Antialias { None, Coverage } antialias = Antialias::Coverage;
     int frame = 0;                  //!< frame number; T = frame / fps drives the tremor
     float fps = 24;
     Exec exec;                      //!< threads; Reference = plain per-pixel reference rasterizer

@@ -65,6 +65,15 @@ struct Chunk {
     std::vector<ClipVerts> clips;
     std::vector<std::uint32_t> bin_offsets;  // per tile, CSR into bin_items (fast path only)
     std::vector<std::uint32_t> bin_items;
+    //! The sub-pixel setups (TriSetup::kSubpixelBit, coverage pass only), binned apart so that
+    //! the traversal never reads them; empty without SetupOptions::keep_subpixel.
+    std::vector<std::uint32_t> fine_offsets, fine_items;
+    //! Per setup: its pixel-centre bounds (x0, y0, x1, y1), 8 bytes instead of the 104 of the
+    //! record, for the coverage pass's scan of a tile's bins (filled with keep_subpixel only).
+    struct Bounds {
+        std::int16_t x0, y0, x1, y1;
+    };
+    std::vector<Bounds> bounds;
     SetupCounters counters;
 };
 
@@ -87,6 +96,10 @@ struct Frame {
     std::vector<Chunk> chunks;
     int tiles_x = 0, tiles_y = 0;
     float background_depth = 0;
+    //! Pixels by which a triangle's bounds are widened when binned: 1 for the coverage pass (its
+    //! samples reach one pixel beyond the pixel-centre bounds), else 0. Only adds triangles whose
+    //! clamped range in a tile is empty to the traversal's bins: no effect on the pixels.
+    int bin_margin = 0;
 };
 
 //! Whether any triangle was binned to `tile` (fast path); a tile without one shows only background.
@@ -117,6 +130,27 @@ using DrawFilter = std::function<bool(const scene::Instance&, const scene::Primi
 //! Vertex stage and chunked triangle setup (+ binning into kTile tiles when `bin`).
 void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
              std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter = nullptr);
+
+// coverage.cpp (docs/raster.md "Coverage antialiasing")
+constexpr int kCoverageGrid = 4;  //!< samples per axis: those of ssaa 4
+constexpr int kCoverageSamples = kCoverageGrid * kCoverageGrid;
+//! Which pixels the single-sample traversal covered: one bit per pixel, rows of kTile-pixel words
+//! (word tx of row y is tile column tx, so each tile writes its own words).
+struct CoverageBits {
+    int W = 0, H = 0, words = 0;
+    std::vector<std::uint64_t> bits;
+    void reset(int w, int h);                       //!< W x H, nothing covered
+    void from_alpha(const TargetPtrs& tp);          //!< covered = colour alpha > 0 (the reference's)
+    std::uint64_t& word(int tx, int y) { return bits[std::size_t(y) * words + tx]; }
+    std::uint64_t word(int tx, int y) const { return bits[std::size_t(y) * words + tx]; }
+    bool at(int x, int y) const { return (word(x / 64, y) >> (x % 64)) & 1; }
+};
+static_assert(kTile == 64, "CoverageBits: one 64-bit word per tile row");
+//! The plain reference loop of the coverage pass over the whole image.
+void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov);
+//! The coverage pass of one tile (fast schedule, after every tile's traversal). Returns whether
+//! the tile has pixels along a silhouette (it may have written some).
+bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile);
 
 // tile.cpp
 //! Weights of the fragment on the original triangle's vertices (through the clip table for
@@ -150,7 +184,9 @@ void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float
 void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, float* zbuf, TileRef* ids);
 //! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.
 //! `clear`: write the background pixels too (else the targets already hold them).
-void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear);
+//! `cov`, when given, receives the tile's coverage bits.
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear,
+                 CoverageBits* cov = nullptr);
 //! Writes the background values of pixel i into every target.
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);
 

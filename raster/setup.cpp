@@ -73,12 +73,19 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
     py0 = std::max<std::int64_t>(py0, 0);
     px1 = std::min<std::int64_t>(px1, vp.width - 1);
     py1 = std::min<std::int64_t>(py1, vp.height - 1);
-    if (px0 > px1 || py0 > py1) return false;
+    // No pixel centre: dropped, or kept for the coverage pass when a centre is within a pixel
+    // (the samples lie within 3/8 px of a centre).
+    bool subpixel = px0 > px1 || py0 > py1;
+    if (subpixel && !(opt.keep_subpixel && px0 <= px1 + 1 && py0 <= py1 + 1)) return false;
     const std::int64_t area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
     if (area == 0) return false;  // degenerate after snapping
     // y-down screen: counter-clockwise in NDC (glTF front face) has negative area here.
     const bool back = area > 0;
     if (back && opt.cull_backfaces && !double_sided) return false;
+    // Sub-pixel triangles are kept for the silhouettes' samples: a closed mesh's silhouette is
+    // covered by its front faces alone (a ray that hits it enters through one), so a single-sided
+    // back face adds nothing there.
+    if (subpixel && back && !double_sided) return false;
     int order[3] = {0, 1, 2};
     if (area < 0) {
         order[1] = 2;
@@ -96,7 +103,7 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
     t.y1 = std::int16_t(py1);
     // Small-triangle fast path: most triangles of dense meshes cover at most a few pixel centres
     // of their bounds; a triangle that covers none is dropped here instead of being binned.
-    if ((px1 - px0 + 1) * (py1 - py0 + 1) <= kSmallTrianglePixels) {
+    if (!subpixel && (px1 - px0 + 1) * (py1 - py0 + 1) <= kSmallTrianglePixels) {
         bool any = false;
         for (int py = t.y0; py <= t.y1 && !any; ++py)
             for (int px = t.x0; px <= t.x1 && !any; ++px) {
@@ -104,14 +111,16 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
                 edge_values(t, px, py, e);
                 any = inside(t, e);
             }
-        if (!any) return false;
+        if (!any && (!opt.keep_subpixel || (back && !double_sided))) return false;  // as above
+        subpixel = !any;
     }
     for (int j = 0; j < 3; ++j) {
         t.inv_w[j] = sv[order[j]].inv_w;
         t.depth[j] = sv[order[j]].depth;
         if (beta) cv.beta[j] = beta[order[j]];
     }
-    t.flags |= std::uint8_t((order[1] == 2 ? TriSetup::kPermBit : 0u) | (back ? TriSetup::kBackBit : 0u));
+    t.flags |= std::uint8_t((order[1] == 2 ? TriSetup::kPermBit : 0u) | (back ? TriSetup::kBackBit : 0u) |
+                            (subpixel ? TriSetup::kSubpixelBit : 0u));
     return true;
 }
 
@@ -241,7 +250,7 @@ int clip_plane(const ClipVertex* in, int n, ClipVertex* out, int plane, const Vi
         const SnapVertex sv[3] = {s0, s1, s2};
         // Quick reject of triangles whose bounds hold no pixel centre (most of a dense mesh),
         // before anything is written; build() repeats the exact computation.
-        if (!bounds_hold_centre(s0, s1, s2)) return;
+        if (!opt.keep_subpixel && !bounds_hold_centre(s0, s1, s2)) return;
         // Built in place, uninitialised (build() writes every field it keeps): a stack copy
         // re-read right after its narrow stores stalls on store forwarding. Dropped on reject.
         TriSetup& t = out.emplace_back(TriSetup::NoInit{});
@@ -298,6 +307,7 @@ inline void load_xy_code8(const SnapVertex* snap, __m256i v, __m256i& x, __m256i
 //! the index buffer's order) and clamped bounds here, the values build() computes for them.
 struct Lanes8 {
     std::uint32_t simple = 0;
+    std::uint32_t subpixel = 0;  //!< kept lanes that hold no pixel centre (keep_subpixel only)
     alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8];
 };
 
@@ -319,7 +329,7 @@ inline void load_indices8(const std::uint32_t* ix, __m256i (&i)[3]) {
 
 // ix: the 24 indices of 8 consecutive triangles.
 std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* ix,
-                              const Viewport& vp, bool cull, Lanes8& out) {
+                              const Viewport& vp, bool cull, bool keep_subpixel, bool double_sided, Lanes8& out) {
     __m256i i[3];
     load_indices8(ix, i);
     const __m256i vnv = _mm256_set1_epi32(nv), minus1 = _mm256_set1_epi32(-1), zero = _mm256_setzero_si256();
@@ -347,9 +357,12 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     const __m256i uy0 = _mm256_srai_epi32(_mm256_add_epi32(ymin, half_up), kSubpixelBits);
     const __m256i ux1 = _mm256_srai_epi32(_mm256_sub_epi32(xmax, half), kSubpixelBits);
     const __m256i uy1 = _mm256_srai_epi32(_mm256_sub_epi32(ymax, half), kSubpixelBits);
-    // setup_one's quick reject (any extent): bounds that hold no pixel centre.
-    const __m256i no_centre_in_bounds = _mm256_and_si256(
-        ok, _mm256_or_si256(_mm256_cmpgt_epi32(ux0, ux1), _mm256_cmpgt_epi32(uy0, uy1)));
+    // setup_one's quick reject (any extent): bounds that hold no pixel centre (with keep_subpixel:
+    // no centre within a pixel, build()'s test on the clamped bounds below does the rest).
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256i no_centre_in_bounds =
+        keep_subpixel ? _mm256_setzero_si256()
+                      : _mm256_and_si256(ok, _mm256_or_si256(_mm256_cmpgt_epi32(ux0, ux1), _mm256_cmpgt_epi32(uy0, uy1)));
     const __m256i ext = _mm256_set1_epi32(kVectorExtent);
     ok = _mm256_and_si256(ok, _mm256_and_si256(_mm256_cmpgt_epi32(ext, _mm256_sub_epi32(xmax, xmin)),
                                                _mm256_cmpgt_epi32(ext, _mm256_sub_epi32(ymax, ymin))));
@@ -357,14 +370,17 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     const __m256i px1 = _mm256_min_epi32(ux1, _mm256_set1_epi32(vp.width - 1));
     const __m256i py1 = _mm256_min_epi32(uy1, _mm256_set1_epi32(vp.height - 1));
     const __m256i empty = _mm256_or_si256(_mm256_cmpgt_epi32(px0, px1), _mm256_cmpgt_epi32(py0, py1));
+    // build(): empty clamped bounds drop the triangle, or with keep_subpixel keep it as sub-pixel
+    // when they are empty by at most one pixel.
+    const __m256i beyond = _mm256_or_si256(_mm256_cmpgt_epi32(px0, _mm256_add_epi32(px1, one)),
+                                           _mm256_cmpgt_epi32(py0, _mm256_add_epi32(py1, one)));
     const __m256i area = _mm256_sub_epi32(
         _mm256_mullo_epi32(_mm256_sub_epi32(x[1], x[0]), _mm256_sub_epi32(y[2], y[0])),
         _mm256_mullo_epi32(_mm256_sub_epi32(y[1], y[0]), _mm256_sub_epi32(x[2], x[0])));
-    __m256i drop = _mm256_or_si256(empty, _mm256_cmpeq_epi32(area, zero));
+    __m256i drop = _mm256_or_si256(keep_subpixel ? beyond : empty, _mm256_cmpeq_epi32(area, zero));
     if (cull) drop = _mm256_or_si256(drop, _mm256_cmpgt_epi32(area, zero));  // back faces
     // The small-triangle test on the re-ordered vertices (positive area: 1 and 2 swapped when
     // the area is negative), over the at most 4 pixels of the bounds.
-    const __m256i one = _mm256_set1_epi32(1);
     const __m256i bw = _mm256_add_epi32(_mm256_sub_epi32(px1, px0), one), bh = _mm256_add_epi32(_mm256_sub_epi32(py1, py0), one);
     const __m256i small = _mm256_andnot_si256(
         empty, _mm256_cmpgt_epi32(_mm256_set1_epi32(int(kSmallTrianglePixels) + 1), _mm256_mullo_epi32(bw, bh)));
@@ -397,10 +413,19 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
             }
             any = _mm256_or_si256(any, inside);
         }
-    drop = _mm256_or_si256(drop, _mm256_andnot_si256(any, small));
+    const __m256i no_centre = _mm256_andnot_si256(any, small);
+    __m256i subpixel = zero;
+    if (keep_subpixel) {
+        subpixel = _mm256_or_si256(empty, no_centre);
+        // build(): a single-sided back face is not kept as sub-pixel.
+        if (!double_sided) drop = _mm256_or_si256(drop, _mm256_and_si256(subpixel, _mm256_cmpgt_epi32(area, zero)));
+    } else {
+        drop = _mm256_or_si256(drop, no_centre);
+    }
     drop = _mm256_or_si256(_mm256_and_si256(drop, ok), no_centre_in_bounds);
     const std::uint32_t dropped = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(drop)));
     out.simple = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(ok))) & ~dropped;
+    out.subpixel = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(subpixel))) & out.simple;
     if (out.simple) {
         auto put = [](std::int32_t* d, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(d), v); };
         for (int j = 0; j < 3; ++j) {
@@ -475,6 +500,7 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     t.clip = -1;
     // perm when the area is negative, back when it is positive (area 0 was dropped).
     t.flags |= neg ? TriSetup::kPermBit : TriSetup::kBackBit;
+    if ((ln.subpixel >> l) & 1u) t.flags |= TriSetup::kSubpixelBit;
 }
 #endif
 
@@ -511,7 +537,9 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
             for (; t + 8 <= e; t += 8) {
                 if (t + kGatherAhead + 8 <= end) prefetch_snap(snap, nv, idx + 3 * std::size_t(t + kGatherAhead));
                 const std::uint32_t tris[8] = {t, t + 1, t + 2, t + 3, t + 4, t + 5, t + 6, t + 7};
-                const std::uint32_t dropped = surely_dropped8(snap, std::int32_t(nv), idx + 3 * std::size_t(t), vp, cull, lanes);
+                const std::uint32_t dropped =
+                    surely_dropped8(snap, std::int32_t(nv), idx + 3 * std::size_t(t), vp, cull, opt.keep_subpixel,
+                                    dv.mat->double_sided, lanes);
                 if (lanes.simple == 0) {
                     for (int l = 0; l < 8; ++l) {
                         list[n] = tris[l];
@@ -534,7 +562,7 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
 #endif
         for (; t < e; ++t) {
             list[n] = t;
-            n += needs_setup(snap, nv, idx + 3 * std::size_t(t)) ? 1u : 0u;
+            n += opt.keep_subpixel || needs_setup(snap, nv, idx + 3 * std::size_t(t)) ? 1u : 0u;
         }
         for (std::uint32_t k = 0; k < n; ++k) setup_one(dv, draw_index, list[k], vp, opt, out, clip_out, counters);
         b = e;

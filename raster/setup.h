@@ -31,9 +31,12 @@ struct TriSetup {
     std::int32_t clip;         //!< -1: setup vertex j is original vertex perm(j); else index into the clip table
     std::int16_t x0, y0, x1, y1;  //!< inclusive pixel bounds, clamped to the raster (< kMaxImageSide)
     //! Bits 0-2: the bias of edge i (0 top-left edge, 1 otherwise); kPermBit: vertices 1 and 2
-    //! swapped; kBackBit: the triangle faces away (CW in NDC).
+    //! swapped; kBackBit: the triangle faces away (CW in NDC); kSubpixelBit: it holds no pixel
+    //! centre (kept for the coverage pass only, SetupOptions::keep_subpixel; its bounds may be
+    //! empty by one pixel).
     std::uint8_t flags;
-    static constexpr std::uint8_t kPermBit = 1u << 3, kBackBit = 1u << 4;
+    static constexpr std::uint8_t kPermBit = 1u << 3, kBackBit = 1u << 4, kSubpixelBit = 1u << 5;
+    bool subpixel() const { return (flags & kSubpixelBit) != 0; }
     int bias(int i) const { return (flags >> i) & 1; }
     bool perm() const { return (flags & kPermBit) != 0; }
     bool back() const { return (flags & kBackBit) != 0; }
@@ -134,6 +137,10 @@ struct SetupCounters {
 
 struct SetupOptions {
     bool cull_backfaces = false;
+    //! Keep the triangles that hold no pixel centre but whose bounds reach within a pixel of one
+    //! (marked TriSetup::kSubpixelBit): the coverage pass needs their samples (docs/raster.md
+    //! "Coverage antialiasing"); the traversals skip them. Else they are dropped.
+    bool keep_subpixel = false;
 };
 
 //! Sets up triangle `tri` of draw `draw_index`, appending 0..n TriSetups (a clipped polygon is a

@@ -88,7 +88,7 @@ void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float
     std::vector<float> zbuf(count ? 0 : std::size_t(W) * H, std::numeric_limits<float>::infinity());
     for (const Chunk& ch : fr.chunks)
         for (const TriSetup& t : ch.tris)
-            for (int y = t.y0; y <= t.y1; ++y)
+            for (int y = t.y0; y <= t.y1 && !t.subpixel(); ++y)  // subpixel: for the coverage pass only
                 for (int x = t.x0; x <= t.x1; ++x) {
                     std::int64_t e[3];
                     edge_values(t, x, y, e);
@@ -225,7 +225,8 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
 // clear: background pixels are written too (fresh or reused targets); otherwise the targets
 // already hold the background there (raster.cpp: a tile that showed only background in the
 // previous frame written into the same stamped targets).
-void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear) {
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear,
+                 CoverageBits* cov) {
     const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
     const int X0 = tx * kTile, Y0 = ty * kTile;
     const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
@@ -258,6 +259,9 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
             covered[nc] = std::uint16_t(li);
             nc += ids[li].chunk != kNoChunk;
         }
+        if (cov)
+            for (int k = 0; k < nc; ++k)
+                cov->word(tx, Y0 + covered[k] / kTile) |= std::uint64_t(1) << (covered[k] % kTile);
     }
     // Deferred shading of the covered pixels. Each pixel gathers its setup, then the vertices its
     // setup names (dependent cache misses: one small triangle per pixel on dense meshes), so those

@@ -118,11 +118,20 @@ LookStats measure(const ImageF& sty, const ImageF& none) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y * w + x);
             const double l = luma(sty, x, y);
-            if (!in[i]) {
-                if (dist[i] > kPaperMargin) sum += l, sum2 += l * l, ++s.paper_px;
-                continue;
-            }
-            const double dl = l - luma(none, x, y);
+            if (!in[i] && dist[i] > kPaperMargin) sum += l, sum2 += l * l, ++s.paper_px;
+        }
+    if (s.paper_px) {
+        s.paper_mean = sum / double(s.paper_px);
+        s.paper_std = std::sqrt(std::max(0.0, sum2 / double(s.paper_px) - s.paper_mean * s.paper_mean));
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y * w + x);
+            if (!in[i]) continue;
+            // The unstylised object laid on the stylised paper's mean tone by its coverage (the
+            // silhouette's partly covered pixels are part paper in both images).
+            const double a = none.at(x, y, 3);
+            const double dl = luma(sty, x, y) - (a * luma(none, x, y) + (1.0 - a) * s.paper_mean);
             if (dist[i] > kInsideErode) {
                 double m = 0;
                 for (int c = 0; c < 3; ++c) m = std::max(m, double(std::fabs(sty.at(x, y, c) - none.at(x, y, c))));
@@ -131,10 +140,6 @@ LookStats measure(const ImageF& sty, const ImageF& none) {
             if (dist[i] <= kEdgeRing) edge += dl, ++s.edge_px;
             else if (dist[i] >= kInnerFrom && dist[i] <= kInnerTo) inner += dl, ++s.inner_px;
         }
-    if (s.paper_px) {
-        s.paper_mean = sum / double(s.paper_px);
-        s.paper_std = std::sqrt(std::max(0.0, sum2 / double(s.paper_px) - s.paper_mean * s.paper_mean));
-    }
     if (s.inside_px) s.inside_diff = diff / double(s.inside_px);
     if (s.edge_px) s.edge_dark = edge / double(s.edge_px);
     if (s.inner_px) s.inner_dark = inner / double(s.inner_px);

@@ -15,13 +15,15 @@
 
 namespace aq::test {
 
-//! Settings for exact geometric tests: no tremor, no bleeding displacement, one thread unless told.
+//! Settings for exact geometric tests: no tremor, no bleeding displacement, one sample per pixel
+//! (no coverage antialiasing: antialias_test.cpp tests it), one thread unless told.
 inline raster::RenderSettings plain_settings(int w, int h) {
     raster::RenderSettings s;
     s.width = w;
     s.height = h;
     s.tremor.enabled = false;
     s.bleed_displacement = false;
+    s.antialias = raster::RenderSettings::Antialias::None;
     return s;
 }
 

@@ -112,9 +112,11 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
         Mesh m;
         make_mesh(m, seed);
         const std::uint32_t ntri = std::uint32_t(m.prim.indices.size() / 3);
-        for (const bool cull : {false, true}) {
+        for (const int mode : {0, 1, 2}) {  // no culling, culling, keeping sub-pixel triangles
+            const bool cull = mode == 1;
             SetupOptions opt;
             opt.cull_backfaces = cull;
+            opt.keep_subpixel = mode == 2;
             const SetupRun one = one_by_one(m, 5, opt);
             const std::vector<TriSetup>& ref = one.setups;
             const std::vector<ClipVerts>& ref_clips = one.clips;
@@ -145,7 +147,15 @@ TEST(TriangleSetup, TheBatchedSetupAppendsWhatTheSetupOfEachTriangleAppends) {
                     ++next;
                 ASSERT_LT(next, ntri) << "a record whose vertices are no later triangle's";
             }
-            // The mesh exercises every path: most triangles dropped, some clipped, some counted.
+            // The mesh exercises every path: most triangles dropped (or kept as sub-pixel), some
+            // clipped, some counted.
+            std::size_t subpixel = 0;
+            for (const TriSetup& t : ref) subpixel += t.subpixel();
+            if (opt.keep_subpixel) {
+                EXPECT_GT(subpixel, ntri / 20) << "seed " << seed;  // the front-facing ones
+                continue;
+            }
+            EXPECT_EQ(subpixel, 0u);
             EXPECT_LT(ref.size(), ntri / 4) << "seed " << seed;
             EXPECT_GT(ref.size(), ntri / 100) << "seed " << seed;
             EXPECT_GT(ref_n.clipped, 10u);
@@ -190,10 +200,12 @@ TEST(TriangleSetup, TheBatchedSetupKeepsTheTopLeftRuleOnHalfPixelVertices) {
         make_half_pixel_mesh(m, seed);
         const std::uint32_t ntri = std::uint32_t(m.prim.indices.size() / 3);
         for (const bool double_sided : {false, true})
-            for (const bool cull : {false, true}) {
+            for (const bool cull : {false, true})
+              for (const bool keep : {false, true}) {
                 m.mat.double_sided = double_sided;
                 SetupOptions opt;
                 opt.cull_backfaces = cull;
+                opt.keep_subpixel = keep;
                 const std::vector<TriSetup> ref = one_by_one(m, 1, opt).setups;
                 SetupRun fast;
                 setup_triangles(m.dv, 1, 0, ntri, m.vp, opt, fast.setups, fast.clips, fast.counters);
