@@ -152,6 +152,35 @@ TEST(Manifest, TheCompressionIsRecordedAndReproduced) {
     EXPECT_NE(log.find("compression 'zip'"), std::string::npos) << log;
 }
 
+// --antialias is part of the request: both settings reproduce; a manifest from before the option
+// (no key) reproduces with one sample per pixel, what such images were rendered with; an unknown
+// value is refused, by the CLI (usage, exit 2) and by reproduce (exit 1).
+TEST(Manifest, TheAntialiasingIsRecordedAndReproduced) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--out " + shell_quote(dir + "/c.png"), &log), 0)
+        << log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--antialias none --out " +
+                              shell_quote(dir + "/n.png"), &log), 0) << log;
+    EXPECT_EQ(load(dir + "/c.png.json").at("request").at("antialias"), "coverage");
+    EXPECT_EQ(load(dir + "/n.png.json").at("request").at("antialias"), "none");
+    EXPECT_NE(file_bytes(dir + "/c.png"), file_bytes(dir + "/n.png")) << "the swatches' edges are antialiased";
+    ASSERT_EQ(reproduce(dir + "/c.png.json", "", &log), 0) << log;
+    ASSERT_EQ(reproduce(dir + "/n.png.json", "", &log), 0) << log;
+    json old = load(dir + "/n.png.json");
+    old["request"].erase("antialias");
+    write(dir + "/old.json", old.dump());
+    ASSERT_EQ(reproduce(dir + "/old.json", "", &log), 0) << log;
+    json bad = load(dir + "/c.png.json");
+    bad["request"]["antialias"] = "msaa";
+    write(dir + "/bad.json", bad.dump());
+    EXPECT_EQ(reproduce(dir + "/bad.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("antialias 'msaa'"), std::string::npos) << log;
+    EXPECT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--antialias msaa --out " +
+                              shell_quote(dir + "/x.png"), &log), 2) << log;
+    EXPECT_NE(log.find("--antialias expects coverage or none"), std::string::npos) << log;
+}
+
 TEST(Manifest, AChangedInputByteIsNamedAndAMissingInputRefused) {
     const std::string dir = test::output_dir();
     const std::string gltf = copy_suzanne(dir);
