@@ -36,6 +36,8 @@ constexpr double kPaperLumMax = 0.97;
 constexpr double kMinPaperStd = 0.012;       //!< luminance std-dev over the paper: ~3 8-bit levels
 constexpr double kMinInsideDiff = 0.03;      //!< mean max-channel |stylised - none| on the object
 constexpr double kMinEdgeContrast = 0.01;    //!< silhouette ring darker than the inner ring by this
+constexpr double kToneMin = 0.75;            //!< issue 46 item 5: mean object luminance, stylised / none
+constexpr double kToneMax = 1.05;
 constexpr int kPaperMargin = 16;             //!< px between the object and "unpainted paper"
 constexpr int kInsideErode = 2;
 constexpr int kEdgeRing = 2;
@@ -103,6 +105,7 @@ std::vector<int> distance_to_boundary(const std::vector<char>& inside, int w, in
 
 struct LookStats {
     double paper_mean = 0, paper_std = 0, inside_diff = 0, edge_dark = 0, inner_dark = 0;
+    double tone = 0;  //!< mean luminance over the object, stylised / none (issue 46 item 5)
     long paper_px = 0, inside_px = 0, edge_px = 0, inner_px = 0;
 };
 
@@ -113,7 +116,7 @@ LookStats measure(const ImageF& sty, const ImageF& none) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) in[std::size_t(y * w + x)] = none.channels() == 4 ? none.at(x, y, 3) > 0.5f : 0;
     const std::vector<int> dist = distance_to_boundary(in, w, h);
-    double sum = 0, sum2 = 0, diff = 0, edge = 0, inner = 0;
+    double sum = 0, sum2 = 0, diff = 0, edge = 0, inner = 0, lum_sty = 0, lum_none = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y * w + x);
@@ -133,6 +136,7 @@ LookStats measure(const ImageF& sty, const ImageF& none) {
             const double a = none.at(x, y, 3);
             const double dl = luma(sty, x, y) - (a * luma(none, x, y) + (1.0 - a) * s.paper_mean);
             if (dist[i] > kInsideErode) {
+                lum_sty += luma(sty, x, y), lum_none += luma(none, x, y);
                 double m = 0;
                 for (int c = 0; c < 3; ++c) m = std::max(m, double(std::fabs(sty.at(x, y, c) - none.at(x, y, c))));
                 diff += m, ++s.inside_px;
@@ -141,6 +145,7 @@ LookStats measure(const ImageF& sty, const ImageF& none) {
             else if (dist[i] >= kInnerFrom && dist[i] <= kInnerTo) inner += dl, ++s.inner_px;
         }
     if (s.inside_px) s.inside_diff = diff / double(s.inside_px);
+    if (lum_none > 0) s.tone = lum_sty / lum_none;
     if (s.edge_px) s.edge_dark = edge / double(s.edge_px);
     if (s.inner_px) s.inner_dark = inner / double(s.inner_px);
     return s;
@@ -159,9 +164,9 @@ void check_model(const std::string& rel, bool assert_thresholds) {
         ASSERT_TRUE(sty.same_size(none));
         const LookStats s = measure(sty, none);
         std::printf("LOOK\t%s\t%s\tpaper_mean %.4f\tpaper_std %.4f\tpaper_px %ld\tinside_diff %.4f\tedge_dark %.4f\t"
-                    "inner_dark %.4f\tedge_contrast %.4f\n",
+                    "inner_dark %.4f\tedge_contrast %.4f\ttone %.3f\n",
                     rel.c_str(), style, s.paper_mean, s.paper_std, s.paper_px, s.inside_diff, s.edge_dark, s.inner_dark,
-                    s.inner_dark - s.edge_dark);
+                    s.inner_dark - s.edge_dark, s.tone);
         if (!assert_thresholds) continue;
         const std::string what = rel + " " + style;
         ASSERT_GT(s.paper_px, 1000) << what << ": too little unpainted paper to measure";
@@ -170,6 +175,8 @@ void check_model(const std::string& rel, bool assert_thresholds) {
         EXPECT_GE(s.paper_std, kMinPaperStd) << what << ": paper texture not visible";
         EXPECT_GE(s.inside_diff, kMinInsideDiff) << what << ": stylised object too close to --style none";
         EXPECT_GE(s.inner_dark - s.edge_dark, kMinEdgeContrast) << what << ": silhouette not darkened";
+        EXPECT_GE(s.tone, kToneMin) << what << ": the style darkens the object";
+        EXPECT_LE(s.tone, kToneMax) << what << ": the style washes the object out";
     }
 }
 
