@@ -246,32 +246,55 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
     std::uint16_t mask[kTile * kTile];
     std::fill_n(mask, kTile * kTile, std::uint16_t(0));
     // The triangles binned here (the bins are widened by one pixel for this pass: every triangle
-    // with a sample in the tile), prefetched ahead as the visibility does.
-    for (const Chunk& ch : fr.chunks)
-      for (int list = 0; list < 2; ++list) {  // the traversal's bin, then the sub-pixel one
-        const std::vector<std::uint32_t>& offsets = list == 0 ? ch.bin_offsets : ch.fine_offsets;
-        const std::vector<std::uint32_t>& items = list == 0 ? ch.bin_items : ch.fine_items;
-        if (offsets.empty()) continue;
-        const std::uint32_t end = offsets[tile + 1];
-        for (std::uint32_t k = offsets[tile]; k < end; ++k) {
-            // The compact bounds first: most triangles of a tile reach no flagged pixel.
-            const Chunk::Bounds& b = ch.bounds[items[k]];
-            const int x0 = std::max(std::max(b.x0 - 1, 0), X0), x1 = std::min(std::min(b.x1 + 1, W - 1), X1);
-            const int y0 = std::max(std::max(b.y0 - 1, 0), Y0), y1 = std::min(std::min(b.y1 + 1, H - 1), Y1);
-            if (x0 > x1 || y0 > y1 || !(flag_rows >> (y0 - Y0) & row_span(y1 - y0 + 1))) continue;
-            const int n = x1 - x0 + 1;
-            const std::uint64_t range = (n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1) << (x0 - X0);
-            std::uint64_t hit = 0;
-            for (int y = y0; y <= y1; ++y) hit |= flag[y - Y0] & range;
-            if (!hit) continue;
-            const TriSetup& t = ch.tris[items[k]];
-            for (int y = y0; y <= y1; ++y)
+    // with a sample in the tile). Their compact bounds first (most reach no flagged pixel); the
+    // ones that do are listed with their records prefetched, then tested a batch at a time (the
+    // records are scattered over the chunk: a miss each, overlapped this way; schedule only).
+    struct Hit {
+        std::uint32_t tri;
+        std::int16_t x0, x1, y0, y1;
+    };
+    constexpr int kBatch = 32;
+    Hit hits[kBatch];
+    int nh = 0;
+    auto run = [&](const Chunk& ch) {
+        for (int h = 0; h < nh; ++h) {
+            const Hit& e = hits[h];
+            const TriSetup& t = ch.tris[e.tri];
+            const int n = e.x1 - e.x0 + 1;
+            const std::uint64_t range = (n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1) << (e.x0 - X0);
+            for (int y = e.y0; y <= e.y1; ++y)
                 for (std::uint64_t b = flag[y - Y0] & range; b; b &= b - 1) {
                     const int lx = std::countr_zero(b);
                     std::uint16_t& m = mask[(y - Y0) * kTile + lx];
                     if (m != 0xffff) m = std::uint16_t(m | sample_mask(fr, ch, t, X0 + lx, y, false));
                 }
         }
+        nh = 0;
+    };
+    for (const Chunk& ch : fr.chunks) {
+        for (int list = 0; list < 2; ++list) {  // the traversal's bin, then the sub-pixel one
+            const std::vector<std::uint32_t>& offsets = list == 0 ? ch.bin_offsets : ch.fine_offsets;
+            const std::vector<std::uint32_t>& items = list == 0 ? ch.bin_items : ch.fine_items;
+            if (offsets.empty()) continue;
+            const std::uint32_t end = offsets[tile + 1];
+            for (std::uint32_t k = offsets[tile]; k < end; ++k) {
+                const Chunk::Bounds& b = ch.bounds[items[k]];
+                const int x0 = std::max(std::max(b.x0 - 1, 0), X0), x1 = std::min(std::min(b.x1 + 1, W - 1), X1);
+                const int y0 = std::max(std::max(b.y0 - 1, 0), Y0), y1 = std::min(std::min(b.y1 + 1, H - 1), Y1);
+                if (x0 > x1 || y0 > y1 || !(flag_rows >> (y0 - Y0) & row_span(y1 - y0 + 1))) continue;
+                const int n = x1 - x0 + 1;
+                const std::uint64_t range = (n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1) << (x0 - X0);
+                std::uint64_t hit = 0;
+                for (int y = y0; y <= y1; ++y) hit |= flag[y - Y0] & range;
+                if (!hit) continue;
+                const char* rec = reinterpret_cast<const char*>(&ch.tris[items[k]]);
+                __builtin_prefetch(rec);
+                __builtin_prefetch(rec + 64);
+                hits[nh++] = {items[k], std::int16_t(x0), std::int16_t(x1), std::int16_t(y0), std::int16_t(y1)};
+                if (nh == kBatch) run(ch);
+            }
+        }
+        run(ch);  // a chunk's records before the next chunk's
     }
     for (int y = Y0; y <= Y1; ++y)
         for (std::uint64_t b = flag[y - Y0]; b; b &= b - 1) {
