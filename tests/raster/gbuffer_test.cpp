@@ -411,8 +411,9 @@ TEST(GBuffer, CoverageAlphaIsTheSupersampledCoverage) {
                 near += std::abs(alpha - ref) <= 1.0f / 16.0f + 1e-6f;
                 err_aa += std::abs(alpha - ref);
                 err_one += std::abs(o.at(x, y, 3) - ref);
-                if (o.at(x, y, 3) == 1.0f)
+                if (o.at(x, y, 3) == 1.0f) {
                     for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(a.at(x, y, ch), o.at(x, y, ch)) << c.name;
+                }
             }
         const std::string what = std::string(c.name) + ": " + std::to_string(n) + " pixels, " +
                                  std::to_string(near) + " within one sample, alpha error " + std::to_string(err_aa) +
