@@ -91,9 +91,12 @@ std::uint16_t sample_mask(const Frame& fr, const Chunk& ch, const TriSetup& t, i
 struct Rect {
     int x0, x1, y0, y1;
 };
-Rect sample_bounds(const TriSetup& t, int W, int H) {
-    return {std::max(t.x0 - 1, 0), std::min(t.x1 + 1, W - 1), std::max(t.y0 - 1, 0), std::min(t.y1 + 1, H - 1)};
+Rect sample_bounds(int x0, int y0, int x1, int y1, int W, int H) {
+    return {std::max(x0 - 1, 0), std::min(x1 + 1, W - 1), std::max(y0 - 1, 0), std::min(y1 + 1, H - 1)};
 }
+
+//! The n lowest bits set (n in [0, 64]): a row span of a 64-pixel tile row.
+std::uint64_t low_bits(int n) { return n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1; }
 
 //! Writes pixel (x, y)'s coverage from its sample mask m (a flagged pixel). Returns whether it
 //! wrote anything.
@@ -187,7 +190,7 @@ void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBit
     std::vector<std::uint16_t> mask(std::size_t(W) * H, 0);
     for (const Chunk& ch : fr.chunks)
         for (const TriSetup& t : ch.tris) {
-            const Rect r = sample_bounds(t, W, H);
+            const Rect r = sample_bounds(t.x0, t.y0, t.x1, t.y1, W, H);
             for (int y = r.y0; y <= r.y1; ++y)
                 for (int x = r.x0; x <= r.x1; ++x)
                     if (flag[std::size_t(y) * W + x]) mask[std::size_t(y) * W + x] |= sample_mask(fr, ch, t, x, y, true);
@@ -211,7 +214,7 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
     const int X0 = tx * kTile, Y0 = ty * kTile;
     const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
     const int tw = X1 - X0 + 1;
-    const std::uint64_t valid = tw == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << tw) - 1;
+    const std::uint64_t valid = low_bits(tw);
     // Per row: OR and AND of the pixel and its left and right neighbours (outside the image: 0 for
     // OR, 1 for AND, i.e. not part of the neighbourhood).
     auto horizontal = [&](int y, std::uint64_t& o, std::uint64_t& a) {
@@ -242,7 +245,6 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
         flag_rows |= std::uint64_t(flag[y - Y0] != 0) << (y - Y0);
     }
     if (!flag_rows) return false;
-    auto row_span = [](int n) { return n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1; };
     std::uint16_t mask[kTile * kTile];
     std::fill_n(mask, kTile * kTile, std::uint16_t(0));
     // The triangles binned here (the bins are widened by one pixel for this pass: every triangle
@@ -261,7 +263,7 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
             const Hit& e = hits[h];
             const TriSetup& t = ch.tris[e.tri];
             const int n = e.x1 - e.x0 + 1;
-            const std::uint64_t range = (n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1) << (e.x0 - X0);
+            const std::uint64_t range = low_bits(n) << (e.x0 - X0);
             for (int y = e.y0; y <= e.y1; ++y)
                 for (std::uint64_t b = flag[y - Y0] & range; b; b &= b - 1) {
                     const int lx = std::countr_zero(b);
@@ -279,11 +281,12 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
             const std::uint32_t end = offsets[tile + 1];
             for (std::uint32_t k = offsets[tile]; k < end; ++k) {
                 const Chunk::Bounds& b = ch.bounds[items[k]];
-                const int x0 = std::max(std::max(b.x0 - 1, 0), X0), x1 = std::min(std::min(b.x1 + 1, W - 1), X1);
-                const int y0 = std::max(std::max(b.y0 - 1, 0), Y0), y1 = std::min(std::min(b.y1 + 1, H - 1), Y1);
-                if (x0 > x1 || y0 > y1 || !(flag_rows >> (y0 - Y0) & row_span(y1 - y0 + 1))) continue;
+                const Rect r = sample_bounds(b.x0, b.y0, b.x1, b.y1, W, H);
+                const int x0 = std::max(r.x0, X0), x1 = std::min(r.x1, X1);
+                const int y0 = std::max(r.y0, Y0), y1 = std::min(r.y1, Y1);
+                if (x0 > x1 || y0 > y1 || !(flag_rows >> (y0 - Y0) & low_bits(y1 - y0 + 1))) continue;
                 const int n = x1 - x0 + 1;
-                const std::uint64_t range = (n == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1) << (x0 - X0);
+                const std::uint64_t range = low_bits(n) << (x0 - X0);
                 std::uint64_t hit = 0;
                 for (int y = y0; y <= y1; ++y) hit |= flag[y - Y0] & range;
                 if (!hit) continue;
