@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -360,14 +362,28 @@ Scene make_swatches() {
     return s;
 }
 
-// ---- "tree": a procedural tree for LD06 (docs/ld06.md "Procedural tree") -------------------------
+// ---- "tree": a family of procedural plants for LD06 (docs/ld06.md "Procedural plants") ----------
 
-// Recursive branching, every choice keyed by the branch index through hash32 (same tree every run).
+// Recursive branching, every choice keyed by the branch index (and the seed) through hash32 (same
+// plant every run). Kind "broadleaf" with the default proportions and seed 0 is the original
+// `procedural:tree`, byte for byte.
 constexpr float kTreeTrunkLength = 9.0f, kTreeTrunkRadius = 0.55f;
 constexpr int kTreeDepth = 4, kTreeChildren = 3, kTreeLeavesPerBranch = 10, kTreeTubeSides = 8;
 constexpr float kTreeLengthRatio = 0.68f, kTreeRadiusRatio = 0.55f, kTreeLeafSize = 0.9f;
 
-float tree_rand(std::uint32_t id, std::uint32_t k) { return float(hash32(id * 0x9E3779B1u + k) >> 8) / 16777216.0f; }
+//! The parameters of one generated plant (`procedural:tree?kind=K&seed=S&...`).
+struct PlantSpec {
+    std::string kind = "broadleaf";
+    std::uint32_t seed = 0;
+    float height = 1.0f;   //!< scale of the whole plant
+    float leaves = 1.0f;   //!< leaves per branch, relative to the kind's default
+    float leaf_size = 1.0f;  //!< relative to the kind's default
+    float spread = 1.0f;   //!< branch angle (crown width), relative to the kind's default
+};
+
+float tree_rand(std::uint32_t id, std::uint32_t k, std::uint32_t seed = 0) {
+    return float(hash32((id + seed * 0x85EBCA6Bu) * 0x9E3779B1u + k) >> 8) / 16777216.0f;
+}
 
 glm::vec3 any_perpendicular(glm::vec3 d) {
     const glm::vec3 a = std::abs(d.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
@@ -396,10 +412,11 @@ void add_tube(Primitive& p, glm::vec3 a, glm::vec3 b, float ra, float rb) {
 }
 
 // Two crossed quads centred at c (like the shared ez-tree leaves), facing directions from the seed.
-void add_leaf(Primitive& p, glm::vec3 c, std::uint32_t id) {
-    const glm::vec3 n = glm::normalize(glm::vec3(tree_rand(id, 1) - 0.5f, tree_rand(id, 2) * 0.8f + 0.2f, tree_rand(id, 3) - 0.5f));
+void add_leaf(Primitive& p, glm::vec3 c, std::uint32_t id, float size = kTreeLeafSize, std::uint32_t seed = 0) {
+    const glm::vec3 n = glm::normalize(
+        glm::vec3(tree_rand(id, 1, seed) - 0.5f, tree_rand(id, 2, seed) * 0.8f + 0.2f, tree_rand(id, 3, seed) - 0.5f));
     const glm::vec3 u = any_perpendicular(n), w = glm::cross(n, u);
-    const float h = 0.5f * kTreeLeafSize;
+    const float h = 0.5f * size;
     for (const auto& [a, b] : {std::pair{u, w}, std::pair{u, n}}) {
         const glm::vec3 nn = glm::normalize(glm::cross(a, b));
         const std::uint32_t k = std::uint32_t(p.positions.size());
@@ -412,6 +429,28 @@ void add_leaf(Primitive& p, glm::vec3 c, std::uint32_t id) {
     }
 }
 
+// A grass blade: a bent strip of `segs` quads from `base` along `dir`, narrowing to the tip.
+void add_blade(Primitive& p, glm::vec3 base, glm::vec3 dir, glm::vec3 side, float length, float width, float bend) {
+    constexpr int segs = 4;
+    const std::uint32_t k0 = std::uint32_t(p.positions.size());
+    glm::vec3 c = base, d = dir;
+    for (int i = 0; i <= segs; ++i) {
+        const float t = float(i) / float(segs), hw = 0.5f * width * (1.0f - 0.85f * t);
+        const glm::vec3 n = glm::normalize(glm::cross(side, d));
+        for (float s : {-1.0f, 1.0f}) {
+            p.positions.push_back(c + side * (s * hw));
+            p.normals.push_back(n);
+            p.uv0.push_back({0.5f + 0.5f * s, t});
+        }
+        c += d * (length / float(segs));
+        d = glm::normalize(d + glm::vec3(0, -bend, 0) + glm::cross(side, glm::vec3(0, 1, 0)) * (0.5f * bend));
+    }
+    for (int i = 0; i < segs; ++i) {
+        const std::uint32_t k = k0 + std::uint32_t(2 * i);
+        add_quad(p, k, k + 1, k + 3, k + 2);
+    }
+}
+
 struct TreeBranch {
     glm::vec3 base, dir;
     float length, radius;
@@ -419,58 +458,185 @@ struct TreeBranch {
     std::uint32_t id;
 };
 
-Scene make_tree() {
-    Primitive bark, leaves;
-    std::vector<TreeBranch> todo = {{{0, 0, 0}, {0, 1, 0}, kTreeTrunkLength, kTreeTrunkRadius, 0, 1}};
+//! How a branching kind grows (broadleaf, light, shrub).
+struct BranchingRule {
+    std::vector<TreeBranch> roots;
+    int depth = kTreeDepth, children = kTreeChildren, leaves_per_branch = kTreeLeavesPerBranch;
+    int leafy_from = kTreeDepth - 1;  //!< branches of this depth and deeper carry leaves
+    float tilt0 = 0.45f, tilt1 = 0.35f, up = 0.25f, jitter = 1.2f, leaf_size = kTreeLeafSize;
+};
+
+void grow(const BranchingRule& rule, const PlantSpec& sp, Primitive& bark, Primitive& leaves) {
+    std::vector<TreeBranch> todo = rule.roots;
     std::uint32_t next_id = 2;
+    for (const TreeBranch& r : rule.roots) next_id = std::max(next_id, r.id + 1);
+    const std::uint32_t seed = sp.seed;
     for (std::size_t i = 0; i < todo.size(); ++i) {  // breadth first: a fixed order
         const TreeBranch br = todo[i];
         const glm::vec3 tip = br.base + br.dir * br.length;
         add_tube(bark, br.base, tip, br.radius, br.radius * kTreeRadiusRatio);
-        if (br.depth >= kTreeDepth - 1)
-            for (int k = 0; k < kTreeLeavesPerBranch; ++k) {
+        if (br.depth >= rule.leafy_from)
+            for (int k = 0; k < rule.leaves_per_branch; ++k) {
                 const std::uint32_t lid = br.id * 64u + std::uint32_t(k);
-                const glm::vec3 jitter = glm::vec3(tree_rand(lid, 4), tree_rand(lid, 5), tree_rand(lid, 6)) - 0.5f;
-                add_leaf(leaves, br.base + br.dir * (br.length * (0.3f + 0.7f * tree_rand(lid, 7))) + jitter * 1.2f, lid);
+                const glm::vec3 jitter =
+                    glm::vec3(tree_rand(lid, 4, seed), tree_rand(lid, 5, seed), tree_rand(lid, 6, seed)) - 0.5f;
+                add_leaf(leaves, br.base + br.dir * (br.length * (0.3f + 0.7f * tree_rand(lid, 7, seed))) + jitter * rule.jitter * sp.height,
+                         lid, rule.leaf_size, seed);
             }
-        if (br.depth == kTreeDepth) continue;
+        if (br.depth == rule.depth) continue;
         const glm::vec3 u = any_perpendicular(br.dir), v = glm::cross(br.dir, u);
-        for (int c = 0; c < kTreeChildren; ++c) {
-            const float az = 2.0f * kPi * (float(c) + 0.4f * tree_rand(br.id, 10u + std::uint32_t(c))) / float(kTreeChildren);
-            const float tilt = 0.45f + 0.35f * tree_rand(br.id, 20u + std::uint32_t(c));
+        for (int c = 0; c < rule.children; ++c) {
+            const float az = 2.0f * kPi * (float(c) + 0.4f * tree_rand(br.id, 10u + std::uint32_t(c), seed)) / float(rule.children);
+            const float tilt = sp.spread * (rule.tilt0 + rule.tilt1 * tree_rand(br.id, 20u + std::uint32_t(c), seed));
             const glm::vec3 side = u * std::cos(az) + v * std::sin(az);
             glm::vec3 dir = glm::normalize(br.dir * std::cos(tilt) + side * std::sin(tilt));
-            dir = glm::normalize(dir + glm::vec3(0, 0.25f, 0));  // branches reach up
-            const float at = 0.55f + 0.4f * tree_rand(br.id, 30u + std::uint32_t(c));
+            dir = glm::normalize(dir + glm::vec3(0, rule.up, 0));  // branches reach up
+            const float at = 0.55f + 0.4f * tree_rand(br.id, 30u + std::uint32_t(c), seed);
             todo.push_back({br.base + br.dir * (br.length * at), dir, br.length * kTreeLengthRatio,
                             br.radius * kTreeRadiusRatio * (1.2f - 0.4f * at), br.depth + 1, next_id++});
         }
     }
-    Scene s;
+}
+
+int scaled_count(int n, float f) { return std::max(1, int(std::lround(float(n) * f))); }
+
+// A conifer: one straight stem, whorls of drooping branches shortening towards the top (a cone),
+// needle tufts (small crossed quads) along every branch.
+void grow_conifer(const PlantSpec& sp, Primitive& bark, Primitive& leaves) {
+    const float H = 22.0f * sp.height, base_r = 0.45f * sp.height;
+    add_tube(bark, {0, 0, 0}, {0, H, 0}, base_r, base_r * 0.15f);
+    const int whorls = 14, per = 6;
+    const float needle = 0.7f * sp.leaf_size * sp.height;
+    for (int w = 0; w < whorls; ++w) {
+        const float t = 0.18f + 0.8f * float(w) / float(whorls - 1);  // height fraction
+        const float len = (1.0f - t) * 0.42f * H * sp.spread + 0.6f * sp.height;
+        for (int b = 0; b < per; ++b) {
+            const std::uint32_t id = std::uint32_t(w * per + b + 1);
+            const float az = 2.0f * kPi * (float(b) + 0.5f * float(w % 2) + 0.3f * tree_rand(id, 1, sp.seed)) / float(per);
+            const float droop = -0.25f - 0.2f * tree_rand(id, 2, sp.seed);
+            const glm::vec3 dir = glm::normalize(glm::vec3(std::cos(az), droop, std::sin(az)));
+            const glm::vec3 a = {0, t * H, 0};
+            add_tube(bark, a, a + dir * len, base_r * 0.25f * (1.0f - t) + 0.03f, 0.02f);
+            const int tufts = scaled_count(int(len / (0.35f * sp.height)) + 2, sp.leaves);
+            for (int k = 0; k < tufts; ++k) {
+                const std::uint32_t lid = id * 256u + std::uint32_t(k);
+                const float along = (float(k) + 0.5f) / float(tufts);
+                const glm::vec3 j = glm::vec3(tree_rand(lid, 4, sp.seed), tree_rand(lid, 5, sp.seed), tree_rand(lid, 6, sp.seed)) - 0.5f;
+                add_leaf(leaves, a + dir * (len * along) + j * (0.5f * sp.height), lid, needle * (1.2f - 0.5f * along), sp.seed);
+            }
+        }
+    }
+}
+
+// Grass-like small plant: a tuft of blades from one point, foliage only (no bark).
+void grow_grass(const PlantSpec& sp, Primitive& leaves) {
+    const int blades = scaled_count(40, sp.leaves);
+    for (int i = 0; i < blades; ++i) {
+        const std::uint32_t id = std::uint32_t(i + 1);
+        const float az = 2.0f * kPi * tree_rand(id, 1, sp.seed);
+        const float lean = sp.spread * (0.15f + 0.45f * tree_rand(id, 2, sp.seed));
+        const glm::vec3 out = {std::cos(az), 0, std::sin(az)};
+        const glm::vec3 dir = glm::normalize(glm::vec3(0, 1, 0) + out * lean);
+        const glm::vec3 side = glm::normalize(glm::cross(dir, out));
+        const glm::vec3 base = out * (0.3f * tree_rand(id, 3, sp.seed) * sp.height);
+        add_blade(leaves, base, dir, side, (3.0f + 3.0f * tree_rand(id, 4, sp.seed)) * sp.height,
+                  0.22f * sp.leaf_size * sp.height, 0.12f * sp.spread);
+    }
+}
+
+PlantSpec parse_plant_spec(const std::string& query) {
+    PlantSpec sp;
+    std::size_t at = 0;
+    while (at < query.size()) {
+        std::size_t amp = query.find('&', at);
+        if (amp == std::string::npos) amp = query.size();
+        const std::string kv = query.substr(at, amp - at);
+        at = amp + 1;
+        const std::size_t eq = kv.find('=');
+        if (eq == std::string::npos) throw Error("procedural:tree: '" + kv + "' is not KEY=VALUE (docs/ld06.md \"Procedural plants\")");
+        const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+        if (k == "kind") {
+            if (v != "broadleaf" && v != "light" && v != "conifer" && v != "shrub" && v != "grass")
+                throw Error("procedural:tree: unknown kind '" + v + "' (known: broadleaf, light, conifer, shrub, grass)");
+            sp.kind = v;
+            continue;
+        }
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0' || !std::isfinite(x)) throw Error("procedural:tree: " + k + " = '" + v + "' is not a number");
+        auto ranged = [&](float& dst, double lo, double hi) {
+            if (x < lo || x > hi)
+                throw Error("procedural:tree: " + k + " = " + v + " outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+            dst = float(x);
+        };
+        if (k == "seed") {
+            if (x < 0 || x > 4294967295.0 || x != std::floor(x)) throw Error("procedural:tree: seed must be an integer in [0, 2^32)");
+            sp.seed = std::uint32_t(x);
+        } else if (k == "height") ranged(sp.height, 0.01, 100.0);
+        else if (k == "leaves") ranged(sp.leaves, 0.05, 4.0);
+        else if (k == "leaf_size") ranged(sp.leaf_size, 0.1, 4.0);
+        else if (k == "spread") ranged(sp.spread, 0.2, 2.0);
+        else throw Error("procedural:tree: unknown parameter '" + k + "' (known: kind, seed, height, leaves, leaf_size, spread)");
+    }
+    return sp;
+}
+
+Scene make_tree(const PlantSpec& sp) {
+    Primitive bark, leaves;
+    const float s = sp.height;
+    if (sp.kind == "broadleaf" || sp.kind == "light") {
+        BranchingRule r;
+        r.roots = {{{0, 0, 0}, {0, 1, 0}, kTreeTrunkLength * s, kTreeTrunkRadius * s, 0, 1}};
+        r.leaves_per_branch = scaled_count(sp.kind == "light" ? 4 : kTreeLeavesPerBranch, sp.leaves);
+        if (sp.kind == "light") r.leafy_from = kTreeDepth, r.tilt0 = 0.6f;  // leaves on the last twigs only
+        r.leaf_size = kTreeLeafSize * sp.leaf_size * s;
+        r.jitter = sp.kind == "light" ? 2.0f : 1.2f;
+        grow(r, sp, bark, leaves);
+    } else if (sp.kind == "shrub") {
+        BranchingRule r;
+        const int stems = 5 + int(tree_rand(0, 1, sp.seed) * 3.0f);
+        for (int i = 0; i < stems; ++i) {
+            const float az = 2.0f * kPi * (float(i) + 0.5f * tree_rand(std::uint32_t(i), 2, sp.seed)) / float(stems);
+            const glm::vec3 d = glm::normalize(glm::vec3(0.45f * std::cos(az), 1.0f, 0.45f * std::sin(az)));
+            r.roots.push_back({{0, 0, 0}, d, 3.2f * s, 0.12f * s, 1, std::uint32_t(i + 1)});
+        }
+        r.depth = 3, r.children = 2, r.leafy_from = 3;
+        r.leaves_per_branch = scaled_count(3, sp.leaves);
+        r.leaf_size = 0.55f * sp.leaf_size * s, r.jitter = 0.5f, r.up = 0.4f;
+        grow(r, sp, bark, leaves);
+    } else if (sp.kind == "conifer") {
+        grow_conifer(sp, bark, leaves);
+    } else {
+        grow_grass(sp, leaves);
+    }
+    Scene sc;
     Material bark_m;
     bark_m.name = "bark";
     bark_m.base_color = {0.38f, 0.27f, 0.18f, 1.0f};
     Material leaf_m;
     leaf_m.name = "leaves";
-    leaf_m.base_color = {0.32f, 0.55f, 0.22f, 1.0f};
+    leaf_m.base_color = sp.kind == "conifer" ? glm::vec4(0.16f, 0.36f, 0.22f, 1.0f)
+                        : sp.kind == "grass" ? glm::vec4(0.45f, 0.6f, 0.2f, 1.0f)
+                                             : glm::vec4(0.32f, 0.55f, 0.22f, 1.0f);
     leaf_m.double_sided = true;
-    s.materials = {bark_m, leaf_m};
+    sc.materials = {bark_m, leaf_m};
     bark.material = 0;
     leaves.material = 1;
     for (auto [prim, name] : {std::pair{&bark, "trunk"}, std::pair{&leaves, "foliage"}}) {
+        if (prim->indices.empty()) continue;  // grass: foliage only
         Mesh m;
         m.name = name;
         m.primitives.push_back(std::move(*prim));
-        s.meshes.push_back(std::move(m));
+        sc.meshes.push_back(std::move(m));
         Instance inst;
-        inst.mesh = int(s.meshes.size()) - 1;
-        inst.object_id = std::uint32_t(s.meshes.size());
+        inst.mesh = int(sc.meshes.size()) - 1;
+        inst.object_id = std::uint32_t(sc.meshes.size());
         inst.name = name;
-        s.instances.push_back(inst);
+        sc.instances.push_back(inst);
     }
-    s.lights.push_back(default_key_light());
-    s.ambient = glm::vec3(0.05f);
-    const Bounds b = s.world_bounds();
+    sc.lights.push_back(default_key_light());
+    sc.ambient = glm::vec3(0.05f);
+    const Bounds b = sc.world_bounds();
     const glm::vec3 c = 0.5f * (b.min + b.max);
     const float r = 0.5f * glm::length(b.max - b.min);
     Camera cam;
@@ -480,16 +646,21 @@ Scene make_tree() {
     cam.view = glm::lookAt(c + glm::normalize(glm::vec3(0.3f, 0.15f, 1.0f)) * d, c, glm::vec3(0, 1, 0));
     cam.znear = d - 1.1f * r;
     cam.zfar = d + 1.1f * r;
-    s.cameras.push_back(cam);
-    s.source = "procedural:tree";
-    return s;
+    sc.cameras.push_back(cam);
+    sc.source = "procedural:tree";
+    return sc;
 }
 
 }  // namespace
 
 Scene make_procedural(const std::string& name) {
     if (name == "swatches") return make_swatches();
-    if (name == "tree") return make_tree();
+    if (name == "tree") return make_tree(PlantSpec{});
+    if (name.rfind("tree?", 0) == 0) {
+        Scene s = make_tree(parse_plant_spec(name.substr(5)));
+        s.source = "procedural:" + name;
+        return s;
+    }
     std::string known;
     for (const std::string& n : procedural_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown procedural scene '" + name + "' (known: " + known + ")");

@@ -46,6 +46,9 @@ std::vector<std::string> procedural_names();
 //! act on; includes a camera (Scene::cameras[0]) and two lights. "tree": a branching tree about
 //! 20 units tall (trunk + 120 branches as tapered tubes, mesh "trunk"; 1,080 crossed leaf quads,
 //! mesh "foliage", material "leaves") for LD06, generated from a fixed seed (docs/ld06.md).
+//! "tree?kind=K&seed=S&height=H&leaves=L&leaf_size=Z&spread=A": the family of generated plants
+//! (kinds broadleaf, light, conifer, shrub, grass; docs/ld06.md "Procedural plants"); "tree" is
+//! kind broadleaf, seed 0, every proportion 1. Unknown keys and out-of-range values throw.
 Scene make_procedural(const std::string& name);
 
 }  // namespace aq::scene

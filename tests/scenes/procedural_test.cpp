@@ -324,4 +324,43 @@ TEST(Noise, EightAtATimeGivesThePlainFieldBitForBit) {
 }
 
 }  // namespace
+// The generated plant family (issue 46 item 9): every kind builds finite geometry with foliage by
+// the default rule; kind broadleaf with default proportions is procedural:tree itself; the seed
+// changes the plant and the same query gives the same bytes; proportions act (more leaves, taller);
+// malformed queries are refused with the parameter's name.
+TEST(ProceduralTree, FamilyOfPlants) {
+    auto foliage_tris = [](const Scene& s) {
+        std::size_t n = 0;
+        for (const Instance& inst : s.instances)
+            for (const Primitive& p : s.meshes[std::size_t(inst.mesh)].primitives)
+                if (is_foliage(s, inst, p)) n += p.indices.size() / 3;
+        return n;
+    };
+    const Scene base = make_procedural("tree");
+    const Scene same = make_procedural("tree?kind=broadleaf&seed=0");
+    ASSERT_EQ(base.meshes.size(), same.meshes.size());
+    for (std::size_t m = 0; m < base.meshes.size(); ++m)
+        EXPECT_EQ(base.meshes[m].primitives[0].positions, same.meshes[m].primitives[0].positions);
+    for (const char* kind : {"broadleaf", "light", "conifer", "shrub", "grass"}) {
+        const std::string q = std::string("tree?kind=") + kind + "&seed=5";
+        const Scene a = make_procedural(q), b = make_procedural(q);
+        const Scene c = make_procedural(std::string("tree?kind=") + kind + "&seed=6");
+        EXPECT_EQ(a.source, "procedural:" + q);
+        ASSERT_FALSE(a.meshes.empty()) << kind;
+        EXPECT_EQ(a.meshes.back().primitives[0].positions, b.meshes.back().primitives[0].positions) << kind;
+        EXPECT_NE(a.meshes.back().primitives[0].positions, c.meshes.back().primitives[0].positions) << kind << ": seed ignored";
+        EXPECT_GT(foliage_tris(a), 100u) << kind;
+        for (const Mesh& m : a.meshes)
+            for (const glm::vec3& v : m.primitives[0].positions) ASSERT_TRUE(std::isfinite(v.x + v.y + v.z)) << kind;
+        const Scene more = make_procedural(q + "&leaves=2");
+        EXPECT_GT(foliage_tris(more), foliage_tris(a)) << kind;
+        const Scene tall = make_procedural(q + "&height=2");
+        EXPECT_GT(tall.world_bounds().max.y, 1.5f * a.world_bounds().max.y) << kind;
+    }
+    EXPECT_EQ(make_procedural("tree?kind=grass").meshes.size(), 1u) << "grass is foliage only";
+    for (const char* bad : {"tree?kind=palm", "tree?seed=-1", "tree?seed=1.5", "tree?leaves=0", "tree?height=abc",
+                            "tree?colour=red", "tree?kind"})
+        EXPECT_THROW(make_procedural(bad), aq::Error) << bad;
+}
+
 }  // namespace aq::scene
