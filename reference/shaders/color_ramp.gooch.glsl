@@ -1,5 +1,6 @@
 // color_ramp/gooch — LD06 §3.2 with Gooch et al. 1998: for layer K at lighting t,
-// obj = tone (dark + (color - dark) t), k_cool = cool + cool_mix obj, k_warm = warm + warm_mix obj,
+// obj = tone (dark + (color - dark) t), w = 1 - keep_hue s (s: HSV saturation of obj),
+// k_cool = w cool + cool_mix obj, k_warm = w warm + warm_mix obj,
 // colour = sat(k_cool (1 - t) + k_warm t); alpha = the layer's alpha.
 //@pass r0 out=4 in=lighting
 //@pass r1 out=4 in=lighting
@@ -13,8 +14,10 @@
 vec4 ramp(float t, vec3 color, vec3 dark, float alpha, float tone) {
     float u = sat(t);
     vec3 obj = tone * mix(dark, color, u);
-    vec3 kc = vec3(u_cool_r, u_cool_g, u_cool_b) + u_cool_mix * obj;
-    vec3 kw = vec3(u_warm_r, u_warm_g, u_warm_b) + u_warm_mix * obj;
+    float mx = max(obj.r, max(obj.g, obj.b)), mn = min(obj.r, min(obj.g, obj.b));
+    float w = 1.0 - u_keep_hue * (mx > 0.0 ? (mx - mn) / mx : 0.0);
+    vec3 kc = w * vec3(u_cool_r, u_cool_g, u_cool_b) + u_cool_mix * obj;
+    vec3 kw = w * vec3(u_warm_r, u_warm_g, u_warm_b) + u_warm_mix * obj;
     return vec4(sat(mix(kc, kw, u)), alpha);
 }
 void main() {

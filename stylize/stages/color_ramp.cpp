@@ -72,6 +72,7 @@ const ParamTable<T>& table() {
         .f("warm_b", &T::warm_b, 0, 1, "hue ramp, warm end (b)")
         .f("cool_mix", &T::cool_mix, 0, 2, "Gooch α: object colour in the cool end (Gooch 0.2; ours 0.8)")
         .f("warm_mix", &T::warm_mix, 0, 2, "Gooch β: object colour in the warm end (Gooch 0.6; ours 1.0)")
+        .f("keep_hue", &T::keep_hue, 0, 1, "how much a saturated colour keeps its hue: the cool/warm shift is weighted by 1 - keep_hue x saturation (0 = Gooch's shift on every colour; ours 1)")
         .f("color0_r", &T::color0_r, 0, 1, "layer0 object ramp, lit end (r; display value)")
         .f("color0_g", &T::color0_g, 0, 1, "layer0 object ramp, lit end (g; display value)")
         .f("color0_b", &T::color0_b, 0, 1, "layer0 object ramp, lit end (b; display value)")
@@ -115,6 +116,7 @@ ColorRampParams color_ramp_params(const ParamValues& pv) {
     p.hue.warm = {tp.warm_r, tp.warm_g, tp.warm_b};
     p.hue.cool_mix = tp.cool_mix;
     p.hue.warm_mix = tp.warm_mix;
+    p.hue.keep_hue = tp.keep_hue;
     p.layer[0] = {{tp.color0_r, tp.color0_g, tp.color0_b}, {tp.dark0_r, tp.dark0_g, tp.dark0_b}, tp.alpha0, tp.tone0};
     p.layer[1] = {{tp.color1_r, tp.color1_g, tp.color1_b}, {tp.dark1_r, tp.dark1_g, tp.dark1_b}, tp.alpha1, tp.tone1};
     p.layer[2] = {{tp.color2_r, tp.color2_g, tp.color2_b}, {tp.dark2_r, tp.dark2_g, tp.dark2_b}, tp.alpha2, tp.tone2};

@@ -47,7 +47,7 @@ ColorRampParams color_ramp_params(const ParamValues& pv);
 struct ColorRampTable {
     int source = 1, first = 0;
     float cool_r = 0.0f, cool_g = 0.0f, cool_b = 0.2f, warm_r = 0.2f, warm_g = 0.2f, warm_b = 0.0f;
-    float cool_mix = 0.8f, warm_mix = 1.0f;
+    float cool_mix = 0.8f, warm_mix = 1.0f, keep_hue = 1.0f;
     float color0_r = 0.45f;
     float color0_g = 0.35f;
     float color0_b = 0.25f;

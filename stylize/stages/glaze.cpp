@@ -73,7 +73,8 @@ void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ComputedRa
     check_not_alias(dst, ramps.lighting, "glaze", "lighting");
     // The row skips below rely on finite ramp parameters (the stage's ranges guarantee them); with
     // others the ramps are computed as images first.
-    bool finite = std::isfinite(ramps.ramps.hue.cool_mix) && std::isfinite(ramps.ramps.hue.warm_mix);
+    bool finite = std::isfinite(ramps.ramps.hue.cool_mix) && std::isfinite(ramps.ramps.hue.warm_mix) &&
+                  std::isfinite(ramps.ramps.hue.keep_hue);
     for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(ramps.ramps.hue.cool[c]) && std::isfinite(ramps.ramps.hue.warm[c]);
     for (const ColorRampLayer& l : ramps.ramps.layer) {
         finite = finite && std::isfinite(l.alpha) && std::isfinite(l.tone);

@@ -4,6 +4,7 @@
 // ld06_wash.glsl).
 #pragma once
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/glm.hpp>
@@ -81,16 +82,24 @@ inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const
 }
 
 //! LD06 §3.2 colour of a layer at lighting-map value t (Gooch et al. 1998 with the object colour
-//! replaced by the layer's object ramp): obj = tone·mix(dark, color, t), k_cool = cool + cool_mix·obj,
-//! k_warm = warm + warm_mix·obj, colour = sat(mix(k_cool, k_warm, t)).
+//! replaced by the layer's object ramp): obj = tone·mix(dark, color, t), the temperature weight
+//! w = 1 − keep_hue·s with s = (max − min) / max of obj (HSV saturation), k_cool = w·cool +
+//! cool_mix·obj, k_warm = w·warm + warm_mix·obj, colour = sat(mix(k_cool, k_warm, t)).
+//! keep_hue = 0 is Gooch's additive cool/warm shift; 1 (the default) fades the shift out with the
+//! colour's saturation, so a grey object gets the full cool-to-warm ramp and a saturated one keeps
+//! its hue (a red apple stays red; docs/ld06.md "color_ramp").
 struct RampColors {
     glm::vec3 cool{0.0f, 0.0f, 0.2f}, warm{0.2f, 0.2f, 0.0f};
     float cool_mix = 0.8f, warm_mix = 1.0f;
+    float keep_hue = 1.0f;
 };
 inline glm::vec3 ramp_color(float t, glm::vec3 color, glm::vec3 dark, float tone, const RampColors& r) {
     const float u = sat(t);
     const glm::vec3 obj = tone * mix(dark, color, u);
-    return sat(mix(r.cool + r.cool_mix * obj, r.warm + r.warm_mix * obj, u));
+    const float mx = std::max(obj.r, std::max(obj.g, obj.b)), mn = std::min(obj.r, std::min(obj.g, obj.b));
+    const float s = mx > 0.0f ? (mx - mn) / mx : 0.0f;
+    const float w = 1.0f - r.keep_hue * s;
+    return sat(mix(w * r.cool + r.cool_mix * obj, w * r.warm + r.warm_mix * obj, u));
 }
 
 }  // namespace aq::stylize

@@ -223,6 +223,7 @@ TEST(ColorRamp, GoochEndsAndAlpha) {
     p.hue.warm = {0.4f, 0.4f, 0.0f};
     p.hue.cool_mix = 0.2f;
     p.hue.warm_mix = 0.6f;
+    p.hue.keep_hue = 0.0f;  // Gooch's additive shift on every colour
     p.layer[2] = {{0.5f, 0.6f, 0.2f}, {0.1f, 0.2f, 0.05f}, 0.7f, 1.0f};
     ImageF o[4];
     ImageF* out[4] = {&o[0], &o[1], &o[2], &o[3]};
@@ -238,6 +239,32 @@ TEST(ColorRamp, GoochEndsAndAlpha) {
     // t = 0.5: halfway between the two ends of a ramp whose object colour is itself halfway.
     const float mid_obj_r = 0.5f * (0.1f + 0.5f);
     EXPECT_NEAR(o[2].at(2, 0, 0), 0.5f * (0.2f * mid_obj_r) + 0.5f * (0.4f + 0.6f * mid_obj_r), 1e-6);
+}
+
+// keep_hue (issue 46 item 4): the cool/warm shift is weighted by 1 - keep_hue x saturation. A grey
+// ramp gets the whole shift; a fully saturated one (a zero channel) none, so its hue is the object
+// colour's at every t; halfway saturation gets half.
+TEST(ColorRamp, KeepHueFadesTheShiftWithSaturation) {
+    ImageF light(3, 1, 1);
+    light.at(0, 0, 0) = 0.0f, light.at(1, 0, 0) = 1.0f, light.at(2, 0, 0) = 0.5f;
+    ColorRampParams p;  // defaults: cool (0, 0, 0.2), warm (0.2, 0.2, 0), 0.8 / 1.0, keep_hue 1
+    ASSERT_EQ(p.hue.keep_hue, 1.0f);
+    p.layer[0] = {{0.5f, 0.5f, 0.5f}, {0.25f, 0.25f, 0.25f}, 1.0f, 1.0f};  // grey
+    p.layer[1] = {{0.8f, 0.0f, 0.1f}, {0.4f, 0.0f, 0.05f}, 1.0f, 1.0f};   // saturated red
+    p.layer[2] = {{0.8f, 0.4f, 0.4f}, {0.8f, 0.4f, 0.4f}, 1.0f, 1.0f};    // saturation 1/2
+    ImageF o[4];
+    ImageF* out[4] = {&o[0], &o[1], &o[2], &o[3]};
+    color_ramp(out, light, p, Exec::reference());
+    EXPECT_NEAR(o[0].at(0, 0, 2), 0.2f + 0.8f * 0.25f, 1e-6) << "grey: the full cool shift";
+    EXPECT_NEAR(o[0].at(1, 0, 0), 0.2f + 1.0f * 0.5f, 1e-6) << "grey: the full warm shift";
+    for (int x = 0; x < 3; ++x) {
+        EXPECT_EQ(o[1].at(x, 0, 1), 0.0f) << "saturated: no shift added to its empty channel";
+        EXPECT_NEAR(o[1].at(x, 0, 2) / o[1].at(x, 0, 0), 0.1f / 0.8f, 1e-5) << "saturated: channel ratios (hue) kept";
+    }
+    EXPECT_NEAR(o[2].at(1, 0, 1), 0.5f * 0.2f + 0.4f, 1e-6) << "half saturated: half the warm shift";
+    p.hue.keep_hue = 0.0f;  // Gooch: the shift everywhere
+    color_ramp(out, light, p, Exec::reference());
+    EXPECT_NEAR(o[1].at(1, 0, 1), 0.2f, 1e-6);
 }
 
 TEST(Glaze, ZeroWashKeepsThePictureAndFullWashMultiplies) {
