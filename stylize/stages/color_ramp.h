@@ -46,7 +46,7 @@ ColorRampParams color_ramp_params(const ParamValues& pv);
 //! The parameter table's fields (names: docs via `aquarelle stages color_ramp`).
 struct ColorRampTable {
     int source = 1, first = 0;
-    float cool_r = 0.0f, cool_g = 0.0f, cool_b = 0.2f, warm_r = 0.2f, warm_g = 0.2f, warm_b = 0.0f;
+    float cool_r = 0.0f, cool_g = 0.0f, cool_b = kRampCoolWarm, warm_r = kRampCoolWarm, warm_g = kRampCoolWarm, warm_b = 0.0f;
     float cool_mix = 0.8f, warm_mix = 1.0f, keep_hue = 1.0f;
     float color0_r = 0.45f;
     float color0_g = 0.35f;

@@ -88,8 +88,10 @@ inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const
 //! keep_hue = 0 is Gooch's additive cool/warm shift; 1 (the default) fades the shift out with the
 //! colour's saturation, so a grey object gets the full cool-to-warm ramp and a saturated one keeps
 //! its hue (a red apple stays red; docs/ld06.md "color_ramp").
+//! Defaults (ours): Gooch's b = y = 0.1 (published 0.4); docs/ld06.md "color_ramp" says why.
+inline constexpr float kRampCoolWarm = 0.1f;
 struct RampColors {
-    glm::vec3 cool{0.0f, 0.0f, 0.2f}, warm{0.2f, 0.2f, 0.0f};
+    glm::vec3 cool{0.0f, 0.0f, kRampCoolWarm}, warm{kRampCoolWarm, kRampCoolWarm, 0.0f};
     float cool_mix = 0.8f, warm_mix = 1.0f;
     float keep_hue = 1.0f;
 };

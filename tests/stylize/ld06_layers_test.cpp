@@ -247,7 +247,7 @@ TEST(ColorRamp, GoochEndsAndAlpha) {
 TEST(ColorRamp, KeepHueFadesTheShiftWithSaturation) {
     ImageF light(3, 1, 1);
     light.at(0, 0, 0) = 0.0f, light.at(1, 0, 0) = 1.0f, light.at(2, 0, 0) = 0.5f;
-    ColorRampParams p;  // defaults: cool (0, 0, 0.2), warm (0.2, 0.2, 0), 0.8 / 1.0, keep_hue 1
+    ColorRampParams p;  // defaults: cool (0, 0, b), warm (b, b, 0) with b = kRampCoolWarm, 0.8 / 1.0, keep_hue 1
     ASSERT_EQ(p.hue.keep_hue, 1.0f);
     p.layer[0] = {{0.5f, 0.5f, 0.5f}, {0.25f, 0.25f, 0.25f}, 1.0f, 1.0f};  // grey
     p.layer[1] = {{0.8f, 0.0f, 0.1f}, {0.4f, 0.0f, 0.05f}, 1.0f, 1.0f};   // saturated red
@@ -255,16 +255,17 @@ TEST(ColorRamp, KeepHueFadesTheShiftWithSaturation) {
     ImageF o[4];
     ImageF* out[4] = {&o[0], &o[1], &o[2], &o[3]};
     color_ramp(out, light, p, Exec::reference());
-    EXPECT_NEAR(o[0].at(0, 0, 2), 0.2f + 0.8f * 0.25f, 1e-6) << "grey: the full cool shift";
-    EXPECT_NEAR(o[0].at(1, 0, 0), 0.2f + 1.0f * 0.5f, 1e-6) << "grey: the full warm shift";
+    constexpr float b = kRampCoolWarm;
+    EXPECT_NEAR(o[0].at(0, 0, 2), b + 0.8f * 0.25f, 1e-6) << "grey: the full cool shift";
+    EXPECT_NEAR(o[0].at(1, 0, 0), b + 1.0f * 0.5f, 1e-6) << "grey: the full warm shift";
     for (int x = 0; x < 3; ++x) {
         EXPECT_EQ(o[1].at(x, 0, 1), 0.0f) << "saturated: no shift added to its empty channel";
         EXPECT_NEAR(o[1].at(x, 0, 2) / o[1].at(x, 0, 0), 0.1f / 0.8f, 1e-5) << "saturated: channel ratios (hue) kept";
     }
-    EXPECT_NEAR(o[2].at(1, 0, 1), 0.5f * 0.2f + 0.4f, 1e-6) << "half saturated: half the warm shift";
+    EXPECT_NEAR(o[2].at(1, 0, 1), 0.5f * b + 0.4f, 1e-6) << "half saturated: half the warm shift";
     p.hue.keep_hue = 0.0f;  // Gooch: the shift everywhere
     color_ramp(out, light, p, Exec::reference());
-    EXPECT_NEAR(o[1].at(1, 0, 1), 0.2f, 1e-6);
+    EXPECT_NEAR(o[1].at(1, 0, 1), b, 1e-6);
 }
 
 TEST(Glaze, ZeroWashKeepsThePictureAndFullWashMultiplies) {
