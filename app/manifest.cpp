@@ -109,7 +109,8 @@ json pipeline_json(const stylize::CompiledPipeline& c) {
     if (c.has_foliage)
         p["foliage"] = {{"abstract", c.foliage.abstract},   {"threshold", c.foliage.threshold},
                         {"radius", c.foliage.radius},       {"relative", c.foliage.relative},
-                        {"cells_per_radius", c.foliage.cells_per_radius}, {"fit_threshold", c.foliage.fit_threshold}};
+                        {"cells_per_radius", c.foliage.cells_per_radius}, {"fit", c.foliage.fit},
+                        {"technique", raster::technique_name(c.foliage.technique)}};
     return p;
 }
 

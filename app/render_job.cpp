@@ -235,19 +235,28 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         raster::FoliageParams fp = c.foliage;
         fp.abstract = c.has_foliage && c.foliage.abstract;
         const scene::SceneDesc& d = job.desc;  // the scene file's values win over the style's
-        if (d.foliage_threshold) fp.threshold = *d.foliage_threshold;
+        if (d.foliage_threshold) fp.threshold = *d.foliage_threshold, fp.fit = false;  // a chosen T is used as is
         if (d.foliage_radius) fp.radius = *d.foliage_radius;
         if (d.foliage_relative) fp.relative = *d.foliage_relative;
         if (d.foliage_cells_per_radius) fp.cells_per_radius = *d.foliage_cells_per_radius;
+        if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
         job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));
         job.pass_layers.push_back(raster::abstracted_layer_table(job.desc.scene, *job.pass_scenes.back()));
         job.pass_contours.push_back(raster::build_contour_cache(job.pass_scenes.back()->scene));
         for (auto& w : warnings) report.warning(w);
-        if (const auto& a = job.pass_scenes.back(); a->abstracted)
+        if (const auto& a = job.pass_scenes.back(); a->abstracted) {
+            char fit[96];
+            std::snprintf(fit, sizeof fit, " (T = %.4g, r = %.4g, %.0f %% of the leaves' vertices inside)", double(a->threshold),
+                          double(a->radius), 100.0 * double(a->surface.inside_fraction));
             report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
-                            std::to_string(a->surface.indices.size() / 3) + " in " + std::to_string(int(ms_since(t0))) + " ms");
+                            std::to_string(a->surface.indices.size() / 3) + fit + " in " + std::to_string(int(ms_since(t0))) + " ms");
+        } else if (a->texture_technique) {
+            report.progress("foliage: " + std::to_string(a->foliage_triangles) +
+                            " triangles painted as modelled with intensity-texture detail (LD06 §4.3; median leaf " +
+                            std::to_string(int(std::lround(100.0 * a->leaf_share))) + " % of the plant height)");
+        }
     }
     job.world_bounds = job.desc.scene.world_bounds();
     return job;
@@ -402,6 +411,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                         pass_scene->foliage_surface = &a.surface;
                         pass_scene->plant_height = a.height;
                     }
+                    pass_scene->foliage_detail = a.texture_technique;
                     ro.scene = &*pass_scene;
                 }
                 ro.warnings = &step_warnings;

@@ -1,8 +1,11 @@
 // raster/foliage.cpp — see foliage.h.
 #include "raster/foliage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "core/hash.h"
 
 namespace aq::raster {
 
@@ -20,6 +23,85 @@ scene::Material pass_material(const scene::Material& m) {
 }
 }  // namespace
 
+const char* technique_name(FoliageTechnique t) {
+    return t == FoliageTechnique::Surface ? "surface" : t == FoliageTechnique::Texture ? "texture" : "auto";
+}
+
+FoliageTechnique parse_technique(const std::string& s) {
+    if (s == "auto") return FoliageTechnique::Auto;
+    if (s == "surface") return FoliageTechnique::Surface;
+    if (s == "texture") return FoliageTechnique::Texture;
+    throw Error("foliage technique '" + s + "' is not one of auto, surface, texture");
+}
+
+scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Material& m) {
+    constexpr int kNoiseSize = 64, kNoiseCells = 4, kMaxSide = 256;
+    const scene::Texture* base = nullptr;
+    if (m.base_color_texture.texture >= 0 && m.base_color_texture.texture < int(sc.textures.size()))
+        base = &sc.textures[std::size_t(m.base_color_texture.texture)];
+    const ImageF* src = nullptr;
+    if (base && !base->image.empty()) {
+        src = &base->image;
+        for (const ImageF& level : base->mips)
+            if (std::max(src->width(), src->height()) > kMaxSide) src = &level;
+    }
+    const int w = src ? src->width() : kNoiseSize, h = src ? src->height() : kNoiseSize;
+    std::vector<float> v(std::size_t(w) * h);
+    std::vector<char> used(v.size(), 1);
+    // Value noise: hashed lattice values, bilinear, periodic over the texture (it repeats on a leaf).
+    auto noise = [&](int x, int y) {
+        auto lattice = [](int i, int j) {
+            return float(hash32(std::uint32_t(i % kNoiseCells) * 0x9E3779B1u + std::uint32_t(j % kNoiseCells) * 0x85EBCA6Bu + 7u) >> 8) /
+                   16777216.0f;
+        };
+        const float fx = (float(x) + 0.5f) / float(w) * kNoiseCells, fy = (float(y) + 0.5f) / float(h) * kNoiseCells;
+        const int i = int(std::floor(fx)), j = int(std::floor(fy));
+        const float tx = fx - float(i), ty = fy - float(j);
+        const float a = lattice(i, j) + (lattice(i + 1, j) - lattice(i, j)) * tx;
+        const float b = lattice(i, j + 1) + (lattice(i + 1, j + 1) - lattice(i, j + 1)) * tx;
+        return a + (b - a) * ty;
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            if (!src) {
+                v[i] = noise(x, y);
+                continue;
+            }
+            float t[4] = {0, 0, 0, 1};
+            for (int c = 0; c < std::min(4, src->channels()); ++c) t[c] = src->at(x, y, c);
+            const float alpha = t[3];
+            used[i] = m.alpha_mode != scene::AlphaMode::Mask || alpha * m.base_color.a >= m.alpha_cutoff;
+            v[i] = src->channels() >= 3 ? 0.2126f * t[0] + 0.7152f * t[1] + 0.0722f * t[2] : t[0];
+        }
+    auto terciles = [&](float& t1, float& t2) {
+        std::vector<float> s;
+        for (std::size_t i = 0; i < v.size(); ++i)
+            if (used[i]) s.push_back(v[i]);
+        if (s.empty()) return false;
+        std::sort(s.begin(), s.end());
+        t1 = s[s.size() / 3], t2 = s[(2 * s.size()) / 3];
+        return t1 < t2;
+    };
+    float t1 = 0, t2 = 0;
+    if (!terciles(t1, t2)) {  // a flat texture has no detail of its own: the noise pattern
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) v[std::size_t(y) * w + x] = noise(x, y);
+        terciles(t1, t2);
+    }
+    scene::Texture out;
+    out.name = "intensity detail derived from material '" + m.name + "'";
+    out.image = ImageF(w, h, 4, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float q = v[std::size_t(y) * w + x];
+            out.image.at(x, y, q < t1 ? 0 : q < t2 ? 1 : 2) = 1.0f;
+            out.image.at(x, y, 3) = used[std::size_t(y) * w + x] ? 1.0f : 0.0f;  // the texels the terciles count
+        }
+    scene::finish_texture(out);
+    return out;
+}
+
 std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, const FoliageParams& p,
                                                         const Exec& ex, std::vector<std::string>* warnings) {
     auto out = std::make_shared<AbstractedScene>();
@@ -32,85 +114,109 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         dst.materials.push_back(pass_material(m));
         keeps_masked = keeps_masked || m.alpha_mode == scene::AlphaMode::Mask || m.intensity_texture.texture >= 0;
     }
-    if (keeps_masked) dst.textures = sc.textures;  // alpha tests and intensity textures need them
     dst.cameras = sc.cameras;
     dst.lights = sc.lights;
     dst.ambient = sc.ambient;
     dst.source = sc.source;
     dst.foliage = sc.foliage;
     dst.strokes = sc.strokes;
+    // The foliage: its vertices (world space, the constraint points), its leaf sizes, its materials.
     std::vector<glm::vec3> points;
-    int foliage_material = -1;
+    std::vector<float> leaf;
+    std::vector<int> foliage_materials;
     std::uint32_t next_id = 1;
     for (const scene::Instance& inst : sc.instances) next_id = std::max(next_id, inst.object_id + 1);
+    for (const scene::Instance& inst : sc.instances) {
+        if (!p.abstract || inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+        for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
+            if (!scene::is_foliage(sc, inst, prim)) continue;
+            const std::size_t first = points.size();
+            for (const glm::vec3& v : prim.positions) points.push_back(glm::vec3(inst.world * glm::vec4(v, 1.0f)));
+            for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+                const glm::vec3 a = points[first + prim.indices[t]], e1 = points[first + prim.indices[t + 1]] - a,
+                                e2 = points[first + prim.indices[t + 2]] - a;
+                const float area = 0.5f * glm::length(glm::cross(e1, e2));
+                if (std::isfinite(area)) leaf.push_back(std::sqrt(area));
+            }
+            out->foliage_triangles += prim.indices.size() / 3;
+            if (out->foliage_material < 0) {
+                out->foliage_object_id = inst.object_id;
+                out->foliage_material = prim.material;
+            }
+            if (std::find(foliage_materials.begin(), foliage_materials.end(), prim.material) == foliage_materials.end())
+                foliage_materials.push_back(prim.material);
+        }
+    }
+    out->foliage_points = points.size();
+    if (!leaf.empty() && out->height > 0.0f) {
+        std::nth_element(leaf.begin(), leaf.begin() + std::ptrdiff_t(leaf.size() / 2), leaf.end());
+        out->leaf_share = leaf[leaf.size() / 2] / out->height;
+    }
+    if (p.abstract && points.empty() && warnings)
+        warnings->push_back("foliage abstraction: no foliage in the scene (docs/ld06.md \"Foliage\"); drawn as modelled");
+    // Which technique (docs/ld06.md "Choosing the technique").
+    bool texture = p.technique == FoliageTechnique::Texture;
+    if (p.technique == FoliageTechnique::Auto)
+        texture = out->leaf_share >= kTextureLeafShare || out->foliage_triangles < kTextureMaxTriangles;
+    if (!points.empty() && !texture) {
+        if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("foliage abstraction: r must be finite and > 0");
+        out->radius = p.relative ? p.radius * out->height : p.radius;
+        if (!(out->radius > 0.0f && std::isfinite(out->radius)))
+            throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " +
+                        std::to_string(out->height) + " is not a usable radius");
+        ImplicitSurfaceParams ip;
+        ip.threshold = p.threshold;
+        ip.radius = out->radius;
+        ip.cells_per_radius = p.cells_per_radius;
+        ip.fit_inside = p.fit ? kFitInside : 0.0f;
+        out->surface = build_implicit_surface(points, ip, ex);
+        out->threshold = out->surface.threshold;
+        if (out->surface.indices.empty() || out->surface.inside_fraction < kMinSurfaceInside) {
+            // A plant never loses its foliage: paint the modelled leaves instead, and say so.
+            if (warnings) {
+                char msg[320];
+                std::snprintf(msg, sizeof msg,
+                              "foliage abstraction: the implicit surface at T = %g, r = %g encloses %.0f %% of the %zu foliage "
+                              "vertices; painted from the modelled leaves instead (technique texture, docs/ld06.md)",
+                              double(out->threshold), double(out->radius), 100.0 * double(out->surface.inside_fraction),
+                              points.size());
+                warnings->push_back(msg);
+            }
+            out->surface = {};
+            texture = true;
+        }
+    }
+    const bool surface = !points.empty() && !texture;
+    out->texture_technique = !points.empty() && texture;
     for (const scene::Instance& inst : sc.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
         const scene::Mesh& mesh = sc.meshes[std::size_t(inst.mesh)];
         scene::Mesh kept;
         kept.name = mesh.name;
-        for (const scene::Primitive& prim : mesh.primitives) {
-            if (p.abstract && scene::is_foliage(sc, inst, prim)) {
-                for (const glm::vec3& v : prim.positions) points.push_back(glm::vec3(inst.world * glm::vec4(v, 1.0f)));
-                out->foliage_triangles += prim.indices.size() / 3;
-                if (foliage_material < 0) {
-                    foliage_material = prim.material;
-                    out->foliage_object_id = inst.object_id;
-                    out->foliage_material = prim.material;
-                }
-                continue;
-            }
-            kept.primitives.push_back(prim);
-        }
+        for (const scene::Primitive& prim : mesh.primitives)
+            if (!(surface && scene::is_foliage(sc, inst, prim))) kept.primitives.push_back(prim);
         if (kept.primitives.empty()) continue;
         dst.meshes.push_back(std::move(kept));
         scene::Instance ki = inst;
         ki.mesh = int(dst.meshes.size()) - 1;
         dst.instances.push_back(ki);
     }
-    out->foliage_points = points.size();
-    if (!p.abstract) return out;
-    if (points.empty()) {
-        if (warnings) warnings->push_back("foliage abstraction: no foliage in the scene (docs/ld06.md \"Foliage\"); drawn as modelled");
+    if (keeps_masked || out->texture_technique) dst.textures = sc.textures;  // alpha tests and intensity textures need them
+    if (out->texture_technique) {
+        for (const int mi : foliage_materials) {
+            if (mi < 0 || mi >= int(dst.materials.size()) || dst.materials[std::size_t(mi)].intensity_texture.texture >= 0) continue;
+            scene::Material& m = dst.materials[std::size_t(mi)];
+            dst.textures.push_back(derive_intensity_texture(sc, sc.materials[std::size_t(mi)]));
+            m.intensity_texture.texture = int(dst.textures.size()) - 1;
+            if (m.base_color_texture.texture >= 0) m.intensity_texture.sampler = m.base_color_texture.sampler;
+        }
         return out;
     }
-    if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("foliage abstraction: r must be finite and > 0");
-    out->radius = p.relative ? p.radius * out->height : p.radius;
-    ImplicitSurfaceParams ip;
-    ip.threshold = p.threshold;
-    ip.radius = out->radius;
-    ip.cells_per_radius = p.cells_per_radius;
-    if (!(out->radius > 0.0f && std::isfinite(out->radius)))
-        throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " +
-                    std::to_string(out->height) + " is not a usable radius");
-    out->surface = build_implicit_surface(points, ip, ex);
-    if (p.fit_threshold && out->surface.indices.empty()) {
-        // The field does not depend on T and the surface is empty exactly when its maximum is not
-        // above T: the first of T/2, T/4, ... (at most kFitThresholdSteps halvings) below the
-        // maximum is found without building, then the surface is built once more at it.
-        int k = 0;
-        while (k < kFitThresholdSteps && !(out->surface.field_max > ip.threshold)) ip.threshold *= 0.5f, ++k;
-        if (out->surface.field_max > ip.threshold) out->surface = build_implicit_surface(points, ip, ex);
-        if (!out->surface.indices.empty() && warnings) {
-            char msg[256];
-            std::snprintf(msg, sizeof msg,
-                          "foliage abstraction: the summed density of %zu foliage points never reaches T = %g at r = %g; "
-                          "used T = %g (fit_threshold; set foliage.T in the scene file to choose)",
-                          points.size(), double(p.threshold), double(out->radius), double(ip.threshold));
-            warnings->push_back(msg);
-        }
-    }
-    if (out->surface.indices.empty()) {
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "foliage abstraction: the implicit surface of %zu foliage points is empty at T = %g, r = %g "
-                      "(the summed density never reaches T: lower T or raise r)",
-                      points.size(), double(p.threshold), double(out->radius));
-        throw Error(msg);
-    }
+    if (!surface) return out;
     scene::Material m;
     m.name = "foliage (implicit surface)";
-    if (foliage_material >= 0 && foliage_material < int(sc.materials.size()))
-        m.base_color = sc.materials[std::size_t(foliage_material)].base_color;
+    if (out->foliage_material >= 0 && out->foliage_material < int(sc.materials.size()))
+        m.base_color = sc.materials[std::size_t(out->foliage_material)].base_color;
     m.double_sided = true;
     dst.materials.push_back(m);
     scene::Primitive prim;

@@ -14,6 +14,14 @@
 
 namespace aq::raster {
 
+//! How LD06 paints a plant's foliage: the implicit surface with particles (§4.1-4.2), or the
+//! modelled leaves with intensity-texture detail (§4.3). Auto decides from the geometry.
+enum class FoliageTechnique { Auto = 0, Surface = 1, Texture = 2 };
+
+//! "auto" | "surface" | "texture"; parse throws aq::Error naming the known values.
+const char* technique_name(FoliageTechnique t);
+FoliageTechnique parse_technique(const std::string& s);
+
 struct FoliageParams {
     bool abstract = true;               //!< false: passes draw the modelled leaves
     float threshold = kLd06Threshold;   //!< T of eq. 7
@@ -22,13 +30,25 @@ struct FoliageParams {
     float radius = kLd06RadiusPerHeight;
     bool relative = true;
     int cells_per_radius = 2;
-    //! When the summed density never reaches T (sparse foliage, e.g. a bare glTF bush under the
-    //! ld06 preset's dense-tree T): halve T until the surface is not empty (at most
-    //! kFitThresholdSteps times) and report the T used as a warning, instead of failing.
-    bool fit_threshold = false;
+    //! Fit T to the plant (ImplicitSurfaceParams::fit_inside = kFitInside) instead of using
+    //! `threshold`: the surface encloses that share of the foliage's vertices whatever its density.
+    bool fit = false;
+    //! Surface by default (what a pipeline's "foliage" block asked for before techniques existed);
+    //! the ld06 preset says "auto".
+    FoliageTechnique technique = FoliageTechnique::Surface;
 };
 
-inline constexpr int kFitThresholdSteps = 12;
+//! Share of the foliage vertices a fitted surface encloses (docs/ld06.md "Fitting the
+//! abstraction": the painted crown then covers >= 85 % of the modelled foliage's silhouette).
+inline constexpr float kFitInside = 0.9f;
+//! Auto technique: LD06 §4.3's intensity textures ("small plants or plants with few large
+//! leaves") when the median leaf (square root of a foliage triangle's area) is at least this
+//! share of the plant height, or the foliage has fewer than kTextureMaxTriangles triangles.
+inline constexpr float kTextureLeafShare = 0.045f;
+inline constexpr std::size_t kTextureMaxTriangles = 500;
+//! A surface enclosing less than this share of the foliage's vertices (a scene file's fixed T far
+//! above the plant's density) is replaced by the texture technique, with a warning.
+inline constexpr float kMinSurfaceInside = 0.5f;
 
 //! The scene LD06 passes draw, with what the abstraction measured.
 struct AbstractedScene {
@@ -37,12 +57,25 @@ struct AbstractedScene {
     float height = 0;          //!< h: the world bounds' extent along +Y (glTF's up axis)
     float radius = 0;          //!< r used, world units
     std::size_t foliage_points = 0, foliage_triangles = 0;
+    float leaf_share = 0;      //!< median foliage triangle's sqrt(area) / h (the technique rule)
+    float threshold = 0;       //!< T used (fitted or given)
     bool abstracted = false;   //!< false: no foliage, or abstraction off (scene is a plain copy)
+    //! Texture: foliage drawn as modelled, every foliage material with an intensity texture
+    //! (its own, else one derived from its base colour: derive_intensity_texture); the particle
+    //! pass then renders that detail (PassScene::foliage_detail).
+    bool texture_technique = false;
     //! The surface's draw (object_id, material) and the first foliage primitive it replaces in the
     //! source scene: the surface belongs to that primitive's LD06 layer (scenes/layers.h).
     std::uint32_t surface_object_id = 0, foliage_object_id = 0;
     int surface_material = -1, foliage_material = -1;
 };
+
+//! LD06 §4.3 detail maps made from a leaf material when it has none: the base colour texture's
+//! luminance (else a value-noise pattern of 4 x 4 cells) over the texels that pass the alpha test,
+//! split at its terciles into dark (R), medium (G) and bright (B): each texel is 1 in exactly one
+//! channel; alpha is 1 where the texel passes the material's alpha test (the terciles' texels), 0
+//! elsewhere. 64 x 64 texels without a base texture; else the first mip level of at most 256 px.
+scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Material& m);
 
 //! Splits `sc` into trunk and foliage (scene::is_foliage), builds the implicit surface of the
 //! foliage vertices (in world space) and returns the trunk plus the surface as a foliage instance

@@ -54,6 +54,7 @@ float implicit_density(const std::vector<glm::vec3>& points, float radius, glm::
 ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, const ImplicitSurfaceParams& p,
                                        const Exec& ex) {
     if (!(std::isfinite(p.threshold) && p.threshold > 0.0f)) throw Error("implicit surface: T must be finite and > 0");
+    if (!(p.fit_inside >= 0.0f && p.fit_inside < 1.0f)) throw Error("implicit surface: fit_inside must be in [0, 1)");
     if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("implicit surface: r must be finite and > 0");
     if (p.cells_per_radius < 1 || p.cells_per_radius > 16)
         throw Error("implicit surface: cells_per_radius must be in [1, 16]");
@@ -128,10 +129,33 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
     } else {
         with_arena(ex, [&] { tbb::parallel_for(0, g.nz, fill_slab); });
     }
-    for (float& v : f) {
-        out.field_max = std::max(out.field_max, v);
-        v -= p.threshold;  // inside: f > 0 (exactly where the sum exceeds T: IEEE subtraction keeps the sign)
+    for (const float v : f) out.field_max = std::max(out.field_max, v);
+    // The field at every point (trilinear between the grid nodes around it), in point order.
+    std::vector<float> at_point(pts.size());
+    for (std::size_t idx = 0; idx < pts.size(); ++idx) {
+        const glm::vec3 u = (pts[idx] - g.origin) / g.cell;
+        const int i = std::clamp(int(std::floor(u.x)), 0, g.nx - 2), j = std::clamp(int(std::floor(u.y)), 0, g.ny - 2),
+                  k = std::clamp(int(std::floor(u.z)), 0, g.nz - 2);
+        const glm::vec3 t = glm::clamp(u - glm::vec3(float(i), float(j), float(k)), 0.0f, 1.0f);
+        float c[8];
+        for (int q = 0; q < 8; ++q) c[q] = f[g.at(i + kCorner[q][0], j + kCorner[q][1], k + kCorner[q][2])];
+        auto lerp = [](float a, float b, float w) { return a + (b - a) * w; };
+        at_point[idx] = lerp(lerp(lerp(c[0], c[1], t.x), lerp(c[2], c[3], t.x), t.y),
+                             lerp(lerp(c[4], c[5], t.x), lerp(c[6], c[7], t.x), t.y), t.z);
     }
+    out.threshold = p.threshold;
+    if (p.fit_inside > 0.0f && p.fit_inside < 1.0f) {
+        std::vector<float> sorted = at_point;
+        const std::size_t q = std::min(sorted.size() - 1, std::size_t(double(1.0f - p.fit_inside) * double(sorted.size())));
+        std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(q), sorted.end());
+        // Just below the quantile's value, so the points at it count as inside.
+        out.threshold = std::nextafter(sorted[q], 0.0f);
+        if (!(out.threshold > 0.0f)) out.threshold = std::numeric_limits<float>::min();
+    }
+    std::size_t inside = 0;
+    for (const float v : at_point) inside += v > out.threshold;
+    out.inside_fraction = float(double(inside) / double(pts.size()));
+    for (float& v : f) v -= out.threshold;  // inside: f > 0 (exactly where the sum exceeds T: IEEE subtraction keeps the sign)
 
     // Vertices: one per cell with corners on both sides, at the mean of its edge crossings.
     const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;

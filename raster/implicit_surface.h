@@ -38,6 +38,10 @@ struct ImplicitSurfaceParams {
     float threshold = kLd06Threshold;  //!< T of eq. 7, > 0
     float radius = 1.0f;               //!< r of eq. 6 in world units, > 0 (resolve relative values first)
     int cells_per_radius = 2;          //!< grid resolution: cell side = r / cells_per_radius, [1, 16]
+    //! When in (0, 1): T is not `threshold` but fitted to the points — the field's value at the
+    //! (1 − fit_inside) quantile of the points (field trilinearly interpolated at each point), so
+    //! that fraction of the points lies inside the surface (docs/ld06.md "Fitting the abstraction").
+    float fit_inside = 0.0f;
 };
 
 struct ImplicitSurface {
@@ -48,6 +52,8 @@ struct ImplicitSurface {
     //! The largest summed density Σ D_j at a grid node: the surface is empty exactly when it is not
     //! above T (so a fitted T can be chosen without building the surface again per candidate).
     float field_max = 0;
+    float threshold = 0;        //!< the T used (fitted or given)
+    float inside_fraction = 0;  //!< share of the finite points where the field exceeds T
 };
 
 //! The density field of eq. 6 summed at p (plain loop over every point: the test reference).

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -119,6 +120,9 @@ struct PassContext {
     PassViewSetup light;            // Shadow value: the light view the shadow map was rendered from
     View<const float> depth_map, shadow_map;
     const scene::LayerTable* layers = nullptr;
+    //! LayerId, ObjectId with foliage_layer off: per draw of the frame, 1 = foliage (writes the
+    //! background); empty = every draw writes its ID.
+    std::vector<char> foliage_background;
     float background = 0.0f;
 };
 
@@ -180,9 +184,13 @@ inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk&
         }
         case PassValue::LayerId: {
             const DrawVertices& dv = fr.draws[t.draw];
+            if (!cx.foliage_background.empty() && cx.foliage_background[t.draw]) return 0.0f;
             return float(cx.layers->of(dv.object_id, dv.prim->material) + 1);
         }
-        case PassValue::ObjectId: return float(fr.draws[t.draw].object_id);
+        case PassValue::ObjectId: {
+            if (!cx.foliage_background.empty() && cx.foliage_background[t.draw]) return 0.0f;
+            return float(fr.draws[t.draw].object_id);
+        }
     }
     return 0.0f;
 }
@@ -333,6 +341,14 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
         if (!entry->prepared) {
             prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
             entry->prepared = true;
+        }
+        if (!p.foliage_layer && (p.value == PassValue::LayerId || p.value == PassValue::ObjectId)) {
+            std::unordered_map<std::uint32_t, const scene::Instance*> by_id;
+            for (const scene::Instance& inst : sc.instances) by_id.emplace(inst.object_id, &inst);
+            cx.foliage_background.assign(fr.draws.size(), 0);
+            for (std::size_t d = 0; d < fr.draws.size(); ++d)
+                if (const auto it = by_id.find(fr.draws[d].object_id); it != by_id.end())
+                    cx.foliage_background[d] = scene::is_foliage(sc, *it->second, *fr.draws[d].prim);
         }
         if (!fast) {
             std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());

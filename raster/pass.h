@@ -92,6 +92,9 @@ struct PassScene {
     //! are placed on it), else null; plant_height is its tree height h.
     const ImplicitSurface* foliage_surface = nullptr;
     float plant_height = 0;
+    //! The plant's foliage is painted with LD06 §4.3's technique (raster/foliage.h): the particle
+    //! pass renders the foliage materials' intensity-texture detail instead of particles.
+    bool foliage_detail = false;
     //! Hand-made strokes of the scene (LD06 §4.4; raster/strokes.h), drawn before the automatic
     //! contours; null = none.
     const std::vector<scene::Stroke>* strokes = nullptr;
@@ -140,6 +143,10 @@ struct TrianglePass {
     Blend blend = Blend::Replace;
     float alpha = 1.0f;             //!< fragment alpha for Blend::Over, [0, 1]
     int channel = 0;                //!< IntensityTexture: 0 = R, 1 = G, 2 = B
+    //! LayerId, ObjectId: false = foliage (the implicit surface, or the modelled leaves under the
+    //! texture technique) occludes but writes the background, so no object layer paints the crown:
+    //! the particle pass's crown map does (docs/ld06.md "Leafy outlines").
+    bool foliage_layer = true;
     float lighting_background = 0;  //!< Lighting: value where nothing is drawn, [0, 1]
     const ImageF* depth_map = nullptr;   //!< Blurred tests: the (blurred) depth of this view, 1 channel
     //! Shadow value: the blurred light-view depth map (1 channel) and its test.

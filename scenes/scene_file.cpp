@@ -621,7 +621,13 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     };
     if (j.contains("foliage")) {
         const json& f = j["foliage"];
-        ctx.check_keys(f, "foliage", {"nodes", "meshes", "materials", "T", "radius", "relative", "cells_per_radius", "comment"});
+        ctx.check_keys(f, "foliage", {"nodes", "meshes", "materials", "T", "radius", "relative", "cells_per_radius", "technique", "comment"});
+        if (f.contains("technique")) {
+            const json& t = f["technique"];
+            if (!t.is_string() || (t != "auto" && t != "surface" && t != "texture"))
+                ctx.bad("foliage.technique", "expected \"auto\", \"surface\" or \"texture\"");
+            else d.foliage_technique = t.get<std::string>();
+        }
         if (f.contains("T")) d.foliage_threshold = float(ctx.number(f["T"], "foliage.T", 1e-6, 1e6));
         if (f.contains("radius")) d.foliage_radius = float(ctx.number(f["radius"], "foliage.radius", 1e-6, 1e6));
         if (f.contains("relative")) {
@@ -630,11 +636,13 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         }
         if (f.contains("cells_per_radius")) d.foliage_cells_per_radius = ctx.integer(f["cells_per_radius"], "foliage.cells_per_radius", 1, 16);
         FoliageSelection& sel = d.scene.foliage;
-        sel.set = true;
+        // Without names the default rule selects the foliage (the block only sets parameters).
+        const bool selects = f.contains("nodes") || f.contains("meshes") || f.contains("materials");
+        sel.set = selects;
         names(f, "foliage", "nodes", sel.nodes, node_names);
         names(f, "foliage", "meshes", sel.meshes, mesh_names);
         names(f, "foliage", "materials", sel.materials, material_names);
-        if (sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
+        if (selects && sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
             ctx.bad("foliage", "names no node, mesh or material");
         for (auto* v : {&sel.nodes, &sel.meshes, &sel.materials}) {  // sorted and unique (is_foliage searches them)
             std::sort(v->begin(), v->end());

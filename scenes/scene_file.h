@@ -105,6 +105,8 @@ struct SceneDesc {
     std::optional<float> foliage_threshold, foliage_radius;
     std::optional<bool> foliage_relative;
     std::optional<int> foliage_cells_per_radius;
+    //! LD06 technique for the foliage: "auto", "surface" or "texture" (docs/ld06.md "Choosing the technique").
+    std::optional<std::string> foliage_technique;
 };
 
 //! A scene file (.json), a bare .gltf/.glb (camera framing the bounds, a default light, neutral

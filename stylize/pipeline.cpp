@@ -160,8 +160,9 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
     }
     if (j.contains("foliage")) {
         const json& fj = j["foliage"];
-        if (!fj.is_object()) fail(src, "foliage", "expected an object {abstract, T, radius, relative, cells_per_radius, fit_threshold}");
-        check_keys(fj, {"abstract", "T", "radius", "relative", "cells_per_radius", "fit_threshold", "comment"}, src, "foliage");
+        if (!fj.is_object()) fail(src, "foliage", "expected an object {abstract, T, radius, relative, cells_per_radius, fit, technique}");
+        check_keys(fj, {"abstract", "T", "radius", "relative", "cells_per_radius", "fit", "fit_threshold", "technique", "comment"}, src,
+                   "foliage");
         raster::FoliageParams& f = p.foliage;
         auto number = [&](const char* k, double lo, double hi) {
             const double v = get_number(fj[k], src, std::string("foliage.") + k);
@@ -176,7 +177,17 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
         if (fj.contains("T")) f.threshold = float(number("T", 1e-6, 1e6));
         if (fj.contains("radius")) f.radius = float(number("radius", 1e-6, 1e6));
         if (fj.contains("relative")) f.relative = number("relative", 0, 1) != 0;
-        if (fj.contains("fit_threshold")) f.fit_threshold = number("fit_threshold", 0, 1) != 0;
+        // "fit_threshold" (before 2026-12-05: halve T until a surface exists) now means the fit.
+        for (const char* k : {"fit", "fit_threshold"})
+            if (fj.contains(k)) f.fit = number(k, 0, 1) != 0;
+        if (fj.contains("technique")) {
+            if (!fj["technique"].is_string()) fail(src, "foliage.technique", "expected \"auto\", \"surface\" or \"texture\"");
+            try {
+                f.technique = raster::parse_technique(fj["technique"].get<std::string>());
+            } catch (const Error& e) {
+                fail(src, "foliage.technique", e.what());
+            }
+        }
         if (fj.contains("cells_per_radius")) {
             const double c = number("cells_per_radius", 1, 16);
             if (c != std::floor(c)) fail(src, "foliage.cells_per_radius", "must be an integer");

@@ -3,6 +3,7 @@
 // default; binary for the paper's Fig. 9 comparison).
 #include "stylize/passes/particle_pass.h"
 
+#include "raster/pass.h"
 #include "raster/particles.h"
 #include "stylize/passes/pass_common.h"
 
@@ -18,6 +19,7 @@ struct Table {
     int shape = 0;
     float scale = 1.0f;
     float delta = 0.05f, beta = 0.05f;
+    int crown = 0;
 };
 
 }  // namespace
@@ -36,7 +38,10 @@ void register_particle_pass(Registry& r) {
         .i("shape", &Table::shape, 0, 1, "0 = round blotch, 1 = square sprite")
         .f("scale", &Table::scale, passes::kMinScale, passes::kMaxScale, passes::kScaleDoc)
         .f("delta", &Table::delta, 0, 1, "δ of eq. 2 (ours: 0.05; unused by binary)")
-        .f("beta", &Table::beta, -1, 1, "β of eq. 2 (LD06: β = δ)");
+        .f("beta", &Table::beta, -1, 1, "β of eq. 2 (LD06: β = δ)")
+        .i("crown", &Table::crown, 0, 1,
+           "1 = the crown map: every particle into `bright` (dark and medium stay empty); under the texture technique the "
+           "leaves' coverage (docs/ld06.md \"Leafy outlines\")");
     for (const passes::DepthTestVariant& tv : passes::kDepthTests) {
         StageVariant v;
         v.stage = "particles";
@@ -68,9 +73,30 @@ void register_particle_pass(Registry& r) {
             p.delta = tp.delta;
             p.beta = tp.beta;
             p.depth_map = io.in[0];
+            if (!ps.foliage_surface && ps.foliage_detail) {
+                // LD06 §4.3 instead of §4.2 (raster/foliage.h technique texture): the three maps are
+                // the foliage's intensity-texture detail, dark (R), medium (G), bright (B); the crown
+                // map is the leaves' coverage.
+                raster::TrianglePass tp3;
+                tp3.draw = raster::DrawSet::Foliage;
+                tp3.scale = tp.scale;
+                tp3.value = tp.crown ? raster::PassValue::Coverage : raster::PassValue::IntensityTexture;
+                for (int c = 0; c < 3; ++c) {
+                    tp3.channel = c;
+                    if (tp.crown && c < 2) {  // empty dark and medium maps of the pass's size
+                        const raster::PassViewSetup vs = raster::pass_view(ps, raster::PassView::Camera, tp.scale);
+                        *io.out[std::size_t(c)] = ImageF(vs.width, vs.height, 1, 0.0f);
+                        continue;
+                    }
+                    raster::render_triangle_pass(*io.out[std::size_t(c)], ps, tp3, ex, passes::warnings_of(io));
+                }
+                return;
+            }
             std::vector<raster::Particle> particles;
             if (ps.foliage_surface) {
                 particles = raster::place_particles(*ps.foliage_surface, ps.plant_height, ps.light_dir, p);
+                if (tp.crown)
+                    for (raster::Particle& q : particles) q.cls = 2;  // one class: the crown map
             } else if (std::vector<std::string>* w = passes::warnings_of(io)) {
                 w->push_back("particles: no implicit foliage surface (no foliage, or the style has no "
                                                 "\"foliage\" block): the particle maps are empty (docs/ld06.md \"Particles\")");

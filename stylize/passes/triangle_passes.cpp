@@ -47,6 +47,12 @@ const ParamTable<LightingTable>& draw_scale_table() {
     return t;
 }
 
+struct LayerIdTable {
+    int draw = 0;
+    float scale = 1.0f;
+    int foliage = 1;
+};
+
 struct ShadowTable {
     int draw = 0;
     float scale = 1.0f;
@@ -207,7 +213,12 @@ void register_triangle_passes(Registry& r) {
     }
     // LD06 §3.1 ID image: the layer (default) or the object of the front-most surface.
     for (bool layer : {true, false}) {
-        static const ParamTable<LightingTable>& t = draw_scale_table();
+        static const ParamTable<LayerIdTable> t = ParamTable<LayerIdTable>()
+            .i("draw", &LayerIdTable::draw, 0, 2, kDrawDoc)
+            .f("scale", &LayerIdTable::scale, kMinScale, kMaxScale, kScaleDoc)
+            .i("foliage", &LayerIdTable::foliage, 0, 1,
+               "1 = foliage writes its layer; 0 = foliage (the implicit surface, or the modelled leaves under the texture "
+               "technique) occludes but writes the background: the particle pass's crown map paints it (docs/ld06.md \"Leafy outlines\")");
         StageVariant v;
         v.stage = "layer_id";
         v.variant = layer ? "layer" : "object";
@@ -222,6 +233,7 @@ void register_triangle_passes(Registry& r) {
             p.draw = DrawSet(tp.draw);
             p.scale = tp.scale;
             p.value = layer ? PassValue::LayerId : PassValue::ObjectId;
+            p.foliage_layer = tp.foliage != 0;
             run(io, p, ex);
         };
         v.reference = StageVariant::Reference::SharedMaths;

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/hash.h"
+#include "raster/foliage.h"
 #include "raster/pass.h"
 #include "raster/vertex.h"
 #include "scenes/gltf_loader.h"
@@ -404,6 +405,49 @@ TEST(RasterPass, EveryPassIsBitIdenticalAcrossTraversalsAndThreads) {
         // light depth; camera foliage at scale 1 (depth and intensity share it); lighting at 0.72;
         // camera all at scale 1 (the shadows)
         EXPECT_EQ(frames.entries.size(), 4u);
+    }
+}
+
+// Layer IDs with foliage_layer off (the ld06 preset's crown painted by the particle layers): the
+// implicit surface still occludes the trunk behind it but writes the background; elsewhere the
+// IDs are those of the default.
+TEST(RasterPass, FoliageCanOccludeAsBackgroundInTheIdMaps) {
+    const scene::Scene bush = scene::load_gltf(test::asset("plants/ez-tree/ez_bush2.glb"));
+    FoliageParams fp;
+    fp.fit = true;
+    const auto a = abstract_foliage(bush, fp);
+    ASSERT_TRUE(a->abstracted);
+    const scene::LayerTable layers = abstracted_layer_table(bush, *a);
+    PassScene ps = make_pass_scene(a->scene, test::frame_scene(a->scene), 160, 140);
+    ps.layers = &layers;
+    const int foliage_id = layers.of(a->surface_object_id, a->surface_material) + 1;
+    for (PassValue v : {PassValue::LayerId, PassValue::ObjectId}) {
+        TrianglePass p;
+        p.value = v;
+        ImageF with, without, trunk_only;
+        render_triangle_pass(with, ps, p, Exec::fast(2));
+        p.foliage_layer = false;
+        render_triangle_pass(without, ps, p, Exec::reference());
+        ImageF fast;
+        render_triangle_pass(fast, ps, p, Exec::fast(2));
+        EXPECT_EQ(sha256_hex(fast), sha256_hex(without));
+        p.foliage_layer = true;
+        p.draw = DrawSet::NonFoliage;
+        render_triangle_pass(trunk_only, ps, p, Exec::fast(2));
+        const float fid = v == PassValue::LayerId ? float(foliage_id) : float(a->surface_object_id);
+        long crown = 0, hidden_trunk = 0;
+        for (int y = 0; y < with.height(); ++y)
+            for (int x = 0; x < with.width(); ++x) {
+                if (with.at(x, y, 0) == fid) {
+                    ++crown;
+                    EXPECT_EQ(without.at(x, y, 0), 0.0f) << "the surface writes the background";
+                    hidden_trunk += trunk_only.at(x, y, 0) != 0.0f;
+                } else {
+                    EXPECT_EQ(without.at(x, y, 0), with.at(x, y, 0)) << "other IDs unchanged";
+                }
+            }
+        EXPECT_GT(crown, 500);
+        EXPECT_GT(hidden_trunk, 10) << "the surface still hides trunk behind it";
     }
 }
 

@@ -431,11 +431,25 @@ TEST(SceneFile, FoliageIsSelectedByNameWithItsAbstractionParameters) {
     EXPECT_FLOAT_EQ(*d.foliage_radius, 0.12f);
 }
 
+// A foliage block without names only sets the abstraction's parameters: the default rule still
+// selects the foliage; the technique is kept as written.
+TEST(SceneFile, FoliageParametersWithoutASelection) {
+    const SceneDesc d = load_scene(
+        write_scene("foliage_params.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"T": 3, "technique": "texture"}})"));
+    EXPECT_FALSE(d.scene.foliage.set);
+    ASSERT_TRUE(d.foliage_threshold.has_value());
+    EXPECT_EQ(*d.foliage_threshold, 3.0f);
+    ASSERT_TRUE(d.foliage_technique.has_value());
+    EXPECT_EQ(*d.foliage_technique, "texture");
+}
+
 TEST(SceneFile, FoliageNamesThatMatchNothingAreErrors) {
     expect_error(write_scene("foliage_typo.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"materials": ["Leavs"]}})"),
                  "foliage.materials[0]", "no material is named 'Leavs'");
-    expect_error(write_scene("foliage_empty.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"T": 3}})"), "foliage",
-                 "names no node, mesh or material");
+    expect_error(write_scene("foliage_empty.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"materials": [], "T": 3}})"),
+                 "foliage", "names no node, mesh or material");
+    expect_error(write_scene("foliage_tech.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"technique": "blobs"}})"),
+                 "foliage.technique", "expected");
     expect_error(write_scene("foliage_t.json", R"({"gltf": ")" + box_path() + R"(", "foliage": {"meshes": ["Mesh"], "T": -1}})"),
                  "foliage.T");
 }
