@@ -66,6 +66,26 @@ for view in near:45 far:250; do
     --targets-png "$tmp/fig11_$name"
   for t in ld06.particles.medium ld06.particles.wash; do cp "$tmp/fig11_$name/$t.png" "$out/fig11_${name}_$t.png"; done
 done
+# 4. Issue 46: bare plants at default options (no scene file: the technique, the fit and every
+#    colour chosen by the preset), the shared ones and one seed of each generated kind. Their
+#    "before" pictures (docs/gallery/ld06_before/, from the binary of c6b92be) are not re-rendered here:
+#    AQ_LD06_BEFORE=OLD-aquarelle renders them again with another binary.
+echo "ld06 gallery: bare plants"
+shared=$(cd "${AQ_SHARED:-../shared}/assets/plants" && pwd)
+bare=("ez_oak:$shared/ez-tree/ez_oak_large_dense.glb" "ez_ash:$shared/ez-tree/ez_ash_large.glb"
+      "ez_bush:$shared/ez-tree/ez_bush2.glb" "birch:$shared/quaternius/BirchTree_4.glb"
+      "common_tree:$shared/quaternius/CommonTree_1.glb" "tree:procedural:tree")
+for k in broadleaf light conifer shrub grass; do bare+=("gen_$k:procedural:tree?kind=$k&seed=1"); done
+for b in "${bare[@]}"; do
+  "$bin" render "${b#*:}" "${size[@]}" --style ld06 --out "$out/bare_${b%%:*}.png" 2>/dev/null
+done
+if [ -n "${AQ_LD06_BEFORE:-}" ]; then
+  mkdir -p docs/gallery/ld06_before
+  for b in "${bare[@]:0:6}"; do
+    "$AQ_LD06_BEFORE" render "${b#*:}" "${size[@]}" --style ld06 --out "docs/gallery/ld06_before/bare_${b%%:*}.png" 2>/dev/null
+  done
+  find docs/gallery/ld06_before -name '*.png.json' -delete
+fi
 # Each render writes its provenance manifest beside the picture (docs/provenance.md); the gallery
 # keeps the pictures only (a manifest names this machine's paths and build).
 find "$out" -name '*.png.json' -delete

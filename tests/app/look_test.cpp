@@ -155,8 +155,12 @@ struct Case {
     std::string model;  //!< under shared/assets
 };
 
-void check_model(const std::string& rel, bool assert_thresholds) {
-    const std::string model = test::asset(rel);
+//! What check_input asserts: nothing (measure), the paper and the stylisation (Paint), or every
+//! threshold including the tone and the silhouette darkening (All).
+enum class Assert { None, Paint, All };
+
+void check_input(const std::string& model, const std::string& rel, Assert level) {
+    const bool assert_thresholds = level != Assert::None;
     const ImageF none = render(model, "none");
     ASSERT_EQ(none.channels(), 4) << "--style none keeps the coverage alpha";
     for (const char* style : {"wc16", "wc17", "wc18"}) {
@@ -174,10 +178,15 @@ void check_model(const std::string& rel, bool assert_thresholds) {
         EXPECT_LE(s.paper_mean, kPaperLumMax) << what << ": paper too bright (no paper tone)";
         EXPECT_GE(s.paper_std, kMinPaperStd) << what << ": paper texture not visible";
         EXPECT_GE(s.inside_diff, kMinInsideDiff) << what << ": stylised object too close to --style none";
+        if (level != Assert::All) continue;
         EXPECT_GE(s.inner_dark - s.edge_dark, kMinEdgeContrast) << what << ": silhouette not darkened";
         EXPECT_GE(s.tone, kToneMin) << what << ": the style darkens the object";
         EXPECT_LE(s.tone, kToneMax) << what << ": the style washes the object out";
     }
+}
+
+void check_model(const std::string& rel, bool assert_thresholds) {
+    check_input(test::asset(rel), rel, assert_thresholds ? Assert::All : Assert::None);
 }
 
 // Three kinds of bare model: flat baseColorFactor colours (low-poly tree), an sRGB texture with a
@@ -185,6 +194,13 @@ void check_model(const std::string& rel, bool assert_thresholds) {
 TEST(Look, BareBirchTreeLooksPainted) { check_model("plants/quaternius/BirchTree_4.glb", true); }
 TEST(Look, BareAvocadoLooksPainted) { check_model("gltf/Avocado/glTF/Avocado.gltf", true); }
 TEST(Look, BareFoxLooksPainted) { check_model("gltf/Fox/glTF/Fox.gltf", true); }
+// Plants nobody tuned for (issue 46 item 9): one seed of each generated kind. Paper and
+// stylisation are asserted; tone and silhouette darkening are printed (docs/look.md §7: the tone
+// target is not met on dense generated foliage yet).
+TEST(Look, GeneratedPlantsLookPainted) {
+    for (const char* kind : {"broadleaf", "light", "conifer", "shrub", "grass"})
+        check_input(std::string("procedural:tree?kind=") + kind + "&seed=1", std::string("generated ") + kind, Assert::Paint);
+}
 
 // --control neutral keeps today's neutral control: on the procedural swatches (painted by code,
 // so no default control applies) both give the same bytes; on a bare model they differ.
