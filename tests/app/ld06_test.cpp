@@ -87,6 +87,33 @@ TEST(Ld06Cli, BarePlantIsPaintedWithTheSameBytesForAnyThreadCount) {
     EXPECT_GT(diff / covered, 0.03) << "the washes are not the G-buffer colour";
 }
 
+// Issue 46's bad input: a plant seen from inside its crown (the camera inside the implicit
+// surface) and a plant that is only foliage (grass: the texture technique) render and paint.
+TEST(Ld06Cli, InsideTheCrownAndFoliageOnlyPlantsRender) {
+    const std::string dir = test::output_dir();
+    const std::string scene = dir + "/inside.json";
+    std::ofstream(scene) << R"({ "gltf": ")" << test::asset("plants/ez-tree/ez_oak_large_dense.glb")
+                         << R"(", "camera": { "eye": [0, 70, 0], "target": [10, 70, 10], "yfov_deg": 60 } })";
+    std::string log;
+    ASSERT_EQ(render(scene, "ld06", dir + "/inside.png", "", &log), 0) << log;
+    ASSERT_EQ(render("procedural:tree?kind=grass&seed=2", "ld06", dir + "/grass.png", "--targets " + shell_quote(dir + "/grass"), &log),
+              0)
+        << log;
+    const ImageF crown = read_image(dir + "/grass/ld06.particles.crown.exr");
+    double sum = 0;
+    for (int y = 0; y < crown.height(); ++y)
+        for (int x = 0; x < crown.width(); ++x) sum += crown.at(x, y, 0);
+    EXPECT_GT(sum, 200.0) << "the blades' coverage is the crown map";
+    for (const char* t : {"ld06.particles.dark", "ld06.particles.medium", "ld06.particles.bright"}) {
+        const ImageF m = read_image(dir + "/grass/" + t + ".exr");
+        double s2 = 0;
+        for (int y = 0; y < m.height(); ++y)
+            for (int x = 0; x < m.width(); ++x) s2 += m.at(x, y, 0);
+        EXPECT_GT(s2, 20.0) << t << ": the derived detail has every class";
+        EXPECT_LT(s2, sum) << t << ": one class is part of the coverage";
+    }
+}
+
 TEST(Ld06Cli, TheRampMapsAreWrittenWhenAskedForAndTheFusedRenderHasTheSameBytes) {
     // Without --targets, each color_ramp runs inside its glaze (stylize/stage.h Fusion) and writes
     // no map; with --targets the steps run one by one and every ramp map is written. The image is
