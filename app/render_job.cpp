@@ -247,15 +247,20 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         job.pass_contours.push_back(raster::build_contour_cache(job.pass_scenes.back()->scene));
         for (auto& w : warnings) report.warning(w);
         if (const auto& a = job.pass_scenes.back(); a->abstracted) {
-            char fit[96];
-            std::snprintf(fit, sizeof fit, " (T = %.4g, r = %.4g, %.0f %% of the leaves' vertices inside)", double(a->threshold),
-                          double(a->radius), 100.0 * double(a->surface.inside_fraction));
+            char fit[160];
+            std::snprintf(fit, sizeof fit, " (T = %.4g, r = %.4g, %.0f %% of the leaves' vertices inside, silhouette %.2f x the leaves')",
+                          double(a->threshold), double(a->radius), 100.0 * double(a->surface.inside_fraction), double(a->crown_ratio));
             report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
                             std::to_string(a->surface.indices.size() / 3) + fit + " in " + std::to_string(int(ms_since(t0))) + " ms");
         } else if (a->texture_technique) {
+            char why[160];
+            if (a->crown_ratio > 0)
+                std::snprintf(why, sizeof why, "a sparse crown: the implicit surface's silhouette is %.2f x the leaves'", double(a->crown_ratio));
+            else
+                std::snprintf(why, sizeof why, "median leaf %.1f %% of the plant height, %zu foliage triangles", 100.0 * double(a->leaf_share),
+                              a->foliage_triangles);
             report.progress("foliage: " + std::to_string(a->foliage_triangles) +
-                            " triangles painted as modelled with intensity-texture detail (LD06 §4.3; median leaf " +
-                            std::to_string(int(std::lround(100.0 * a->leaf_share))) + " % of the plant height)");
+                            " triangles painted as modelled with intensity-texture detail (LD06 §4.3; " + why + ")");
         }
     }
     job.world_bounds = job.desc.scene.world_bounds();

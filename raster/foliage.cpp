@@ -6,6 +6,8 @@
 #include <cstdio>
 
 #include "core/hash.h"
+#include "raster/pass.h"
+#include "scenes/scene_file.h"
 
 namespace aq::raster {
 
@@ -100,6 +102,26 @@ scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Mat
         }
     scene::finish_texture(out);
     return out;
+}
+
+float crown_silhouette_ratio(const scene::Scene& source, const scene::Scene& abstracted, const Exec& ex) {
+    const scene::Bounds b = source.world_bounds();
+    long leaves = 0, crown = 0;
+    for (int k = 0; k < kCrownViews; ++k) {
+        const float az = 6.28318530718f * float(k) / float(kCrownViews);
+        const scene::Camera cam = scene::frame_bounds(b, 1.0f, {std::sin(az), -0.3f, -std::cos(az)});
+        TrianglePass p;
+        p.draw = DrawSet::Foliage;
+        p.value = PassValue::Coverage;
+        for (const scene::Scene* sc : {&source, &abstracted}) {
+            ImageF m;
+            render_triangle_pass(m, make_pass_scene(*sc, cam, kCrownViewSize, kCrownViewSize), p, ex);
+            long n = 0;
+            for (std::size_t i = 0; i < std::size_t(m.width()) * m.height(); ++i) n += m.data()[i] > 0.5f;
+            (sc == &source ? leaves : crown) += n;
+        }
+    }
+    return leaves > 0 ? float(double(crown) / double(leaves)) : 0.0f;
 }
 
 std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, const FoliageParams& p,
@@ -238,6 +260,18 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     out->surface_object_id = inst.object_id;
     out->surface_material = prim_material;
     out->abstracted = true;
+    if (p.technique == FoliageTechnique::Auto) {
+        // A sparse crown (light, conifer): the surface would paint its envelope, far more than the
+        // leaves; the texture technique paints the leaves (docs/ld06.md "Choosing the technique").
+        out->crown_ratio = crown_silhouette_ratio(sc, dst, ex);
+        if (out->crown_ratio > kMaxCrownRatio) {
+            FoliageParams tp = p;
+            tp.technique = FoliageTechnique::Texture;
+            auto t = std::const_pointer_cast<AbstractedScene>(abstract_foliage(sc, tp, ex, warnings));
+            t->crown_ratio = out->crown_ratio;
+            return t;
+        }
+    }
     return out;
 }
 

@@ -49,6 +49,11 @@ inline constexpr std::size_t kTextureMaxTriangles = 500;
 //! A surface enclosing less than this share of the foliage's vertices (a scene file's fixed T far
 //! above the plant's density) is replaced by the texture technique, with a warning.
 inline constexpr float kMinSurfaceInside = 0.5f;
+//! Auto technique, sparse crowns: the implicit surface's silhouette over the modelled foliage's,
+//! summed over kCrownViews views around the plant (kCrownViewSize² coverage passes); above
+//! kMaxCrownRatio the crown is too sparse for the surface and gets the texture technique.
+inline constexpr int kCrownViews = 4, kCrownViewSize = 128;
+inline constexpr float kMaxCrownRatio = 1.0f;
 
 //! The scene LD06 passes draw, with what the abstraction measured.
 struct AbstractedScene {
@@ -59,6 +64,7 @@ struct AbstractedScene {
     std::size_t foliage_points = 0, foliage_triangles = 0;
     float leaf_share = 0;      //!< median foliage triangle's sqrt(area) / h (the technique rule)
     float threshold = 0;       //!< T used (fitted or given)
+    float crown_ratio = 0;     //!< auto technique: crown_silhouette_ratio of the surface (0: not measured)
     bool abstracted = false;   //!< false: no foliage, or abstraction off (scene is a plain copy)
     //! Texture: foliage drawn as modelled, every foliage material with an intensity texture
     //! (its own, else one derived from its base colour: derive_intensity_texture); the particle
@@ -76,6 +82,11 @@ struct AbstractedScene {
 //! channel; alpha is 1 where the texel passes the material's alpha test (the terciles' texels), 0
 //! elsewhere. 64 x 64 texels without a base texture; else the first mip level of at most 256 px.
 scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Material& m);
+
+//! The foliage's silhouette in `abstracted` (its implicit surface) over its silhouette as modelled
+//! in `source`, coverage pixels summed over kCrownViews views from around and slightly above the
+//! plant (frame_bounds, kCrownViewSize² px). 0 when `source` has no foliage to see.
+float crown_silhouette_ratio(const scene::Scene& source, const scene::Scene& abstracted, const Exec& ex = {});
 
 //! Splits `sc` into trunk and foliage (scene::is_foliage), builds the implicit surface of the
 //! foliage vertices (in world space) and returns the trunk plus the surface as a foliage instance

@@ -91,8 +91,9 @@ TEST(Foliage, NoFoliageIsReportedAndEmptySurfacesRefused) {
 }
 
 // The technique per plant (docs/ld06.md "Choosing the technique"): the shared bush (large leaves
-// for its height) and a grass tuft (few triangles) get the texture technique — foliage as
-// modelled, every foliage material with derived intensity detail —, the oak the fitted surface;
+// for its height), a grass tuft (few triangles) and a light crown (sparse: its surface's
+// silhouette larger than its leaves') get the texture technique — foliage as modelled, every
+// foliage material with derived intensity detail —, the oak and a broadleaf the fitted surface;
 // a scene's choice wins over the rule.
 TEST(Foliage, TechniqueFollowsTheDocumentedRule) {
     FoliageParams p;
@@ -115,6 +116,16 @@ TEST(Foliage, TechniqueFollowsTheDocumentedRule) {
     EXPECT_LT(o->leaf_share, kTextureLeafShare);
     EXPECT_TRUE(o->abstracted);
     EXPECT_FALSE(o->texture_technique);
+    EXPECT_GT(o->crown_ratio, 0.5f);
+    EXPECT_LE(o->crown_ratio, kMaxCrownRatio) << "a dense crown: its surface is no larger than its leaves";
+    // A light crown: the surface's silhouette is well above its leaves' (the envelope of a lacy
+    // crown), so the leaves are painted instead; a broadleaf crown keeps the surface.
+    const auto light = abstract_foliage(scene::make_procedural("tree?kind=light&seed=1"), p);
+    EXPECT_TRUE(light->texture_technique);
+    EXPECT_GT(light->crown_ratio, kMaxCrownRatio);
+    const auto broad = abstract_foliage(scene::make_procedural("tree?kind=broadleaf&seed=1"), p);
+    EXPECT_TRUE(broad->abstracted);
+    EXPECT_LE(broad->crown_ratio, kMaxCrownRatio);
     p.technique = FoliageTechnique::Surface;
     EXPECT_TRUE(abstract_foliage(bush, p)->abstracted) << "an explicit technique wins over the rule";
     p.technique = FoliageTechnique::Texture;
