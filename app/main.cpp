@@ -77,6 +77,8 @@ options:
                         as the papers; linear encodes the result to sRGB at the end; docs/look.md)
   --set STAGE.PARAM=V   override a stage parameter (repeatable)
   --variant STAGE=VAR   choose a stage variant (repeatable)
+  --bypass STEP         leave a step out: its readers get its input instead, so the image shows
+                        what the step adds (repeatable; e.g. --bypass edge_darken)
   --width W, --height H output size in pixels (default: scene file, else 1280x720)
   --frame N             frame number; the hand tremor is driven by time N/fps (default 0)
   --frames A-B | N      render frames A..B inclusive (animation), with progress; N: frame N only
@@ -274,6 +276,8 @@ RenderOptions parse_render(Args& a) {
             o.sets.push_back(a.value(arg));
         } else if (arg == "--variant") {
             o.variants.push_back(a.value(arg));
+        } else if (arg == "--bypass") {
+            o.bypass.push_back(a.value(arg));
         } else if (arg == "--frames") {
             const std::string v = a.value(arg);
             const auto dash = v.find('-');

@@ -60,6 +60,7 @@ json request_json(const RenderJob& job, const RenderedImage& img) {
         {"style_given", o.style_given},
         {"set", o.sets},
         {"variant", o.variants},
+        {"bypass", o.bypass},
         {"width", o.width},
         {"height", o.height},
         {"frame", img.frame},
@@ -282,12 +283,14 @@ RenderOptions options_from(const json& m, const std::string& where, const std::s
     o.scene = rd.string(at(r, "scene"), "request.scene");
     o.style = rd.string(at(r, "style"), "request.style");
     o.style_given = rd.boolean(at(r, "style_given"), "request.style_given");
-    for (const char* list : {"set", "variant"}) {
+    for (const char* list : {"set", "variant", "bypass"}) {
+        // "bypass" is newer than the manifest format: absent in older manifests, meaning none.
+        if (std::string(list) == "bypass" && !r.contains(list)) continue;
         const json& v = at(r, list);
         if (!v.is_array()) rd.bad(std::string("request.") + list, "expected a list of strings");
+        std::vector<std::string>& dst = list[0] == 's' ? o.sets : list[0] == 'v' ? o.variants : o.bypass;
         for (std::size_t i = 0; i < v.size(); ++i)
-            (list[0] == 's' ? o.sets : o.variants)
-                .push_back(rd.string(v[i], "request." + std::string(list) + "[" + std::to_string(i) + "]"));
+            dst.push_back(rd.string(v[i], "request." + std::string(list) + "[" + std::to_string(i) + "]"));
     }
     o.width = rd.integer(at(r, "width"), "request.width", 0, kMaxImageSide);
     o.height = rd.integer(at(r, "height"), "request.height", 0, kMaxImageSide);

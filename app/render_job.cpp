@@ -156,13 +156,14 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         }
         for (auto& v : o.variants) stylize::set_variant(pipeline, v);
         for (auto& s : o.sets) stylize::set_param(pipeline, s);
+        for (auto& b : o.bypass) stylize::bypass_step(pipeline, b);
         if (!desc.paper.empty()) {
             pipeline.paper.file = desc.paper;
             pipeline.has_paper = true;
         }
         if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
-    } else if (!o.sets.empty() || !o.variants.empty()) {
-        throw cli::UsageError("render: --set/--variant need a style (not --style none)");
+    } else if (!o.sets.empty() || !o.variants.empty() || !o.bypass.empty()) {
+        throw cli::UsageError("render: --set/--variant/--bypass need a style (not --style none)");
     }
 
     rs.substrate_color = job.stylize ? pipeline.substrate_color : desc.substrate_color;

@@ -44,6 +44,7 @@ struct RenderOptions {
     std::string scene, out, targets_dir, targets_png_dir, style;
     bool style_given = false;
     std::vector<std::string> sets, variants;
+    std::vector<std::string> bypass;  //!< --bypass STEP, applied after --variant and --set
     int width = 0, height = 0, ssaa = 1, threads = 0;
     int frame_first = 0, frame_last = 0;
     bool animation = false;    //!< --frames given

@@ -327,6 +327,44 @@ void set_variant(Pipeline& p, const std::string& a) {
     Registry::resolve_params(*v, s.params, "--variant '" + a + "'");
 }
 
+void bypass_step(Pipeline& p, const std::string& step) {
+    const std::string what = "--bypass '" + step + "'";
+    const std::size_t i = find_one_step(p, step, what);
+    const ResolvedStep r = resolve_step(p, i);
+    // Output target -> the input target that replaces it.
+    std::vector<std::pair<std::string, std::string>> through;
+    for (std::size_t k = 0; k < r.variant->outputs.size(); ++k) {
+        const std::string& port = r.variant->outputs[k].name;
+        const int in = [&] {
+            for (std::size_t j = 0; j < r.variant->inputs.size(); ++j)
+                if (r.variant->inputs[j].name == port) return int(j);
+            return -1;
+        }();
+        if (in < 0) {
+            std::string readers;
+            for (std::size_t j = i + 1; j < p.steps.size(); ++j) {
+                const ResolvedStep rj = resolve_step(p, j);
+                if (std::find(rj.inputs.begin(), rj.inputs.end(), r.outputs[k]) != rj.inputs.end())
+                    readers += (readers.empty() ? "" : ", ") + p.steps[j].id;
+            }
+            throw Error(what + ": step '" + p.steps[i].id + "' (" + r.variant->key() + ") writes '" + r.outputs[k] +
+                        "' from no input of the same port ('" + port + "'), so nothing can pass through it" +
+                        (readers.empty() ? std::string() : "; bypass the step that reads it instead (" + readers + ")"));
+        }
+        through.emplace_back(r.outputs[k], r.inputs[std::size_t(in)]);
+    }
+    // Each target has one writer (validate_pipeline), so every reader of `from` reads the bypassed step's.
+    for (std::size_t j = i + 1; j < p.steps.size(); ++j) {
+        const ResolvedStep rj = resolve_step(p, j);
+        for (std::size_t k = 0; k < rj.inputs.size(); ++k)
+            for (auto& [from, to] : through)
+                if (rj.inputs[k] == from) p.steps[j].in[rj.variant->inputs[k].name] = to;
+    }
+    for (auto& [from, to] : through)
+        if (p.output == from) p.output = to;
+    p.steps.erase(p.steps.begin() + std::ptrdiff_t(i));
+}
+
 ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
     const PipelineStep& s = p.steps.at(i);
     const std::string key = p.source + ": " + idx("steps", i);

@@ -78,6 +78,12 @@ void set_param_value(Pipeline& p, const std::string& step, const std::string& pa
                      const std::string& source);
 //! "step=variant". Parameters the new variant does not have are an error (named).
 void set_variant(Pipeline& p, const std::string& assignment);
+//! --bypass STEP: removes the step (id or stage name) and hands each of its outputs' readers, and
+//! the pipeline's output, the step's input of the same port name instead (the step's input passes
+//! through). A step with an output that has no same-named input (bleed writes `bleed`, edge_blur
+//! `blurred`) cannot be bypassed: the error names the steps reading it, which can. Steps whose
+//! outputs nobody reads any more stay (their targets are still written by --targets).
+void bypass_step(Pipeline& p, const std::string& step);
 
 struct RunOptions {
     Exec exec;

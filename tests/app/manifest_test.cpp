@@ -161,6 +161,32 @@ TEST(Manifest, TheCompressionIsRecordedAndReproduced) {
     expect_optional_request_key(dir + "/f.png.json", "compression", "zip");
 }
 
+// --bypass is part of the request and reproduced; a manifest from before the option (no key) means
+// no step bypassed; a bypass reproduce cannot apply is refused naming the step.
+TEST(Manifest, BypassedStepsAreRecordedAndReproduced) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--bypass edge_darken --out " +
+                              shell_quote(dir + "/b.png"), &log), 0) << log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--out " + shell_quote(dir + "/f.png"), &log), 0)
+        << log;
+    EXPECT_EQ(load(dir + "/b.png.json").at("request").at("bypass"), json::array({"edge_darken"}));
+    EXPECT_NE(file_bytes(dir + "/b.png"), file_bytes(dir + "/f.png")) << "bypassing edge darkening changed nothing";
+    ASSERT_EQ(reproduce(dir + "/b.png.json", "", &log), 0) << log;
+    EXPECT_NE(log.find("identical"), std::string::npos) << log;
+    json old = load(dir + "/f.png.json");
+    old["request"].erase("bypass");
+    write(dir + "/old.json", old.dump());
+    ASSERT_EQ(reproduce(dir + "/old.json", "", &log), 0) << log;
+    json bad = load(dir + "/b.png.json");
+    bad["request"]["bypass"] = json::array({"bleed"});
+    write(dir + "/bad.json", bad.dump());
+    EXPECT_EQ(reproduce(dir + "/bad.json", "", &log), 1) << log;
+    EXPECT_NE(log.find("--bypass 'bleed'"), std::string::npos) << log;
+    EXPECT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--style none --bypass edge_darken --out " +
+                              shell_quote(dir + "/n.png"), &log), 2) << log;
+}
+
 // --antialias is part of the request: both settings reproduce; a manifest from before the option
 // (no key) reproduces with one sample per pixel, what such images were rendered with; an unknown
 // value is refused, by the CLI (usage, exit 2) and by reproduce (exit 1).

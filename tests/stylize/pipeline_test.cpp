@@ -1,6 +1,7 @@
 // tests/stylize/pipeline_test.cpp — pipelines as data: presets load and run, every intermediate is
 // identical across thread counts (SHA-256), and bad files / overrides / G-buffers give aq::Error
 // naming the file and the key.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -163,6 +164,33 @@ TEST(Pipeline, SetParamAndSetVariant) {
     EXPECT_ERROR_MENTIONS(set_param(p, "no_equals"), "no_equals");
     EXPECT_ERROR_MENTIONS(set_variant(p, "bleed=fancy"), "fancy", "naive");
     EXPECT_ERROR_MENTIONS(set_variant(p, "bleed"), "bleed");
+}
+
+// --bypass: the bypassed step's readers (and the pipeline output) get its input of the same port.
+TEST(Pipeline, BypassHandsTheStepsInputToItsReaders) {
+    const Pipeline full = load_pipeline("wc18");
+    Pipeline p = full;
+    bypass_step(p, "edge_darken");
+    ASSERT_EQ(p.steps.size(), full.steps.size() - 1);
+    for (const PipelineStep& s : p.steps) EXPECT_NE(s.stage, "edge_darken");
+    const auto go = std::find_if(p.steps.begin(), p.steps.end(), [](auto& s) { return s.stage == "gaps_overlaps"; });
+    ASSERT_NE(go, p.steps.end());
+    EXPECT_EQ(go->in.at("color"), "color.bled");
+    validate_pipeline(p);
+    // The last step: the output moves to its input, and the image is the full run's intermediate.
+    Pipeline q = full;
+    bypass_step(q, "substrate_light");
+    EXPECT_EQ(q.output, "color.distorted");
+    Targets a = test::synthetic_gbuffer(40, 28), b = test::synthetic_gbuffer(40, 28);
+    run_pipeline(full, a, RunOptions{Exec::fast(2), {}});
+    run_pipeline(q, b, RunOptions{Exec::fast(2), {}});
+    EXPECT_EQ(sha256_hex(b.get(q.output)), sha256_hex(a.get("color.distorted")));
+    EXPECT_NE(sha256_hex(b.get(q.output)), sha256_hex(a.get(full.output)));
+    // A step whose output has no same-named input: the error names the step that can be bypassed.
+    Pipeline r = full;
+    EXPECT_ERROR_MENTIONS(bypass_step(r, "bleed"), "--bypass 'bleed'", "bleed_blend", "edge_darken");
+    EXPECT_ERROR_MENTIONS(bypass_step(r, "nope"), "nope", "substrate_light");
+    EXPECT_EQ(r.steps.size(), full.steps.size()) << "a refused bypass leaves the pipeline as it was";
 }
 
 TEST(Pipeline, BadFilesNameTheFileAndTheKey) {
