@@ -69,7 +69,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
 }
 
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
-                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, 
+                      const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
                       const Exec& ex) {
     const std::string st = "edge_darken/rgbd";
     check_input(&color, 4, Channels::Exactly, st, "color");
@@ -78,7 +78,12 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_input(&ctrl_edge, 1, Channels::AtLeast, st, "ctrl_edge");
     check_same_size(ctrl_edge, color, st, "ctrl_edge", "color");
     check_bleed_mask(bleed, color, st);
+    if (crowd) {
+        check_input(crowd, 1, Channels::AtLeast, st, "crowd");
+        check_same_size(*crowd, color, st, "crowd", "color");
+    }
     check_not_alias(dst, &edges, st, "edges");
+    check_not_alias(dst, crowd, st, "crowd");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     // In place (dst is color: StageVariant::in_place_input): a pixel reads only its own colour,
@@ -90,12 +95,13 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
+    const Plane cw = crowd ? plane(*crowd, 0) : constant_plane(&kZero, w, h);
     const Resampler up(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: §3.1 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
             const float b = sample_resampled_plane(bm, x, y, w, h);
-            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, substrate, p);
+            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, cw(x, y), substrate, p);
         });
         return;
     }
@@ -105,7 +111,7 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     // edge_darken_rgbd_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
-        float cr[kChunk], cg[kChunk], cb[kChunk], ev[kChunk], ci[kChunk], bl[kChunk], d[kChunk];
+        float cr[kChunk], cg[kChunk], cb[kChunk], ev[kChunk], ci[kChunk], bl[kChunk], cd[kChunk], d[kChunk];
         float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
         int idx[kChunk];
         for (int xs = x0; xs < x1; xs += kChunk) {
@@ -132,17 +138,19 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 store8(cb + i8, simd::strided8<4>(cp + 2));
                 store8(ev + i8, plane8(e, xs + i8, y));
                 store8(ci + i8, plane8(ctrl, xs + i8, y));
+                store8(cd + i8, plane8(cw, xs + i8, y));
             }
             for (int i = i8; i < n; ++i) {
                 const glm::vec4 cv = c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z;
                 ev[i] = e(xs + i, y);
                 ci[i] = ctrl(xs + i, y);
+                cd[i] = cw(xs + i, y);
             }
             for (int i = 0; i < i8; i += 8) store8(bl + i, up.sample8(bm, xs + i, y));
             for (int i = i8; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
             for (int i = 0; i < n; ++i)
-                d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], substrate, p);
+                d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], cd[i], substrate, p);
             int m = 0;  // pixels that darken (d != 1), packed
             for (int i = 0; i < n; ++i) {
                 idx[m] = i;
@@ -173,7 +181,8 @@ void register_edge_darken(Registry& r) {
         .f("smooth_low", &D::smooth_low, 0, 1, "smoothstep lower edge on the DoG edge (ours)")
         .f("smooth_high", &D::smooth_high, 0, 1, "smoothstep upper edge on the DoG edge (ours)");
     static const ParamTable<R> tr = ParamTable<R>()
-        .f("intensity", &R::intensity, 0, 50, "global edge darkening intensity (MNPR default 1)");
+        .f("intensity", &R::intensity, 0, 50, "global edge darkening intensity (MNPR default 1)")
+        .f("crowding", &R::crowding, 0, 50, "ours: E_d / (1 + crowding * crowd), crowd = local mean of the edges (0 = WC18)");
     {
         StageVariant v;
         v.stage = "edge_darken";
@@ -199,14 +208,15 @@ void register_edge_darken(Registry& r) {
         v.inputs = {{"color", target::kColor, 4, false},
                     {"edges", "edges.blurred", 1, false},
                     {"ctrl_edge", target::kCtrlEdge, 4, false},
-                    {"bleed", "bleed", 4, true}};
+                    {"bleed", "bleed", 4, true},
+                    {"crowd", "edges.crowd", 1, true}};
         v.outputs = {{"color", "color.darkened", 4, false}};
         v.in_place_input = "color";  // the background (no edges) is left as it is
         v.in_place_output = "color";
         v.params = tr.descs();
         v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
             edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
-                             globals_of(io).substrate_color, tr.from(pv), ex);
+                             io.in.size() > 4 ? io.in[4] : nullptr, globals_of(io).substrate_color, tr.from(pv), ex);
         });
         v.reference = StageVariant::Reference::PlainLoop;
         v.row_halo = pointwise_rows;

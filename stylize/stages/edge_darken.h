@@ -10,6 +10,10 @@
 //   rgbd  WC18 §3.1 (MNPR gradientEdgesWC): C_dark = C^(1 + E_d), E_d = E_b * intensity * (1 + ci)
 //         * sat(5 |C - Cs|) * sat(1 - 3 bleed), ci = ctrl.edge.r (x5 where positive), E_b the
 //         blurred Sobel edges (stage edge_blur, variant wc18).
+//         Ours (parameter `crowding`, 0 = the paper): E_d / (1 + crowding * N), N the local mean of
+//         the edges (optional input `crowd`: a wide Gaussian of E_b). Pigment gathers at the edge of
+//         a wash; a crown of a thousand leaves painted as one wash has one outline, not a thousand:
+//         where edges crowd each darkens less, an isolated silhouette keeps its strength.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -40,6 +44,7 @@ struct EdgeDarkenDogParams {
 
 struct EdgeDarkenRgbdParams {
     float intensity = 1.0f;  //!< global edge intensity (MNPR gEdgeIntensity, default 1) [0, 50]
+    float crowding = 0.0f;   //!< ours: E_d / (1 + crowding * crowd) [0, 50]; 0 = WC18 as printed
 };
 
 //! WC17 eq. 8 exponent 1 + Ctrl * E_m for one pixel (exactly 1 where nothing darkens).
@@ -62,24 +67,26 @@ inline glm::vec4 edge_darken_dog_px(glm::vec4 c, glm::vec3 blurred, float ctrl, 
 
 //! WC18 §3.1 / MNPR exponent 1 + E_d for one pixel (exactly 1 where nothing darkens). Selects
 //! only, no branches: rows evaluate it in a vectorised loop (edge_darken.cpp).
-inline float edge_darken_rgbd_exponent(float r, float g, float b, float edge, float ci, float bleed,
+inline float edge_darken_rgbd_exponent(float r, float g, float b, float edge, float ci, float bleed, float crowd,
                                        glm::vec3 substrate, const EdgeDarkenRgbdParams& p) {
     ci = ci > 0.0f ? ci * kEdgeCtrlPositiveGain : ci;
     float e = edge * p.intensity * (1.0f + ci);
+    e /= 1.0f + p.crowding * crowd;  // crowding 0: divided by exactly 1
     const float dr = r - substrate.x, dg = g - substrate.y, db = b - substrate.z;
     e *= sat(std::sqrt(dr * dr + dg * dg + db * db) * kEdgeSubstrateFade);
     e *= sat(1.0f - bleed * kEdgeBleedFade);
     return e > 0.0f ? 1.0f + e : 1.0f;  // E_d <= 0 or NaN: C^1 = C
 }
-inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
+inline float edge_darken_rgbd_exponent(glm::vec4 c, float edge, float ci, float bleed, float crowd, glm::vec3 substrate,
                                        const EdgeDarkenRgbdParams& p) {
-    return edge_darken_rgbd_exponent(c.x, c.y, c.z, edge, ci, bleed, substrate, p);
+    return edge_darken_rgbd_exponent(c.x, c.y, c.z, edge, ci, bleed, crowd, substrate, p);
 }
 
-//! WC18 §3.1 / MNPR for one pixel: edge = blurred Sobel edge, ci = ctrl.edge.r, bleed = bleeding mask.
-inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bleed, glm::vec3 substrate,
+//! WC18 §3.1 / MNPR for one pixel: edge = blurred Sobel edge, ci = ctrl.edge.r, bleed = bleeding
+//! mask, crowd = local mean of the edges (0 without the `crowd` input).
+inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bleed, float crowd, glm::vec3 substrate,
                                      const EdgeDarkenRgbdParams& p) {
-    const float d = edge_darken_rgbd_exponent(c, edge, ci, bleed, substrate, p);
+    const float d = edge_darken_rgbd_exponent(c, edge, ci, bleed, crowd, substrate, p);
     if (d == 1.0f) return c;
     return {pow_c(c.x, d), pow_c(c.y, d), pow_c(c.z, d), c.w};
 }
@@ -92,9 +99,10 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
 
 //! WC18 RGBD edge darkening. color: 4 ch; edges: >= 1 ch (channel 0 = blurred edges), same size;
 //! ctrl_edge: >= 1 ch (R); bleed: optional, 4 ch (alpha = bleeding mask, as stage "bleed" writes
-//! it) full or half size (resampled like the DoG blur), or 1 ch; absent = no bleeding.
+//! it) full or half size (resampled like the DoG blur), or 1 ch; absent = no bleeding. crowd:
+//! optional, >= 1 ch (channel 0), same size: the local mean of the edges; absent = 0.
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
-                      const ImageF* bleed, glm::vec3 substrate, const EdgeDarkenRgbdParams& p, 
+                      const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
                       const Exec& ex = {});
 
 void register_edge_darken(Registry& r);

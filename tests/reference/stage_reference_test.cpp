@@ -182,6 +182,12 @@ void check_variant(const StageVariant& v, Scene& s, const stylize::ParamValues& 
     for (auto& in : v.inputs) {
         const bool ok = resolve_target(s.targets, in.default_target, s.globals);
         if (!ok && !in.optional) FAIL() << v.key() << ": no producer for input '" << in.default_target << "'";
+        // An optional input no stage produces by default (edge_darken/rgbd's `crowd`, made by a
+        // preset step): a synthetic map, so the twin's path for it is compared too.
+        if (!ok) {
+            const ImageF& c = s.targets.get(target::kColor);
+            s.targets.set(in.default_target, aq::test::synthetic_target(in.default_target, in.channels, c.width(), c.height()));
+        }
     }
     auto cpp = run_cpp_stage(v, s.targets, params, s.globals);
     std::vector<const ImageF*> ins;

@@ -20,7 +20,7 @@ TEST(EdgeDarkenRgbd, ZeroIntensityLeavesColourUnchanged) {
     const ImageF edges = noise(17, 11, 1, 0.0f, 1.0f, 2);
     const ImageF ctrl = noise(17, 11, 4, -1.0f, 1.0f, 3);
     ImageF out;
-    edge_darken_rgbd(out, color, edges, ctrl, nullptr, kWhite, {0.0f});
+    edge_darken_rgbd(out, color, edges, ctrl, nullptr, nullptr, kWhite, {0.0f});
     EXPECT_TRUE(out == color);
 }
 
@@ -29,7 +29,7 @@ TEST(EdgeDarkenRgbd, NoEdgesLeaveColourUnchanged) {
     const ImageF edges(9, 7, 1, 0.0f);
     const ImageF ctrl = noise(9, 7, 4, -1.0f, 1.0f, 5);
     ImageF out;
-    edge_darken_rgbd(out, color, edges, ctrl, nullptr, kWhite, {3.0f});
+    edge_darken_rgbd(out, color, edges, ctrl, nullptr, nullptr, kWhite, {3.0f});
     EXPECT_TRUE(out == color);
 }
 
@@ -42,7 +42,7 @@ TEST(EdgeDarkenRgbd, DarkensOnlyWhereEdgesAre) {
         for (int x = 0; x < w / 2; ++x) edges.at(x, y, 0) = 0.8f;
     const ImageF ctrl(w, h, 4, 0.0f);
     ImageF out;
-    edge_darken_rgbd(out, color, edges, ctrl, nullptr, kWhite, {1.0f});
+    edge_darken_rgbd(out, color, edges, ctrl, nullptr, nullptr, kWhite, {1.0f});
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -60,18 +60,42 @@ TEST(EdgeDarkenRgbd, MatchesMnprFormulaByHand) {
     // |C - Cs| = sqrt(0.25 + 0.64 + 0.04) = 0.964 -> sat(4.82) = 1; sat(1 - 0.3) = 0.7.
     // E = 0.4 * 2 * 2.5 * 1 * 0.7 = 1.4 -> C^2.4.
     const glm::vec4 c(0.5f, 0.2f, 0.8f, 1.0f);
-    const glm::vec4 o = edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.1f, kWhite, {2.0f});
+    const glm::vec4 o = edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.1f, 0.0f, kWhite, {2.0f});
     EXPECT_NEAR(o.x, std::pow(0.5, 2.4), 2e-6);
     EXPECT_NEAR(o.y, std::pow(0.2, 2.4), 2e-6);
     EXPECT_NEAR(o.z, std::pow(0.8, 2.4), 2e-6);
     EXPECT_EQ(o.w, 1.0f);
     // Negative painted intensity is not amplified: ci = -0.5 -> (1 - 0.5); no bleed.
-    const glm::vec4 n = edge_darken_rgbd_px(c, 0.4f, -0.5f, 0.0f, kWhite, {2.0f});
+    const glm::vec4 n = edge_darken_rgbd_px(c, 0.4f, -0.5f, 0.0f, 0.0f, kWhite, {2.0f});
     EXPECT_NEAR(n.x, std::pow(0.5, 1.4), 2e-6);
     // Fully bled pixels (mask >= 1/3) and substrate-coloured ones are not darkened.
-    EXPECT_EQ(edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.5f, kWhite, {2.0f}), c);
+    EXPECT_EQ(edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.5f, 0.0f, kWhite, {2.0f}), c);
     const glm::vec4 paper(1.0f, 1.0f, 1.0f, 1.0f);
-    EXPECT_EQ(edge_darken_rgbd_px(paper, 0.9f, 1.0f, 0.0f, kWhite, {2.0f}), paper);
+    EXPECT_EQ(edge_darken_rgbd_px(paper, 0.9f, 1.0f, 0.0f, 0.0f, kWhite, {2.0f}), paper);
+}
+
+// Ours: E_d / (1 + crowding * crowd). The same pixel as above with crowd 0.5 and crowding 3:
+// E = 1.4 / 2.5 = 0.56 -> C^1.56; crowding 0 (the default) or crowd 0 leave WC18's E.
+TEST(EdgeDarkenRgbd, CrowdedEdgesDarkenLess) {
+    const glm::vec4 c(0.5f, 0.2f, 0.8f, 1.0f);
+    const glm::vec4 o = edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.1f, 0.5f, kWhite, {2.0f, 3.0f});
+    EXPECT_NEAR(o.x, std::pow(0.5, 1.56), 2e-6);
+    EXPECT_NEAR(o.z, std::pow(0.8, 1.56), 2e-6);
+    EXPECT_EQ(edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.1f, 0.5f, kWhite, {2.0f, 0.0f}),
+              edge_darken_rgbd_px(c, 0.4f, 0.3f, 0.1f, 0.0f, kWhite, {2.0f, 3.0f}));
+    // The stage: a crowd map of zeros gives the bytes of no crowd map; a full one darkens less.
+    const int w = 8, h = 8;
+    const ImageF color = constant(w, h, {0.3f, 0.4f, 0.5f, 1.0f}), edges(w, h, 1, 0.8f), ctrl(w, h, 4, 0.0f);
+    const ImageF none(w, h, 1, 0.0f), full(w, h, 1, 1.0f);
+    ImageF a, b, d;
+    edge_darken_rgbd(a, color, edges, ctrl, nullptr, nullptr, kWhite, {1.0f, 4.0f});
+    edge_darken_rgbd(b, color, edges, ctrl, nullptr, &none, kWhite, {1.0f, 4.0f});
+    edge_darken_rgbd(d, color, edges, ctrl, nullptr, &full, kWhite, {1.0f, 4.0f});
+    EXPECT_EQ(std::vector<float>(a.data(), a.data() + a.num_values()), std::vector<float>(b.data(), b.data() + b.num_values()));
+    EXPECT_LT(a.at(3, 3, 0), d.at(3, 3, 0));
+    EXPECT_LT(d.at(3, 3, 0), color.at(3, 3, 0));
+    const ImageF small(4, 4, 1, 0.0f);
+    EXPECT_THROW(edge_darken_rgbd(d, color, edges, ctrl, nullptr, &small, kWhite, {}), Error) << "crowd of another size";
 }
 
 TEST(EdgeDarkenRgbd, BleedMaskFromHalfResolutionAlphaSuppressesEdges) {
@@ -81,7 +105,7 @@ TEST(EdgeDarkenRgbd, BleedMaskFromHalfResolutionAlphaSuppressesEdges) {
     const ImageF ctrl(w, h, 4, 0.0f);
     const ImageF bleed = constant(4, 4, {0.0f, 0.0f, 0.0f, 1.0f});  // half resolution, mask in alpha
     ImageF out;
-    edge_darken_rgbd(out, color, edges, ctrl, &bleed, kWhite, {5.0f});
+    edge_darken_rgbd(out, color, edges, ctrl, &bleed, nullptr, kWhite, {5.0f});
     EXPECT_TRUE(out == color);
 }
 
@@ -159,7 +183,7 @@ TEST(EdgeDarken, DarkeningNeverBrightensUnitColours) {
     const ImageF ctrl = noise(23, 13, 4, -1.0f, 1.0f, 9);
     const ImageF blurred = noise(12, 7, 4, 0.0f, 1.0f, 10);
     ImageF a, b;
-    edge_darken_rgbd(a, color, edges, ctrl, nullptr, {0.9f, 0.85f, 0.8f}, {4.0f});
+    edge_darken_rgbd(a, color, edges, ctrl, nullptr, nullptr, {0.9f, 0.85f, 0.8f}, {4.0f});
     edge_darken_dog(b, color, blurred, ctrl, {});
     for (std::size_t i = 0; i < color.num_values(); ++i) {
         EXPECT_LE(a.data()[i], color.data()[i]);
@@ -183,9 +207,9 @@ TEST(EdgeDarkenRgbd, ChunksWithOneEdgePixelAreNotSkipped) {
     }
     const ImageF ctrl = noise(w, h, 4, -1.0f, 1.0f, 52);
     ImageF ref, fast, in_place = color;
-    edge_darken_rgbd(ref, color, edges, ctrl, nullptr, kWhite, {}, Exec::reference());
-    edge_darken_rgbd(fast, color, edges, ctrl, nullptr, kWhite, {}, Exec::fast(2));
-    edge_darken_rgbd(in_place, in_place, edges, ctrl, nullptr, kWhite, {}, Exec::fast(2));
+    edge_darken_rgbd(ref, color, edges, ctrl, nullptr, nullptr, kWhite, {}, Exec::reference());
+    edge_darken_rgbd(fast, color, edges, ctrl, nullptr, nullptr, kWhite, {}, Exec::fast(2));
+    edge_darken_rgbd(in_place, in_place, edges, ctrl, nullptr, nullptr, kWhite, {}, Exec::fast(2));
     for (int x : at) ASSERT_NE(ref.at(x, 0, 0), color.at(x, 0, 0)) << "the edge pixel at " << x << " darkens";
     EXPECT_TRUE(testb::same_values(ref, fast));
     EXPECT_TRUE(testb::same_values(ref, in_place));
@@ -197,14 +221,14 @@ TEST(EdgeDarken, ChecksInputsAndNeverWritesThem) {
     const ImageF ctrl(8, 8, 4, 0.0f);
     ImageF out;
     try {
-        edge_darken_rgbd(out, color, small, ctrl, nullptr, kWhite, {});
+        edge_darken_rgbd(out, color, small, ctrl, nullptr, nullptr, kWhite, {});
         FAIL();
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("'edges'"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(edge_darken_rgbd(out, ImageF(8, 8, 3), ImageF(8, 8, 1), ctrl, nullptr, kWhite, {}), Error);
+    EXPECT_THROW(edge_darken_rgbd(out, ImageF(8, 8, 3), ImageF(8, 8, 1), ctrl, nullptr, nullptr, kWhite, {}), Error);
     ImageF alias(8, 8, 1, 0.0f);  // the output may be the colour (in place), never another input
-    EXPECT_THROW(edge_darken_rgbd(alias, color, alias, ctrl, nullptr, kWhite, {}), Error);
+    EXPECT_THROW(edge_darken_rgbd(alias, color, alias, ctrl, nullptr, nullptr, kWhite, {}), Error);
     EdgeDarkenDogParams bad;
     bad.smooth_low = bad.smooth_high = 0.2f;
     EXPECT_THROW(edge_darken_dog(out, color, color, ctrl, bad), Error);
@@ -216,7 +240,7 @@ TEST(EdgeDarken, NonFiniteInputsDoNotCrash) {
     const ImageF ctrl = testb::poison(noise(16, 9, 4, -1.0f, 1.0f, 13), 5);
     const ImageF blurred = testb::poison(noise(8, 5, 4, 0.0f, 1.0f, 14), 4);
     ImageF a, b;
-    edge_darken_rgbd(a, color, edges, ctrl, &blurred, kWhite, {1.0f});
+    edge_darken_rgbd(a, color, edges, ctrl, &blurred, nullptr, kWhite, {1.0f});
     edge_darken_dog(b, color, blurred, ctrl, {});
     EXPECT_EQ(a.width(), 16);
     EXPECT_EQ(b.width(), 16);
