@@ -52,6 +52,31 @@ for m in "${bare_models[@]}"; do
     done
   fi
 done
+# Plants in the WC styles (issue 46 items 5, 8): the shared ez-tree plants and two generated ones,
+# default options, 640x480. PLANTS_BEFORE_PRESETS=dir also renders the "before" row of the
+# generated conifer, the oak and the Fox with this binary and older presets (the issue-46 look
+# changes are preset values and a stage parameter whose default is the old behaviour, so the
+# current binary with the presets of 801532b gives that commit's bytes) into docs/gallery/wc_before/.
+plants=(plants/ez-tree/ez_oak_large_dense.glb plants/ez-tree/ez_ash_large.glb plants/ez-tree/ez_bush2.glb
+        "procedural:tree?kind=conifer&seed=1" "procedural:tree?kind=grass&seed=1")
+mkdir -p "$out/wc_plants"
+for m in "${plants[@]}"; do
+  if [[ $m == procedural:* ]]; then src=$m; tag=generated_$(sed 's/.*kind=\([a-z]*\).*/\1/' <<<"$m");
+  else src=$shared/$m; tag=$(basename "${m%.*}"); [ -f "$src" ] || { echo "gallery: $src missing, skipped" >&2; continue; }; fi
+  echo "gallery: wc plants $tag"
+  for style in none wc16 wc17 wc18; do
+    "$bin" render "$src" "${bare[@]}" --style "$style" --out "$out/wc_plants/${tag}_${style}.png" 2>/dev/null
+  done
+done
+if [ -n "${PLANTS_BEFORE_PRESETS:-}" ]; then
+  mkdir -p "$out/wc_before"
+  for m in "procedural:tree?kind=conifer&seed=1" "$shared/plants/ez-tree/ez_oak_large_dense.glb" "$shared/gltf/Fox/glTF/Fox.gltf"; do
+    case $m in procedural:*) tag=generated_conifer ;; *) tag=$(basename "${m%.*}") ;; esac
+    for style in wc16 wc17 wc18; do
+      AQ_PRESET_DIR=$PLANTS_BEFORE_PRESETS "$bin" render "$m" "${bare[@]}" --style "$style" --out "$out/wc_before/${tag}_${style}.png" 2>/dev/null
+    done
+  done
+fi
 # Each render writes its provenance manifest beside the picture (docs/provenance.md); the gallery
 # keeps the pictures only (a manifest names this machine's paths and build).
 find "$out" -name '*.png.json' -delete
