@@ -91,6 +91,11 @@ StageTwin::StageTwin(const stylize::StageVariant& v) : v_(&v) {
                         bool found = false;
                         for (auto& d : v.params) found |= d.name == p.half_param;
                         if (!found) throw Error(where + "size=" + val + " names unknown parameter '" + p.half_param + "'");
+                    } else if (mode.rfind("div_", 0) == 0) {
+                        p.div_param = mode.substr(4);
+                        bool found = false;
+                        for (auto& d : v.params) found |= d.name == p.div_param && d.kind == stylize::ParamKind::Int;
+                        if (!found) throw Error(where + "size=" + val + " names no Int parameter '" + p.div_param + "'");
                     } else if (!mode.empty()) {
                         throw Error(where + "unknown size mode '" + mode + "'");
                     }
@@ -169,8 +174,9 @@ std::vector<Texture> StageTwin::run(const std::vector<const Texture*>& inputs, c
         else sz = avail[pd.size_of];
         if (!sz) throw Error(pass.name + ": size input '" + pd.size_of + "' is absent");
         const bool half = pd.half || (!pd.half_param.empty() && params.at(pd.half_param) != 0.0);
-        pass.width = half ? (sz->width() + 1) / 2 : sz->width();
-        pass.height = half ? (sz->height() + 1) / 2 : sz->height();
+        const int div = half ? 2 : pd.div_param.empty() ? 1 : int(params.at(pd.div_param));
+        pass.width = (sz->width() + div - 1) / div;
+        pass.height = (sz->height() + div - 1) / div;
         pass.channels = pd.channels;
         std::string body = uniforms;
         for (auto& i : pd.inputs) body += "uniform sampler2D s_" + i.ident + ";\n";

@@ -14,7 +14,8 @@
 // every stage parameter as `u_<param>` (float, int or bool, generated from the variant's ParamDesc
 // list so a twin cannot miss or misspell one), the paper colour `u_substrate_color` and its output
 // size `u_out_size`. size= defaults to the size of the pass's first input; half:<input> is
-// ((w + 1) / 2, (h + 1) / 2); half_if_<param>:<input> is half when the Bool parameter is set. Outputs without an @output line are bound to the last pass when the
+// ((w + 1) / 2, (h + 1) / 2); half_if_<param>:<input> is half when the Bool parameter is set;
+// div_<param>:<input> is (ceil(w / k), ceil(h / k)) for the Int parameter k. Outputs without an @output line are bound to the last pass when the
 // stage has one output.
 #pragma once
 
@@ -59,6 +60,7 @@ private:
         std::string size_of;  //!< input whose size the pass takes
         bool half = false;
         std::string half_param;  //!< half size when this Bool parameter is set
+        std::string div_param;   //!< size ceil(w / k), k this Int parameter (size=div_<param>:<input>)
         std::vector<In> inputs;
     };
     const stylize::StageVariant* v_;

@@ -2,7 +2,7 @@
 // E_d = edge * intensity * (1 + ci) * sat(5 |C - Cs|) * sat(1 - 3 bleed), ci = ctrl.edge.r,
 // x5 where positive; bleed = the bleeding mask (bleed.a, resampled when at half resolution).
 // Ours: E_d / (1 + crowding * crowd), crowd = the local mean of the edges (optional input).
-//@pass dark out=4 in=color,edges,ctrl_edge,bleed:linear,crowd
+//@pass dark out=4 in=color,edges,ctrl_edge,bleed:linear,crowd:linear
 
 void main() {
     vec4 c = fetch(s_color, pixel());
@@ -16,7 +16,7 @@ void main() {
 #endif
     float e = edge * u_intensity * (1.0 + ci);
 #if HAS_crowd
-    e /= 1.0 + u_crowding * fetch(s_crowd, pixel()).r;
+    e /= 1.0 + u_crowding * same_or_resample(s_crowd).r;
 #endif
     e *= sat(length(c.rgb - u_substrate_color) * 5.0);
     e *= sat(1.0 - bleed * 3.0);

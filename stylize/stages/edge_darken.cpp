@@ -80,7 +80,9 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_bleed_mask(bleed, color, st);
     if (crowd) {
         check_input(crowd, 1, Channels::AtLeast, st, "crowd");
-        check_same_size(*crowd, color, st, "crowd", "color");
+        if (crowd->width() > color.width() || crowd->height() > color.height())
+            throw Error(st + ": input 'crowd' is " + std::to_string(crowd->width()) + "x" + std::to_string(crowd->height()) +
+                        ", larger than 'color' (" + std::to_string(color.width()) + "x" + std::to_string(color.height()) + ")");
     }
     check_not_alias(dst, &edges, st, "edges");
     check_not_alias(dst, crowd, st, "crowd");
@@ -96,12 +98,13 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
     const Plane cw = crowd ? plane(*crowd, 0) : constant_plane(&kZero, w, h);
+    const Resampler upc(w, h, cw.width, cw.height);  // the crowd map may be coarser (gaussian_blur downsample)
     const Resampler up(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: §3.1 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
             const float b = sample_resampled_plane(bm, x, y, w, h);
-            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, cw(x, y), substrate, p);
+            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, sample_resampled_plane(cw, x, y, w, h), substrate, p);
         });
         return;
     }
@@ -138,17 +141,17 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                 store8(cb + i8, simd::strided8<4>(cp + 2));
                 store8(ev + i8, plane8(e, xs + i8, y));
                 store8(ci + i8, plane8(ctrl, xs + i8, y));
-                store8(cd + i8, plane8(cw, xs + i8, y));
             }
             for (int i = i8; i < n; ++i) {
                 const glm::vec4 cv = c(xs + i, y);
                 cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z;
                 ev[i] = e(xs + i, y);
                 ci[i] = ctrl(xs + i, y);
-                cd[i] = cw(xs + i, y);
             }
             for (int i = 0; i < i8; i += 8) store8(bl + i, up.sample8(bm, xs + i, y));
             for (int i = i8; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
+            for (int i = 0; i < i8; i += 8) store8(cd + i, upc.sample8(cw, xs + i, y));
+            for (int i = i8; i < n; ++i) cd[i] = upc.sample(cw, xs + i, y);
             for (int i = 0; i < n; ++i)
                 d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], cd[i], substrate, p);
             int m = 0;  // pixels that darken (d != 1), packed

@@ -100,7 +100,8 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
 //! WC18 RGBD edge darkening. color: 4 ch; edges: >= 1 ch (channel 0 = blurred edges), same size;
 //! ctrl_edge: >= 1 ch (R); bleed: optional, 4 ch (alpha = bleeding mask, as stage "bleed" writes
 //! it) full or half size (resampled like the DoG blur), or 1 ch; absent = no bleeding. crowd:
-//! optional, >= 1 ch (channel 0), same size: the local mean of the edges; absent = 0.
+//! optional, >= 1 ch (channel 0), color's size or smaller (resampled like the bleeding mask): the
+//! local mean of the edges; absent = 0.
 void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
                       const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
                       const Exec& ex = {});

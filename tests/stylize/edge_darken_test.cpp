@@ -94,8 +94,12 @@ TEST(EdgeDarkenRgbd, CrowdedEdgesDarkenLess) {
     EXPECT_EQ(std::vector<float>(a.data(), a.data() + a.num_values()), std::vector<float>(b.data(), b.data() + b.num_values()));
     EXPECT_LT(a.at(3, 3, 0), d.at(3, 3, 0));
     EXPECT_LT(d.at(3, 3, 0), color.at(3, 3, 0));
-    const ImageF small(4, 4, 1, 0.0f);
-    EXPECT_THROW(edge_darken_rgbd(d, color, edges, ctrl, nullptr, &small, kWhite, {}), Error) << "crowd of another size";
+    // A coarser crowd map is resampled (a constant one gives the same as full size); a larger one is refused.
+    const ImageF coarse(3, 3, 1, 1.0f), large(9, 8, 1, 1.0f);
+    ImageF e;
+    edge_darken_rgbd(e, color, edges, ctrl, nullptr, &coarse, kWhite, {1.0f, 4.0f});
+    EXPECT_EQ(std::vector<float>(e.data(), e.data() + e.num_values()), std::vector<float>(d.data(), d.data() + d.num_values()));
+    EXPECT_THROW(edge_darken_rgbd(e, color, edges, ctrl, nullptr, &large, kWhite, {}), Error) << "crowd larger than color";
 }
 
 TEST(EdgeDarkenRgbd, BleedMaskFromHalfResolutionAlphaSuppressesEdges) {

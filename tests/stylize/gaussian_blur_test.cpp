@@ -1,6 +1,7 @@
 // tests/stylize/gaussian_blur_test.cpp — the LD06 depth-map blur (stylize/stages/gaussian_blur.h):
 // the blurred map of a constant depth is that constant (issue 11), an impulse reproduces the
 // normalised separable Gaussian computed here independently, and only one channel is accepted.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -40,6 +41,38 @@ TEST(GaussianBlur, ImpulseReproducesTheSeparableGaussian) {
             const double want = std::abs(dx) <= 3 && std::abs(dy) <= 3 ? g[std::size_t(dx + 3)] * g[std::size_t(dy + 3)] / (s * s) : 0.0;
             EXPECT_NEAR(o.at(x, y, 0), want, 1e-6) << x << "," << y;
         }
+}
+
+// downsample k: the output is ceil(size / k); each coarse pixel starts as the mean of its block (the
+// blocks at the right and bottom edges are partial), then the Gaussian runs on the coarse map.
+TEST(GaussianBlur, DownsampleBlurstheBlockMeans) {
+    ImageF d(10, 7, 1, 0.0f);
+    for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 10; ++x) d.at(x, y, 0) = float(x + 10 * y);
+    GaussianBlurParams p;
+    p.downsample = 4;
+    p.radius = 1;
+    p.sigma = 0.1f;  // weights exp(-50) beside the centre: the block means themselves, to 1e-6
+    for (Exec ex : {Exec::reference(), Exec::fast(2)}) {
+        ImageF o;
+        gaussian_blur(o, d, p, ex);
+        ASSERT_EQ(o.width(), 3);
+        ASSERT_EQ(o.height(), 2);
+        for (int by = 0; by < 2; ++by)
+            for (int bx = 0; bx < 3; ++bx) {
+                double sum = 0;
+                int n = 0;
+                for (int y = 4 * by; y < std::min(7, 4 * by + 4); ++y)
+                    for (int x = 4 * bx; x < std::min(10, 4 * bx + 4); ++x) sum += d.at(x, y, 0), ++n;
+                EXPECT_NEAR(o.at(bx, by, 0), sum / n, 1e-4) << bx << "," << by;
+            }
+    }
+    // A constant stays exactly constant at any k.
+    p.radius = 4, p.sigma = 2.0f, p.downsample = 3;
+    ImageF c(23, 11, 1, 0.37f), o;
+    gaussian_blur(o, c, p, Exec::fast(2));
+    for (int y = 0; y < o.height(); ++y)
+        for (int x = 0; x < o.width(); ++x) ASSERT_EQ(o.at(x, y, 0), 0.37f);
 }
 
 TEST(GaussianBlur, OnlyOneChannelIsAccepted) {

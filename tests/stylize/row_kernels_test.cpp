@@ -57,7 +57,7 @@ TEST(RowKernels, EdgeDarkenRgbdEqualsPixelFunction) {
         for (int y = 0; y < kH; y += 2) edges.at(100, y, 0) = -0.0f;  // -0 is no edge either
         const ImageF bleed_full = noise(kW, kH, 1, 0.0f, 0.5f, 14);
         const ImageF bleed_half = noise((kW + 1) / 2, (kH + 1) / 2, 4, 0.0f, 0.5f, 15);
-        const ImageF crowd = noise(kW, kH, 1, 0.0f, 1.0f, 16);
+        const ImageF crowd = noise((kW + 3) / 4, (kH + 3) / 4, 1, 0.0f, 1.0f, 16);  // coarse: resampled
         for (float intensity : {1.0f, 3.5f}) {
             const EdgeDarkenRgbdParams p{intensity, intensity == 1.0f ? 0.0f : 2.5f};
             ImageF out, out_half, out_none;
@@ -66,11 +66,13 @@ TEST(RowKernels, EdgeDarkenRgbdEqualsPixelFunction) {
             edge_darken_rgbd(out_none, color, edges, ctrl, nullptr, nullptr, sub, p, Exec::reference());
             const toolkit::Plane bh = toolkit::plane(bleed_half, 3);
             const toolkit::Resampler up(kW, kH, bleed_half.width(), bleed_half.height());
+            const toolkit::Resampler upc(kW, kH, crowd.width(), crowd.height());
+            const toolkit::Plane cp = toolkit::plane(crowd, 0);
             for (int y = 0; y < kH; ++y)
                 for (int x = 0; x < kW; ++x) {
                     const glm::vec4 c = px4(color, x, y);
                     const float e = edges.at(x, y, 0), ci = ctrl.at(x, y, 0);
-                    expect_pixel(out, x, y, edge_darken_rgbd_px(c, e, ci, bleed_full.at(x, y, 0), crowd.at(x, y, 0), sub, p),
+                    expect_pixel(out, x, y, edge_darken_rgbd_px(c, e, ci, bleed_full.at(x, y, 0), upc.sample(cp, x, y), sub, p),
                                  "full bleed, crowd");
                     expect_pixel(out_half, x, y, edge_darken_rgbd_px(c, e, ci, up.sample(bh, x, y), 0.0f, sub, p), "half bleed");
                     expect_pixel(out_none, x, y, edge_darken_rgbd_px(c, e, ci, 0.0f, 0.0f, sub, p), "no bleed");
