@@ -25,10 +25,15 @@ struct Grid {
     glm::vec3 node(int i, int j, int k) const { return origin + glm::vec3(float(i), float(j), float(k)) * cell; }
 };
 
-// Gradient of the trilinear interpolation of the 8 corner values c at local coordinates u.
+inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
+
+// The trilinear interpolation of the 8 corner values c (corner index: bit 0 = x, bit 1 = y,
+// bit 2 = z) at local coordinates u, and its gradient.
+float trilinear(const float c[8], glm::vec3 u) {
+    return lerp(lerp(lerp(c[0], c[1], u.x), lerp(c[2], c[3], u.x), u.y), lerp(lerp(c[4], c[5], u.x), lerp(c[6], c[7], u.x), u.y),
+                u.z);
+}
 glm::vec3 trilinear_gradient(const float c[8], glm::vec3 u) {
-    // corner index: bit 0 = x, bit 1 = y, bit 2 = z
-    auto lerp = [](float a, float b, float t) { return a + (b - a) * t; };
     const float gx = lerp(lerp(c[1] - c[0], c[3] - c[2], u.y), lerp(c[5] - c[4], c[7] - c[6], u.y), u.z);
     const float gy = lerp(lerp(c[2] - c[0], c[3] - c[1], u.x), lerp(c[6] - c[4], c[7] - c[5], u.x), u.z);
     const float gz = lerp(lerp(c[4] - c[0], c[5] - c[1], u.x), lerp(c[6] - c[2], c[7] - c[3], u.x), u.y);
@@ -139,9 +144,7 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
         const glm::vec3 t = glm::clamp(u - glm::vec3(float(i), float(j), float(k)), 0.0f, 1.0f);
         float c[8];
         for (int q = 0; q < 8; ++q) c[q] = f[g.at(i + kCorner[q][0], j + kCorner[q][1], k + kCorner[q][2])];
-        auto lerp = [](float a, float b, float w) { return a + (b - a) * w; };
-        at_point[idx] = lerp(lerp(lerp(c[0], c[1], t.x), lerp(c[2], c[3], t.x), t.y),
-                             lerp(lerp(c[4], c[5], t.x), lerp(c[6], c[7], t.x), t.y), t.z);
+        at_point[idx] = trilinear(c, t);
     }
     out.threshold = p.threshold;
     if (p.fit_inside > 0.0f && p.fit_inside < 1.0f) {

@@ -3,6 +3,8 @@
 // default; binary for the paper's Fig. 9 comparison).
 #include "stylize/passes/particle_pass.h"
 
+#include <algorithm>
+
 #include "raster/pass.h"
 #include "raster/particles.h"
 #include "stylize/passes/pass_common.h"
@@ -85,7 +87,9 @@ void register_particle_pass(Registry& r) {
                     tp3.channel = c;
                     if (tp.crown && c < 2) {  // empty dark and medium maps of the pass's size
                         const raster::PassViewSetup vs = raster::pass_view(ps, raster::PassView::Camera, tp.scale);
-                        *io.out[std::size_t(c)] = ImageF(vs.width, vs.height, 1, 0.0f);
+                        ImageF& out = *io.out[std::size_t(c)];  // reused frame to frame
+                        ensure_output(out, vs.width, vs.height, 1);
+                        std::fill(out.data(), out.data() + out.num_values(), 0.0f);
                         continue;
                     }
                     raster::render_triangle_pass(*io.out[std::size_t(c)], ps, tp3, ex, passes::warnings_of(io));

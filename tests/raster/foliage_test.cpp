@@ -64,7 +64,7 @@ TEST(Foliage, SameMeshBytesEveryRunAndThreadCount) {
     for (int threads : {1, 2, 8}) EXPECT_EQ(mesh_hash(abstract_foliage(bush, p, Exec::fast(threads))->scene), want);
 }
 
-TEST(Foliage, NoFoliageIsReportedAndEmptySurfacesRefused) {
+TEST(Foliage, NoFoliageIsReportedAndAnEmptySurfaceFallsBackToTheLeaves) {
     const scene::Scene box = test::scene_of({test::make_prim({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2})});
     std::vector<std::string> warnings;
     const auto a = abstract_foliage(box, {}, {}, &warnings);
