@@ -84,18 +84,18 @@ StageTwin::StageTwin(const stylize::StageVariant& v) : v_(&v) {
                     const auto colon = val.find(':');
                     const std::string mode = colon == std::string::npos ? "" : val.substr(0, colon);
                     p.size_of = colon == std::string::npos ? val : val.substr(colon + 1);
+                    // The parameter a size mode names: it must exist, of that kind.
+                    auto param = [&](const std::string& name, stylize::ParamKind kind) {
+                        for (auto& d : v.params)
+                            if (d.name == name && d.kind == kind) return name;
+                        throw Error(where + "size=" + val + " names no parameter '" + name + "' of the kind it needs");
+                    };
                     if (mode == "half") {
                         p.half = true;
                     } else if (mode.rfind("half_if_", 0) == 0) {
-                        p.half_param = mode.substr(8);
-                        bool found = false;
-                        for (auto& d : v.params) found |= d.name == p.half_param;
-                        if (!found) throw Error(where + "size=" + val + " names unknown parameter '" + p.half_param + "'");
+                        p.half_param = param(mode.substr(8), stylize::ParamKind::Bool);
                     } else if (mode.rfind("div_", 0) == 0) {
-                        p.div_param = mode.substr(4);
-                        bool found = false;
-                        for (auto& d : v.params) found |= d.name == p.div_param && d.kind == stylize::ParamKind::Int;
-                        if (!found) throw Error(where + "size=" + val + " names no Int parameter '" + p.div_param + "'");
+                        p.div_param = param(mode.substr(4), stylize::ParamKind::Int);
                     } else if (!mode.empty()) {
                         throw Error(where + "unknown size mode '" + mode + "'");
                     }

@@ -15,8 +15,8 @@
 // list so a twin cannot miss or misspell one), the paper colour `u_substrate_color` and its output
 // size `u_out_size`. size= defaults to the size of the pass's first input; half:<input> is
 // ((w + 1) / 2, (h + 1) / 2); half_if_<param>:<input> is half when the Bool parameter is set;
-// div_<param>:<input> is (ceil(w / k), ceil(h / k)) for the Int parameter k. Outputs without an @output line are bound to the last pass when the
-// stage has one output.
+// div_<param>:<input> is (ceil(w / k), ceil(h / k)) for the Int parameter k. Outputs without an
+// @output line are bound to the last pass when the stage has one output.
 #pragma once
 
 #include <string>

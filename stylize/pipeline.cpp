@@ -267,6 +267,12 @@ std::size_t find_one_step(const Pipeline& p, const std::string& name, const std:
     return hits.front();
 }
 
+//! The index of the port called `name` in `ports` (find_port), or -1.
+int port_index(const std::vector<Port>& ports, const std::string& name) {
+    const Port* p = find_port(ports, name);
+    return p ? int(p - ports.data()) : -1;
+}
+
 const StageVariant& variant_of(const PipelineStep& s) {
     const Registry& reg = registry_of(s);
     return s.variant.empty() ? reg.default_variant(s.stage) : reg.get(s.stage, s.variant);
@@ -335,11 +341,7 @@ void bypass_step(Pipeline& p, const std::string& step) {
     std::vector<std::pair<std::string, std::string>> through;
     for (std::size_t k = 0; k < r.variant->outputs.size(); ++k) {
         const std::string& port = r.variant->outputs[k].name;
-        const int in = [&] {
-            for (std::size_t j = 0; j < r.variant->inputs.size(); ++j)
-                if (r.variant->inputs[j].name == port) return int(j);
-            return -1;
-        }();
+        const int in = port_index(r.variant->inputs, port);
         if (in < 0) {
             std::string readers;
             for (std::size_t j = i + 1; j < p.steps.size(); ++j) {
@@ -394,12 +396,6 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
 }
 
 namespace {
-
-//! The index of the port called `name` in `ports` (find_port), or -1.
-int port_index(const std::vector<Port>& ports, const std::string& name) {
-    const Port* p = find_port(ports, name);
-    return p ? int(p - ports.data()) : -1;
-}
 
 // CompiledPipeline::fused_with_next: consecutive stage steps with a registered Fusion whose links
 // carry every output of the first to the second alone.

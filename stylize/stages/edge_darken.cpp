@@ -150,8 +150,12 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
             }
             for (int i = 0; i < i8; i += 8) store8(bl + i, up.sample8(bm, xs + i, y));
             for (int i = i8; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
-            for (int i = 0; i < i8; i += 8) store8(cd + i, upc.sample8(cw, xs + i, y));
-            for (int i = i8; i < n; ++i) cd[i] = upc.sample(cw, xs + i, y);
+            if (crowd) {
+                for (int i = 0; i < i8; i += 8) store8(cd + i, upc.sample8(cw, xs + i, y));
+                for (int i = i8; i < n; ++i) cd[i] = upc.sample(cw, xs + i, y);
+            } else {
+                std::fill(cd, cd + n, 0.0f);  // no crowd map: the constant 0 the plain loop samples
+            }
             for (int i = 0; i < n; ++i)
                 d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], cd[i], substrate, p);
             int m = 0;  // pixels that darken (d != 1), packed
