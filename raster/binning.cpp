@@ -109,6 +109,8 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                     r.fine_offsets.clear();
                     r.fine_items.clear();
                     r.bounds.clear();
+                    r.bin_bounds.clear();
+                    r.fine_bounds.clear();
                     r.counters = SetupCounters{};
                 } else {
                     fr.chunks.emplace_back();
@@ -134,7 +136,10 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
         // (stable, so each tile's list stays in submission order). The 104-byte setups are
         // written once and not re-read here.
-        std::vector<std::uint64_t> pairs, fine;  // fine: the sub-pixel setups (coverage pass only)
+        std::vector<std::uint64_t>& pairs = c.pairs;
+        std::vector<std::uint64_t>& fine = c.fine_pairs;  // the sub-pixel setups (coverage pass only)
+        pairs.clear();
+        fine.clear();
         pairs.reserve(c.size);
         c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
         c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
@@ -147,13 +152,19 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                 t = te;
                 for (; k < c.tris.size(); ++k) {
                     const TriSetup& st = c.tris[k];
-                    if (fr.sopt.keep_subpixel) c.bounds.push_back({st.x0, st.y0, st.x1, st.y1});
-                    // Bounds widened by the frame's bin margin (the coverage pass: samples one
-                    // pixel beyond the pixel-centre bounds), clamped to the raster.
-                    const int m = fr.bin_margin;
-                    const int bx0 = std::max(st.x0 - m, 0) / kTile, bx1 = std::min(st.x1 + m, fr.fp.vp.width - 1) / kTile;
-                    const int by0 = std::max(st.y0 - m, 0) / kTile, by1 = std::min(st.y1 + m, fr.fp.vp.height - 1) / kTile;
+                    // The tiles of the pixel-centre bounds (the traversal's), or with keep_subpixel
+                    // of the pixels whose samples it may cover (the coverage pass's; they hold the
+                    // pixel-centre bounds, setup.h). A sub-pixel triangle that can cover no sample
+                    // is not binned.
                     const bool sub = st.subpixel();
+                    PixelRect r{st.x0, st.y0, st.x1, st.y1};
+                    if (fr.sopt.keep_subpixel) {
+                        r = coverage_bounds(st, fr.fp.vp.width, fr.fp.vp.height);
+                        c.bounds.push_back({std::int16_t(r.x0), std::int16_t(r.y0), std::int16_t(r.x1), std::int16_t(r.y1)});
+                        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+                    }
+                    const int x0 = r.x0, x1 = r.x1, y0 = r.y0, y1 = r.y1;
+                    const int bx0 = x0 / kTile, bx1 = x1 / kTile, by0 = y0 / kTile, by1 = y1 / kTile;
                     std::vector<std::uint32_t>& offsets = sub ? c.fine_offsets : c.bin_offsets;
                     std::vector<std::uint64_t>& to = sub ? fine : pairs;
                     for (int ty = by0; ty <= by1; ++ty)
@@ -165,15 +176,27 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                 }
             }
         }
-        auto sort = [ntiles](std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
-                             const std::vector<std::uint64_t>& ps) {
+        // With keep_subpixel each entry's bounds go beside it (read in setup order here, so that
+        // the coverage pass reads them in bin order instead of one scattered load per entry).
+        const bool with_bounds = fr.sopt.keep_subpixel;
+        auto sort = [ntiles, with_bounds, &c](std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
+                                              std::vector<Chunk::Bounds>& bounds, const std::vector<std::uint64_t>& ps) {
             for (int i = 0; i < ntiles; ++i) offsets[i + 1] += offsets[i];
             items.resize(ps.size());
             std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-            for (const std::uint64_t p : ps) items[fill[p >> 32]++] = std::uint32_t(p);
+            if (!with_bounds) {
+                for (const std::uint64_t p : ps) items[fill[p >> 32]++] = std::uint32_t(p);
+                return;
+            }
+            bounds.resize(ps.size());
+            for (const std::uint64_t p : ps) {
+                const std::uint32_t at = fill[p >> 32]++;
+                items[at] = std::uint32_t(p);
+                bounds[at] = c.bounds[std::uint32_t(p)];
+            }
         };
-        sort(c.bin_offsets, c.bin_items, pairs);
-        if (!c.fine_offsets.empty()) sort(c.fine_offsets, c.fine_items, fine);
+        sort(c.bin_offsets, c.bin_items, c.bin_bounds, pairs);
+        if (!c.fine_offsets.empty()) sort(c.fine_offsets, c.fine_items, c.fine_bounds, fine);
     });
     SetupCounters total;
     std::size_t nsetup = 0, nbinned = 0;

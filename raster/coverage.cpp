@@ -18,8 +18,8 @@ namespace {
 
 //! The 4x4 sample grid of ssaa 4 in a pixel: offsets ((2i + 1) / 8 − 1/2) px from the centre, in
 //! the setup's fixed-point units (kSubpixelOne per pixel; exact).
-constexpr std::int64_t kSampleOffset[kCoverageGrid] = {-3 * kSubpixelOne / 8, -kSubpixelOne / 8,
-                                                       kSubpixelOne / 8, 3 * kSubpixelOne / 8};
+constexpr std::int64_t kSampleOffset[kCoverageGrid] = {-kCoverageReach, -kSubpixelOne / 8, kSubpixelOne / 8,
+                                                       kCoverageReach};
 static_assert(kCoverageGrid * kCoverageGrid == 16, "the masks are 16 bits");
 static_assert(kSubpixelOne == 256, "the AVX2 sample offsets below are these values");
 
@@ -205,7 +205,7 @@ void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBit
 // pixels and reads only covered neighbours' values, which no tile writes (only their alpha).
 bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile) {
     const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
-    // No triangle binned here (bins widened by a pixel): no sample of the tile is covered.
+    // No triangle binned here (binned by coverage_bounds too): no sample of the tile is covered.
     bool binned = tile_binned(fr, tile);
     for (const Chunk& ch : fr.chunks)
         binned = binned || (!ch.fine_offsets.empty() && ch.fine_offsets[tile] != ch.fine_offsets[tile + 1]);
@@ -247,8 +247,8 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
     if (!flag_rows) return false;
     std::uint16_t mask[kTile * kTile];
     std::fill_n(mask, kTile * kTile, std::uint16_t(0));
-    // The triangles binned here (the bins are widened by one pixel for this pass: every triangle
-    // with a sample in the tile). Their compact bounds first (most reach no flagged pixel); the
+    // The triangles binned here (by their coverage_bounds too: every triangle that may cover a
+    // sample in the tile). Their coverage_bounds first (most reach no flagged pixel); the
     // ones that do are listed with their records prefetched, then tested a batch at a time (the
     // records are scattered over the chunk: a miss each, overlapped this way; schedule only).
     struct Hit {
@@ -277,13 +277,13 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
         for (int list = 0; list < 2; ++list) {  // the traversal's bin, then the sub-pixel one
             const std::vector<std::uint32_t>& offsets = list == 0 ? ch.bin_offsets : ch.fine_offsets;
             const std::vector<std::uint32_t>& items = list == 0 ? ch.bin_items : ch.fine_items;
+            const std::vector<Chunk::Bounds>& bounds = list == 0 ? ch.bin_bounds : ch.fine_bounds;
             if (offsets.empty()) continue;
             const std::uint32_t end = offsets[tile + 1];
             for (std::uint32_t k = offsets[tile]; k < end; ++k) {
-                const Chunk::Bounds& b = ch.bounds[items[k]];
-                const Rect r = sample_bounds(b.x0, b.y0, b.x1, b.y1, W, H);
-                const int x0 = std::max(r.x0, X0), x1 = std::min(r.x1, X1);
-                const int y0 = std::max(r.y0, Y0), y1 = std::min(r.y1, Y1);
+                const Chunk::Bounds& b = bounds[k];
+                const int x0 = std::max<int>(b.x0, X0), x1 = std::min<int>(b.x1, X1);
+                const int y0 = std::max<int>(b.y0, Y0), y1 = std::min<int>(b.y1, Y1);
                 if (x0 > x1 || y0 > y1 || !(flag_rows >> (y0 - Y0) & low_bits(y1 - y0 + 1))) continue;
                 const int n = x1 - x0 + 1;
                 const std::uint64_t range = low_bits(n) << (x0 - X0);

@@ -178,7 +178,6 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
     PhaseTimer timer;
     // Coverage antialiasing (docs/raster.md): single-sample G-buffers only.
     const bool aa = mode == Mode::GBuffer && K == 1 && s.antialias == RenderSettings::Antialias::Coverage;
-    fr.bin_margin = aa ? 1 : 0;
     fr.sopt.keep_subpixel = aa;
     auto body = [&] {
         prepare(fr, sc, cam, fast, fast, warnings, timer);
@@ -243,7 +242,7 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
             }
             if (mode == Mode::GBuffer && K == 1) FrameScratch::record(tg, W, H, fr.background_depth, std::move(background));
         }
-        timer.lap("raster");
+        timer.lap(aa ? "record" : "raster");  // after the coverage pass: what remains of the body
     };
     if (fast) with_arena(s.exec, body);
     else body();

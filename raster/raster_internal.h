@@ -68,12 +68,19 @@ struct Chunk {
     //! The sub-pixel setups (TriSetup::kSubpixelBit, coverage pass only), binned apart so that
     //! the traversal never reads them; empty without SetupOptions::keep_subpixel.
     std::vector<std::uint32_t> fine_offsets, fine_items;
-    //! Per setup: its pixel-centre bounds (x0, y0, x1, y1), 8 bytes instead of the 104 of the
-    //! record, for the coverage pass's scan of a tile's bins (filled with keep_subpixel only).
+    //! A setup's pixel-centre bounds (x0, y0, x1, y1), 8 bytes instead of the 104 of the record.
     struct Bounds {
         std::int16_t x0, y0, x1, y1;
     };
+    //! Per setup, in setup order: its coverage_bounds (setup.h; keep_subpixel only; the source of
+    //! the two below).
     std::vector<Bounds> bounds;
+    //! Per bin entry, beside bin_items and fine_items: the entry's coverage_bounds, for the
+    //! coverage pass's scan of a tile's bins, which so reads them in order (keep_subpixel only).
+    std::vector<Bounds> bin_bounds, fine_bounds;
+    //! Binning's (tile, setup index) pairs before their counting sort, traversal's and sub-pixel
+    //! ones (scratch kept with the chunk, as the buffers above, so a frame does not fault them in).
+    std::vector<std::uint64_t> pairs, fine_pairs;
     SetupCounters counters;
 };
 
@@ -96,10 +103,6 @@ struct Frame {
     std::vector<Chunk> chunks;
     int tiles_x = 0, tiles_y = 0;
     float background_depth = 0;
-    //! Pixels by which a triangle's bounds are widened when binned: 1 for the coverage pass (its
-    //! samples reach one pixel beyond the pixel-centre bounds), else 0. Only adds triangles whose
-    //! clamped range in a tile is empty to the traversal's bins: no effect on the pixels.
-    int bin_margin = 0;
 };
 
 //! Whether any triangle was binned to `tile` (fast path); a tile without one shows only background.

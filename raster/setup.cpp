@@ -65,6 +65,7 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
     // xmin <= c <= xmax.
     const std::int64_t xmin = min3(x[0], x[1], x[2]), xmax = max3(x[0], x[1], x[2]);
     const std::int64_t ymin = min3(y[0], y[1], y[2]), ymax = max3(y[0], y[1], y[2]);
+    t.cover = std::uint8_t(cover_bits(xmin, xmax, ymin, ymax));
     std::int64_t px0 = (xmin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
     std::int64_t px1 = (xmax - kSubpixelOne / 2) >> kSubpixelBits;
     std::int64_t py0 = (ymin - kSubpixelOne / 2 + kSubpixelOne - 1) >> kSubpixelBits;
@@ -308,7 +309,7 @@ inline void load_xy_code8(const SnapVertex* snap, __m256i v, __m256i& x, __m256i
 struct Lanes8 {
     std::uint32_t simple = 0;
     std::uint32_t subpixel = 0;  //!< kept lanes that hold no pixel centre (keep_subpixel only)
-    alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8];
+    alignas(32) std::int32_t X[3][8], Y[3][8], vi[3][8], x0[8], x1[8], y0[8], y1[8], neg[8], cover[8];
 };
 
 // The vertex indices of 8 consecutive triangles (24 consecutive indices from ix): vertex j of
@@ -439,6 +440,17 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
         put(out.y0, py0);
         put(out.y1, py1);
         put(out.neg, neg);
+        // TriSetup::cover (cover_bits over the lanes; a comparison is -1 where true).
+        const __m256i rl = _mm256_set1_epi32(kSubpixelOne / 2 + kCoverageReach - (kSubpixelOne - 1));
+        const __m256i rh = _mm256_set1_epi32(kSubpixelOne / 2 - kCoverageReach);
+        auto bit = [](__m256i a, __m256i b, int k) {
+            return _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_set1_epi32(1 << k));
+        };
+        put(out.cover, _mm256_or_si256(
+                           _mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(xmin, rl), kSubpixelBits), ux0, 0),
+                                           bit(_mm256_srai_epi32(_mm256_sub_epi32(xmax, rh), kSubpixelBits), ux1, 1)),
+                           _mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(ymin, rl), kSubpixelBits), uy0, 2),
+                                           bit(_mm256_srai_epi32(_mm256_sub_epi32(ymax, rh), kSubpixelBits), uy1, 3))));
     }
     return dropped;
 }
@@ -487,6 +499,7 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     set_edges(X, Y, t);
     t.x0 = std::int16_t(ln.x0[l]), t.x1 = std::int16_t(ln.x1[l]);
     t.y0 = std::int16_t(ln.y0[l]), t.y1 = std::int16_t(ln.y1[l]);
+    t.cover = std::uint8_t(ln.cover[l]);
     const bool neg = ln.neg[l] != 0;
     const std::uint32_t vi[3] = {std::uint32_t(ln.vi[0][l]), std::uint32_t(ln.vi[1][l]), std::uint32_t(ln.vi[2][l])};
     const std::uint32_t setup_order[3] = {vi[0], neg ? vi[2] : vi[1], neg ? vi[1] : vi[2]};

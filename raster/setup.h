@@ -35,6 +35,10 @@ struct TriSetup {
     //! centre (kept for the coverage pass only, SetupOptions::keep_subpixel; its bounds may be
     //! empty by one pixel).
     std::uint8_t flags;
+    //! Which sides of the pixels whose coverage samples (±3/8 px from a centre) the triangle may
+    //! reach lie one pixel inside the bounds widened by one, before clamping (bit 0: x0, 1: x1,
+    //! 2: y0, 3: y1): coverage_bounds() (the coverage pass's binning and scan).
+    std::uint8_t cover;
     static constexpr std::uint8_t kPermBit = 1u << 3, kBackBit = 1u << 4, kSubpixelBit = 1u << 5;
     bool subpixel() const { return (flags & kSubpixelBit) != 0; }
     int bias(int i) const { return (flags >> i) & 1; }
@@ -46,6 +50,31 @@ struct TriSetup {
     explicit TriSetup(NoInit) {}  //!< for emplace_back without the zeroing of value-initialisation
 };
 static_assert(sizeof(TriSetup) == 104);
+
+//! How far the coverage pass's outermost samples lie from a pixel centre per axis: 3/8 px (the 4x4
+//! grid of ssaa 4, offsets (2i + 1) / 8 - 1/2 px), in fixed-point units.
+inline constexpr int kCoverageReach = 3 * kSubpixelOne / 8;
+//! TriSetup::cover of a triangle whose snapped vertices span [xmin, xmax] x [ymin, ymax]: a side's
+//! bit is set where the samples' pixel bound (ceil / floor of the extent less the reach) equals the
+//! pixel-centre bound (that of extent less half a pixel), i.e. one pixel inside the widened bound.
+template <class I>
+inline I cover_bits(I xmin, I xmax, I ymin, I ymax) {
+    constexpr int h = kSubpixelOne / 2, lo = h + kCoverageReach - (kSubpixelOne - 1), hi = h - kCoverageReach;
+    auto low = [](I v) { return I(((v - lo) >> kSubpixelBits) == ((v + h - 1) >> kSubpixelBits)); };
+    auto high = [](I v) { return I(((v - hi) >> kSubpixelBits) == ((v - h) >> kSubpixelBits)); };
+    return I(low(xmin) | high(xmax) << 1 | low(ymin) << 2 | high(ymax) << 3);
+}
+
+//! The pixels in which t may cover one of the coverage pass's samples (±kCoverageReach from a pixel
+//! centre; the triangle's fixed-point extent meets that span), clamped to W x H: t's pixel-centre
+//! bounds widened by one pixel, less TriSetup::cover's sides. Empty when x0 > x1 or y0 > y1.
+struct PixelRect {
+    int x0, y0, x1, y1;
+};
+inline PixelRect coverage_bounds(const TriSetup& t, int W, int H) {
+    return {std::max(t.x0 - 1 + (t.cover & 1), 0), std::max(t.y0 - 1 + ((t.cover >> 2) & 1), 0),
+            std::min(t.x1 + 1 - ((t.cover >> 1) & 1), W - 1), std::min(t.y1 + 1 - ((t.cover >> 3) & 1), H - 1)};
+}
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
 struct ClipVerts {
