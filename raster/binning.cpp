@@ -108,6 +108,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                     r.bin_items.clear();
                     r.fine_offsets.clear();
                     r.fine_items.clear();
+                    r.micro.clear();
                     r.bounds.clear();
                     r.bin_bounds.clear();
                     r.fine_bounds.clear();
@@ -147,9 +148,21 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             const DrawVertices& dv = fr.draws[sg.draw];
             for (std::uint32_t t = sg.begin; t < sg.end;) {
                 const std::uint32_t te = std::min(sg.end, t + kSetupBatch);
-                std::size_t k = c.tris.size();
-                setup_triangles(dv, sg.draw, t, te, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+                std::size_t k = c.tris.size(), km = c.micro.size();
+                setup_triangles(dv, sg.draw, t, te, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters,
+                                fr.sopt.keep_subpixel ? &c.micro : nullptr);
                 t = te;
+                // Compact sub-pixel records: fine bins by their coverage bounds (tagged items).
+                for (; km < c.micro.size(); ++km) {
+                    const SubpixelTri& m = c.micro[km];
+                    if (m.x0 > m.x1 || m.y0 > m.y1) continue;
+                    for (int ty = m.y0 / kTile; ty <= m.y1 / kTile; ++ty)
+                        for (int tx = m.x0 / kTile; tx <= m.x1 / kTile; ++tx) {
+                            const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
+                            ++c.fine_offsets[tile + 1];
+                            fine.push_back(std::uint64_t(tile) << 32 | km | Chunk::kMicroItem);
+                        }
+                }
                 for (; k < c.tris.size(); ++k) {
                     const TriSetup& st = c.tris[k];
                     // The tiles of the pixel-centre bounds (the traversal's), or with keep_subpixel
@@ -190,9 +203,14 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             }
             bounds.resize(ps.size());
             for (const std::uint64_t p : ps) {
-                const std::uint32_t at = fill[p >> 32]++;
-                items[at] = std::uint32_t(p);
-                bounds[at] = c.bounds[std::uint32_t(p)];
+                const std::uint32_t at = fill[p >> 32]++, item = std::uint32_t(p);
+                items[at] = item;
+                if (item & Chunk::kMicroItem) {
+                    const SubpixelTri& m = c.micro[item & ~Chunk::kMicroItem];
+                    bounds[at] = {m.x0, m.y0, m.x1, m.y1};
+                } else {
+                    bounds[at] = c.bounds[item];
+                }
             }
         };
         sort(c.bin_offsets, c.bin_items, c.bin_bounds, pairs);
@@ -202,7 +220,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
     std::size_t nsetup = 0, nbinned = 0;
     for (const Chunk& c : fr.chunks) {
         total.add(c.counters);
-        nsetup += c.tris.size();
+        nsetup += c.tris.size() + c.micro.size();
         nbinned += c.bin_items.size();
     }
     if (timer.on) std::fprintf(stderr, "  raster triangles set up %zu, bin entries %zu\n", nsetup, nbinned);

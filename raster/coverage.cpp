@@ -23,13 +23,13 @@ constexpr std::int64_t kSampleOffset[kCoverageGrid] = {-kCoverageReach, -kSubpix
 static_assert(kCoverageGrid * kCoverageGrid == 16, "the masks are 16 bits");
 static_assert(kSubpixelOne == 256, "the AVX2 sample offsets below are these values");
 
-//! Samples of pixel (x, y) that t covers: bit 4 sy + sx. Alpha-masked triangles keep a sample only
-//! where their alpha test passes there (the traversal's test, at the sample's weights). `plain`:
-//! the scalar loop only (the reference traversal's; the tiled one tests 16 samples per AVX2 step).
-std::uint16_t sample_mask(const Frame& fr, const Chunk& ch, const TriSetup& t, int x, int y, bool plain) {
+//! Samples of pixel (x, y) that t covers: bit 4 sy + sx. With `alpha` (needs_alpha_test: t's draw
+//! is alpha-masked) a sample is kept only where the alpha test passes there (the traversal's test,
+//! at the sample's weights). `plain`: the scalar loop only (the reference traversal's; the tiled
+//! one tests 16 samples per AVX2 step).
+std::uint16_t sample_mask(const Frame& fr, const Chunk& ch, const TriSetup& t, int x, int y, bool plain, bool alpha) {
     std::int64_t c[3];
     edge_values(t, x, y, c);
-    const bool alpha = needs_alpha_test(fr, t);
     // Each edge's least and greatest value over the 16 samples (at the grid's corners): all
     // samples outside one edge -> none covered; inside all three (and no alpha test) -> all.
     bool all = !alpha;
@@ -85,6 +85,14 @@ std::uint16_t sample_mask(const Frame& fr, const Chunk& ch, const TriSetup& t, i
             m = std::uint16_t(m | (1u << (kCoverageGrid * sy + sx)));
         }
     return m;
+}
+
+//! The edges of a compact sub-pixel record (its draw is opaque: no alpha test reads the rest).
+TriSetup edges_of(const SubpixelTri& m) {
+    TriSetup t(TriSetup::NoInit{});
+    const std::int64_t X[3] = {m.X[0], m.X[1], m.X[2]}, Y[3] = {m.Y[0], m.Y[1], m.Y[2]};
+    set_edges(X, Y, t);
+    return t;
 }
 
 //! A triangle's samples can lie in the pixels one beyond its pixel-centre bounds.
@@ -188,13 +196,15 @@ void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBit
             flag[std::size_t(y) * W + x] = any && !all;
         }
     std::vector<std::uint16_t> mask(std::size_t(W) * H, 0);
-    for (const Chunk& ch : fr.chunks)
-        for (const TriSetup& t : ch.tris) {
-            const Rect r = sample_bounds(t.x0, t.y0, t.x1, t.y1, W, H);
-            for (int y = r.y0; y <= r.y1; ++y)
-                for (int x = r.x0; x <= r.x1; ++x)
-                    if (flag[std::size_t(y) * W + x]) mask[std::size_t(y) * W + x] |= sample_mask(fr, ch, t, x, y, true);
-        }
+    auto add = [&](const Chunk& ch, const TriSetup& t, const Rect& r, bool alpha) {
+        for (int y = r.y0; y <= r.y1; ++y)
+            for (int x = r.x0; x <= r.x1; ++x)
+                if (flag[std::size_t(y) * W + x]) mask[std::size_t(y) * W + x] |= sample_mask(fr, ch, t, x, y, true, alpha);
+    };
+    for (const Chunk& ch : fr.chunks) {
+        for (const TriSetup& t : ch.tris) add(ch, t, sample_bounds(t.x0, t.y0, t.x1, t.y1, W, H), needs_alpha_test(fr, t));
+        for (const SubpixelTri& m : ch.micro) add(ch, edges_of(m), {m.x0, m.x1, m.y0, m.y1}, false);
+    }
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
             if (flag[std::size_t(y) * W + x]) write_coverage(tp, cov, x, y, mask[std::size_t(y) * W + x]);
@@ -261,14 +271,16 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
     auto run = [&](const Chunk& ch) {
         for (int h = 0; h < nh; ++h) {
             const Hit& e = hits[h];
-            const TriSetup& t = ch.tris[e.tri];
+            const bool micro = e.tri & Chunk::kMicroItem;
+            const TriSetup t = micro ? edges_of(ch.micro[e.tri & ~Chunk::kMicroItem]) : ch.tris[e.tri];
+            const bool alpha = !micro && needs_alpha_test(fr, t);
             const int n = e.x1 - e.x0 + 1;
             const std::uint64_t range = low_bits(n) << (e.x0 - X0);
             for (int y = e.y0; y <= e.y1; ++y)
                 for (std::uint64_t b = flag[y - Y0] & range; b; b &= b - 1) {
                     const int lx = std::countr_zero(b);
                     std::uint16_t& m = mask[(y - Y0) * kTile + lx];
-                    if (m != 0xffff) m = std::uint16_t(m | sample_mask(fr, ch, t, X0 + lx, y, false));
+                    if (m != 0xffff) m = std::uint16_t(m | sample_mask(fr, ch, t, X0 + lx, y, false, alpha));
                 }
         }
         nh = 0;
@@ -290,9 +302,13 @@ bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& co
                 std::uint64_t hit = 0;
                 for (int y = y0; y <= y1; ++y) hit |= flag[y - Y0] & range;
                 if (!hit) continue;
-                const char* rec = reinterpret_cast<const char*>(&ch.tris[items[k]]);
-                __builtin_prefetch(rec);
-                __builtin_prefetch(rec + 64);
+                if (items[k] & Chunk::kMicroItem) {
+                    __builtin_prefetch(&ch.micro[items[k] & ~Chunk::kMicroItem]);
+                } else {
+                    const char* rec = reinterpret_cast<const char*>(&ch.tris[items[k]]);
+                    __builtin_prefetch(rec);
+                    __builtin_prefetch(rec + 64);
+                }
                 hits[nh++] = {items[k], std::int16_t(x0), std::int16_t(x1), std::int16_t(y0), std::int16_t(y1)};
                 if (nh == kBatch) run(ch);
             }

@@ -65,9 +65,13 @@ struct Chunk {
     std::vector<ClipVerts> clips;
     std::vector<std::uint32_t> bin_offsets;  // per tile, CSR into bin_items (fast path only)
     std::vector<std::uint32_t> bin_items;
-    //! The sub-pixel setups (TriSetup::kSubpixelBit, coverage pass only), binned apart so that
-    //! the traversal never reads them; empty without SetupOptions::keep_subpixel.
+    //! The sub-pixel setups (coverage pass only), binned apart so that the traversal never reads
+    //! them; empty without SetupOptions::keep_subpixel. An item is an index into `tris` (a
+    //! TriSetup with kSubpixelBit), or with kMicroItem set into `micro`.
     std::vector<std::uint32_t> fine_offsets, fine_items;
+    static constexpr std::uint32_t kMicroItem = 1u << 31;
+    //! The batch setup's sub-pixel triangles of opaque materials (setup_triangles' subpixel_out).
+    std::vector<SubpixelTri> micro;
     //! A setup's pixel-centre bounds (x0, y0, x1, y1), 8 bytes instead of the 104 of the record.
     struct Bounds {
         std::int16_t x0, y0, x1, y1;

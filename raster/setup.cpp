@@ -37,23 +37,6 @@ inline bool bounds_hold_centre(const SnapVertex& a, const SnapVertex& b, const S
            (((ymin + kSubpixelOne / 2 - 1) >> kSubpixelBits) <= ((ymax - kSubpixelOne / 2) >> kSubpixelBits));
 }
 
-// The edge functions and top-left biases of a triangle whose setup vertices (positive area) are
-// X, Y: edge i runs from vertex (i + 1) % 3 to vertex (i + 2) % 3, opposite vertex i.
-// Writes t.flags: the three biases, no other bit.
-[[gnu::always_inline]] inline void set_edges(const std::int64_t (&X)[3], const std::int64_t (&Y)[3], TriSetup& t) {
-    std::uint8_t flags = 0;
-    for (int i = 0; i < 3; ++i) {
-        const int a = (i + 1) % 3, b = (i + 2) % 3;
-        const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
-        t.A[i] = std::int32_t(-dy);
-        t.B[i] = std::int32_t(dx);
-        t.C[i] = dy * X[a] - dx * Y[a];
-        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
-        flags |= std::uint8_t((top_left ? 0u : 1u) << i);
-    }
-    t.flags = flags;
-}
-
 // Builds the setup of one snapped triangle; returns false when it covers no pixel centre, is
 // degenerate after snapping or is culled. beta: original weights of the three vertices (clip
 // path) or null (fast path, identity).
@@ -515,6 +498,14 @@ void build_simple(const SnapVertex* snap, const Lanes8& ln, int l, std::uint32_t
     t.flags |= neg ? TriSetup::kPermBit : TriSetup::kBackBit;
     if ((ln.subpixel >> l) & 1u) t.flags |= TriSetup::kSubpixelBit;
 }
+
+//! The SubpixelTri of a kept sub-pixel lane (its vertices in setup order and coverage_bounds).
+void build_subpixel(const Lanes8& ln, int l, const Viewport& vp, std::vector<SubpixelTri>& out) {
+    SubpixelTri& s = out.emplace_back();
+    for (int j = 0; j < 3; ++j) s.X[j] = ln.X[j][l], s.Y[j] = ln.Y[j][l];
+    const PixelRect r = coverage_bounds(ln.x0[l], ln.y0[l], ln.x1[l], ln.y1[l], unsigned(ln.cover[l]), vp.width, vp.height);
+    s.x0 = std::int16_t(r.x0), s.y0 = std::int16_t(r.y0), s.x1 = std::int16_t(r.x1), s.y1 = std::int16_t(r.y1);
+}
 #endif
 
 }  // namespace
@@ -527,7 +518,8 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
 
 void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t begin, std::uint32_t end,
                      const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
-                     std::vector<ClipVerts>& clip_out, SetupCounters& counters) {
+                     std::vector<ClipVerts>& clip_out, SetupCounters& counters,
+                     std::vector<SubpixelTri>* subpixel_out) {
     // Two passes per batch: a branch-free pre-pass lists the triangles that need setup (on dense
     // meshes most bounds hold no pixel centre, and a per-triangle branch on that mispredicts),
     // then setup_one runs on the listed ones in order.
@@ -546,6 +538,8 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
         // the list (its checks are exact, so this changes nothing but the work).
         if (nv != 0 && nv <= std::size_t(INT32_MAX / 5) && 3 * std::size_t(e) <= std::size_t(INT32_MAX)) {
             const bool cull = opt.cull_backfaces && !dv.mat->double_sided;
+            std::vector<SubpixelTri>* micro =
+                opt.keep_subpixel && dv.mat->alpha_mode != scene::AlphaMode::Mask ? subpixel_out : nullptr;
             Lanes8 lanes;
             for (; t + 8 <= e; t += 8) {
                 if (t + kGatherAhead + 8 <= end) prefetch_snap(snap, nv, idx + 3 * std::size_t(t + kGatherAhead));
@@ -567,8 +561,9 @@ void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint
                 // mispredicted: dense meshes keep about every other triangle).
                 for (std::uint32_t keep = ~dropped & 0xffu; keep; keep &= keep - 1) {
                     const int l = std::countr_zero(keep);
-                    if ((lanes.simple >> l) & 1u) build_simple(snap, lanes, l, draw_index, out);
-                    else setup_one(dv, draw_index, tris[l], vp, opt, out, clip_out, counters);
+                    if (!((lanes.simple >> l) & 1u)) setup_one(dv, draw_index, tris[l], vp, opt, out, clip_out, counters);
+                    else if (micro && ((lanes.subpixel >> l) & 1u)) build_subpixel(lanes, l, vp, *micro);
+                    else build_simple(snap, lanes, l, draw_index, out);
                 }
             }
         }

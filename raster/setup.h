@@ -71,9 +71,38 @@ inline I cover_bits(I xmin, I xmax, I ymin, I ymax) {
 struct PixelRect {
     int x0, y0, x1, y1;
 };
+inline PixelRect coverage_bounds(int x0, int y0, int x1, int y1, unsigned cover, int W, int H) {
+    return {std::max(x0 - 1 + int(cover & 1), 0), std::max(y0 - 1 + int((cover >> 2) & 1), 0),
+            std::min(x1 + 1 - int((cover >> 1) & 1), W - 1), std::min(y1 + 1 - int((cover >> 3) & 1), H - 1)};
+}
 inline PixelRect coverage_bounds(const TriSetup& t, int W, int H) {
-    return {std::max(t.x0 - 1 + (t.cover & 1), 0), std::max(t.y0 - 1 + ((t.cover >> 2) & 1), 0),
-            std::min(t.x1 + 1 - ((t.cover >> 1) & 1), W - 1), std::min(t.y1 + 1 - ((t.cover >> 3) & 1), H - 1)};
+    return coverage_bounds(t.x0, t.y0, t.x1, t.y1, t.cover, W, H);
+}
+
+//! A sub-pixel triangle of an opaque material, as the coverage pass needs it (the batch setup's
+//! record for it with SetupOptions::keep_subpixel, instead of a 104-byte TriSetup that no traversal
+//! reads): its snapped vertices in setup order (positive area) and its coverage_bounds.
+struct SubpixelTri {
+    std::int32_t X[3], Y[3];
+    std::int16_t x0, y0, x1, y1;
+};
+static_assert(sizeof(SubpixelTri) == 32);
+
+//! The edge functions and top-left biases of a triangle whose setup vertices (positive area) are
+//! X, Y: edge i runs from vertex (i + 1) % 3 to vertex (i + 2) % 3, opposite vertex i.
+//! Writes t.flags: the three biases, no other bit.
+[[gnu::always_inline]] inline void set_edges(const std::int64_t (&X)[3], const std::int64_t (&Y)[3], TriSetup& t) {
+    std::uint8_t flags = 0;
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        const std::int64_t dx = X[b] - X[a], dy = Y[b] - Y[a];
+        t.A[i] = std::int32_t(-dy);
+        t.B[i] = std::int32_t(dx);
+        t.C[i] = dy * X[a] - dx * Y[a];
+        const bool top_left = (dy == 0 && dx > 0) || dy < 0;
+        flags |= std::uint8_t((top_left ? 0u : 1u) << i);
+    }
+    t.flags = flags;
 }
 
 //! For clipped triangles: the original-triangle barycentric weights of each setup vertex.
@@ -181,8 +210,12 @@ void setup_triangle(const DrawVertices& dv, std::uint32_t draw_index, std::uint3
 //! Triangles [begin, end) of the batch pre-pass (schedule only): appends exactly what
 //! setup_triangle for tri = begin, ..., end - 1 in order appends, and counts the same.
 inline constexpr std::uint32_t kSetupBatch = 256;
+//! `subpixel_out`, when given (with keep_subpixel, for a draw whose material is not alpha-masked),
+//! receives the sub-pixel triangles the batch path sets up as SubpixelTri instead of TriSetup
+//! (those of setup_triangle's path, clipped or large, stay TriSetups with kSubpixelBit).
 void setup_triangles(const DrawVertices& dv, std::uint32_t draw_index, std::uint32_t begin, std::uint32_t end,
                      const Viewport& vp, const SetupOptions& opt, std::vector<TriSetup>& out,
-                     std::vector<ClipVerts>& clip_out, SetupCounters& counters);
+                     std::vector<ClipVerts>& clip_out, SetupCounters& counters,
+                     std::vector<SubpixelTri>* subpixel_out = nullptr);
 
 }  // namespace aq::raster
