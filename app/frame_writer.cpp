@@ -1,6 +1,8 @@
 // app/frame_writer.cpp — see frame_writer.h.
 #include "app/frame_writer.h"
 
+#include <chrono>
+
 #include <unistd.h>
 
 #include <optional>
@@ -53,13 +55,17 @@ void FrameWriter::run() {
             std::vector<std::string> sha(f.files.size());
             std::vector<PreparedFile> prepared;
             prepared.reserve(f.files.size());
+            using clock = std::chrono::steady_clock;
+            auto ms = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+            const clock::time_point t0 = clock::now();
             for (std::size_t i = 0; i < f.files.size(); ++i) {
                 const File& file = f.files[i];
                 prepared.push_back(prepare_image(file.path, file.image, &sha[i], f.description, f.compression, file.drop_alpha));
             }
+            const clock::time_point t1 = clock::now();
             if (!f.claim.empty()) ::unlink(f.claim.c_str());  // the old set's claim, gone before its files change
             for (PreparedFile& p : prepared) p.commit();
-            if (f.after) f.after(sha);
+            if (f.after) f.after(sha, ms(t0, t1), ms(t1, clock::now()));
             if (report_ && !f.done_message.empty()) report_(f.done_message);
         } catch (...) {
             err = std::current_exception();

@@ -42,9 +42,10 @@ public:
         std::string description;  //!< embedded in every file (core/io.h write_image), may be empty
         Compression compression = Compression::Fast;  //!< of every file (core/io.h write_image)
         //! Called on the writer thread once every file is written, with the SHA-256 of each file's
-        //! bytes in `files` order (the provenance sidecar, app/manifest.h). A throw stops the job
-        //! like a write failure.
-        std::function<void(const std::vector<std::string>& sha256)> after;
+        //! bytes in `files` order (the provenance sidecar, app/manifest.h) and the wall ms spent
+        //! encoding and writing them (to temporaries) and renaming them into place. A throw stops
+        //! the job like a write failure.
+        std::function<void(const std::vector<std::string>& sha256, double write_ms, double commit_ms)> after;
         //! The file that claims the set (the provenance sidecar `after` writes), or empty. While the
         //! frame is written its WriteLock is held (a second process writing it is refused), and the
         //! old claim is removed only once every new file is written and flushed, just before they

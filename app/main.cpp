@@ -103,6 +103,9 @@ options:
   --reference           use the plain reference traversals (slow; the oracle)
   --allow-outside-files let a glTF read buffers and images outside its own folder (by default
                         refused after resolving '..', percent-encoding and links; docs/limits.md)
+  --timings             print where each image's time went (load, G-buffer, each stage, encode
+                        and write; wall ms) and record it in its manifest (not part of the
+                        image's identity; shown even with --quiet)
   --quiet               no progress on stderr
   --help                this text
 )";
@@ -209,6 +212,7 @@ aq::app::Reporter cli_reporter(bool quiet) {
         if (!quiet) std::cerr << s << std::endl;
     };
     r.warning = [](const std::string& s) { std::cerr << "warning: " << s << "\n"; };
+    r.info = [](const std::string& s) { std::cerr << s << std::endl; };
     return r;
 }
 
@@ -278,6 +282,8 @@ RenderOptions parse_render(Args& a) {
             o.variants.push_back(a.value(arg));
         } else if (arg == "--bypass") {
             o.bypass.push_back(a.value(arg));
+        } else if (arg == "--timings") {
+            o.timings = true;
         } else if (arg == "--frames") {
             const std::string v = a.value(arg);
             const auto dash = v.find('-');

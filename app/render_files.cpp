@@ -2,6 +2,7 @@
 #include "app/render_files.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -41,6 +42,32 @@ std::vector<std::string> pipeline_order(const RenderJob& job, const RenderedImag
     return names;
 }
 
+//! The manifest's "timings" (non-identity data: reproduce ignores it; docs/provenance.md).
+nlohmann::json timings_json(const PhaseTimes& phases) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [name, ms] : phases) list.push_back({{"phase", name}, {"ms", std::round(ms * 100.0) / 100.0}});
+    return {{"unit", "wall ms"}, {"phases", list}};
+}
+
+//! --timings on stderr: one phase a line, then their sum.
+std::string timings_text(const std::string& out, const PhaseTimes& phases) {
+    std::string s = "timings of " + out + ":";
+    int width = 3;
+    for (const auto& p : phases) width = std::max(width, int(p.first.size()));
+    double sum = 0;
+    char line[64];
+    auto add = [&](const std::string& name, double ms) {
+        std::snprintf(line, sizeof line, " %9.1f ms", ms);
+        s += "\n  " + name + std::string(std::size_t(width) - name.size(), ' ') + line;
+    };
+    for (const auto& [name, ms] : phases) {
+        add(name, ms);
+        sum += ms;
+    }
+    add("sum", sum);
+    return s;
+}
+
 }  // namespace
 
 void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_in_flight) {
@@ -55,6 +82,11 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
         std::lock_guard<std::mutex> lock(report_mutex);
         report.warning(s);
     };
+    serialised.info = [&](const std::string& s) {
+        std::lock_guard<std::mutex> lock(report_mutex);
+        report.info(s);
+    };
+    bool first_image = true;  // the job's own phases (load, prepare) go with the first image
     FrameWriter writer(frames_in_flight, serialised.progress);
     run_render(job, [&](RenderedImage& img) {
         // The render job reuses its targets for the next frame: the writer gets its own images.
@@ -96,9 +128,23 @@ void render_to_files(RenderJob& job, const Reporter& report, std::size_t frames_
         nlohmann::json core = manifest_core(job, img);
         frame.description = core.dump();
         frame.compression = o.compression;
-        frame.after = [core = std::move(core), files = std::move(files), sidecar = manifest_path(out)](
-                          const std::vector<std::string>& sha) {
-            const std::string text = manifest_text(manifest_with_outputs(core, sidecar, files, sha));
+        PhaseTimes phases;
+        if (o.timings) {
+            if (first_image) phases = job.prepare_phases;
+            phases.insert(phases.end(), img.phases.begin(), img.phases.end());
+        }
+        first_image = false;
+        frame.after = [core = std::move(core), files = std::move(files), sidecar = manifest_path(out), out,
+                       phases = std::move(phases), timings = o.timings,
+                       &serialised](const std::vector<std::string>& sha, double write_ms, double commit_ms) mutable {
+            nlohmann::json m = manifest_with_outputs(std::move(core), sidecar, files, sha);
+            if (timings) {
+                phases.emplace_back("encode+write", write_ms);
+                phases.emplace_back("commit", commit_ms);
+                m["timings"] = timings_json(phases);
+                serialised.info(timings_text(out, phases));
+            }
+            const std::string text = manifest_text(m);
             write_file_atomically(sidecar, text.data(), text.size());
         };
         frame.done_message = img.tag + "wrote " + out;

@@ -109,6 +109,8 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             }
         };
     job.desc = scene::load_scene(o.scene, load_options);
+    job.prepare_phases.emplace_back("load", ms_since(t0));
+    const auto t_prepare = std::chrono::steady_clock::now();
     scene::SceneDesc& desc = job.desc;
     for (auto& w : desc.scene.warnings) report.warning(w);
     report.progress("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
@@ -265,6 +267,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         }
     }
     job.world_bounds = job.desc.scene.world_bounds();
+    job.prepare_phases.emplace_back("prepare", ms_since(t_prepare));
     return job;
 }
 
@@ -360,14 +363,17 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         rs.frame = f;
         const scene::Camera camera = frame_camera(job, f);
         std::vector<std::string> warnings;
+        PhaseTimes phases;
         if (one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
             // One-shot: the paper first, while nothing else large is alive; the decoded file is
             // then dropped, so its decoding is not on top of the G-buffer (issue 13 item 6).
             frame_targets.set(stylize::kPaperTarget, stylize::prepare_paper(job.compiled[0].paper, rs.width, rs.height, rs.exec));
             stylize::clear_paper_cache();
             image_pool_release();  // the decoded file's buffer: no later image has its size
+            phases.emplace_back("paper", ms_since(tf));
         }
         if (job.needs_gbuffer()) {
+            const auto tg = std::chrono::steady_clock::now();
             raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
             for (auto& w : warnings) report.warning(w);
             // One-shot: the geometry is not drawn again (styles with raster passes draw their own
@@ -381,6 +387,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 malloc_trim(0);  // give the freed heap back: the peak is 9 MB lower (docs/performance.md)
 #endif
             }
+            phases.emplace_back("gbuffer", ms_since(tg));
             report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
                 std::to_string(int(ms_since(tf))) + " ms");
         }
@@ -438,11 +445,18 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +
                     std::to_string(int(ms_since(ts))) + " ms");
             }
-            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, std::move(step_ms), std::move(converted), false};
+            PhaseTimes image_phases = phases;  // a sweep's images share the frame's G-buffer phases
+            if (job.stylize)
+                for (std::size_t i = 0; i < step_ms.size() && i < job.compiled[si].steps.size(); ++i)
+                    image_phases.emplace_back("stage " + job.compiled[si].steps[i].label, step_ms[i]);
+            RenderedImage img{f, sweeping ? int(si) : f, si, tag, targets, final_name, std::move(step_ms), std::move(image_phases),
+                              std::move(converted), false};
             const ImageF& fin = targets.get(final_name);
             // A stylised image is a painting on its paper: written opaque (RGB). The G-buffer
             // colour (--style none) keeps its coverage alpha for compositing.
+            const auto tc = std::chrono::steady_clock::now();
             convert_final(img, fin, o.working_space == WorkingSpace::Linear, job.stylize && fin.channels() == 4);
+            img.phases.emplace_back("convert", ms_since(tc));
             sink(img);
             converted = std::move(img.converted);
             if (!sweeping) move_gbuffer(frame_targets, gbuffer);

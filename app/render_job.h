@@ -68,6 +68,8 @@ struct RenderOptions {
     raster::RenderSettings::Antialias antialias = raster::RenderSettings::Antialias::Coverage;
     //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
     Compression compression = Compression::Fast;
+    //! --timings: each image's phases (PhaseTimes) on stderr and in its manifest sidecar.
+    bool timings = false;
     //! `aquarelle grid` (app/grid.h): render these combinations of --variant/--set assignments
     //! from one G-buffer instead of one style (labels name each); empty for render.
     struct Combination {
@@ -79,6 +81,10 @@ struct RenderOptions {
     double sweep_from = 0, sweep_to = 0;
     int sweep_count = 0;
 };
+
+//! Wall times in ms of a render's phases, in order ("load", "gbuffer", "stage LABEL", ...;
+//! docs/performance.md "Where a render's time goes").
+using PhaseTimes = std::vector<std::pair<std::string, double>>;
 
 //! A scene and its styles, configured and validated: nothing is rendered before every name and
 //! value has been checked.
@@ -108,6 +114,9 @@ struct RenderJob {
         return !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
     }
     bool consumed = false;
+    //! prepare_render's phases: "load" (the scene, its meshes and textures) and "prepare" (styles,
+    //! paper set-up, foliage abstraction).
+    PhaseTimes prepare_phases;
     //! A bare model's paper, decoding on another thread while its scene loads (prepare_render;
     //! stylize::prefetch_paper); empty otherwise. Waits for the decode when the job ends.
     std::future<void> paper_prefetch;
@@ -141,6 +150,8 @@ struct RenderJob {
 struct Reporter {
     std::function<void(const std::string&)> progress = [](const std::string&) {};
     std::function<void(const std::string&)> warning = [](const std::string&) {};
+    //! What the user asked to see (--timings): shown even with --quiet.
+    std::function<void(const std::string&)> info = [](const std::string&) {};
 };
 
 //! The camera of frame f: the job's camera orbited by f x options.orbit_deg degrees about the
@@ -161,6 +172,8 @@ struct RenderedImage {
     Targets& targets;
     std::string final_target;
     std::vector<double> step_ms;  //!< wall time of each pipeline step (stylize::RunOptions::step_ms)
+    //! This image's phases: "paper", "gbuffer", "stage LABEL" per step, "convert".
+    PhaseTimes phases;
     //! The image `--out` receives: the final target, converted where the output needs it (linear
     //! working space -> sRGB; a stylised painting written opaque, RGB: the RGB copy is made by the
     //! first call, see drop_alpha). Throws aq::Error after take_final_rgba().

@@ -72,7 +72,7 @@ FrameWriter::Frame set_of(const std::string& dir, const std::string& second, flo
     f.files.emplace_back(second, ImageF(8, 4, 3, value));
     f.files.emplace_back(dir + "/out.png", ImageF(8, 4, 3, value));
     f.claim = dir + "/out.png.json";
-    f.after = [claim = f.claim, value](const std::vector<std::string>& sha) {
+    f.after = [claim = f.claim, value](const std::vector<std::string>& sha, double, double) {
         const std::string text = std::to_string(value) + " " + sha[0] + "\n";
         write_file_atomically(claim, text.data(), text.size());
     };

@@ -3,6 +3,7 @@
 // identical; the manifest does not depend on the thread count or the output folder; the manifest
 // is embedded in the files; every listed output's SHA-256 is its file's; a changed input byte is
 // named; a missing input, another build and a file that is not a manifest are refused with exit 1.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -185,6 +186,36 @@ TEST(Manifest, BypassedStepsAreRecordedAndReproduced) {
     EXPECT_NE(log.find("--bypass 'bleed'"), std::string::npos) << log;
     EXPECT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--style none --bypass edge_darken --out " +
                               shell_quote(dir + "/n.png"), &log), 2) << log;
+}
+
+// --timings (issue 48 item 6): the phases on stderr, even with --quiet, and in the sidecar as
+// "timings", which is not part of the image: the image's bytes and the request are those of the
+// same render without it, and reproduce says identical.
+TEST(Manifest, TimingsArePrintedAndRecordedButAreNotPartOfTheImage) {
+    const std::string dir = test::output_dir();
+    std::string log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--timings --out " + shell_quote(dir + "/t.png"), &log), 0)
+        << log;
+    for (const char* want : {"timings of ", "load", "gbuffer", "stage edge_darken", "encode+write", "sum"})
+        EXPECT_NE(log.find(want), std::string::npos) << want << " not printed: " << log;
+    ASSERT_EQ(run_command(cli() + " render procedural:swatches" + kSize + "--out " + shell_quote(dir + "/p.png"), &log), 0)
+        << log;
+    EXPECT_EQ(log.find("timings"), std::string::npos) << log;
+    EXPECT_EQ(file_bytes(dir + "/t.png"), file_bytes(dir + "/p.png"));
+    const json t = load(dir + "/t.png.json"), p = load(dir + "/p.png.json");
+    EXPECT_EQ(t.at("request"), p.at("request"));
+    EXPECT_FALSE(p.contains("timings"));
+    std::vector<std::string> names;
+    for (const json& ph : t.at("timings").at("phases")) {
+        names.push_back(ph.at("phase").get<std::string>());
+        EXPECT_GE(ph.at("ms").get<double>(), 0.0) << names.back();
+    }
+    for (const char* want : {"load", "prepare", "paper", "gbuffer", "convert", "encode+write", "commit"})
+        EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
+    EXPECT_NE(std::find_if(names.begin(), names.end(), [](const std::string& n) { return n.rfind("stage edge_darken", 0) == 0; }),
+              names.end());
+    ASSERT_EQ(reproduce(dir + "/t.png.json", "", &log), 0) << log;
+    EXPECT_NE(log.find("identical"), std::string::npos) << log;
 }
 
 // --antialias is part of the request: both settings reproduce; a manifest from before the option
