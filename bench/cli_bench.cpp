@@ -12,7 +12,15 @@
 //     written_frames/s: in the long run alone, frames 12-35 over the time between the last write
 //     of frame 11's file and of frame 35's (file modification times): the same rate measured inside
 //     one process, without the start-up variance the difference of two runs carries
-//   cli/oneshot/<model>/1920x1080/wc18/png: one frame of a bare model (the default style)
+//   cli/oneshot/<class>/<size>/<style>/png: one image, from process start to exit, of each asset
+//     class of issue 48 item 1: a large mesh (dragon 871k, WC18 1920x1080), a textured model
+//     (WaterBottle, two 2048^2 PNG textures, WC18 1280x720), a plant through LD06 (the dense
+//     ez-tree oak, 720x720) and a scene file (suzanne.json, WC18 1280x720)
+//   cli/steady/<class>/<size>/<style>/png: the same render's steady frame, inside one process: a
+//     --frames 0-7 run, timed by its files (frames 2-7 over the time between the writes of frame
+//     1's and frame 7's images; the writer overlaps the next frame, so this is the frame period
+//     once running). bench/ratios.json holds steady / one-shot per class (docs/performance.md
+//     "One-shot renders")
 // Every cli/ benchmark reports peak_MB, the child process's peak resident memory.
 //
 // Scenes from scenes/data and the shared assets (../shared). Wall time (UseRealTime).
@@ -104,6 +112,7 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
 
 constexpr int kAnimationFrames = 12;
 constexpr int kSustainedFrames = 36;  //!< the longer run of cli/sustained (24 frames more)
+constexpr int kSteadyFrames = 8;      //!< frames of cli/steady's run (the first two not timed)
 
 std::vector<std::string> animation(const std::string& scene, const std::string& ext, int frames = kAnimationFrames) {
     return {"render", std::string(AQ_SOURCE_DIR) + "/scenes/data/" + scene, "--frames", "0-" + std::to_string(frames - 1),
@@ -175,9 +184,59 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
     finish(st, extra_frames, max_peak_kb, dir);
 }
 
-std::vector<std::string> oneshot(const std::string& model) {
-    return {"render", std::string(AQ_SHARED_DIR) + "/assets/meshes/stanford_dragon/" + model, "--width", "1920",
-            "--height", "1080", "--style", "wc18", "--out", "{out}/one.png", "--quiet"};
+//! The steady frame of one --frames 0..kSteadyFrames-1 run: frames 2.. over the time between the
+//! writes of frame 1's and the last frame's files.
+void bm_cli_steady(benchmark::State& st, std::vector<std::string> args) {
+    const std::string dir = make_temp_dir();
+    if (dir.empty()) {
+        st.SkipWithError("cannot create a temporary folder");
+        return;
+    }
+    set_out_dir(args, dir);
+    long peak_kb = 0, max_peak_kb = 0;
+    for (auto _ : st) {
+        const int rc = run_cli(args, &peak_kb);
+        max_peak_kb = std::max(max_peak_kb, peak_kb);
+        std::error_code e1, e2;
+        const auto t1 = fs::last_write_time(frame_file(dir, 1), e1);
+        const auto tn = fs::last_write_time(frame_file(dir, kSteadyFrames - 1), e2);
+        if (rc != 0 || e1 || e2) {
+            st.SkipWithError("aquarelle failed (run the command by hand to see why)");
+            break;
+        }
+        st.SetIterationTime(std::max(std::chrono::duration<double>(tn - t1).count() / (kSteadyFrames - 2), 1e-6));
+    }
+    finish(st, 1, max_peak_kb, dir);
+}
+
+//! An asset class of the one-shot group: what is rendered, in which style, at which size.
+struct OneShotClass {
+    std::string name, scene, style;
+    int width, height;
+    std::string id() const { return name + "/" + std::to_string(width) + "x" + std::to_string(height) + "/" + style + "/png"; }
+};
+
+std::vector<OneShotClass> oneshot_classes() {
+    const std::string shared = std::string(AQ_SHARED_DIR) + "/assets/";
+    return {{"dragon_871k", shared + "meshes/stanford_dragon/dragon_871k.glb", "wc18", 1920, 1080},
+            {"waterbottle", shared + "gltf/WaterBottle/glTF/WaterBottle.gltf", "wc18", 1280, 720},
+            {"ez_oak", shared + "plants/ez-tree/ez_oak_large_dense.glb", "ld06", 720, 720},
+            {"suzanne_scene", std::string(AQ_SOURCE_DIR) + "/scenes/data/suzanne.json", "wc18", 1280, 720}};
+}
+
+
+//! The class's render: one image (frames 0), or frames 0..frames-1 as an animation.
+std::vector<std::string> oneshot_args(const OneShotClass& c, int frames = 0) {
+    std::vector<std::string> a = {"render", c.scene, "--width", std::to_string(c.width), "--height", std::to_string(c.height),
+                                  "--style", c.style, "--quiet", "--out"};
+    if (frames == 0) {
+        a.push_back("{out}/one.png");
+    } else {
+        a.push_back("{out}/f_####.png");
+        a.push_back("--frames");
+        a.push_back("0-" + std::to_string(frames - 1));
+    }
+    return a;
 }
 
 void register_all() {
@@ -192,8 +251,12 @@ void register_all() {
                                  animation("suzanne.json", "png"), animation("suzanne.json", "png", kSustainedFrames),
                                  kSustainedFrames - kAnimationFrames)
         ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
-    benchmark::RegisterBenchmark("cli/oneshot/dragon_871k/1920x1080/wc18/png", bm_cli, oneshot("dragon_871k.glb"), 1)
-        ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+    for (const OneShotClass& c : oneshot_classes()) {
+        benchmark::RegisterBenchmark(("cli/oneshot/" + c.id()).c_str(), bm_cli, oneshot_args(c), 1)
+            ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+        benchmark::RegisterBenchmark(("cli/steady/" + c.id()).c_str(), bm_cli_steady, oneshot_args(c, kSteadyFrames))
+            ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+    }
 }
 
 const int registered = (register_all(), 0);

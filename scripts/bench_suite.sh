@@ -33,7 +33,7 @@ mkdir -p "$out"
 # llvmpipe on as many rasterizer threads as the C++ side it is compared with (threads:2), whatever
 # the machine's core count, so "C++ vs llvmpipe" compares like with like (docs/bench_suite.md).
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
-ratio_filter=$(grep -o '"\(slow\|fast\)": "[^"]*"' bench/ratios.json | sed 's/.*: "\(.*\)"/\1/; s|/real_time$||; s/[][().*+?^$|]/\\&/g' |
+ratio_filter=$(grep -o '"\(slow\|fast\)": "[^"]*"' bench/ratios.json | sed 's/.*: "\(.*\)"/\1/; s#/\(real\|manual\)_time$##; s/[][().*+?^$|]/\\&/g' |
                sort -u | paste -sd'|')
 matrix='^(pipeline/(wc16|wc17|wc18|mnpr)/(640x360|1920x1080)/fast/threads:[12]|gl/pipeline/|BM_RasterFrame/|BM_Ld06Frame/|cli/)'
 if [ "$smoke" = 1 ]; then
@@ -42,7 +42,7 @@ if [ "$smoke" = 1 ]; then
     { tail -20 "$out/smoke_all.txt" >&2; echo "bench_suite: aquarelle_bench failed" >&2; exit 5; }
   "$report" "$out/smoke_all.json" --markdown "$out/smoke_all.md"
   echo "bench_suite: ratio benchmarks, 3 repetitions"
-  "$bench" --benchmark_filter="^($ratio_filter)/real_time\$" --benchmark_min_time=0.2 --benchmark_repetitions=3 \
+  "$bench" --benchmark_filter="^($ratio_filter)/(real|manual)_time\$" --benchmark_min_time=0.2 --benchmark_repetitions=3 \
     --benchmark_report_aggregates_only=true --benchmark_out="$out/suite.json" --benchmark_out_format=json >"$out/suite.txt" 2>&1
 else
   echo "bench_suite: the matrix, 5 repetitions each (medians)"

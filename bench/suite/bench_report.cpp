@@ -221,13 +221,13 @@ int main(int argc, char** argv) {
                 status = 4;
                 continue;
             }
-            std::cout << "ratio '" << r.name << "': " << fmt(r.measured, "%.2f") << " (recorded " << fmt(r.recorded, "%.2f")
-                      << ", fails below " << fmt(r.recorded / r.max_drop, "%.2f") << ")" << (r.dropped ? "  DROPPED" : "") << "\n";
+            std::cout << "ratio '" << r.name << "': " << fmt(r.measured, "%.3g") << " (recorded " << fmt(r.recorded, "%.3g")
+                      << ", fails below " << fmt(r.recorded / r.max_drop, "%.3g") << ")" << (r.dropped ? "  DROPPED" : "") << "\n";
             if (r.dropped) status = 4;
         }
         if (record && !ratios_path.empty()) {
             for (std::size_t i = 0; i < ratios.size(); ++i)
-                if (ratios[i].present && ratios[i].applicable) ratio_file["ratios"][i]["recorded"] = std::round(ratios[i].measured * 100.0) / 100.0;
+                if (ratios[i].present && ratios[i].applicable) ratio_file["ratios"][i]["recorded"] = std::round(ratios[i].measured * 1000.0) / 1000.0;
             ratio_file["recorded_at"] = {{"date", ctx.value("date", std::string())}, {"commit", b.commit},
                                          {"num_cpus", ctx.value("num_cpus", 0)}, {"load_avg", ctx.value("load_avg", json::array())}};
             // The ratio file is an input of this run, which write_file_atomically refuses to
