@@ -202,6 +202,14 @@ bool read_info(PngReader& r, PngInfo& i) {
     return true;
 }
 
+//! A palette file's indices expanded to 8-bit RGB, and its tRNS chunk to an alpha channel.
+bool palette_expansion(PngReader& r, bool trns) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    png_set_palette_to_rgb(r.png);
+    if (trns) png_set_tRNS_to_alpha(r.png);
+    return true;
+}
+
 //! Every row (Adam7 passes combined by libpng) into rows[y], then the end of the file.
 bool read_rows(PngReader& r, png_bytep* rows) {
     if (setjmp(png_jmpbuf(r.png))) return false;
@@ -224,13 +232,22 @@ bool decode_png(const unsigned char* bytes, std::size_t size, AcceptHeader accep
     if (!r.info) return false;
     PngInfo i;
     if (!read_info(r, i)) return false;
-    const bool grey = i.colour == PNG_COLOR_TYPE_GRAY, rgb = i.colour == PNG_COLOR_TYPE_RGB;
-    if (i.depth != 8 || (!grey && !rgb) || i.trns) return false;
+    int channels = 0;
+    switch (i.colour) {
+        case PNG_COLOR_TYPE_GRAY: channels = 1; break;
+        case PNG_COLOR_TYPE_GRAY_ALPHA: channels = 2; break;
+        case PNG_COLOR_TYPE_RGB: channels = 3; break;
+        case PNG_COLOR_TYPE_RGB_ALPHA: channels = 4; break;
+        case PNG_COLOR_TYPE_PALETTE: channels = i.trns ? 4 : 3; break;  // expanded, as OpenImageIO does
+        default: return false;
+    }
+    const bool palette = i.colour == PNG_COLOR_TYPE_PALETTE;
+    if ((!palette && (i.depth != 8 || i.trns)) || (palette && !palette_expansion(r, i.trns))) return false;
     // png_read_info refused sizes of 0 or above libpng's user limits (10^6 by default): they fit in int.
     ImageHeader h;
     h.width = int(i.width);
     h.height = int(i.height);
-    h.nchannels = grey ? 1 : 3;
+    h.nchannels = channels;
     float* dst = accept(ctx, h);  // checks the size (docs/limits.md) before anything is allocated
     const std::size_t row_values = std::size_t(i.width) * std::size_t(h.nchannels);
     std::vector<unsigned char> codes(row_values * std::size_t(i.height));

@@ -13,14 +13,16 @@
 // useless, the same choice as before), IEND. Files are read back by OpenImageIO like any PNG
 // (tests/core/png_test.cpp).
 //
-// The decoder (decode_png) reads 8-bit grey and RGB PNG files without OpenImageIO, for the same
-// reason as core/jpeg.h: loading OpenImageIO's module costs a process ~0.2 s of CPU in the dynamic
-// loader (its ~250 libraries), and the 8-bit RGB base-colour maps of textured glTF models (Suzanne,
-// the README's scene) were the only reason a PNG render loaded it. It is libpng with its defaults,
-// as OpenImageIO's PNG reader, and gives its values, v x float(1/255) (tests/core/png_test.cpp
-// compares both on every such PNG of the shared assets, interlaced and synthetic files). Alpha
-// (OpenImageIO associates it), palettes, tRNS, 16-bit and low bit depths, and any file libpng
-// reports an error on are left to OpenImageIO.
+// The decoder (decode_png) reads 8-bit grey, grey+alpha, RGB and RGBA PNG files and palette files
+// (expanded to RGB, a tRNS chunk to alpha, as OpenImageIO's reader does) without
+// OpenImageIO, for the same reason as core/jpeg.h: loading OpenImageIO's module costs a process
+// ~0.2 s of CPU in the dynamic loader (its ~250 libraries), and the 8-bit base-colour maps of
+// textured glTF models (Suzanne, the README's scene; the palette leaves of the ez-tree plants)
+// were the only reason a PNG render loaded it. It is libpng with its defaults, as OpenImageIO's
+// PNG reader, and gives its values, v x float(1/255), alpha straight as the file stores it (the
+// module reads with oiio:UnassociatedAlpha; tests/core/png_decode_test.cpp compares both on every
+// such PNG of the shared assets, interlaced and synthetic files). Grey and RGB files with a tRNS
+// key, 16-bit and low-bit grey, and any file libpng reports an error on are left to OpenImageIO.
 #pragma once
 
 #include <cstddef>

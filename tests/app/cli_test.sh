@@ -69,14 +69,19 @@ grep -q "broken.json" "$work/last.err" && ok "style error names the file" || bad
 # a message naming it and writes nothing.
 LD_DEBUG=files "$bin" --help >/dev/null 2>"$work/ld_help.txt"
 LD_DEBUG=files "$bin" render procedural:swatches "${small[@]}" --out "$work/no_oiio.png" 2>"$work/ld_png.txt"
+# A plant whose leaves are a palette PNG and whose bark a progressive JPEG (core/png.h, core/jpeg.h).
+LD_DEBUG=files "$bin" render "$shared/assets/plants/ez-tree/ez_bush2.glb" --style ld06 "${small[@]}" \
+  --out "$work/no_oiio_plant.png" 2>"$work/ld_plant.txt"
 if [ "${AQ_CLI_LINKS_OIIO:-0}" = 1 ]; then
   # The sanitizer/fuzz build links OpenImageIO on purpose (core/CMakeLists.txt): not counted.
-  echo "skip - --help and a PNG render do not load OpenImageIO (this build links it; checked in the normal build)"
+  echo "skip - --help, a PNG render and a plant do not load OpenImageIO (this build links it; checked in the normal build)"
 else
   grep -q "file=libtbb" "$work/ld_help.txt" && ! grep -q "file=libOpenImageIO" "$work/ld_help.txt" \
     && ok "--help does not load OpenImageIO" || bad "--help does not load OpenImageIO"
   [ -s "$work/no_oiio.png" ] && grep -q "file=libtbb" "$work/ld_png.txt" && ! grep -q "file=libOpenImageIO" "$work/ld_png.txt" \
     && ok "a PNG render with a JPEG paper does not load OpenImageIO" || bad "a PNG render with a JPEG paper does not load OpenImageIO"
+  [ -s "$work/no_oiio_plant.png" ] && grep -q "file=libtbb" "$work/ld_plant.txt" && ! grep -q "file=libOpenImageIO" "$work/ld_plant.txt" \
+    && ok "an LD06 plant with palette PNG leaves does not load OpenImageIO" || bad "an LD06 plant with palette PNG leaves does not load OpenImageIO"
 fi
 [ -s "$work/no_oiio.png" ] && ok "PNG render with LD_DEBUG" || bad "PNG render with LD_DEBUG"
 LD_DEBUG=files "$bin" compare "$work/good.png" "$work/good.png" >/dev/null 2>"$work/ld_compare.txt"

@@ -66,7 +66,10 @@ std::vector<unsigned char> encode_with_libpng(int w, int h, int colour, int dept
     png_color_16 key{};
     key.gray = 7;
     key.red = 7;
-    if (trns) png_set_tRNS(p, info, nullptr, 0, &key);
+    png_byte palette_alpha[256];
+    for (int i = 0; i < 256; ++i) palette_alpha[i] = png_byte(i ^ 0x55);
+    if (trns && colour == PNG_COLOR_TYPE_PALETTE) png_set_tRNS(p, info, palette_alpha, 256, nullptr);
+    else if (trns) png_set_tRNS(p, info, nullptr, 0, &key);
     png_write_info(p, info);
     const int bytes_per_sample = depth == 16 ? 2 : 1;
     std::vector<unsigned char> img(std::size_t(w) * h * samples * bytes_per_sample);
@@ -95,16 +98,17 @@ unsigned char wavy(int x, int y, int k) { return static_cast<unsigned char>((x *
 
 }  // namespace
 
-// Every 8-bit grey or RGB PNG in ../shared/assets (glTF base colour, normal and material maps):
-// ours decodes it, with OpenImageIO's values; the other PNGs there (RGBA, palettes) are left to it.
-TEST(PngDecode, RealEightBitGreyAndRgbMapsGiveOpenImageIOsValues) {
+// Every PNG in ../shared/assets (glTF base colour, normal and material maps, the paper, palette
+// files of 8 and 1 bits): ours decodes it, with OpenImageIO's values (straight alpha, as the module
+// reads it; palettes expanded to RGB).
+TEST(PngDecode, RealMapsGiveOpenImageIOsValues) {
     int ours = 0, left = 0;
     for (const auto& e : fs::recursive_directory_iterator(test::shared_dir() + "/assets")) {
         if (!e.is_regular_file() || lower_extension(e.path().string()) != ".png") continue;
         const std::vector<unsigned char> bytes = read_input_file(e.path().string(), kMaxImageFileBytes, "test image");
         ASSERT_GE(bytes.size(), 29u) << e.path();
         const int depth = bytes[24], colour = bytes[25];  // IHDR, the first chunk
-        const bool eligible = depth == 8 && (colour == PNG_COLOR_TYPE_GRAY || colour == PNG_COLOR_TYPE_RGB);
+        const bool eligible = depth == 8 || colour == PNG_COLOR_TYPE_PALETTE;
         ImageF img;
         const bool decoded = decode_png(bytes.data(), bytes.size(), eligible ? allocate_into : must_not_be_called, &img);
         EXPECT_EQ(decoded, eligible) << e.path();  // no tRNS in these files
@@ -115,14 +119,15 @@ TEST(PngDecode, RealEightBitGreyAndRgbMapsGiveOpenImageIOsValues) {
             ++left;
         }
     }
-    EXPECT_GE(ours, 10) << "fewer 8-bit RGB maps than the assets hold (14 on 2026-12-02)";
-    EXPECT_GE(left, 3) << "no RGBA or palette PNG was left to OpenImageIO";
+    EXPECT_GE(ours, 20) << "fewer maps than the assets hold (23 on 2026-12-06: 5 with alpha, 2 palettes)";
+    EXPECT_EQ(left, 0) << "the assets' PNG files are all grey, RGB, with alpha or palettes";
 }
 
-// Synthetic grey and RGB files with libpng's adaptive filters (Sub, Up, Average, Paeth), odd sizes,
+// Synthetic grey, RGB, grey+alpha, RGBA and palette files with libpng's adaptive filters (Sub, Up, Average, Paeth), odd sizes,
 // one pixel, and Adam7 interlacing.
 TEST(PngDecode, SyntheticGreyAndRgbFilesInterlacedOrNotGiveOpenImageIOsValues) {
-    for (int colour : {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_RGB})
+    for (int colour : {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB_ALPHA,
+                       PNG_COLOR_TYPE_PALETTE})
         for (bool interlaced : {false, true})
             for (auto [w, h] : {std::pair{1, 1}, {37, 23}, {8, 61}, {300, 5}}) {
                 const std::vector<unsigned char> bytes = encode_with_libpng(w, h, colour, 8, interlaced, false, wavy);
@@ -131,19 +136,25 @@ TEST(PngDecode, SyntheticGreyAndRgbFilesInterlacedOrNotGiveOpenImageIOsValues) {
                 const std::string what = "colour " + std::to_string(colour) + (interlaced ? " interlaced " : " ") +
                                          std::to_string(w) + "x" + std::to_string(h);
                 expect_same_values(img, decode_with_oiio(bytes), what);
-                EXPECT_EQ(img.at(w - 1, h - 1, 0), float(wavy(w - 1, h - 1, 0)) * (1.0f / 255.0f)) << what;
+                if (colour != PNG_COLOR_TYPE_PALETTE)
+                    EXPECT_EQ(img.at(w - 1, h - 1, 0), float(wavy(w - 1, h - 1, 0)) * (1.0f / 255.0f)) << what;
             }
+    // A palette with a tRNS chunk: an alpha channel (4 channels), OpenImageIO's values.
+    const std::vector<unsigned char> bytes = encode_with_libpng(37, 23, PNG_COLOR_TYPE_PALETTE, 8, false, true, wavy);
+    ImageF img;
+    ASSERT_TRUE(decode_png(bytes.data(), bytes.size(), allocate_into, &img));
+    EXPECT_EQ(img.channels(), 4);
+    expect_same_values(img, decode_with_oiio(bytes), "palette with tRNS");
 }
 
-// Alpha (OpenImageIO associates it), palettes, a tRNS key, 16-bit and 1-bit files: not decoded here,
+// Palettes, a tRNS key, 16-bit and 1-bit files: not decoded here,
 // and the header callback is not called (nothing allocated, no budget spent).
-TEST(PngDecode, AlphaPalettesTransparencyKeysAndOtherDepthsAreLeftToOpenImageIO) {
+TEST(PngDecode, PalettesTransparencyKeysAndOtherDepthsAreLeftToOpenImageIO) {
     struct Case {
         int colour, depth;
         bool trns;
     };
-    for (const Case c : {Case{PNG_COLOR_TYPE_RGB_ALPHA, 8, false}, Case{PNG_COLOR_TYPE_GRAY_ALPHA, 8, false},
-                         Case{PNG_COLOR_TYPE_PALETTE, 8, false}, Case{PNG_COLOR_TYPE_RGB, 8, true},
+    for (const Case c : {Case{PNG_COLOR_TYPE_RGB, 8, true},
                          Case{PNG_COLOR_TYPE_GRAY, 8, true}, Case{PNG_COLOR_TYPE_RGB, 16, false},
                          Case{PNG_COLOR_TYPE_GRAY, 16, false}, Case{PNG_COLOR_TYPE_GRAY, 1, false}}) {
         const std::vector<unsigned char> bytes = encode_with_libpng(13, 9, c.colour, c.depth, false, c.trns,
