@@ -931,19 +931,19 @@ std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uin
 
 namespace {
 ImageF to_rgba(const float* src, int w, int h, int c) {
-    ImageF img(w, h, 4, 1.0f);
+    ImageF img(w, h, 4, kUninitialized);  // every value written below (one pass over fresh memory)
     float* d = img.data();
     const std::size_t np = std::size_t(w) * std::size_t(h);
     for (std::size_t i = 0; i < np; ++i) {
         const float* s = src + i * std::size_t(c);
         if (c == 1 || c == 2) {
             d[4 * i] = d[4 * i + 1] = d[4 * i + 2] = s[0];
-            if (c == 2) d[4 * i + 3] = s[1];
+            d[4 * i + 3] = c == 2 ? s[1] : 1.0f;
         } else {
             d[4 * i] = s[0];
             d[4 * i + 1] = s[1];
             d[4 * i + 2] = s[2];
-            if (c == 4) d[4 * i + 3] = s[3];
+            d[4 * i + 3] = c == 4 ? s[3] : 1.0f;
         }
     }
     return img;
@@ -953,7 +953,8 @@ ImageF to_rgba(const float* src, int w, int h, int c) {
 
 ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name,
                           DecodeBudget* budget) {
-    const ImageF img = decode_image(bytes, size, name, budget);
+    ImageF img = decode_image(bytes, size, name, budget);
+    if (img.channels() == 4) return img;  // already RGBA: no copy
     return to_rgba(img.data(), img.width(), img.height(), img.channels());
 }
 
