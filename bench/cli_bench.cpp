@@ -91,7 +91,19 @@ void set_out_dir(std::vector<std::string>& args, const std::string& dir) {
         if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
 }
 
-void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
+//! The file animation() writes for frame f into dir.
+std::string frame_file(const std::string& dir, int f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/f_%04d.png", f);
+    return dir + name;
+}
+
+constexpr int kSteadyFrames = 8;  //!< frames of cli/steady's run (the first two not timed)
+
+//! Runs `args` once per iteration. `steady` (cli/steady, manual time): args render frames
+//! 0..kSteadyFrames-1, and an iteration's time is the steady frame, frames 2.. over the time between
+//! the writes of frame 1's and the last frame's files.
+void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames, bool steady) {
     const std::string dir = make_temp_dir();
     if (dir.empty()) {
         st.SkipWithError("cannot create a temporary folder");
@@ -102,28 +114,24 @@ void bm_cli(benchmark::State& st, std::vector<std::string> args, int frames) {
     for (auto _ : st) {
         const int rc = run_cli(args, &peak_kb);
         max_peak_kb = std::max(max_peak_kb, peak_kb);
-        if (rc != 0) {
+        std::error_code e1, e2;
+        const auto t1 = steady ? fs::last_write_time(frame_file(dir, 1), e1) : fs::file_time_type{};
+        const auto tn = steady ? fs::last_write_time(frame_file(dir, kSteadyFrames - 1), e2) : fs::file_time_type{};
+        if (rc != 0 || e1 || e2) {
             st.SkipWithError("aquarelle failed (run the command by hand to see why)");
             break;
         }
+        if (steady) st.SetIterationTime(std::max(std::chrono::duration<double>(tn - t1).count() / (kSteadyFrames - 2), 1e-6));
     }
     finish(st, frames, max_peak_kb, dir);
 }
 
 constexpr int kAnimationFrames = 12;
 constexpr int kSustainedFrames = 36;  //!< the longer run of cli/sustained (24 frames more)
-constexpr int kSteadyFrames = 8;      //!< frames of cli/steady's run (the first two not timed)
 
 std::vector<std::string> animation(const std::string& scene, const std::string& ext, int frames = kAnimationFrames) {
     return {"render", std::string(AQ_SOURCE_DIR) + "/scenes/data/" + scene, "--frames", "0-" + std::to_string(frames - 1),
             "--width", "1920", "--height", "1080", "--style", "wc18", "--out", "{out}/f_####." + ext, "--quiet"};
-}
-
-//! The file animation() writes for frame f into dir.
-std::string frame_file(const std::string& dir, int f) {
-    char name[32];
-    std::snprintf(name, sizeof name, "/f_%04d.png", f);
-    return dir + name;
 }
 
 //! The sustained rate: the time of the long run minus that of the short one, per extra frame.
@@ -184,31 +192,6 @@ void bm_cli_sustained(benchmark::State& st, std::vector<std::string> short_run, 
     finish(st, extra_frames, max_peak_kb, dir);
 }
 
-//! The steady frame of one --frames 0..kSteadyFrames-1 run: frames 2.. over the time between the
-//! writes of frame 1's and the last frame's files.
-void bm_cli_steady(benchmark::State& st, std::vector<std::string> args) {
-    const std::string dir = make_temp_dir();
-    if (dir.empty()) {
-        st.SkipWithError("cannot create a temporary folder");
-        return;
-    }
-    set_out_dir(args, dir);
-    long peak_kb = 0, max_peak_kb = 0;
-    for (auto _ : st) {
-        const int rc = run_cli(args, &peak_kb);
-        max_peak_kb = std::max(max_peak_kb, peak_kb);
-        std::error_code e1, e2;
-        const auto t1 = fs::last_write_time(frame_file(dir, 1), e1);
-        const auto tn = fs::last_write_time(frame_file(dir, kSteadyFrames - 1), e2);
-        if (rc != 0 || e1 || e2) {
-            st.SkipWithError("aquarelle failed (run the command by hand to see why)");
-            break;
-        }
-        st.SetIterationTime(std::max(std::chrono::duration<double>(tn - t1).count() / (kSteadyFrames - 2), 1e-6));
-    }
-    finish(st, 1, max_peak_kb, dir);
-}
-
 //! An asset class of the one-shot group: what is rendered, in which style, at which size.
 struct OneShotClass {
     std::string name, scene, style;
@@ -242,19 +225,19 @@ std::vector<std::string> oneshot_args(const OneShotClass& c, int frames = 0) {
 void register_all() {
     for (const char* ext : {"png", "exr"})
         benchmark::RegisterBenchmark(("cli/animation/suzanne/1920x1080/wc18/" + std::string(ext)).c_str(), bm_cli,
-                                     animation("suzanne.json", ext), kAnimationFrames)
+                                     animation("suzanne.json", ext), kAnimationFrames, false)
             ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
     benchmark::RegisterBenchmark("cli/animation/dragon_202k/1920x1080/wc18/png", bm_cli,
-                                 animation("dragon_202k.json", "png"), kAnimationFrames)
+                                 animation("dragon_202k.json", "png"), kAnimationFrames, false)
         ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
     benchmark::RegisterBenchmark("cli/sustained/suzanne/1920x1080/wc18/png", bm_cli_sustained,
                                  animation("suzanne.json", "png"), animation("suzanne.json", "png", kSustainedFrames),
                                  kSustainedFrames - kAnimationFrames)
         ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
     for (const OneShotClass& c : oneshot_classes()) {
-        benchmark::RegisterBenchmark(("cli/oneshot/" + c.id()).c_str(), bm_cli, oneshot_args(c), 1)
+        benchmark::RegisterBenchmark(("cli/oneshot/" + c.id()).c_str(), bm_cli, oneshot_args(c), 1, false)
             ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
-        benchmark::RegisterBenchmark(("cli/steady/" + c.id()).c_str(), bm_cli_steady, oneshot_args(c, kSteadyFrames))
+        benchmark::RegisterBenchmark(("cli/steady/" + c.id()).c_str(), bm_cli, oneshot_args(c, kSteadyFrames), 1, true)
             ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
     }
 }
