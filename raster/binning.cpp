@@ -144,6 +144,19 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
         pairs.reserve(c.size);
         c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
         c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
+        // An item into the tiles of r (none when r is empty): the traversal's bins, or the
+        // sub-pixel ones.
+        auto bin_item = [&](const PixelRect& r, bool sub, std::uint32_t item) {
+            if (r.x0 > r.x1 || r.y0 > r.y1) return;
+            std::vector<std::uint32_t>& offsets = sub ? c.fine_offsets : c.bin_offsets;
+            std::vector<std::uint64_t>& to = sub ? fine : pairs;
+            for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty)
+                for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
+                    const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
+                    ++offsets[tile + 1];
+                    to.push_back(std::uint64_t(tile) << 32 | item);
+                }
+        };
         for (const Chunk::Segment& sg : c.segments) {
             const DrawVertices& dv = fr.draws[sg.draw];
             for (std::uint32_t t = sg.begin; t < sg.end;) {
@@ -155,13 +168,7 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                 // Compact sub-pixel records: fine bins by their coverage bounds (tagged items).
                 for (; km < c.micro.size(); ++km) {
                     const SubpixelTri& m = c.micro[km];
-                    if (m.x0 > m.x1 || m.y0 > m.y1) continue;
-                    for (int ty = m.y0 / kTile; ty <= m.y1 / kTile; ++ty)
-                        for (int tx = m.x0 / kTile; tx <= m.x1 / kTile; ++tx) {
-                            const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
-                            ++c.fine_offsets[tile + 1];
-                            fine.push_back(std::uint64_t(tile) << 32 | km | Chunk::kMicroItem);
-                        }
+                    bin_item({m.x0, m.y0, m.x1, m.y1}, true, std::uint32_t(km) | Chunk::kMicroItem);
                 }
                 for (; k < c.tris.size(); ++k) {
                     const TriSetup& st = c.tris[k];
@@ -169,23 +176,12 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
                     // of the pixels whose samples it may cover (the coverage pass's; they hold the
                     // pixel-centre bounds, setup.h). A sub-pixel triangle that can cover no sample
                     // is not binned.
-                    const bool sub = st.subpixel();
                     PixelRect r{st.x0, st.y0, st.x1, st.y1};
                     if (fr.sopt.keep_subpixel) {
                         r = coverage_bounds(st, fr.fp.vp.width, fr.fp.vp.height);
                         c.bounds.push_back({std::int16_t(r.x0), std::int16_t(r.y0), std::int16_t(r.x1), std::int16_t(r.y1)});
-                        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
                     }
-                    const int x0 = r.x0, x1 = r.x1, y0 = r.y0, y1 = r.y1;
-                    const int bx0 = x0 / kTile, bx1 = x1 / kTile, by0 = y0 / kTile, by1 = y1 / kTile;
-                    std::vector<std::uint32_t>& offsets = sub ? c.fine_offsets : c.bin_offsets;
-                    std::vector<std::uint64_t>& to = sub ? fine : pairs;
-                    for (int ty = by0; ty <= by1; ++ty)
-                        for (int tx = bx0; tx <= bx1; ++tx) {
-                            const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
-                            ++offsets[tile + 1];
-                            to.push_back(std::uint64_t(tile) << 32 | k);
-                        }
+                    bin_item(r, st.subpixel(), std::uint32_t(k));
                 }
             }
         }

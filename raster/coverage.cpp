@@ -95,14 +95,6 @@ TriSetup edges_of(const SubpixelTri& m) {
     return t;
 }
 
-//! A triangle's samples can lie in the pixels one beyond its pixel-centre bounds.
-struct Rect {
-    int x0, x1, y0, y1;
-};
-Rect sample_bounds(int x0, int y0, int x1, int y1, int W, int H) {
-    return {std::max(x0 - 1, 0), std::min(x1 + 1, W - 1), std::max(y0 - 1, 0), std::min(y1 + 1, H - 1)};
-}
-
 //! The n lowest bits set (n in [0, 64]): a row span of a 64-pixel tile row.
 std::uint64_t low_bits(int n) { return n >= 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << n) - 1; }
 
@@ -196,14 +188,16 @@ void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBit
             flag[std::size_t(y) * W + x] = any && !all;
         }
     std::vector<std::uint16_t> mask(std::size_t(W) * H, 0);
-    auto add = [&](const Chunk& ch, const TriSetup& t, const Rect& r, bool alpha) {
+    auto add = [&](const Chunk& ch, const TriSetup& t, const PixelRect& r, bool alpha) {
         for (int y = r.y0; y <= r.y1; ++y)
             for (int x = r.x0; x <= r.x1; ++x)
                 if (flag[std::size_t(y) * W + x]) mask[std::size_t(y) * W + x] |= sample_mask(fr, ch, t, x, y, true, alpha);
     };
     for (const Chunk& ch : fr.chunks) {
-        for (const TriSetup& t : ch.tris) add(ch, t, sample_bounds(t.x0, t.y0, t.x1, t.y1, W, H), needs_alpha_test(fr, t));
-        for (const SubpixelTri& m : ch.micro) add(ch, edges_of(m), {m.x0, m.x1, m.y0, m.y1}, false);
+        // Every triangle over its pixel-centre bounds widened by one pixel (the samples' reach,
+        // without the cover bits that narrow it for the tiled schedule).
+        for (const TriSetup& t : ch.tris) add(ch, t, coverage_bounds(t.x0, t.y0, t.x1, t.y1, 0, W, H), needs_alpha_test(fr, t));
+        for (const SubpixelTri& m : ch.micro) add(ch, edges_of(m), {m.x0, m.y0, m.x1, m.y1}, false);
     }
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
