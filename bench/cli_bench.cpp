@@ -91,7 +91,7 @@ void set_out_dir(std::vector<std::string>& args, const std::string& dir) {
         if (auto p = a.find("{out}"); p != std::string::npos) a.replace(p, 5, dir);
 }
 
-//! The file animation() writes for frame f into dir.
+//! The file of frame f that an animation run (animation(), oneshot_args with frames) writes into dir.
 std::string frame_file(const std::string& dir, int f) {
     char name[32];
     std::snprintf(name, sizeof name, "/f_%04d.png", f);
@@ -206,7 +206,6 @@ std::vector<OneShotClass> oneshot_classes() {
             {"ez_oak", shared + "plants/ez-tree/ez_oak_large_dense.glb", "ld06", 720, 720},
             {"suzanne_scene", std::string(AQ_SOURCE_DIR) + "/scenes/data/suzanne.json", "wc18", 1280, 720}};
 }
-
 
 //! The class's render: one image (frames 0), or frames 0..frames-1 as an animation.
 std::vector<std::string> oneshot_args(const OneShotClass& c, int frames = 0) {
