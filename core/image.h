@@ -14,6 +14,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -112,6 +113,30 @@ struct ImageFree {
 //! overwrites completely (stage outputs), where filling would only add a pass over the memory.
 struct Uninitialized {};
 inline constexpr Uninitialized kUninitialized{};
+
+//! std::allocator whose value-initialisation (vector::resize(n), vector(n)) leaves trivial values
+//! unspecified, as kUninitialized does for images: for buffers a decoder then fills completely
+//! (8-bit texture codes), where zeroing first would only add a pass over fresh memory.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+template <class T>
+using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
 
 //! Interleaved float image, 1..4 channels, row-major, no padding.
 //!

@@ -13,9 +13,18 @@ struct ImageHeader {
     bool deep = false;
 };
 
+//! Where a decoder puts the pixels: exactly one of the two is set.
+struct PixelDest {
+    //! The first min(nchannels, 4) channels as float, width x height interleaved (every decoder).
+    float* values = nullptr;
+    //! The 8-bit codes of an 8-bit file, four per pixel in RGBA order (grey copied to R, G and B; a
+    //! missing alpha 255), width x height: only core/png.h and core/jpeg.h fill it, for the
+    //! textures that keep their texels as codes (scenes/scene.h TextureCodes).
+    unsigned char* rgba_codes = nullptr;
+};
+
 //! Called with the header before any pixel is decoded: checks it (throwing aq::Error, which passes
-//! through the decoder unchanged) and returns where to decode the first min(nchannels, 4)
-//! channels as float, width x height interleaved.
-using AcceptHeader = float* (*)(void* ctx, const ImageHeader& header);
+//! through the decoder unchanged) and returns where the pixels go.
+using AcceptHeader = PixelDest (*)(void* ctx, const ImageHeader& header);
 
 }  // namespace aq

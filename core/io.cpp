@@ -179,22 +179,32 @@ struct DecodeTarget {
     //! Zero the image first: OpenImageIO's readers (a reader reporting success on damaged data
     //! must not leave unspecified values); core/jpeg.h writes every value itself.
     bool zero_first = true;
+    //! Ask for RGBA codes instead of values (decode_image_or_codes; core/png.h, core/jpeg.h only).
+    RgbaCodes* codes = nullptr;
 };
 
-//! Both decoders' header callback (core/image_header.h): checks the header, then allocates the image.
-float* accept_header(void* ctx, const ImageHeader& h) {
+//! Every decoder's header callback (core/image_header.h): checks the header, then allocates the image.
+PixelDest accept_header(void* ctx, const ImageHeader& h) {
     auto& t = *static_cast<DecodeTarget*>(ctx);
     check_header(h, t.encoded_bytes, t.where, t.budget, t.max_pixels_per_byte);
+    if (t.codes) {
+        t.codes->width = h.width;
+        t.codes->height = h.height;
+        t.codes->file_channels = h.nchannels;
+        t.codes->codes.resize(std::size_t(h.width) * std::size_t(h.height) * 4);
+        return {nullptr, t.codes->codes.data()};
+    }
     const int c = std::min(h.nchannels, 4);
     t.img = t.zero_first ? ImageF(h.width, h.height, c) : ImageF(h.width, h.height, c, kUninitialized);
-    return t.img.data();
+    return {t.img.data(), nullptr};
 }
 
 }  // namespace
 
-//! decode_image without the exception translation below.
+//! decode_image without the exception translation below; with `codes`, an 8-bit PNG or JPEG that
+//! core/png.h or core/jpeg.h reads goes there (the ImageF returned is empty).
 static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, const std::string& name,
-                                DecodeBudget* budget) {
+                                DecodeBudget* budget, RgbaCodes* codes = nullptr) {
     const std::string where = "image '" + name + "'";
     if (!bytes || size == 0) throw Error(where + ": no data");
     const std::string ext = format_extension_for(bytes, size, name);
@@ -206,16 +216,17 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
         int w = 0, h = 0;
         if (jpeg_frame_size(bytes, size, &w, &h)) check_dimensions(w, h, size, where + " (JPEG frame header)");
         // Grey and colour JPEG (every paper) without OpenImageIO (core/jpeg.h); CMYK goes on below.
-        DecodeTarget jpeg{size, where, budget, format->max_pixels_per_byte, {}, false};
+        DecodeTarget jpeg{size, where, budget, format->max_pixels_per_byte, {}, false, codes};
         if (decode_jpeg(bytes, size, where, accept_header, &jpeg)) return std::move(jpeg.img);
     }
     if (std::string(format->oiio_format) == "png") {
         // 8-bit grey and RGB PNG (glTF base-colour maps) without OpenImageIO (core/png.h); the
         // rest, and files libpng reports damaged, go on below with the budget as it was.
         const std::size_t budget_before = budget ? budget->bytes_left : 0;
-        DecodeTarget png{size, where, budget, format->max_pixels_per_byte, {}, false};
+        DecodeTarget png{size, where, budget, format->max_pixels_per_byte, {}, false, codes};
         if (decode_png(bytes, size, accept_header, &png)) return std::move(png.img);
         if (budget) budget->bytes_left = budget_before;
+        if (codes) *codes = RgbaCodes{};
     }
     DecodeTarget target{size, where, budget, format->max_pixels_per_byte, {}, true};
     const std::string fake = "memory" + ext;
@@ -224,11 +235,13 @@ static ImageF decode_image_oiio(const unsigned char* bytes, std::size_t size, co
     return std::move(target.img);
 }
 
-ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name, DecodeBudget* budget) {
+//! decode_image and decode_image_or_codes.
+static ImageF decode_translated(const unsigned char* bytes, std::size_t size, const std::string& name,
+                                DecodeBudget* budget, RgbaCodes* codes) {
     // OpenImageIO's readers can throw on corrupt headers (its GIF reader: std::length_error from
     // a 13-byte file, fuzz/README.md); every reader documents aq::Error only.
     try {
-        return decode_image_oiio(bytes, size, name, budget);
+        return decode_image_oiio(bytes, size, name, budget, codes);
     } catch (const Error&) {
         throw;
     } catch (const std::bad_alloc&) {
@@ -236,6 +249,17 @@ ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::str
     } catch (const std::exception& e) {
         throw Error("image '" + name + "': cannot be decoded: the decoder failed (" + std::string(e.what()) + ")");
     }
+}
+
+ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name, DecodeBudget* budget) {
+    return decode_translated(bytes, size, name, budget, nullptr);
+}
+
+DecodedImage decode_image_or_codes(const unsigned char* bytes, std::size_t size, const std::string& name,
+                                   DecodeBudget* budget) {
+    DecodedImage d;
+    d.values = decode_translated(bytes, size, name, budget, &d.codes);
+    return d;
 }
 
 ImageF read_image(const std::string& path, DecodeBudget* budget) {

@@ -17,8 +17,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/image.h"
 
@@ -143,6 +145,27 @@ ImageF read_image(const std::string& path, DecodeBudget* budget = nullptr);
 //! to guess the format when the magic bytes do not say. Same checks as read_image.
 ImageF decode_image(const unsigned char* bytes, std::size_t size, const std::string& name,
                     DecodeBudget* budget = nullptr);
+
+//! An 8-bit image as its file stores it, widened to RGBA (grey copied to R, G and B, a missing
+//! alpha 255): width x height x 4 codes; code k stands for unorm8_floats()[k] (core/unorm8.h),
+//! the value decode_image gives it (after the same widening).
+struct RgbaCodes {
+    int width = 0, height = 0;
+    int file_channels = 0;  //!< the channels the file holds (1-4)
+    UninitializedVector<std::uint8_t> codes;
+    bool empty() const { return codes.empty(); }
+};
+//! An image decoded as codes (8-bit files) or as values (the rest): one of the two is non-empty.
+struct DecodedImage {
+    ImageF values;
+    RgbaCodes codes;
+};
+//! decode_image for images kept as 8-bit codes (scene textures): an 8-bit PNG or JPEG that
+//! core/png.h or core/jpeg.h reads comes back as `codes` (a quarter of RGBA float's bytes, no
+//! float copy); any other image as decode_image's `values`. The same checks and budget
+//! (charged as RGBA float either way).
+DecodedImage decode_image_or_codes(const unsigned char* bytes, std::size_t size, const std::string& name,
+                                   DecodeBudget* budget = nullptr);
 
 //! Creates the folder (and parents) if missing. Throws aq::Error.
 void ensure_directory(const std::string& dir);

@@ -59,7 +59,7 @@ bool read_header(Decoder& d, const unsigned char* bytes, std::size_t size) {
     return true;
 }
 
-bool decompress(Decoder& d, float* dst) {
+bool decompress(Decoder& d, PixelDest dst) {
     const float* const unorm8 = unorm8_floats();
     if (setjmp(d.err.jump)) return false;
     jpeg_start_decompress(&d.cinfo);
@@ -68,11 +68,14 @@ bool decompress(Decoder& d, float* dst) {
     JSAMPARRAY row = (*d.cinfo.mem->alloc_sarray)(reinterpret_cast<j_common_ptr>(&d.cinfo), JPOOL_IMAGE,
                                                    static_cast<JDIMENSION>(row_values), 1);
     while (d.cinfo.output_scanline < d.cinfo.output_height) {
-        float* out = dst + std::size_t(d.cinfo.output_scanline) * row_values;
+        const std::size_t y = d.cinfo.output_scanline;
+        if (dst.rgba_codes) row[0] = dst.rgba_codes + y * row_values;  // JCS_EXT_RGBA rows in place
         if (jpeg_read_scanlines(&d.cinfo, row, 1) != 1) {  // not with a memory source, which never suspends
             std::snprintf(d.err.message, sizeof d.err.message, "no scanline %u", d.cinfo.output_scanline);
             return false;
         }
+        if (dst.rgba_codes) continue;
+        float* out = dst.values + y * row_values;
         const JSAMPLE* in = row[0];
         for (std::size_t i = 0; i < row_values; ++i) out[i] = unorm8[in[i]];
     }
@@ -96,7 +99,10 @@ bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string
     h.width = int(d.cinfo.image_width);
     h.height = int(d.cinfo.image_height);
     h.nchannels = grey ? 1 : 3;
-    float* dst = accept(ctx, h);
+    const PixelDest dst = accept(ctx, h);
+    // RGBA codes: libjpeg-turbo's extended colour space, the same conversion and upsampling as
+    // JCS_RGB (grey copied to R, G, B) with a fourth byte of 255.
+    if (dst.rgba_codes) d.cinfo.out_color_space = JCS_EXT_RGBA;
     if (!decompress(d, dst)) throw Error(where + ": cannot be decoded: " + d.err.message);
     return true;
 }

@@ -55,7 +55,8 @@ std::string decode(const unsigned char* bytes, std::size_t size, const char* for
         return e.empty() ? std::string("cannot be opened") : e;
     }
     const OIIO::ImageSpec& spec = in->spec();
-    float* dst = accept(ctx, ImageHeader{spec.width, spec.height, spec.depth, spec.nchannels, spec.deep});
+    float* dst = accept(ctx, ImageHeader{spec.width, spec.height, spec.depth, spec.nchannels, spec.deep}).values;
+    if (!dst) return "no float destination";  // codes are asked of core/png.h and core/jpeg.h only
     const int c = std::min(spec.nchannels, 4);
     if (!in->read_image(0, 0, 0, c, OIIO::TypeDesc::FLOAT, dst)) {
         const std::string e = in->geterror();

@@ -210,6 +210,15 @@ bool palette_expansion(PngReader& r, bool trns) {
     return true;
 }
 
+//! libpng's expansion of `channels` 8-bit channels (palettes already expanded) to RGBA: grey
+//! copied to R, G and B, alpha 255 where the file has none (PixelDest::rgba_codes).
+bool rgba_expansion(PngReader& r, int channels) {
+    if (setjmp(png_jmpbuf(r.png))) return false;
+    if (channels <= 2) png_set_gray_to_rgb(r.png);
+    if (channels == 1 || channels == 3) png_set_filler(r.png, 0xFF, PNG_FILLER_AFTER);
+    return true;
+}
+
 //! Every row (Adam7 passes combined by libpng) into rows[y], then the end of the file.
 bool read_rows(PngReader& r, png_bytep* rows) {
     if (setjmp(png_jmpbuf(r.png))) return false;
@@ -248,14 +257,17 @@ bool decode_png(const unsigned char* bytes, std::size_t size, AcceptHeader accep
     h.width = int(i.width);
     h.height = int(i.height);
     h.nchannels = channels;
-    float* dst = accept(ctx, h);  // checks the size (docs/limits.md) before anything is allocated
-    const std::size_t row_values = std::size_t(i.width) * std::size_t(h.nchannels);
-    std::vector<unsigned char> codes(row_values * std::size_t(i.height));
+    const PixelDest dst = accept(ctx, h);  // checks the size (docs/limits.md) before anything is allocated
+    const bool rgba = dst.rgba_codes != nullptr;
+    if (rgba && !rgba_expansion(r, channels)) return false;
+    const std::size_t row_values = std::size_t(i.width) * std::size_t(rgba ? 4 : h.nchannels);
+    std::vector<unsigned char> codes(rgba ? 0 : row_values * std::size_t(i.height));
+    unsigned char* const out = rgba ? dst.rgba_codes : codes.data();
     std::vector<png_bytep> rows(std::size_t(i.height));
-    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = codes.data() + y * row_values;
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = out + y * row_values;
     if (!read_rows(r, rows.data())) return false;
     const float* const unorm8 = unorm8_floats();
-    for (std::size_t k = 0; k < codes.size(); ++k) dst[k] = unorm8[codes[k]];
+    for (std::size_t k = 0; k < codes.size(); ++k) dst.values[k] = unorm8[codes[k]];
     return true;
 }
 

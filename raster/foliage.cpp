@@ -42,10 +42,18 @@ scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Mat
     if (m.base_color_texture.texture >= 0 && m.base_color_texture.texture < int(sc.textures.size()))
         base = &sc.textures[std::size_t(m.base_color_texture.texture)];
     const ImageF* src = nullptr;
-    if (base && !base->image.empty()) {
-        src = &base->image;
+    ImageF level0;  // level 0 as floats, when it is small enough to be read
+    if (base && !base->empty()) {
+        if (std::max(base->width(), base->height()) <= kMaxSide) {
+            if (base->codes.empty()) {
+                src = &base->image;
+            } else {
+                level0 = base->level0();
+                src = &level0;
+            }
+        }
         for (const ImageF& level : base->mips)
-            if (std::max(src->width(), src->height()) > kMaxSide) src = &level;
+            if (!src || std::max(src->width(), src->height()) > kMaxSide) src = &level;
     }
     const int w = src ? src->width() : kNoiseSize, h = src ? src->height() : kNoiseSize;
     std::vector<float> v(std::size_t(w) * h);

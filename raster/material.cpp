@@ -33,7 +33,7 @@ inline float safe_coord(float x) {
 const scene::Texture* texture_of(const ShadeContext& ctx, const scene::TextureRef& r) {
     if (r.texture < 0 || !ctx.scene || r.texture >= int(ctx.scene->textures.size())) return nullptr;
     const scene::Texture& t = ctx.scene->textures[r.texture];
-    return t.image.empty() ? nullptr : &t;
+    return t.empty() ? nullptr : &t;
 }
 
 
@@ -116,12 +116,11 @@ glm::vec4 sample_image(const ImageF& img, scene::Filter f, const scene::Sampler&
 }
 //! Level 0 of a scene texture with filter f, through its 8-bit codes where it has them.
 glm::vec4 sample_level0(const scene::Texture& t, scene::Filter f, const scene::Sampler& s, glm::vec2 uv) {
-    const ImageF& img = t.image;
-    if (t.codes.empty()) return sample_image(img, f, s, uv);
+    if (t.codes.empty()) return sample_image(t.image, f, s, uv);
     const std::uint8_t* codes = t.codes.codes.data();
     const auto& lut = t.codes.lut;
-    const int w = img.width();
-    return sample_with(w, img.height(), f, s, uv, [&](int x, int y) {
+    const int w = t.codes.width;
+    return sample_with(w, t.codes.height, f, s, uv, [&](int x, int y) {
         const std::uint8_t* c = codes + 4 * (std::size_t(y) * std::size_t(w) + std::size_t(x));
         return glm::vec4(lut[0][c[0]], lut[1][c[1]], lut[2][c[2]], lut[3][c[3]]);
     });
@@ -198,7 +197,7 @@ glm::vec4 sample_footprint(const scene::Texture& t, const scene::Sampler& s, glm
 }  // namespace
 
 glm::vec4 sample_texture(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, const UvGrad& g) {
-    return sample_footprint(t, s, uv, aniso_footprint(t.image.width(), t.image.height(), g));
+    return sample_footprint(t, s, uv, aniso_footprint(t.width(), t.height(), g));
 }
 
 namespace {
@@ -211,7 +210,7 @@ namespace {
 void sample_texture8(const scene::Texture& t, const scene::Sampler& s, const glm::vec2* uv, const UvGrad* g, int n,
                      glm::vec4* out) {
     const ImageF& img = t.image;
-    const int w = img.width(), h = img.height();
+    const int w = t.width(), h = t.height();
     AnisoFootprint fp[FragmentLanes::kLanes];
     for (int i = 0; i < n; ++i) fp[i] = aniso_footprint(w, h, g[i]);
 #ifdef __AVX2__

@@ -28,6 +28,7 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/json_file.h"
+#include "core/unorm8.h"
 #include "scenes/material_params.h"
 
 namespace aq::scene {
@@ -330,28 +331,6 @@ AccessorView Loader::accessor(int index, const std::string& what) {
 
 // --- images and textures -------------------------------------------------------------------------
 
-//! sRGB-encoded RGB -> linear in place (alpha is linear in glTF). 8- and 16-bit sources decode to
-//! value / 255 or / 65535; 8-bit values go through a 256-entry table (the same float as the
-//! formula), anything else through srgb_to_linear.
-void decode_srgb_texture(ImageF& img) {
-    static const std::array<float, 256> lut = [] {
-        std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i) t[std::size_t(i)] = srgb_to_linear(float(i) / 255.0f);
-        return t;
-    }();
-    const int nc = img.channels();
-    const int rgb = std::min(nc, 3);
-    float* d = img.data();
-    const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
-    for (std::size_t i = 0; i < n; ++i)
-        for (int c = 0; c < rgb; ++c) {
-            float& v = d[i * std::size_t(nc) + std::size_t(c)];
-            const float k = std::nearbyint(v * 255.0f);
-            if (k >= 0.0f && k <= 255.0f && float(int(k)) / 255.0f == v) v = lut[std::size_t(k)];
-            else v = srgb_to_linear(v);
-        }
-}
-
 TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what) {
     TextureRef ref;
     if (tex_index < 0) return ref;
@@ -422,12 +401,10 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
         warn(what + ": texture '" + label + "' is missing or unreadable; treated as absent (" + fallback + ")");
     } else {
         try {
-            Texture tex;
-            tex.name = label;
-            tex.image = decode_image_bytes(bytes, size, label, &texture_budget_);
+            // glTF §3.9.2: base colour textures are sRGB-encoded, decoded to linear.
+            Texture tex = decode_texture(label, bytes, size, &texture_budget_,
+                                         {srgb ? TexelMap::Kind::Srgb : TexelMap::Kind::Identity});
             tex.srgb = srgb;
-            tex.codes = texture_codes(tex.image);      // 8-bit files: the texels as codes
-            if (srgb) decode_srgb_texture(tex.image);  // glTF §3.9.2: base colour textures are sRGB
             finish_texture(tex);
             scene_.textures.push_back(std::move(tex));
             result = int(scene_.textures.size()) - 1;
@@ -958,9 +935,39 @@ ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const st
     return to_rgba(img.data(), img.width(), img.height(), img.channels());
 }
 
-ImageF read_texture_file(const std::string& path, DecodeBudget* budget) {
+Texture decode_texture(const std::string& name, const unsigned char* bytes, std::size_t size, DecodeBudget* budget,
+                       const TexelMap& map) {
+    Texture t;
+    t.name = name;
+    DecodedImage d = decode_image_or_codes(bytes, size, name, budget);
+    if (!d.codes.empty()) {
+        // An 8-bit file: its codes as decoded, each lane's table the mapped value of every code.
+        t.codes.width = d.codes.width;
+        t.codes.height = d.codes.height;
+        t.codes.codes = std::move(d.codes.codes);
+        const float* unorm8 = unorm8_floats();
+        for (int lane = 0; lane < 4; ++lane)
+            for (int k = 0; k < 256; ++k) t.codes.lut[std::size_t(lane)][std::size_t(k)] = map(unorm8[k], lane);
+        return t;
+    }
+    // Any other file: RGBA float, mapped value by value; kept as codes where its values turn out
+    // to be 8-bit (8-bit formats that OpenImageIO decodes).
+    t.image = d.values.channels() == 4 ? std::move(d.values)
+                                       : to_rgba(d.values.data(), d.values.width(), d.values.height(), d.values.channels());
+    TextureCodes codes = texture_codes(t.image);
+    float* v = t.image.data();
+    for (std::size_t i = 0, n = t.image.num_values(); i < n; ++i) v[i] = map(v[i], int(i % 4));
+    texture_codes_finish(codes, t.image);
+    if (!codes.empty()) {
+        t.codes = std::move(codes);
+        t.image = ImageF();
+    }
+    return t;
+}
+
+Texture read_texture(const std::string& path, DecodeBudget* budget, const TexelMap& map) {
     const std::vector<unsigned char> bytes = read_input_file(path, kMaxImageFileBytes, "image");
-    return decode_image_bytes(bytes.data(), bytes.size(), path, budget);
+    return decode_texture(path, bytes.data(), bytes.size(), budget, map);
 }
 
 Scene load_gltf(const std::string& path, std::vector<std::string>* warnings, const LoadOptions& options) {

@@ -78,7 +78,16 @@ std::vector<std::uint32_t> to_triangle_list(int mode, const std::vector<std::uin
 ImageF decode_image_bytes(const unsigned char* bytes, std::size_t size, const std::string& name,
                           DecodeBudget* budget = nullptr);
 
-//! Reads an image file into RGBA float, stored values (grey -> RGB replicated, alpha 1 if absent).
-ImageF read_texture_file(const std::string& path, DecodeBudget* budget);
+//! A texture (level 0, without mip levels: finish_texture builds them) from an encoded image held
+//! in memory, every value mapped by `map`. An 8-bit file keeps level 0 as its codes (decoded
+//! straight to 8-bit RGBA by core/png.h or core/jpeg.h, or found 8-bit after OpenImageIO's
+//! decode), with the mapped value of each code: the values of the RGBA float image that
+//! decode_image_bytes and the mapping would give, bit for bit, in a quarter of the bytes. Other
+//! files keep RGBA float. `name` is used for messages and to guess the format. Throws aq::Error
+//! (BudgetError past the budget).
+Texture decode_texture(const std::string& name, const unsigned char* bytes, std::size_t size, DecodeBudget* budget,
+                       const TexelMap& map = {});
+//! decode_texture of an image file.
+Texture read_texture(const std::string& path, DecodeBudget* budget, const TexelMap& map = {});
 
 }  // namespace aq::scene

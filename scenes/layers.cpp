@@ -14,21 +14,24 @@ glm::vec3 material_display_color(const Scene& sc, int material) {
     const Material& m = sc.materials[std::size_t(material)];
     glm::vec3 c(m.base_color);
     const int ti = m.base_color_texture.texture;
-    if (ti >= 0 && ti < int(sc.textures.size()) && !sc.textures[std::size_t(ti)].image.empty()) {
-        const ImageF& img = sc.textures[std::size_t(ti)].image;
-        const std::size_t n = std::size_t(img.width()) * std::size_t(img.height());
+    if (ti >= 0 && ti < int(sc.textures.size()) && !sc.textures[std::size_t(ti)].empty()) {
+        const Texture& tex = sc.textures[std::size_t(ti)];
+        const int w = tex.width();
+        const std::size_t n = std::size_t(w) * std::size_t(tex.height());
         const std::size_t step = std::max<std::size_t>(1, n / kLayerColorSamples);
-        const int nc = img.channels();
+        // A float image of fewer than 4 channels has no alpha to mask with; grey counts as R, G, B.
+        const int nc = tex.codes.empty() ? tex.image.channels() : 4;
         const bool masked = m.alpha_mode == AlphaMode::Mask && nc >= 4;
         double sum[3] = {0, 0, 0};
         std::size_t count = 0;
         for (std::size_t i = 0; i < n; i += step) {
-            const float* px = img.data() + i * std::size_t(nc);
+            glm::vec4 px = tex.texel0(int(i % std::size_t(w)), int(i / std::size_t(w)));
+            if (nc == 2) px.z = px.y;  // channel min(k, nc - 1) of a 2-channel image
             if (masked && !(px[3] >= m.alpha_cutoff)) continue;
             bool finite = true;
-            for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(px[std::min(k, nc - 1)]);
+            for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(px[k]);
             if (!finite) continue;
-            for (int k = 0; k < 3; ++k) sum[k] += double(px[std::min(k, nc - 1)]);
+            for (int k = 0; k < 3; ++k) sum[k] += double(px[k]);
             ++count;
         }
         if (count > 0)

@@ -9,6 +9,11 @@
 #include <cmath>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "core/color.h"
+
 namespace aq::scene {
 
 Bounds Scene::world_bounds() const {
@@ -59,7 +64,7 @@ TextureCodes texture_codes(const ImageF& decoded) {
     const std::size_t nv = n * std::size_t(nc);
     // Every value's code, in one flat loop (vectorised): round(v * 255) for v in [0, 1]; any
     // other value (NaN included) leaves no codes. Then widened to four lanes per texel.
-    std::vector<std::uint8_t> flat(nv);
+    UninitializedVector<std::uint8_t> flat(nv);
     const float* d = decoded.data();
     int bad = 0;
     for (std::size_t j = 0; j < nv; ++j) {
@@ -69,6 +74,8 @@ TextureCodes texture_codes(const ImageF& decoded) {
         flat[j] = std::uint8_t(int(vc * 255.0f + 0.5f));
     }
     if (bad) return c;
+    c.width = decoded.width();
+    c.height = decoded.height();
     if (nc == 4) {
         c.codes = std::move(flat);
         return c;
@@ -139,43 +146,109 @@ MipTaps mip_taps(int n, int i) {
 }
 }  // namespace
 
-ImageF texture_mip_level(const ImageF& level) {
-    const int w = level.width(), h = level.height(), nc = level.channels();
+namespace {
+//! The next mip level of a w x h image of nc channels whose row y (w x nc floats) row(y, scratch)
+//! returns (scratch: w x nc floats it may fill). For each output row, its source rows reduced
+//! along x (taps in order), then those rows combined along y (taps in order): the same sums, in
+//! the same order, as reducing every row first and then the columns. Output rows in parallel
+//! (each written by one task): the same bits on any thread count.
+template <class RowFn>
+ImageF mip_level(int w, int h, int nc, const RowFn& row) {
     const int w2 = std::max(1, w / 2), h2 = std::max(1, h / 2);
-    // Rows first (w -> w2 over every source row), then columns (h -> h2).
     std::vector<MipTaps> xt(std::size_t(w2), MipTaps{});
     for (int x = 0; x < w2; ++x) xt[std::size_t(x)] = mip_taps(w, x);
-    ImageF rows(w2, h, nc, kUninitialized);
-    for (int y = 0; y < h; ++y) {
-        const float* src = level.data() + std::size_t(y) * std::size_t(w) * std::size_t(nc);
-        float* dst = rows.data() + std::size_t(y) * std::size_t(w2) * std::size_t(nc);
-        for (int x = 0; x < w2; ++x) {
-            const MipTaps& t = xt[std::size_t(x)];
-            for (int c = 0; c < nc; ++c) {
+    ImageF out(w2, h2, nc, kUninitialized);
+    const std::size_t row2 = std::size_t(w2) * std::size_t(nc);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h2, 16), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> scratch(std::size_t(w) * std::size_t(nc));
+        std::vector<float> reduced(3 * row2);
+        for (int y = r.begin(); y < r.end(); ++y) {
+            const MipTaps t = mip_taps(h, y);
+            for (int k = 0; k < t.count; ++k) {
+                const float* src = row(t.first + k, scratch.data());
+                float* dst = reduced.data() + std::size_t(k) * row2;
+                for (int x = 0; x < w2; ++x) {
+                    const MipTaps& tx = xt[std::size_t(x)];
+                    for (int c = 0; c < nc; ++c) {
+                        float sum = 0.0f;
+                        for (int q = 0; q < tx.count; ++q) sum += tx.w[q] * src[std::size_t(tx.first + q) * std::size_t(nc) + std::size_t(c)];
+                        dst[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
+                    }
+                }
+            }
+            float* dst = out.data() + std::size_t(y) * row2;
+            for (std::size_t j = 0; j < row2; ++j) {
                 float sum = 0.0f;
-                for (int k = 0; k < t.count; ++k) sum += t.w[k] * src[std::size_t(t.first + k) * std::size_t(nc) + std::size_t(c)];
-                dst[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
+                for (int k = 0; k < t.count; ++k) sum += t.w[k] * reduced[std::size_t(k) * row2 + j];
+                dst[j] = sum;
             }
         }
+    });
+    return out;
+}
+}  // namespace
+
+ImageF texture_mip_level(const ImageF& level) {
+    const int w = level.width(), nc = level.channels();
+    const std::size_t row = std::size_t(w) * std::size_t(nc);
+    return mip_level(w, level.height(), nc, [&](int y, float*) { return level.data() + std::size_t(y) * row; });
+}
+
+ImageF texture_mip_level(const TextureCodes& level) {
+    const int w = level.width;
+    return mip_level(w, level.height, 4, [&](int y, float* scratch) {
+        const std::uint8_t* k = level.codes.data() + std::size_t(y) * std::size_t(w) * 4;
+        for (std::size_t i = 0; i < std::size_t(w) * 4; i += 4)
+            for (std::size_t lane = 0; lane < 4; ++lane) scratch[i + lane] = level.lut[lane][k[i + lane]];
+        return static_cast<const float*>(scratch);
+    });
+}
+
+float TexelMap::operator()(float v, int lane) const {
+    switch (kind) {
+        case Kind::Srgb: return lane < 3 ? srgb_to_linear(v) : v;
+        case Kind::Control: return (v * scale + bias + 1.0f) * 0.5f;
+        default: return v;
     }
-    ImageF out(w2, h2, nc, kUninitialized);
-    const std::size_t row = std::size_t(w2) * std::size_t(nc);
-    for (int y = 0; y < h2; ++y) {
-        const MipTaps t = mip_taps(h, y);
-        float* dst = out.data() + std::size_t(y) * row;
-        for (std::size_t j = 0; j < row; ++j) {
-            float sum = 0.0f;
-            for (int k = 0; k < t.count; ++k) sum += t.w[k] * rows.data()[std::size_t(t.first + k) * row + j];
-            dst[j] = sum;
+}
+
+glm::vec4 Texture::texel0(int x, int y) const {
+    if (!codes.empty()) {
+        const std::uint8_t* c = codes.codes.data() + 4 * (std::size_t(y) * std::size_t(codes.width) + std::size_t(x));
+        return {codes.lut[0][c[0]], codes.lut[1][c[1]], codes.lut[2][c[2]], codes.lut[3][c[3]]};
+    }
+    const int nc = image.channels();
+    glm::vec4 t;
+    for (int lane = 0; lane < 4; ++lane) {
+        const int src = lane_source(nc, lane);
+        t[lane] = src < 0 ? kLaneConstant[lane] : image.at(x, y, src);
+    }
+    return t;
+}
+
+ImageF Texture::level0() const {
+    if (codes.empty() && image.channels() == 4) return image;
+    ImageF out(width(), height(), 4, kUninitialized);
+    for (int y = 0; y < out.height(); ++y)
+        for (int x = 0; x < out.width(); ++x) {
+            const glm::vec4 t = texel0(x, y);
+            for (int c = 0; c < 4; ++c) out.at(x, y, c) = t[c];
         }
-    }
     return out;
 }
 
 namespace {
 //! A colour texture with some texel less than opaque: its levels average colour weighted by alpha.
 bool has_coverage_alpha(const Texture& t) {
-    if (!t.srgb || t.image.channels() != 4) return false;
+    if (!t.srgb) return false;
+    if (!t.codes.empty()) {
+        const std::uint8_t* k = t.codes.codes.data();
+        const auto& alpha = t.codes.lut[3];
+        for (std::size_t i = 3, n = t.codes.codes.size(); i < n; i += 4)
+            if (alpha[k[i]] != 1.0f) return true;
+        return false;
+    }
+    if (t.image.channels() != 4) return false;
     const float* p = t.image.data();
     for (std::size_t i = 0, n = t.image.num_values(); i < n; i += 4)
         if (p[i + 3] != 1.0f) return true;
@@ -184,19 +257,18 @@ bool has_coverage_alpha(const Texture& t) {
 }  // namespace
 
 void finish_texture(Texture& t) {
-    texture_codes_finish(t.codes, t.image);
     t.mips.clear();
-    const ImageF* level = &t.image;
-    while (!level->empty() && (level->width() > 1 || level->height() > 1)) {
-        t.mips.push_back(texture_mip_level(*level));
-        level = &t.mips.back();
-    }
+    if (t.empty()) return;
+    if (t.width() > 1 || t.height() > 1)
+        t.mips.push_back(t.codes.empty() ? texture_mip_level(t.image) : texture_mip_level(t.codes));
+    while (!t.mips.empty() && (t.mips.back().width() > 1 || t.mips.back().height() > 1))
+        t.mips.push_back(texture_mip_level(t.mips.back()));
     if (!has_coverage_alpha(t)) return;
     // Straight alpha (glTF): the colour of a level is the alpha-weighted average, the average of the
     // premultiplied colours divided by the average alpha, so the colour of transparent texels
     // (often white or black in leaf atlases) does not bleed into the leaves' colour as they shrink.
     // Where no texel of the footprint has alpha, the plain average (the level as built above).
-    ImageF pre = t.image;
+    ImageF pre = t.level0();
     float* q = pre.data();
     for (std::size_t i = 0, n = pre.num_values(); i < n; i += 4)
         for (int c = 0; c < 3; ++c) q[i + c] *= q[i + 3];

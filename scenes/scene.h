@@ -36,12 +36,12 @@ struct Sampler {
     MipFilter mip = MipFilter::Linear;
 };
 
-//! The texels of an 8-bit texture as codes, with the float each code stands for: texel (x, y) as
-//! the rasterizer reads it (raster/material.cpp: one channel as grey, missing G/B as 0, missing
-//! alpha as 1) is {lut[0][c0], lut[1][c1], lut[2][c2], lut[3][c3]}, c = codes[4 (y w + x) ..],
-//! exactly the values of Texture::image (a quarter of its bytes: fewer cache misses when sampled).
+//! Level 0 of an 8-bit texture as codes, with the float each code stands for: texel (x, y) as the
+//! rasterizer reads it is {lut[0][c0], lut[1][c1], lut[2][c2], lut[3][c3]}, c = codes[4 (y w + x) ..]
+//! (a quarter of RGBA float's bytes: less memory, fewer cache misses when sampled).
 struct TextureCodes {
-    std::vector<std::uint8_t> codes;                 //!< 4 per texel; empty: not 8-bit
+    int width = 0, height = 0;
+    UninitializedVector<std::uint8_t> codes;         //!< 4 per texel; empty: not 8-bit
     std::array<std::array<float, 256>, 4> lut{};     //!< per lane, the value of each code
     bool empty() const { return codes.empty(); }
 };
@@ -55,21 +55,45 @@ TextureCodes texture_codes(const ImageF& decoded);
 //! the image equals its code's table entry, bit for bit (else c is emptied).
 void texture_codes_finish(TextureCodes& c, const ImageF& final_image);
 
+//! The per-value mapping a loader applies to a texture's decoded values, lane by lane (R, G, B, A):
+//! the same float function whether the texture is kept as codes (applied to each code's value)
+//! or as floats (applied to each value).
+struct TexelMap {
+    enum class Kind {
+        Identity,
+        Srgb,     //!< R, G, B from sRGB-encoded to linear (glTF base colour, §3.9.2); alpha as stored
+        Control,  //!< every lane v -> (v scale + bias + 1) / 2 (scene-file control textures)
+    };
+    Kind kind = Kind::Identity;
+    float scale = 1.0f, bias = 0.0f;  //!< Control only
+    float operator()(float v, int lane) const;
+};
+
 struct Texture {
     std::string name;  //!< URI or image name, for messages
-    //! RGBA float. Values as stored, except that an sRGB texture (srgb = true) has its RGB decoded
-    //! to linear by the loader (alpha stays as stored), so filtering happens in linear as GL's
-    //! sRGB textures do (docs/look.md "Colour management").
+    //! Level 0 as RGBA float, for a texture whose values are not 8-bit (16-bit, float and HDR
+    //! files); empty when `codes` hold level 0. Values as stored, mapped by the loader's TexelMap
+    //! (an sRGB texture, srgb = true, has its RGB decoded to linear so filtering happens in linear
+    //! as GL's sRGB textures do: docs/look.md "Colour management").
     ImageF image;
     bool srgb = false;  //!< the file declares the values sRGB-encoded (glTF base colour)
-    //! The same texels as 8-bit codes where the file held 8-bit values (loaders fill it; may be empty).
+    //! Level 0 as 8-bit codes, where the file held 8-bit values (then `image` is empty).
     TextureCodes codes;
-    //! Mip levels 1, 2, ... (level 0 is `image`): level k is max(1, w >> k) x max(1, h >> k), down
-    //! to 1 x 1, each the area average of the level above (texture_mip_level), in the values
-    //! `image` holds (linear light for sRGB textures; colour weighted by alpha in a colour texture
-    //! with transparent texels). Built once by finish_texture; empty: only level 0 (then every
-    //! minified sample reads level 0).
+    //! Mip levels 1, 2, ... (level 0 is `image` or `codes`): level k is max(1, w >> k) x
+    //! max(1, h >> k), down to 1 x 1, each the area average of the level above
+    //! (texture_mip_level), in level 0's values (linear light for sRGB textures; colour weighted by
+    //! alpha in a colour texture with transparent texels). Built once by finish_texture; empty:
+    //! only level 0 (then every minified sample reads level 0).
     std::vector<ImageF> mips;
+
+    bool empty() const { return image.empty() && codes.empty(); }
+    int width() const { return codes.empty() ? image.width() : codes.width; }
+    int height() const { return codes.empty() ? image.height() : codes.height; }
+    //! Level 0's texel (x, y) as the rasterizer reads it (RGBA; a float image of fewer channels:
+    //! one channel as grey, missing G/B as 0, missing alpha as 1).
+    glm::vec4 texel0(int x, int y) const;
+    //! Level 0 as an RGBA float image (a copy).
+    ImageF level0() const;
 };
 
 //! The next mip level of `level`: max(1, w / 2) x max(1, h / 2) texels, each the area average of
@@ -78,8 +102,11 @@ struct Texture {
 //! NVIDIA's "Non-Power-of-Two Mipmap Creation" note). Separable, rows then columns, float sums
 //! in tap order: the same bits on every machine and thread count.
 ImageF texture_mip_level(const ImageF& level);
-//! The loaders' last step for a texture whose `image` (and codes) are final: texture_codes_finish,
-//! then every mip level down to 1 x 1. The levels add at most a third of the image's bytes.
+//! The same level from 8-bit codes (RGBA): the values of codes.lut, the same bits as from the
+//! equal float image.
+ImageF texture_mip_level(const TextureCodes& level);
+//! The loaders' last step for a texture whose level 0 (`image` or `codes`) is final: every mip
+//! level down to 1 x 1. The levels add at most a third of RGBA float level 0's bytes.
 void finish_texture(Texture& t);
 
 struct TextureRef {

@@ -155,14 +155,9 @@ void apply_control_rules(Scene& scene, const std::vector<ControlRule>& rules, Co
         if (auto it = tex_cache.find(key); it != tex_cache.end()) {
             ti = it->second;
         } else {
-            Texture t;
-            t.name = r.file;
-            t.image = read_texture_file(r.file, &scene.decode_budget);
-            t.codes = texture_codes(t.image);
-            float* d = t.image.data();
             // The rasterizer decodes a control texel t as 2t - 1 (raster/material.cpp); store the
             // mapped value v = file*scale + bias as (v + 1) / 2 so it decodes to exactly v.
-            for (std::size_t i = 0; i < t.image.num_values(); ++i) d[i] = (d[i] * r.scale + r.bias + 1.0f) * 0.5f;
+            Texture t = read_texture(r.file, &scene.decode_budget, {TexelMap::Kind::Control, r.scale, r.bias});
             finish_texture(t);
             scene.textures.push_back(std::move(t));
             ti = int(scene.textures.size()) - 1;
@@ -574,10 +569,7 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
                 if (const auto seen = intensity_of.find(file); seen != intensity_of.end()) {
                     intensity = seen->second;
                 } else {
-                    Texture t;
-                    t.name = file;
-                    t.image = read_texture_file(t.name, &d.scene.decode_budget);
-                    t.codes = texture_codes(t.image);
+                    Texture t = read_texture(file, &d.scene.decode_budget);
                     finish_texture(t);
                     d.scene.textures.push_back(std::move(t));
                     intensity = intensity_of[file] = int(d.scene.textures.size()) - 1;

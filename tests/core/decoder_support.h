@@ -17,10 +17,10 @@
 namespace aq::test {
 
 //! A header callback allocating the ImageF at ctx (zeroed, as core/io.cpp does for OpenImageIO).
-inline float* allocate_into(void* ctx, const ImageHeader& h) {
+inline PixelDest allocate_into(void* ctx, const ImageHeader& h) {
     auto* out = static_cast<ImageF*>(ctx);
     *out = ImageF(h.width, h.height, std::min(h.nchannels, 4));
-    return out->data();
+    return {out->data(), nullptr};
 }
 
 //! OpenImageIO's reader `format` ("jpeg", "png") on the bytes, through the module.

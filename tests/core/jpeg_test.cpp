@@ -128,7 +128,7 @@ TEST(JpegDecoder, TheHeaderIsCheckedBeforeTheImageIsAllocated) {
         ImageHeader h;
         bool called = false;
     } seen;
-    const auto refuse = [](void* ctx, const ImageHeader& h) -> float* {
+    const auto refuse = [](void* ctx, const ImageHeader& h) -> PixelDest {
         static_cast<Seen*>(ctx)->h = h;
         static_cast<Seen*>(ctx)->called = true;
         throw Error("refused");

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 using test::allocate_into;
 using test::expect_same_values;
 
-float* must_not_be_called(void*, const ImageHeader&) {
+PixelDest must_not_be_called(void*, const ImageHeader&) {
     ADD_FAILURE() << "decode_png accepted a header it leaves to OpenImageIO";
     throw Error("unexpected header");
 }

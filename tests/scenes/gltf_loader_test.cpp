@@ -464,14 +464,15 @@ TEST(Textures, LoadedWithSamplerAndMaterialFields) {
     const Texture& t = s.textures[std::size_t(m.base_color_texture.texture)];
     EXPECT_TRUE(t.srgb);
     EXPECT_FALSE(s.textures[std::size_t(m.normal_texture.texture)].srgb);
-    ASSERT_EQ(t.image.width(), 4);
-    ASSERT_EQ(t.image.channels(), 4);                       // RGB widened to RGBA
+    ASSERT_EQ(t.width(), 4);
+    EXPECT_FALSE(t.codes.empty());                          // an 8-bit file: level 0 as codes
+    EXPECT_TRUE(t.image.empty());
     // Base colour textures are sRGB (glTF 2.0 §3.9.2): decoded to linear at load (docs/look.md).
-    EXPECT_NEAR(t.image.at(3, 1, 0), 1.0f, 1e-6f);
-    EXPECT_NEAR(t.image.at(1, 0, 0), 0.0908417f, 1e-6f);    // sRGB 85/255 -> linear
-    EXPECT_NEAR(t.image.at(2, 1, 2), 0.2158605f, 1e-6f);    // sRGB 128/255 -> linear
-    EXPECT_FLOAT_EQ(t.image.at(1, 0, 0), srgb_to_linear(85.0f / 255.0f));
-    EXPECT_EQ(t.image.at(0, 0, 3), 1.0f);
+    EXPECT_NEAR(t.texel0(3, 1).x, 1.0f, 1e-6f);
+    EXPECT_NEAR(t.texel0(1, 0).x, 0.0908417f, 1e-6f);       // sRGB 85/255 -> linear
+    EXPECT_NEAR(t.texel0(2, 1).z, 0.2158605f, 1e-6f);       // sRGB 128/255 -> linear
+    EXPECT_FLOAT_EQ(t.texel0(1, 0).x, srgb_to_linear(85.0f / 255.0f));
+    EXPECT_EQ(t.texel0(0, 0).w, 1.0f);                      // RGB widened to RGBA
     EXPECT_EQ(m.base_color_texture.sampler.wrap_s, Wrap::ClampToEdge);
     EXPECT_EQ(m.base_color_texture.sampler.wrap_t, Wrap::MirroredRepeat);
     EXPECT_EQ(m.base_color_texture.sampler.mag, Filter::Nearest);
@@ -527,8 +528,8 @@ TEST(Textures, ImageInABufferViewOfAGlb) {
     b.j["materials"][0].erase("normalTexture");
     const Scene s = load_gltf(b.write_glb(out_path("tex_bv.glb")));
     ASSERT_EQ(s.textures.size(), 1u);
-    EXPECT_EQ(s.textures[0].image.width(), 3);
-    EXPECT_NEAR(s.textures[0].image.at(1, 1, 3), 191.0f / 255.0f, 1e-6f);
+    EXPECT_EQ(s.textures[0].width(), 3);
+    EXPECT_NEAR(s.textures[0].texel0(1, 1).w, 191.0f / 255.0f, 1e-6f);
 }
 
 TEST(Textures, RealModelsDecodeTheirMaps) {
@@ -536,29 +537,54 @@ TEST(Textures, RealModelsDecodeTheirMaps) {
     const Material& m = s.materials.at(0);
     ASSERT_GE(m.base_color_texture.texture, 0);
     ASSERT_GE(m.normal_texture.texture, 0);
-    EXPECT_EQ(s.textures[std::size_t(m.base_color_texture.texture)].image.width(), 2048);
+    EXPECT_EQ(s.textures[std::size_t(m.base_color_texture.texture)].width(), 2048);
     EXPECT_FALSE(only_primitive(s).tangents.empty());
     EXPECT_TRUE(s.warnings.empty());
 }
 
-// Real 8-bit PNG and JPEG maps (sRGB base colours, linear normal and material maps) keep their
-// texels as 8-bit codes too (scene::TextureCodes), each standing for exactly the image's value.
-TEST(Textures, RealEightBitMapsKeepCodesEqualToTheirImage) {
+// A texture kept as 8-bit codes holds exactly the values of the RGBA float decode with the
+// loader's per-value mapping applied (what every texture held before codes replaced the floats):
+// real 8-bit PNG maps (sRGB base colours, linear normal and material maps), JPEG files written
+// here (grey and colour, through libjpeg-turbo's RGBA output) and the control mapping.
+void expect_texture_equals_float_decode(const Texture& t, const std::vector<unsigned char>& bytes, const TexelMap& map,
+                                        const std::string& what) {
+    ASSERT_FALSE(t.codes.empty()) << what;
+    ASSERT_TRUE(t.image.empty()) << what;
+    const ImageF f = decode_image_bytes(bytes.data(), bytes.size(), t.name);  // RGBA float
+    ASSERT_EQ(f.width(), t.width()) << what;
+    ASSERT_EQ(f.height(), t.height()) << what;
+    for (int y = 0; y < f.height(); ++y)
+        for (int x = 0; x < f.width(); ++x) {
+            const glm::vec4 got = t.texel0(x, y);
+            for (int lane = 0; lane < 4; ++lane) {
+                const float want = map(f.at(x, y, lane), lane);
+                ASSERT_EQ(0, std::memcmp(&want, &got[lane], sizeof want)) << what << " texel " << x << "," << y << " lane " << lane;
+            }
+        }
+}
+
+TEST(Textures, EightBitTexturesHoldTheValuesOfTheFloatDecode) {
     for (const char* model : {"gltf/WaterBottle/glTF/WaterBottle.gltf", "gltf/Suzanne/glTF/Suzanne.gltf"}) {
         const Scene s = load(model);
         ASSERT_FALSE(s.textures.empty()) << model;
-        for (const Texture& t : s.textures) {
-            ASSERT_FALSE(t.codes.empty()) << model << " " << t.name;
-            const int nc = t.image.channels();
-            const std::size_t n = std::size_t(t.image.width()) * std::size_t(t.image.height());
-            for (std::size_t i = 0; i < n; i += 7)
-                for (int lane = 0; lane < 4; ++lane) {
-                    const float want = lane < nc ? t.image.data()[i * std::size_t(nc) + std::size_t(lane)]
-                                                 : (nc == 1 && lane < 3 ? t.image.data()[i * std::size_t(nc)]
-                                                                        : (lane == 3 ? 1.0f : 0.0f));
-                    const float got = t.codes.lut[std::size_t(lane)][t.codes.codes[4 * i + std::size_t(lane)]];
-                    ASSERT_EQ(0, std::memcmp(&want, &got, sizeof want)) << model << " " << t.name << " texel " << i << " lane " << lane;
-                }
+        const std::string dir = std::filesystem::path(aq::test::shared_dir() + "/assets/" + model).parent_path().string();
+        for (const Texture& t : s.textures)
+            expect_texture_equals_float_decode(t, aq::test::read_bytes(dir + "/" + t.name),
+                                               {t.srgb ? TexelMap::Kind::Srgb : TexelMap::Kind::Identity},
+                                               std::string(model) + " " + t.name);
+    }
+    for (int channels : {1, 3, 4}) {
+        ImageF img(37, 23, channels, kUninitialized);
+        for (std::size_t i = 0; i < img.num_values(); ++i) img.data()[i] = float((i * 97u) % 256u) / 255.0f;
+        for (const char* ext : {".jpg", ".png"}) {
+            if (channels == 4 && std::string(ext) == ".jpg") continue;  // JPEG has no alpha
+            const std::string path = out_path("codes_" + std::to_string(channels) + ext);
+            write_image(path, img);
+            const std::vector<unsigned char> bytes = aq::test::read_bytes(path);
+            for (const TexelMap& map : {TexelMap{TexelMap::Kind::Srgb}, TexelMap{TexelMap::Kind::Control, 0.7f, -0.2f}}) {
+                const Texture t = decode_texture(path, bytes.data(), bytes.size(), nullptr, map);
+                expect_texture_equals_float_decode(t, bytes, map, path);
+            }
         }
     }
 }
@@ -568,7 +594,7 @@ TEST(Textures, RealSamplersMapToWrapAndFilter) {
     const Scene s = load("gltf/BoxTextured/BoxTextured.gltf");
     const TextureRef& t = s.materials.at(0).base_color_texture;
     ASSERT_GE(t.texture, 0);
-    EXPECT_EQ(s.textures[std::size_t(t.texture)].image.width(), 211);
+    EXPECT_EQ(s.textures[std::size_t(t.texture)].width(), 211);
     EXPECT_EQ(t.sampler.mag, Filter::Linear);
     EXPECT_EQ(t.sampler.min, Filter::Nearest);
     EXPECT_EQ(t.sampler.mip, MipFilter::Linear);

@@ -313,14 +313,14 @@ TEST(ControlRules, ControlTextureIsBoundToTheMaterials) {
     for (const Material& m : d.scene.materials) {
         const int t = m.wc.control_texture[kCtrlEdge].texture;
         ASSERT_GE(t, 0);
-        const ImageF& im = d.scene.textures[std::size_t(t)].image;
+        const Texture& im = d.scene.textures[std::size_t(t)];
         // Default mapping v = 2t - 1, stored as (v + 1) / 2 = t: the file's values.
-        EXPECT_FLOAT_EQ(im.at(1, 0, 0), 1.0f);
-        EXPECT_FLOAT_EQ(im.at(0, 0, 0), 0.0f);
+        EXPECT_FLOAT_EQ(im.texel0(1, 0).x, 1.0f);
+        EXPECT_FLOAT_EQ(im.texel0(0, 0).x, 0.0f);
         // scale 1, bias 0: v = t, stored as (t + 1) / 2, so 0 -> 0.5 (neutral after 2t - 1).
-        const ImageF& ab = d.scene.textures[std::size_t(m.wc.control_texture[kCtrlAbstraction].texture)].image;
-        EXPECT_FLOAT_EQ(ab.at(0, 0, 0), 0.5f);
-        EXPECT_FLOAT_EQ(ab.at(1, 0, 0), 1.0f);
+        const Texture& ab = d.scene.textures[std::size_t(m.wc.control_texture[kCtrlAbstraction].texture)];
+        EXPECT_FLOAT_EQ(ab.texel0(0, 0).x, 0.5f);
+        EXPECT_FLOAT_EQ(ab.texel0(1, 0).x, 1.0f);
         EXPECT_EQ(m.wc.control_texture[kCtrlPigment].texture, -1);
     }
 }
@@ -528,7 +528,7 @@ TEST(SceneFile, MaterialsNameAnIntensityTexture) {
     bool any = false;
     for (const Material& m : d.scene.materials) {
         ASSERT_GE(m.intensity_texture.texture, 0);
-        EXPECT_FALSE(d.scene.textures[std::size_t(m.intensity_texture.texture)].image.empty());
+        EXPECT_FALSE(d.scene.textures[std::size_t(m.intensity_texture.texture)].empty());
         any = true;
     }
     EXPECT_TRUE(any);
