@@ -147,62 +147,92 @@ MipTaps mip_taps(int n, int i) {
 }  // namespace
 
 namespace {
-//! The next mip level of a w x h image of nc channels whose row y (w x nc floats) row(y, scratch)
-//! returns (scratch: w x nc floats it may fill). For each output row, its source rows reduced
-//! along x (taps in order), then those rows combined along y (taps in order): the same sums, in
-//! the same order, as reducing every row first and then the columns. Output rows in parallel
-//! (each written by one task): the same bits on any thread count.
-template <class RowFn>
-ImageF mip_level(int w, int h, int nc, const RowFn& row) {
-    const int w2 = std::max(1, w / 2), h2 = std::max(1, h / 2);
-    std::vector<MipTaps> xt(std::size_t(w2), MipTaps{});
-    for (int x = 0; x < w2; ++x) xt[std::size_t(x)] = mip_taps(w, x);
-    ImageF out(w2, h2, nc, kUninitialized);
-    const std::size_t row2 = std::size_t(w2) * std::size_t(nc);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h2, 16), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> scratch(std::size_t(w) * std::size_t(nc));
-        std::vector<float> reduced(3 * row2);
-        for (int y = r.begin(); y < r.end(); ++y) {
-            const MipTaps t = mip_taps(h, y);
-            for (int k = 0; k < t.count; ++k) {
-                const float* src = row(t.first + k, scratch.data());
-                float* dst = reduced.data() + std::size_t(k) * row2;
-                for (int x = 0; x < w2; ++x) {
-                    const MipTaps& tx = xt[std::size_t(x)];
-                    for (int c = 0; c < nc; ++c) {
-                        float sum = 0.0f;
-                        for (int q = 0; q < tx.count; ++q) sum += tx.w[q] * src[std::size_t(tx.first + q) * std::size_t(nc) + std::size_t(c)];
-                        dst[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
-                    }
+// Mip levels are built row by row from a row source: an object with width(), height(),
+// channels() and row(y), the values of source row y (valid until its next call): a float image,
+// or 8-bit codes (each row expanded through the tables). A source is copied per task (its scratch
+// rows are its own).
+
+//! Rows of a float image.
+struct ImageRows {
+    const ImageF* img;
+    int width() const { return img->width(); }
+    int height() const { return img->height(); }
+    int channels() const { return img->channels(); }
+    const float* row(int y) { return img->data() + std::size_t(y) * std::size_t(width()) * std::size_t(channels()); }
+};
+
+//! Rows of 8-bit codes, expanded through the tables (RGBA).
+struct CodeRows {
+    const TextureCodes* codes;
+    std::vector<float> buf = std::vector<float>(std::size_t(codes->width) * 4);
+    int width() const { return codes->width; }
+    int height() const { return codes->height; }
+    int channels() const { return 4; }
+    const float* row(int y) {
+        const std::uint8_t* k = codes->codes.data() + std::size_t(y) * std::size_t(codes->width) * 4;
+        for (std::size_t i = 0; i < buf.size(); i += 4)
+            for (std::size_t lane = 0; lane < 4; ++lane) buf[i + lane] = codes->lut[lane][k[i + lane]];
+        return buf.data();
+    }
+};
+
+//! The next mip level of `Src`, row by row: for output row y, its source rows reduced along x (taps in
+//! order), then those rows combined along y (taps in order) — the same sums, in the same order,
+//! as reducing every row first and then the columns (the definition in scene.h).
+template <class Src>
+struct MipRows {
+    Src src;
+    int w2 = std::max(1, src.width() / 2), h2 = std::max(1, src.height() / 2), nc = src.channels();
+    std::vector<MipTaps> xt = x_taps(src.width(), w2);
+    std::vector<float> reduced = std::vector<float>(3 * row_values());
+
+    static std::vector<MipTaps> x_taps(int w, int w2) {
+        std::vector<MipTaps> t(std::size_t(w2), MipTaps{});
+        for (int x = 0; x < w2; ++x) t[std::size_t(x)] = mip_taps(w, x);
+        return t;
+    }
+    std::size_t row_values() const { return std::size_t(w2) * std::size_t(nc); }
+    //! Output row y into dst (row_values() floats).
+    void row_into(int y, float* dst) {
+        const std::size_t row2 = row_values();
+        const MipTaps t = mip_taps(src.height(), y);
+        for (int k = 0; k < t.count; ++k) {
+            const float* in = src.row(t.first + k);
+            float* r = reduced.data() + std::size_t(k) * row2;
+            for (int x = 0; x < w2; ++x) {
+                const MipTaps& tx = xt[std::size_t(x)];
+                for (int c = 0; c < nc; ++c) {
+                    float sum = 0.0f;
+                    for (int q = 0; q < tx.count; ++q) sum += tx.w[q] * in[std::size_t(tx.first + q) * std::size_t(nc) + std::size_t(c)];
+                    r[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
                 }
             }
-            float* dst = out.data() + std::size_t(y) * row2;
-            for (std::size_t j = 0; j < row2; ++j) {
-                float sum = 0.0f;
-                for (int k = 0; k < t.count; ++k) sum += t.w[k] * reduced[std::size_t(k) * row2 + j];
-                dst[j] = sum;
-            }
         }
+        for (std::size_t j = 0; j < row2; ++j) {
+            float sum = 0.0f;
+            for (int k = 0; k < t.count; ++k) sum += t.w[k] * reduced[std::size_t(k) * row2 + j];
+            dst[j] = sum;
+        }
+    }
+};
+
+//! The next mip level of `src`, every row of it, rows in parallel (each written by one task, each
+//! task with its own copy of the source): the same bits on any thread count.
+template <class Src>
+ImageF build_level(const Src& src) {
+    const MipRows<Src> proto{src};
+    ImageF out(proto.w2, proto.h2, proto.nc, kUninitialized);
+    tbb::parallel_for(tbb::blocked_range<int>(0, proto.h2, 16), [&](const tbb::blocked_range<int>& r) {
+        MipRows<Src> rows = proto;
+        for (int y = r.begin(); y < r.end(); ++y) rows.row_into(y, out.data() + std::size_t(y) * rows.row_values());
     });
     return out;
 }
 }  // namespace
 
-ImageF texture_mip_level(const ImageF& level) {
-    const int w = level.width(), nc = level.channels();
-    const std::size_t row = std::size_t(w) * std::size_t(nc);
-    return mip_level(w, level.height(), nc, [&](int y, float*) { return level.data() + std::size_t(y) * row; });
-}
+ImageF texture_mip_level(const ImageF& level) { return build_level(ImageRows{&level}); }
 
-ImageF texture_mip_level(const TextureCodes& level) {
-    const int w = level.width;
-    return mip_level(w, level.height, 4, [&](int y, float* scratch) {
-        const std::uint8_t* k = level.codes.data() + std::size_t(y) * std::size_t(w) * 4;
-        for (std::size_t i = 0; i < std::size_t(w) * 4; i += 4)
-            for (std::size_t lane = 0; lane < 4; ++lane) scratch[i + lane] = level.lut[lane][k[i + lane]];
-        return static_cast<const float*>(scratch);
-    });
-}
+ImageF texture_mip_level(const TextureCodes& level) { return build_level(CodeRows{&level}); }
 
 float TexelMap::operator()(float v, int lane) const {
     switch (kind) {
@@ -258,11 +288,9 @@ bool has_coverage_alpha(const Texture& t) {
 
 void finish_texture(Texture& t) {
     t.mips.clear();
-    if (t.empty()) return;
-    if (t.width() > 1 || t.height() > 1)
-        t.mips.push_back(t.codes.empty() ? texture_mip_level(t.image) : texture_mip_level(t.codes));
-    while (!t.mips.empty() && (t.mips.back().width() > 1 || t.mips.back().height() > 1))
-        t.mips.push_back(texture_mip_level(t.mips.back()));
+    if (t.empty() || (t.width() == 1 && t.height() == 1)) return;
+    t.mips.push_back(t.codes.empty() ? texture_mip_level(t.image) : texture_mip_level(t.codes));
+    while (t.mips.back().width() > 1 || t.mips.back().height() > 1) t.mips.push_back(texture_mip_level(t.mips.back()));
     if (!has_coverage_alpha(t)) return;
     // Straight alpha (glTF): the colour of a level is the alpha-weighted average, the average of the
     // premultiplied colours divided by the average alpha, so the colour of transparent texels
