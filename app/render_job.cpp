@@ -108,7 +108,9 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
                 // a bad --style file is reported below, after the scene, as without the prefetch
             }
         };
-    job.desc = scene::load_scene(o.scene, load_options);
+    // Loading runs parallel loops too (texture decodes, mip levels): within --threads, as the frame.
+    with_arena(o.reference ? Exec::reference() : Exec::fast(o.threads),
+               [&] { job.desc = scene::load_scene(o.scene, load_options); });
     job.prepare_phases.emplace_back("load", ms_since(t0));
     const auto t_prepare = std::chrono::steady_clock::now();
     scene::SceneDesc& desc = job.desc;

@@ -8,6 +8,7 @@
 #include "scenes/gltf_loader.h"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -20,6 +21,7 @@
 #include <string_view>
 
 #include <glm/gtc/quaternion.hpp>
+#include <tbb/parallel_for.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -237,6 +239,16 @@ private:
     std::pair<const unsigned char*, std::size_t> buffer_view_bytes(int index, const std::string& what) const;
     Material convert_material(int index);
     TextureRef texture_ref(int tex_index, int texcoord, bool srgb, const std::string& what);
+    //! A texture texture_ref will decode: its image's bytes, and the slot of scene_.textures it fills.
+    struct PendingTexture {
+        std::string label, what, fallback;
+        const unsigned char* bytes;
+        std::size_t size;
+        bool srgb;
+        int slot;
+    };
+    void decode_one(const PendingTexture& p, DecodeBudget* budget, Texture& out);
+    void decode_textures();
     void convert_meshes();
     bool convert_primitive(const tinygltf::Primitive& gp, const std::string& where, Primitive& out);
     void traverse(int node, const glm::mat4& parent, int depth);
@@ -253,6 +265,7 @@ private:
     std::uint32_t next_object_id_ = 1;
     std::vector<std::size_t> infinite_cameras_;
     DecodeBudget texture_budget_;
+    std::vector<PendingTexture> pending_;
     std::size_t accessor_bytes_ = 0, implicit_accessor_bytes_ = 0;
 };
 
@@ -400,24 +413,80 @@ TextureRef Loader::texture_ref(int tex_index, int texcoord, bool srgb, const std
     if (size == 0) {
         warn(what + ": texture '" + label + "' is missing or unreadable; treated as absent (" + fallback + ")");
     } else {
-        try {
-            // glTF §3.9.2: base colour textures are sRGB-encoded, decoded to linear.
-            Texture tex = decode_texture(label, bytes, size, &texture_budget_,
-                                         {srgb ? TexelMap::Kind::Srgb : TexelMap::Kind::Identity});
-            tex.srgb = srgb;
-            finish_texture(tex);
-            scene_.textures.push_back(std::move(tex));
-            result = int(scene_.textures.size()) - 1;
-        } catch (const BudgetError& e) {
-            fail(what + ": " + e.what());
-        } catch (const Error& e) {
-            warn(what + ": texture '" + label + "' cannot be decoded (" + e.what() + "); treated as absent (" +
-                 fallback + ")");
-        }
+        // Decoded with the others once every material is read (decode_textures); until then the
+        // texture is an empty slot.
+        result = int(scene_.textures.size());
+        scene_.textures.emplace_back();
+        pending_.push_back({label, what, fallback, bytes, size, srgb, result});
     }
     texture_cache_[key] = result;
     ref.texture = result;
     return ref;
+}
+
+void Loader::decode_one(const PendingTexture& p, DecodeBudget* budget, Texture& out) {
+    // glTF §3.9.2: base colour textures are sRGB-encoded, decoded to linear.
+    out = decode_texture(p.label, p.bytes, p.size, budget, {p.srgb ? TexelMap::Kind::Srgb : TexelMap::Kind::Identity});
+    out.srgb = p.srgb;
+    finish_texture(out);
+}
+
+void Loader::decode_textures() {
+    const std::size_t n = pending_.size();
+    if (n == 0) return;
+    // In parallel, each texture within an equal share of the budget, so that together they stay
+    // within it; results taken in file order. If one needs more than its share, everything is
+    // decoded again one by one against the budget itself, as a sequential loader would (the same
+    // textures, warnings and error, whatever the timing).
+    std::vector<Texture> decoded(n);
+    std::vector<std::string> errors(n);
+    std::vector<std::size_t> charged(n, 0);
+    std::atomic<bool> over_share{false};
+    const std::size_t share = texture_budget_.bytes_left / n;
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        DecodeBudget b{share, texture_budget_.what};
+        try {
+            decode_one(pending_[i], &b, decoded[i]);
+            charged[i] = share - b.bytes_left;
+        } catch (const BudgetError&) {
+            over_share = true;
+        } catch (const Error& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (std::size_t i = 0; i < n; ++i) {
+        const PendingTexture& p = pending_[i];
+        Texture& slot = scene_.textures[std::size_t(p.slot)];
+        try {
+            if (over_share) {
+                decode_one(p, &texture_budget_, slot);
+            } else if (errors[i].empty()) {
+                texture_budget_.bytes_left -= charged[i];  // the shares sum to at most the budget
+                slot = std::move(decoded[i]);
+            } else {
+                throw Error(errors[i]);
+            }
+        } catch (const BudgetError& e) {
+            fail(p.what + ": " + e.what());
+        } catch (const Error& e) {
+            warn(p.what + ": texture '" + p.label + "' cannot be decoded (" + e.what() + "); treated as absent (" +
+                 p.fallback + ")");
+            slot = Texture{};
+        }
+    }
+    // Drop the slots of textures that could not be decoded; renumber the materials' references.
+    std::vector<int> index(scene_.textures.size(), -1);
+    std::vector<Texture> kept;
+    for (std::size_t i = 0; i < scene_.textures.size(); ++i)
+        if (!scene_.textures[i].empty()) {
+            index[i] = int(kept.size());
+            kept.push_back(std::move(scene_.textures[i]));
+        }
+    scene_.textures = std::move(kept);
+    for (Material& m : scene_.materials)
+        for (TextureRef* r : {&m.base_color_texture, &m.normal_texture})
+            if (r->texture >= 0) r->texture = index[std::size_t(r->texture)];
+    pending_.clear();
 }
 
 Material Loader::convert_material(int index) {
@@ -754,10 +823,9 @@ Scene Loader::run() {
 
     // Which materials need tangents (normal map present and its image decodable).
     scene_.materials.reserve(m_.materials.size() + 1);
-    for (std::size_t i = 0; i < m_.materials.size(); ++i) {
-        scene_.materials.push_back(convert_material(int(i)));
-        material_needs_tangents_.push_back(scene_.materials.back().normal_texture.texture >= 0);
-    }
+    for (std::size_t i = 0; i < m_.materials.size(); ++i) scene_.materials.push_back(convert_material(int(i)));
+    decode_textures();
+    for (const Material& m : scene_.materials) material_needs_tangents_.push_back(m.normal_texture.texture >= 0);
     convert_meshes();
     if (need_default_material_) {
         Material def;
