@@ -1,6 +1,6 @@
-// fuzz/fuzz_image.cpp — bytes -> the image readers: aq::scene::decode_image_bytes (glTF textures,
-// control textures and papers via read_texture_file) and aq::read_image on a file (papers,
-// `compare` inputs).
+// fuzz/fuzz_image.cpp — bytes -> the image readers: aq::scene::decode_image_bytes (papers),
+// aq::scene::decode_texture and finish_texture (glTF, control and intensity textures: 8-bit PNG
+// and JPEG straight to codes) and aq::read_image on a file (papers, `compare` inputs).
 //
 // The readers choose OpenImageIO's decoder from the magic bytes where they know them and else
 // from the file name's extension, which a user controls. So that every decoder is reachable, the
@@ -50,6 +50,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                     [&] {
         aq::DecodeBudget budget = fuzz_budget();
         (void)aq::scene::decode_image_bytes(data, size, "fuzz-input" + ext, &budget);
+    });
+    // The texture path: 8-bit PNG and JPEG straight to RGBA codes (core/png.h, core/jpeg.h), then
+    // the mip levels.
+    aq::fuzz::expect_only_aq_errors("decode_texture", [&] {
+        aq::DecodeBudget budget = fuzz_budget();
+        aq::scene::Texture t = aq::scene::decode_texture("fuzz-input" + ext, data, size, &budget,
+                                                         {aq::scene::TexelMap::Kind::Srgb});
+        aq::scene::finish_texture(t);
     });
     const std::string path = aq::fuzz::write_temp("in" + ext, data, size);
     aq::fuzz::expect_only_aq_errors("read_image", [&] {
