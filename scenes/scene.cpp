@@ -196,9 +196,19 @@ struct MipRows {
     void row_into(int y, float* dst) {
         const std::size_t row2 = row_values();
         const MipTaps t = mip_taps(src.height(), y);
+        // Even width and height (every tap pair weighs 0.5): the same operations in the same order
+        // as the general loops below, written so that the compiler vectorises them (a 4096^2 map's
+        // level 1 in about a third of the time).
+        const bool pairs_x = src.width() % 2 == 0, pairs_y = t.count == 2 && src.height() % 2 == 0;
         for (int k = 0; k < t.count; ++k) {
             const float* in = src.row(t.first + k);
             float* r = reduced.data() + std::size_t(k) * row2;
+            if (pairs_x && nc == 4) {
+                for (std::size_t x = 0; x < std::size_t(w2); ++x)
+                    for (std::size_t c = 0; c < 4; ++c)
+                        r[4 * x + c] = (0.0f + 0.5f * in[8 * x + c]) + 0.5f * in[8 * x + 4 + c];
+                continue;
+            }
             for (int x = 0; x < w2; ++x) {
                 const MipTaps& tx = xt[std::size_t(x)];
                 for (int c = 0; c < nc; ++c) {
@@ -207,6 +217,12 @@ struct MipRows {
                     r[std::size_t(x) * std::size_t(nc) + std::size_t(c)] = sum;
                 }
             }
+        }
+        if (pairs_y) {
+            const float* r0 = reduced.data();
+            const float* r1 = reduced.data() + row2;
+            for (std::size_t j = 0; j < row2; ++j) dst[j] = (0.0f + 0.5f * r0[j]) + 0.5f * r1[j];
+            return;
         }
         for (std::size_t j = 0; j < row2; ++j) {
             float sum = 0.0f;

@@ -209,6 +209,34 @@ TEST(Texture, MipLevelsHaveGlSizesAndKeepTheAreaAverage) {
     EXPECT_TRUE(one.mips.empty());
 }
 
+// Even sizes take a vectorised schedule (scene.cpp MipRows): each texel is still exactly
+// (0 + w0 a) + w1 b along x, then the same along y, as the definition's tap-order sums.
+TEST(Texture, EvenMipLevelsAreTheTapOrderSumsBitForBit) {
+    std::mt19937 rng(3);
+    for (int nc : {4, 3}) {
+        ImageF img(64, 18, nc, kUninitialized);
+        for (std::size_t i = 0; i < img.num_values(); ++i) img.data()[i] = float(rng() % 100000u) / 7919.0f - 3.0f;
+        const ImageF got = scene::texture_mip_level(img);
+        ASSERT_EQ(got.width(), 32);
+        ASSERT_EQ(got.height(), 9);
+        for (int y = 0; y < 9; ++y)
+            for (int x = 0; x < 32; ++x)
+                for (int c = 0; c < nc; ++c) {
+                    auto row = [&](int sy) {
+                        float s = 0.0f;
+                        s += 0.5f * img.at(2 * x, sy, c);
+                        s += 0.5f * img.at(2 * x + 1, sy, c);
+                        return s;
+                    };
+                    float want = 0.0f;
+                    want += 0.5f * row(2 * y);
+                    want += 0.5f * row(2 * y + 1);
+                    const float g = got.at(x, y, c);
+                    ASSERT_EQ(0, std::memcmp(&g, &want, sizeof g)) << nc << " channels, texel " << x << "," << y << " lane " << c;
+                }
+    }
+}
+
 // A colour texture with transparent texels (glTF straight alpha: leaf atlases) averages colour
 // weighted by alpha, so the transparent texels' colour (here white) does not pale the leaves as
 // they shrink; alpha is the plain average; a footprint with no alpha keeps the plain average; an
