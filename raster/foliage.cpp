@@ -52,8 +52,8 @@ scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Mat
                 src = &level0;
             }
         }
-        for (const ImageF& level : base->mips)
-            if (!src || std::max(src->width(), src->height()) > kMaxSide) src = &level;
+        for (const ImageF& level : base->mips)  // (a computed level 1 is not stored: skipped)
+            if (!level.empty() && (!src || std::max(src->width(), src->height()) > kMaxSide)) src = &level;
     }
     const int w = src ? src->width() : kNoiseSize, h = src ? src->height() : kNoiseSize;
     std::vector<float> v(std::size_t(w) * h);

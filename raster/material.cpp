@@ -146,7 +146,11 @@ namespace {
 glm::vec4 sample_minified(const scene::Texture& t, const scene::Sampler& s, glm::vec2 uv, float lod) {
     const int q = int(t.mips.size());
     auto level = [&](int d) {
-        return d == 0 ? sample_level0(t, s.min, s, uv) : sample_image(t.mips[std::size_t(d - 1)], s.min, s, uv);
+        if (d == 0) return sample_level0(t, s.min, s, uv);
+        if (d == 1 && t.level1_computed)
+            return sample_with(std::max(1, t.width() / 2), std::max(1, t.height() / 2), s.min, s, uv,
+                               [&](int x, int y) { return t.level1_texel(x, y); });
+        return sample_image(t.mips[std::size_t(d - 1)], s.min, s, uv);
     };
     switch (s.mip) {
         case scene::MipFilter::None: return level(0);

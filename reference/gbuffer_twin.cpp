@@ -115,7 +115,7 @@ Targets render_gbuffer_gl(const scene::Scene& sc, const scene::Camera& cam, cons
     // Scene textures, uploaded once.
     std::vector<Texture> tex(sc.textures.size());
     for (std::size_t i = 0; i < sc.textures.size(); ++i)
-        if (!sc.textures[i].empty()) tex[i] = Texture::upload(sc.textures[i].level0(), sc.textures[i].mips);
+        if (!sc.textures[i].empty()) tex[i] = Texture::upload(sc.textures[i].level0(), sc.textures[i].all_mips());
     Samplers samplers;
     auto bind = [&](int unit, const scene::TextureRef& r) {
         const bool ok = r.texture >= 0 && r.texture < int(tex.size()) && tex[r.texture].valid();

@@ -152,7 +152,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
             const int ti = m.base_color_texture.texture;
             if (mask && has_uv && ti >= 0 && ti < int(tex.size()) && !sc.textures[std::size_t(ti)].empty()) {
                 gl::ActiveTexture(GL_TEXTURE0);  // before the upload: it binds to the active unit
-                if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].level0(), sc.textures[std::size_t(ti)].mips);
+                if (!tex[std::size_t(ti)].valid()) tex[std::size_t(ti)] = Texture::upload(sc.textures[std::size_t(ti)].level0(), sc.textures[std::size_t(ti)].all_mips());
                 gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ti)].id());
                 samplers.push_back(scene_sampler(m.base_color_texture.sampler));
                 gl::BindSampler(0, samplers.back());
@@ -162,7 +162,7 @@ ImageF render_triangle_pass_gl(const raster::PassScene& ps, const raster::Triang
             const bool has_intensity = has_uv && ii >= 0 && ii < int(tex.size()) && !sc.textures[std::size_t(ii)].empty();
             if (has_intensity) {
                 gl::ActiveTexture(GL_TEXTURE3);
-                if (!tex[std::size_t(ii)].valid()) tex[std::size_t(ii)] = Texture::upload(sc.textures[std::size_t(ii)].level0(), sc.textures[std::size_t(ii)].mips);
+                if (!tex[std::size_t(ii)].valid()) tex[std::size_t(ii)] = Texture::upload(sc.textures[std::size_t(ii)].level0(), sc.textures[std::size_t(ii)].all_mips());
                 gl::BindTexture(GL_TEXTURE_2D, tex[std::size_t(ii)].id());
                 samplers.push_back(scene_sampler(m.intensity_texture.sampler));
                 gl::BindSampler(3, samplers.back());

@@ -149,8 +149,9 @@ MipTaps mip_taps(int n, int i) {
 namespace {
 // Mip levels are built row by row from a row source: an object with width(), height(),
 // channels() and row(y), the values of source row y (valid until its next call): a float image,
-// or 8-bit codes (each row expanded through the tables). A source is copied per task (its scratch
-// rows are its own).
+// 8-bit codes (each row expanded through the tables), or MipRows of another source (the rows of
+// the level below it, computed on demand: level 2 from level 0 without storing level 1). A source
+// is copied per task (its scratch rows are its own).
 
 //! Rows of a float image.
 struct ImageRows {
@@ -185,6 +186,7 @@ struct MipRows {
     int w2 = std::max(1, src.width() / 2), h2 = std::max(1, src.height() / 2), nc = src.channels();
     std::vector<MipTaps> xt = x_taps(src.width(), w2);
     std::vector<float> reduced = std::vector<float>(3 * row_values());
+    std::vector<float> out = std::vector<float>(row_values());
 
     static std::vector<MipTaps> x_taps(int w, int w2) {
         std::vector<MipTaps> t(std::size_t(w2), MipTaps{});
@@ -192,6 +194,14 @@ struct MipRows {
         return t;
     }
     std::size_t row_values() const { return std::size_t(w2) * std::size_t(nc); }
+    // As a row source itself (a level built from the level two above, finish_texture).
+    int width() const { return w2; }
+    int height() const { return h2; }
+    int channels() const { return nc; }
+    const float* row(int y) {
+        row_into(y, out.data());
+        return out.data();
+    }
     //! Output row y into dst (row_values() floats).
     void row_into(int y, float* dst) {
         const std::size_t row2 = row_values();
@@ -272,6 +282,27 @@ glm::vec4 Texture::texel0(int x, int y) const {
     return t;
 }
 
+glm::vec4 Texture::level1_texel(int x, int y) const {
+    // MipRows::row_into for one texel: each source row's taps along x, then the rows' taps along
+    // y, every sum from 0 in tap order.
+    const MipTaps ty = mip_taps(height(), y), tx = mip_taps(width(), x);
+    glm::vec4 r[3];
+    for (int k = 0; k < ty.count; ++k) {
+        glm::vec4 sum(0.0f);
+        for (int q = 0; q < tx.count; ++q) sum += tx.w[q] * texel0(tx.first + q, ty.first + k);
+        r[k] = sum;
+    }
+    glm::vec4 v(0.0f);
+    for (int k = 0; k < ty.count; ++k) v += ty.w[k] * r[k];
+    return v;
+}
+
+std::vector<ImageF> Texture::all_mips() const {
+    std::vector<ImageF> all = mips;
+    if (level1_computed) all[0] = codes.empty() ? texture_mip_level(image) : texture_mip_level(codes);
+    return all;
+}
+
 ImageF Texture::level0() const {
     if (codes.empty() && image.channels() == 4) return image;
     ImageF out(width(), height(), 4, kUninitialized);
@@ -304,10 +335,23 @@ bool has_coverage_alpha(const Texture& t) {
 
 void finish_texture(Texture& t) {
     t.mips.clear();
+    t.level1_computed = false;
     if (t.empty() || (t.width() == 1 && t.height() == 1)) return;
-    t.mips.push_back(t.codes.empty() ? texture_mip_level(t.image) : texture_mip_level(t.codes));
+    const bool coverage = has_coverage_alpha(t);
+    const int w1 = std::max(1, t.width() / 2), h1 = std::max(1, t.height() / 2);
+    const bool rgba = !t.codes.empty() || t.image.channels() == 4;
+    if (!coverage && rgba && (w1 > 1 || h1 > 1) &&
+        std::size_t(w1) * std::size_t(h1) * 4 * sizeof(float) >= kComputedLevel1Bytes) {
+        // Level 1 computed where sampled (Texture::level1_texel); level 2 straight from level 0.
+        t.level1_computed = true;
+        t.mips.emplace_back();
+        t.mips.push_back(t.codes.empty() ? build_level(MipRows<ImageRows>{ImageRows{&t.image}})
+                                         : build_level(MipRows<CodeRows>{CodeRows{&t.codes}}));
+    } else {
+        t.mips.push_back(t.codes.empty() ? texture_mip_level(t.image) : texture_mip_level(t.codes));
+    }
     while (t.mips.back().width() > 1 || t.mips.back().height() > 1) t.mips.push_back(texture_mip_level(t.mips.back()));
-    if (!has_coverage_alpha(t)) return;
+    if (!coverage) return;
     // Straight alpha (glTF): the colour of a level is the alpha-weighted average, the average of the
     // premultiplied colours divided by the average alpha, so the colour of transparent texels
     // (often white or black in leaf atlases) does not bleed into the leaves' colour as they shrink.

@@ -83,8 +83,16 @@ struct Texture {
     //! max(1, h >> k), down to 1 x 1, each the area average of the level above
     //! (texture_mip_level), in level 0's values (linear light for sRGB textures; colour weighted by
     //! alpha in a colour texture with transparent texels). Built once by finish_texture; empty:
-    //! only level 0 (then every minified sample reads level 0).
+    //! only level 0 (then every minified sample reads level 0). With level1_computed, mips[0] is
+    //! empty: level 1 is computed texel by texel where it is sampled (level1_texel).
     std::vector<ImageF> mips;
+    //! Level 1 is not stored (a large opaque RGBA texture, kComputedLevel1Bytes).
+    bool level1_computed = false;
+    //! Texel (x, y) of level 1 from level 0: the value texture_mip_level stores there, bit for bit.
+    glm::vec4 level1_texel(int x, int y) const;
+    //! Every mip level, level 1 built where it is computed (a copy), for code that reads them all
+    //! (the GL twins).
+    std::vector<ImageF> all_mips() const;
 
     bool empty() const { return image.empty() && codes.empty(); }
     int width() const { return codes.empty() ? image.width() : codes.width; }
@@ -95,6 +103,14 @@ struct Texture {
     //! Level 0 as an RGBA float image (a copy).
     ImageF level0() const;
 };
+
+//! A texture's level 1 is not stored but computed where sampled (Texture::level1_texel: the 4-9
+//! level-0 texels of its box, the same sums) when storing it would take at least this many bytes
+//! — a 1024 x 1024 RGBA float level, level 0 of 2048 x 2048 or more — and the texture is opaque
+//! RGBA. At 1280 x 720 a 2K or 4K map is sampled at level 1 only in a few pixels (slanted
+//! surfaces, anisotropic probes), while storing it touched 16-64 MB of fresh memory per map
+//! (docs/performance.md "One-shot renders").
+inline constexpr std::size_t kComputedLevel1Bytes = std::size_t(16) << 20;
 
 //! The next mip level of `level`: max(1, w / 2) x max(1, h / 2) texels, each the area average of
 //! the texels its footprint covers (2 taps per axis for an even size; for an odd size the 3 taps

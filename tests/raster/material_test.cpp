@@ -237,6 +237,66 @@ TEST(Texture, EvenMipLevelsAreTheTapOrderSumsBitForBit) {
     }
 }
 
+// A large opaque texture's level 1 is computed where sampled (scene::kComputedLevel1Bytes): each
+// texel from level 0 gives texture_mip_level's value bit for bit, level 2 built from level 0
+// without level 1 is the plain chain's, and sampling across levels 0-2 (isotropic and anisotropic
+// footprints, both mip filters) equals sampling a copy whose level 1 is stored. 8-bit codes and
+// floats, even and odd sizes (the 3-tap boxes).
+TEST(Texture, ComputedLevelOneIsTheStoredLevelBitForBit) {
+    std::mt19937 rng(11);
+    for (const auto& [w, h] : {std::pair{2048, 2048}, std::pair{2055, 2049}}) {
+        ImageF img(w, h, 4, kUninitialized);
+        for (std::size_t i = 0; i < img.num_values(); ++i) img.data()[i] = float(rng() % 256u) / 255.0f;
+        std::vector<ImageF> chain{scene::texture_mip_level(img)};
+        while (chain.back().width() > 1 || chain.back().height() > 1) chain.push_back(scene::texture_mip_level(chain.back()));
+        for (bool codes : {false, true}) {
+            const std::string what = std::to_string(w) + "x" + std::to_string(h) + (codes ? " codes" : " floats");
+            scene::Texture t;
+            t.image = img;
+            if (codes) {
+                t.codes = scene::texture_codes(t.image);
+                scene::texture_codes_finish(t.codes, t.image);
+                ASSERT_FALSE(t.codes.empty());
+                t.image = ImageF();
+            }
+            scene::finish_texture(t);
+            ASSERT_TRUE(t.level1_computed) << what;
+            ASSERT_TRUE(t.mips[0].empty()) << what;
+            ASSERT_EQ(t.mips.size(), chain.size()) << what;
+            const ImageF& l1 = chain[0];
+            for (int y = 0; y < l1.height(); ++y)
+                for (int x = 0; x < l1.width(); ++x) {
+                    const glm::vec4 v = t.level1_texel(x, y);
+                    ASSERT_EQ(0, std::memcmp(&v[0], &l1.data()[(std::size_t(y) * l1.width() + x) * 4], 4 * sizeof(float)))
+                        << what << " texel " << x << "," << y;
+                }
+            for (std::size_t k = 1; k < chain.size(); ++k)
+                ASSERT_EQ(0, std::memcmp(t.mips[k].data(), chain[k].data(), chain[k].num_values() * sizeof(float)))
+                    << what << " level " << k + 1;
+            scene::Texture stored = t;
+            stored.mips = t.all_mips();
+            stored.level1_computed = false;
+            std::uniform_real_distribution<float> u(-0.2f, 1.2f), d(0.2f, 5.0f);
+            for (scene::MipFilter mf : {scene::MipFilter::Linear, scene::MipFilter::Nearest}) {
+                scene::Sampler s;
+                s.mip = mf;
+                for (int i = 0; i < 3000; ++i) {
+                    const glm::vec2 uv(u(rng), u(rng));
+                    const float px = d(rng) / float(w), py = d(rng) / float(h) * (i % 2 ? 1.0f : 4.0f);
+                    const raster::UvGrad g{{px, 0.0f}, {0.0f, py}};
+                    const glm::vec4 a = raster::sample_texture(t, s, uv, g), b = raster::sample_texture(stored, s, uv, g);
+                    ASSERT_EQ(0, std::memcmp(&a[0], &b[0], sizeof a)) << what << " sample " << i;
+                }
+            }
+        }
+    }
+    scene::Texture small;  // level 1 under the threshold: stored
+    small.image = ImageF(512, 512, 4, 0.25f);
+    scene::finish_texture(small);
+    EXPECT_FALSE(small.level1_computed);
+    EXPECT_FALSE(small.mips[0].empty());
+}
+
 // A colour texture with transparent texels (glTF straight alpha: leaf atlases) averages colour
 // weighted by alpha, so the transparent texels' colour (here white) does not pale the leaves as
 // they shrink; alpha is the plain average; a footprint with no alpha keeps the plain average; an
