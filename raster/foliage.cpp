@@ -231,7 +231,24 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         ki.mesh = int(dst.meshes.size()) - 1;
         dst.instances.push_back(ki);
     }
-    if (keeps_masked || out->texture_technique) dst.textures = sc.textures;  // alpha tests and intensity textures need them
+    if (keeps_masked || out->texture_technique) {
+        // Alpha tests and intensity textures need them: the textures the kept materials still
+        // name (pass_material dropped the rest, e.g. bark maps), copied once each, renumbered.
+        std::vector<int> index(sc.textures.size(), -1);
+        for (scene::Material& m : dst.materials) {
+            std::vector<scene::TextureRef*> refs = {&m.base_color_texture, &m.normal_texture, &m.intensity_texture};
+            for (scene::TextureRef& c : m.wc.control_texture) refs.push_back(&c);
+            for (scene::TextureRef* r : refs) {
+                if (r->texture < 0 || r->texture >= int(sc.textures.size())) continue;
+                int& k = index[std::size_t(r->texture)];
+                if (k < 0) {
+                    k = int(dst.textures.size());
+                    dst.textures.push_back(sc.textures[std::size_t(r->texture)]);
+                }
+                r->texture = k;
+            }
+        }
+    }
     if (out->texture_technique) {
         for (const int mi : foliage_materials) {
             if (mi < 0 || mi >= int(dst.materials.size()) || dst.materials[std::size_t(mi)].intensity_texture.texture >= 0) continue;
