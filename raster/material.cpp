@@ -117,13 +117,7 @@ glm::vec4 sample_image(const ImageF& img, scene::Filter f, const scene::Sampler&
 //! Level 0 of a scene texture with filter f, through its 8-bit codes where it has them.
 glm::vec4 sample_level0(const scene::Texture& t, scene::Filter f, const scene::Sampler& s, glm::vec2 uv) {
     if (t.codes.empty()) return sample_image(t.image, f, s, uv);
-    const std::uint8_t* codes = t.codes.codes.data();
-    const auto& lut = t.codes.lut;
-    const int w = t.codes.width;
-    return sample_with(w, t.codes.height, f, s, uv, [&](int x, int y) {
-        const std::uint8_t* c = codes + 4 * (std::size_t(y) * std::size_t(w) + std::size_t(x));
-        return glm::vec4(lut[0][c[0]], lut[1][c[1]], lut[2][c[2]], lut[3][c[3]]);
-    });
+    return sample_with(t.codes.width, t.codes.height, f, s, uv, [&](int x, int y) { return t.codes.texel(x, y); });
 }
 //! GL's c: the level of detail above which a texture is minified.
 inline float minification_threshold(const scene::Sampler& s) {

@@ -269,10 +269,7 @@ float TexelMap::operator()(float v, int lane) const {
 }
 
 glm::vec4 Texture::texel0(int x, int y) const {
-    if (!codes.empty()) {
-        const std::uint8_t* c = codes.codes.data() + 4 * (std::size_t(y) * std::size_t(codes.width) + std::size_t(x));
-        return {codes.lut[0][c[0]], codes.lut[1][c[1]], codes.lut[2][c[2]], codes.lut[3][c[3]]};
-    }
+    if (!codes.empty()) return codes.texel(x, y);
     const int nc = image.channels();
     glm::vec4 t;
     for (int lane = 0; lane < 4; ++lane) {

@@ -44,6 +44,11 @@ struct TextureCodes {
     UninitializedVector<std::uint8_t> codes;         //!< 4 per texel; empty: not 8-bit
     std::array<std::array<float, 256>, 4> lut{};     //!< per lane, the value of each code
     bool empty() const { return codes.empty(); }
+    //! Texel (x, y): each lane's code through its table.
+    glm::vec4 texel(int x, int y) const {
+        const std::uint8_t* c = codes.data() + 4 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+        return {lut[0][c[0]], lut[1][c[1]], lut[2][c[2]], lut[3][c[3]]};
+    }
 };
 
 //! Step 1 of a compact texture, on the image as decoded from its file (before any per-value
@@ -122,7 +127,8 @@ ImageF texture_mip_level(const ImageF& level);
 //! equal float image.
 ImageF texture_mip_level(const TextureCodes& level);
 //! The loaders' last step for a texture whose level 0 (`image` or `codes`) is final: every mip
-//! level down to 1 x 1. The levels add at most a third of RGBA float level 0's bytes.
+//! level down to 1 x 1 (level 1 of a large opaque texture computed where sampled instead:
+//! kComputedLevel1Bytes). The levels add at most a third of RGBA float level 0's bytes.
 void finish_texture(Texture& t);
 
 struct TextureRef {
