@@ -103,6 +103,11 @@ options:
   --reference           use the plain reference traversals (slow; the oracle)
   --allow-outside-files let a glTF read buffers and images outside its own folder (by default
                         refused after resolving '..', percent-encoding and links; docs/limits.md)
+  --no-cache            neither read nor write the cache of loaded scenes and abstracted foliage
+                        (default: on, in $AQUARELLE_CACHE_DIR, else $XDG_CACHE_HOME/aquarelle, else
+                        ~/.cache/aquarelle, at most $AQUARELLE_CACHE_MAX_MB, default 4096; the
+                        same bytes either way; docs/cache.md)
+  --cache-dir DIR       keep that cache in DIR
   --timings             print where each image's time went (load, G-buffer, each stage, encode
                         and write; wall ms) and record it in its manifest (not part of the
                         image's identity; shown even with --quiet)
@@ -189,7 +194,7 @@ options:
   --from-cells            make the sheet from the cells in --cells DIR instead of rendering
   --width W, --height H   size of each combination's image (default 640x360)
   --frame N, --control C, --working-space W, --antialias A, --threads N, --row-groups,
-  --allow-outside-files, --quiet as in render
+  --allow-outside-files, --no-cache, --cache-dir DIR, --quiet as in render
   --help                  this text
 )";
 
@@ -251,6 +256,12 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
         o.row_groups = true;
     } else if (arg == "--allow-outside-files") {
         o.allow_outside_files = true;
+    } else if (arg == "--no-cache") {
+        o.cache.reset();
+    } else if (arg == "--cache-dir") {
+        const std::string dir = a.value(arg);
+        if (dir.empty()) throw UsageError("--cache-dir expects a folder");
+        o.cache = aq::cache::Config{dir, o.cache ? o.cache->max_bytes : aq::cache::kDefaultMaxBytes};
     } else if (arg == "--quiet" || arg == "-q") {
         o.quiet = true;
     } else {
@@ -261,6 +272,7 @@ bool parse_image_option(const std::string& arg, Args& a, RenderOptions& o) {
 
 RenderOptions parse_render(Args& a) {
     RenderOptions o;
+    o.cache = aq::cache::config_from_environment();
     while (!a.done()) {
         const std::string arg = a.next();
         if (arg == "--help" || arg == "-h") {
@@ -499,6 +511,7 @@ int cmd_reproduce(Args& a) {
 int cmd_grid(Args& a) {
     aq::app::GridOptions g;
     RenderOptions& o = g.base;
+    o.cache = aq::cache::config_from_environment();
     o.width = 640;
     o.height = 360;
     auto axis = [](const std::string& opt, const std::string& v) {

@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/cli_args.h"
+#include "scenes/scene_cache.h"
 #include "scenes/scene_file.h"
 
 namespace aq::app {
@@ -109,14 +110,21 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             }
         };
     // Loading runs parallel loops too (texture decodes, mip levels): within --threads, as the frame.
-    with_arena(o.reference ? Exec::reference() : Exec::fast(o.threads),
-               [&] { job.desc = scene::load_scene(o.scene, load_options); });
+    std::optional<cache::Store> store;
+    if (o.cache) store.emplace(*o.cache);
+    scene::SceneCacheUse cache_use;
+    with_arena(o.reference ? Exec::reference() : Exec::fast(o.threads), [&] {
+        job.desc = scene::load_scene_cached(o.scene, load_options, store ? &*store : nullptr, &cache_use);
+    });
     job.prepare_phases.emplace_back("load", ms_since(t0));
     const auto t_prepare = std::chrono::steady_clock::now();
     scene::SceneDesc& desc = job.desc;
+    for (auto& n : cache_use.notes) report.progress("cache: " + n);
     for (auto& w : desc.scene.warnings) report.warning(w);
     report.progress("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
-        std::to_string(int(ms_since(t0))) + " ms");
+        std::to_string(int(ms_since(t0))) + " ms" + (cache_use.hit ? " from the cache" : ""));
+    // The key of the scene as the raster passes get it (the default control below changes it).
+    std::string scene_key = cache_use.key;
 
     raster::RenderSettings& rs = job.settings;
     rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
@@ -189,6 +197,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             const auto rules =
                 scene::parse_control_rules(pipeline.default_control, "style '" + pipeline.name + "' default_control");
             const std::size_t n = scene::apply_default_control(desc.scene, rules);
+            if (n && !scene_key.empty()) scene_key = cache::key({scene_key, "default_control", pipeline.default_control});
             if (n) report.progress("default control of style " + pipeline.name + " on " + std::to_string(n) + " primitive(s)");
         }
     }
@@ -247,7 +256,10 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
-        job.pass_scenes.push_back(raster::abstract_foliage(job.desc.scene, fp, job.settings.exec, &warnings));
+        std::vector<std::string> notes;
+        job.pass_scenes.push_back(raster::abstract_foliage_cached(job.desc.scene, fp, job.settings.exec, &warnings,
+                                                                  store ? &*store : nullptr, scene_key, &notes));
+        for (auto& n : notes) report.progress("cache: " + n);
         job.pass_layers.push_back(raster::abstracted_layer_table(job.desc.scene, *job.pass_scenes.back()));
         job.pass_contours.push_back(raster::build_contour_cache(job.pass_scenes.back()->scene));
         for (auto& w : warnings) report.warning(w);

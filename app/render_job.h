@@ -7,9 +7,11 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/cache.h"
 #include "core/color.h"
 #include "core/io.h"
 #include "core/targets.h"
@@ -68,6 +70,9 @@ struct RenderOptions {
     raster::RenderSettings::Antialias antialias = raster::RenderSettings::Antialias::Coverage;
     //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
     Compression compression = Compression::Fast;
+    //! The content cache of loaded scenes and abstracted foliage (docs/cache.md): set by the CLI
+    //! from the environment unless --no-cache; unset (library callers, tests, `reproduce`): no cache.
+    std::optional<cache::Config> cache;
     //! --timings: each image's phases (PhaseTimes) on stderr and in its manifest sidecar.
     bool timings = false;
     //! `aquarelle grid` (app/grid.h): render these combinations of --variant/--set assignments

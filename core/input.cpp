@@ -44,12 +44,20 @@ std::map<std::pair<dev_t, ino_t>, InputRecord>& provenance() {
     return m;
 }
 
-void remember_bytes(const struct stat& st, const std::string& path, const std::vector<unsigned char>& bytes) {
+//! The live InputCaptures' record lists.
+std::vector<std::vector<InputRecord>*>& captures() {
+    static std::vector<std::vector<InputRecord>*> v;
+    return v;
+}
+
+void remember_bytes(const struct stat& st, const std::string& path, const std::vector<unsigned char>& bytes, InputRecord* out) {
     std::error_code ec;
     fs::path abs = fs::absolute(path, ec);
     if (ec) abs = path;
     InputRecord r{abs.lexically_normal().string(), bytes.size(), sha256_hex(bytes.data(), bytes.size())};
+    if (out) *out = r;
     std::lock_guard<std::mutex> lock(inputs_mutex());
+    for (std::vector<InputRecord>* c : captures()) c->push_back(r);
     inputs().insert({st.st_dev, st.st_ino});
     provenance().emplace(std::make_pair(st.st_dev, st.st_ino), std::move(r));
 }
@@ -87,7 +95,8 @@ int open_checked(const std::string& path, std::uintmax_t max_bytes, const std::s
 
 }  // namespace
 
-std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what) {
+std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what,
+                                           InputRecord* record) {
     const std::string where = what + " '" + path + "'";
     struct stat st {};
     const int fd = open_checked(path, max_bytes, where, &st);
@@ -110,7 +119,7 @@ std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax
         done += std::size_t(n);
     }
     ::close(fd);
-    remember_bytes(st, path, out);
+    remember_bytes(st, path, out, record);
     return out;
 }
 
@@ -122,6 +131,22 @@ std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, c
 void check_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what) {
     // Read (and so hashed for the provenance record) like any input; the caller reads it again.
     (void)read_input_file(path, max_bytes, what);
+}
+
+InputCapture::InputCapture() {
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    captures().push_back(&records_);
+}
+
+InputCapture::~InputCapture() {
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    auto& v = captures();
+    v.erase(std::find(v.begin(), v.end(), &records_));
+}
+
+std::vector<InputRecord> InputCapture::records() const {
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    return records_;
 }
 
 void forget_input_record(const std::string& path) {

@@ -20,11 +20,21 @@ inline constexpr std::uintmax_t kMaxModelFileBytes = 2'000'000'000;  //!< .gltf/
 inline constexpr std::uintmax_t kMaxImageFileBytes = 512u << 20;     //!< an encoded image (paper, texture, compare input)
 inline constexpr std::uintmax_t kMaxJsonFileBytes = 64u << 20;       //!< scene, style and pipeline files
 
+//! One file read by this process through read_input_file() or check_input_file(): the path it
+//! was first read by (absolute, lexically normalised), its size and the SHA-256 of the bytes read.
+struct InputRecord {
+    std::string path;
+    std::uintmax_t bytes = 0;
+    std::string sha256;
+};
+
 //! Reads the whole file at `path` into memory. Refuses (aq::Error "WHAT 'PATH': reason") anything
 //! that is not a regular file once opened (FIFOs, devices, folders: opened non-blocking, so a FIFO
 //! never blocks), files larger than max_bytes, and short reads. Records the file as an input of
 //! this run (see is_input_of_run()).
-std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
+//! `record`, when given, receives this read's record (path, size, SHA-256 of the bytes returned).
+std::vector<unsigned char> read_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what,
+                                           InputRecord* record = nullptr);
 //! The same, as text.
 std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
 
@@ -33,17 +43,25 @@ std::string read_input_text(const std::string& path, std::uintmax_t max_bytes, c
 //! OpenImageIO reads only by name). Throws aq::Error like read_input_file().
 void check_input_file(const std::string& path, std::uintmax_t max_bytes, const std::string& what);
 
-//! One file read by this process through read_input_file() or check_input_file(): the path it
-//! was first read by (absolute, lexically normalised), its size and the SHA-256 of the bytes read.
-struct InputRecord {
-    std::string path;
-    std::uintmax_t bytes = 0;
-    std::string sha256;
-};
 //! Every file read so far, one record per file (by identity: dev, inode), sorted by path, so the
 //! list does not depend on the order in which threads read them (provenance manifests,
 //! app/manifest.h).
 std::vector<InputRecord> inputs_read();
+
+//! Collects the record of every file read while it lives, by any thread, in the order read (a
+//! file read twice appears twice): what a computation depended on (the content cache, core/cache.h).
+//! Captures may nest or overlap; each sees every read during its life.
+class InputCapture {
+public:
+    InputCapture();
+    ~InputCapture();
+    InputCapture(const InputCapture&) = delete;
+    InputCapture& operator=(const InputCapture&) = delete;
+    std::vector<InputRecord> records() const;
+
+private:
+    std::vector<InputRecord> records_;
+};
 
 //! Drops `path` from inputs_read() (it stays protected from overwriting): for files a command
 //! reads about a render rather than for it (`reproduce` reading the manifest).

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cache.h"
 #include "core/exec.h"
 #include "raster/implicit_surface.h"
 #include "scenes/layers.h"
@@ -96,6 +97,14 @@ float crown_silhouette_ratio(const scene::Scene& source, const scene::Scene& abs
 std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, const FoliageParams& p,
                                                         const Exec& ex = {},
                                                         std::vector<std::string>* warnings = nullptr);
+
+//! abstract_foliage through the content cache (core/cache.h): the entry keyed by `scene_key` (what
+//! the scene's content and every change made to it since loading hash to, scenes/scene_cache.h)
+//! and the parameters; `store` null or `scene_key` empty: abstract_foliage. The same result and
+//! warnings either way; `notes` receives why an entry was not used or stored.
+std::shared_ptr<const AbstractedScene> abstract_foliage_cached(const scene::Scene& sc, const FoliageParams& p, const Exec& ex,
+                                                               std::vector<std::string>* warnings, const cache::Store* store,
+                                                               const std::string& scene_key, std::vector<std::string>* notes);
 
 //! The layers of the scene an AbstractedScene draws: scene::build_layer_table of the source scene,
 //! with the implicit surface in the layer of the foliage it replaces.

@@ -32,7 +32,6 @@ constexpr std::size_t kVerticesPerTask = 4096;  //!< grain of the per-vertex con
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-constexpr const char* kProceduralPrefix = "procedural:";
 
 // --- strict JSON access with key paths -----------------------------------------------------------
 

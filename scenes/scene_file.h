@@ -109,6 +109,9 @@ struct SceneDesc {
     std::optional<std::string> foliage_technique;
 };
 
+//! What names a procedural scene instead of a file: "procedural:NAME".
+inline constexpr const char* kProceduralPrefix = "procedural:";
+
 //! A scene file (.json), a bare .gltf/.glb (camera framing the bounds, a default light, neutral
 //! control) or "procedural:NAME" (its own camera and lights). Throws aq::Error.
 SceneDesc load_scene(const std::string& path_or_spec, const LoadOptions& options = {});

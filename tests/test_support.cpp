@@ -39,6 +39,10 @@ public:
 
 [[maybe_unused]] const auto* g_cleanup = ::testing::AddGlobalTestEnvironment(new OutputDirCleanup);
 
+// The `aquarelle` processes a test starts never read or write the user's content cache
+// (docs/cache.md): it is off until the test's own folder exists, then inside it (output_dir()).
+[[maybe_unused]] const int g_no_user_cache = ::setenv("AQUARELLE_CACHE_DIR", "off", 1);
+
 std::string current_test_name() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string n = info ? std::string(info->test_suite_name()) + "." + info->name() : "process";
@@ -76,6 +80,7 @@ std::string output_dir() {
         return root.string();
     }
     g_dir = buf.data();
+    ::setenv("AQUARELLE_CACHE_DIR", (g_dir + "/cache").c_str(), 1);
     return g_dir;
 }
 

@@ -8,6 +8,9 @@ set -u
 bin=$1 src=$2 shared=$3
 mkdir -p "$4"
 work=$(mktemp -d "$4/cli.XXXXXX") || { echo "cannot create a work folder under $4"; exit 1; }
+# The content cache (docs/cache.md) inside the work folder: repeated renders below hit it, and
+# `reproduce` (which never reads it) checks that a render from the cache has the same bytes.
+export AQUARELLE_CACHE_DIR="$work/cache"
 pass=0 fail=0
 ok()  { pass=$((pass+1)); echo "ok   - $1"; }
 bad() { fail=$((fail+1)); echo "FAIL - $1"; }
@@ -220,6 +223,38 @@ expect_rc "compare identical" 0 "$bin" compare "$work/t1/color.exr" "$work/t2/co
 grep -q "max_abs     0" "$work/last.out" && ok "compare reports zero error" || bad "compare reports zero error"
 expect_rc "procedural render, other size" 0 "$bin" render procedural:swatches --width 48 --height 32 --quiet --out "$work/other.exr"
 expect_rc "compare size mismatch" 1 "$bin" compare "$work/t1/color.exr" "$work/other.exr"
+
+# The content cache (docs/cache.md): a first render fills it, a second reads it; both, and a
+# render without it, write the same bytes, and reproduce (which never reads it) agrees.
+cdir="$work/cache_check"
+bottle="$shared/assets/gltf/WaterBottle/glTF/WaterBottle.gltf"
+csmall=(--width 160 --height 96)
+expect_rc "cache: a first render fills it" 0 "$bin" render "$bottle" "${csmall[@]}" --cache-dir "$cdir" --out "$work/c1.png"
+ls "$cdir"/scene-*.aqc >/dev/null 2>&1 && ok "cache: the scene's entry written" || bad "cache: no scene entry in $cdir"
+expect_rc "cache: a second render reads it" 0 "$bin" render "$bottle" "${csmall[@]}" --cache-dir "$cdir" --threads 1 --out "$work/c2.png"
+grep -q "from the cache" "$work/last.err" && ok "cache: the second render says it read the cache" || bad "cache: the second render did not read the cache"
+expect_rc "cache: --no-cache" 0 "$bin" render "$bottle" "${csmall[@]}" --no-cache --out "$work/c0.png"
+cmp -s "$work/c0.png" "$work/c1.png" && cmp -s "$work/c0.png" "$work/c2.png" && ok "cache: the same PNG bytes without, filling and reading it" \
+  || bad "cache: PNG bytes differ with the cache"
+expect_rc "cache: reproduce of a render from the cache" 0 "$bin" reproduce "$work/c2.png.json" --quiet
+grep -q "identical" "$work/last.out" && ok "cache: reproduce says identical" || bad "cache: reproduce does not say identical"
+entry=$(ls "$cdir"/scene-*.aqc | head -1)
+printf 'X' | dd of="$entry" bs=1 seek=4000 conv=notrunc status=none
+expect_rc "cache: a damaged entry" 0 "$bin" render "$bottle" "${csmall[@]}" --cache-dir "$cdir" --out "$work/c3.png"
+grep -q "damaged" "$work/last.err" && ok "cache: the damaged entry is reported" || bad "cache: the damaged entry is not reported"
+cmp -s "$work/c0.png" "$work/c3.png" && ok "cache: a damaged entry changes no byte" || bad "cache: a damaged entry changed the image"
+bush="$shared/assets/plants/ez-tree/ez_bush2.glb"
+expect_rc "cache: LD06 fills it" 0 "$bin" render "$bush" --style ld06 "${csmall[@]}" --cache-dir "$cdir" --out "$work/b1.png" --quiet
+ls "$cdir"/foliage-*.aqc >/dev/null 2>&1 && ok "cache: the foliage's entry written" || bad "cache: no foliage entry"
+expect_rc "cache: LD06 reads it" 0 "$bin" render "$bush" --style ld06 "${csmall[@]}" --cache-dir "$cdir" --out "$work/b2.png" --quiet
+expect_rc "cache: LD06 without it" 0 "$bin" render "$bush" --style ld06 "${csmall[@]}" --no-cache --out "$work/b0.png" --quiet
+cmp -s "$work/b0.png" "$work/b1.png" && cmp -s "$work/b0.png" "$work/b2.png" && ok "cache: the same LD06 bytes with and without it" \
+  || bad "cache: LD06 bytes differ with the cache"
+expect_rc "cache: a folder that cannot be made still renders" 0 "$bin" render "$bottle" "${csmall[@]}" --cache-dir "$work/c0.png/sub" --out "$work/c4.png"
+grep -q "not cached" "$work/last.err" && ok "cache: says why nothing was cached" || bad "cache: no reason given for not caching"
+cmp -s "$work/c0.png" "$work/c4.png" && ok "cache: same bytes without a usable folder" || bad "cache: bytes differ without a usable folder"
+AQUARELLE_CACHE_MAX_MB=lots expect_rc "cache: a malformed AQUARELLE_CACHE_MAX_MB" 1 "$bin" render "$bottle" "${csmall[@]}" --out "$work/c5.png"
+grep -q "AQUARELLE_CACHE_MAX_MB" "$work/last.err" && ok "cache: names the malformed variable" || bad "cache: does not name the malformed variable"
 
 echo "cli: $pass passed, $fail failed"
 if [ $fail -eq 0 ]; then rm -rf "$work"; else echo "cli: outputs kept in $work"; fi

@@ -7,6 +7,7 @@
 set -euo pipefail
 bin=$1
 dir=$(mktemp -d "${TMPDIR:-/tmp}/aq_shard_test.XXXXXX")
+export AQUARELLE_CACHE_DIR="$dir/cache"  # never the user's cache (docs/cache.md)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "shard_test: FAIL: $*" >&2; exit 1; }
 command -v parallel >/dev/null || fail "GNU parallel is not installed (scripts/setup.sh installs it)"

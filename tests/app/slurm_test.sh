@@ -10,6 +10,7 @@ set -euo pipefail
 bin=$(readlink -f "$1")
 src=$(readlink -f "$2")
 dir=$(mktemp -d "${TMPDIR:-/tmp}/aq_slurm_test.XXXXXX")
+export AQUARELLE_CACHE_DIR="$dir/cache"  # never the user's cache (docs/cache.md)
 fail() { echo "slurm_test: FAIL: $*" >&2; for f in "$dir"/*.log; do [ -f "$f" ] && { echo "--- $f" >&2; tail -20 "$f" >&2; }; done; exit 1; }
 # slurmd launches the tasks as their user and needs root (CI and our machines run as root); anyone
 # else gets "skipped" (exit 77, ctest's SKIP_RETURN_CODE), never a pass.

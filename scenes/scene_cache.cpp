@@ -1,0 +1,95 @@
+// scenes/scene_cache.cpp — load_scene through the content cache.
+#include "scenes/scene_cache.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include "core/input.h"
+#include "scenes/scene_archive.h"
+
+namespace aq::scene {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kKind = "scene";
+
+std::string lower_ext(const std::string& p) {
+    std::string e = fs::path(p).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+//! Every file the entry lists besides the scene itself still has its recorded bytes (read, and so
+//! recorded as an input of this run, as the load would have).
+bool inputs_unchanged(const std::vector<InputRecord>& deps, const std::string& scene_path) {
+    for (const InputRecord& d : deps) {
+        if (d.path == scene_path) continue;
+        InputRecord now;
+        try {
+            (void)read_input_file(d.path, kMaxModelFileBytes, "input", &now);
+        } catch (const Error&) {
+            return false;
+        }
+        if (now.sha256 != d.sha256) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+SceneDesc load_scene_cached(const std::string& spec, const LoadOptions& options, const cache::Store* store,
+                            SceneCacheUse* use) {
+    SceneCacheUse local;
+    SceneCacheUse& u = use ? *use : local;
+    u = {};
+    if (!store || spec.rfind(kProceduralPrefix, 0) == 0) return load_scene(spec, options);
+    std::error_code ec;
+    const std::string abs = fs::absolute(spec, ec).lexically_normal().string();
+    const std::string ext = lower_ext(spec);
+    if (ec || (ext != ".json" && ext != ".gltf" && ext != ".glb")) return load_scene(spec, options);
+    InputRecord self;
+    try {
+        (void)read_input_file(spec, ext == ".json" ? kMaxJsonFileBytes : kMaxModelFileBytes, "scene", &self);
+    } catch (const Error&) {
+        return load_scene(spec, options);  // the load reports it
+    }
+    u.key = cache::key({kKind, abs, self.sha256, options.allow_outside_files ? "outside" : "confined",
+                        std::to_string(options.texture_budget_bytes)});
+
+    std::string problem;
+    if (std::optional<cache::Entry> e = store->find(kKind, u.key, &problem)) {
+        try {
+            archive::Reader r = e->reader();
+            std::vector<InputRecord> deps;
+            r(deps);
+            if (inputs_unchanged(deps, self.path)) {
+                SceneDesc d;
+                r(d);
+                if (r.left() != 0) throw Error("cache entry: " + std::to_string(r.left()) + " bytes after the scene");
+                if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
+                u.hit = true;
+                return d;
+            }
+        } catch (const Error& err) {
+            ::unlink(store->path(kKind, u.key).c_str());
+            u.notes.push_back("cache entry '" + store->path(kKind, u.key) + "' unreadable (" + err.what() + "): deleted, loaded again");
+        }
+    } else if (!problem.empty()) {
+        u.notes.push_back(problem);
+    }
+
+    InputCapture capture;
+    SceneDesc d = load_scene(spec, options);
+    std::vector<InputRecord> deps = capture.records();
+    std::sort(deps.begin(), deps.end(), [](const InputRecord& a, const InputRecord& b) { return a.path < b.path; });
+    deps.erase(std::unique(deps.begin(), deps.end(), [](const InputRecord& a, const InputRecord& b) { return a.path == b.path; }),
+               deps.end());
+    const std::string why = store->store(kKind, u.key, [&](archive::Writer& w) { w(deps, d); });
+    if (!why.empty()) u.notes.push_back(why);
+    return d;
+}
+
+}  // namespace aq::scene
