@@ -93,32 +93,54 @@ private:
     Sink& sink_;
 };
 
-//! Reads what a Writer wrote, from bytes in memory (a mapped entry). Throws aq::Error
-//! ("cache entry: ...") on any size beyond the bytes left.
-class Reader {
+//! Delivers the bytes a Reader reads, in order (a file, core/cache.cpp; memory).
+struct Source {
+    virtual ~Source() = default;
+    //! Copies the next n bytes to out; called only with n <= left().
+    virtual void read(void* out, std::size_t n) = 0;
+    virtual std::size_t left() const = 0;
+};
+
+//! Bytes in memory.
+class MemorySource final : public Source {
 public:
-    Reader(const unsigned char* data, std::size_t size) : p_(data), left_(size) {}
-    template <class... T>
-    void operator()(T&... v) {
-        (get(v), ...);
-    }
-    std::size_t left() const { return left_; }
-    void bytes(void* out, std::size_t n) {
-        need(n);
+    MemorySource(const void* data, std::size_t size) : p_(static_cast<const unsigned char*>(data)), left_(size) {}
+    void read(void* out, std::size_t n) override {
         if (n) std::memcpy(out, p_, n);
         p_ += n;
         left_ -= n;
     }
+    std::size_t left() const override { return left_; }
+
+private:
+    const unsigned char* p_;
+    std::size_t left_;
+};
+
+//! Reads what a Writer wrote. Throws aq::Error ("cache entry: ...") on any size beyond the bytes
+//! left, before allocating for it.
+class Reader {
+public:
+    explicit Reader(Source& src) : src_(src) {}
+    template <class... T>
+    void operator()(T&... v) {
+        (get(v), ...);
+    }
+    std::size_t left() const { return src_.left(); }
+    void bytes(void* out, std::size_t n) {
+        need(n);
+        src_.read(out, n);
+    }
 
 private:
     void need(std::size_t n) const {
-        if (n > left_) throw Error("cache entry: truncated (" + std::to_string(n) + " bytes wanted, " + std::to_string(left_) + " left)");
+        if (n > left()) throw Error("cache entry: truncated (" + std::to_string(n) + " bytes wanted, " + std::to_string(left()) + " left)");
     }
     //! An element count, checked against the bytes left at `min_bytes` per element.
     std::size_t count(std::size_t min_bytes) {
         std::uint64_t c = 0;
         bytes(&c, sizeof c);
-        if (c > left_ / (min_bytes ? min_bytes : 1)) throw Error("cache entry: count " + std::to_string(c) + " exceeds its bytes");
+        if (c > left() / (min_bytes ? min_bytes : 1)) throw Error("cache entry: count " + std::to_string(c) + " exceeds its bytes");
         return std::size_t(c);
     }
     template <class T>
@@ -182,8 +204,7 @@ private:
         }
     }
 
-    const unsigned char* p_;
-    std::size_t left_;
+    Source& src_;
 };
 
 }  // namespace aq::archive

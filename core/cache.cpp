@@ -4,7 +4,6 @@
 #include <dirent.h>
 #include <dlfcn.h>
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -97,7 +96,69 @@ private:
     std::uint64_t crc_ = 0, total_ = 0;
 };
 
+//! The payload of an entry, read from its file through a buffer (large reads straight into the
+//! destination), with the running CRC of every byte delivered.
+class FileSource final : public archive::Source {
+public:
+    FileSource(int fd, std::size_t payload) : fd_(fd), left_(payload), file_left_(payload) {}
+    void read(void* out, std::size_t n) override {
+        auto* o = static_cast<unsigned char*>(out);
+        const std::size_t want = n;
+        const std::size_t from_buf = std::min(n, buf_.size() - pos_);
+        if (from_buf) std::memcpy(o, buf_.data() + pos_, from_buf);
+        pos_ += from_buf;
+        std::size_t done = from_buf;
+        if (n - done >= kBuffer) {
+            read_all(o + done, n - done);
+            done = n;
+        }
+        while (done < n) {
+            const std::size_t fill = std::min(kBuffer, file_left_);
+            buf_.resize(fill);
+            read_all(buf_.data(), fill);
+            pos_ = 0;
+            const std::size_t k = std::min(n - done, fill);
+            std::memcpy(o + done, buf_.data(), k);
+            pos_ = k;
+            done += k;
+        }
+        crc_ = crc64_ecma_refl(crc_, o, want);
+        left_ -= want;
+    }
+    std::size_t left() const override { return left_; }
+    std::uint64_t crc() const { return crc_; }
+
+private:
+    static constexpr std::size_t kBuffer = std::size_t(64) << 10;
+    void read_all(unsigned char* p, std::size_t n) {
+        file_left_ -= n;
+        while (n) {
+            const ssize_t r = ::read(fd_, p, n);
+            if (r < 0 && errno == EINTR) continue;
+            if (r <= 0) throw Error("cache entry: truncated while read" + (r < 0 ? ": " + errno_text() : std::string()));
+            p += r;
+            n -= std::size_t(r);
+        }
+    }
+    int fd_;
+    std::size_t left_;       //!< payload bytes not yet delivered
+    std::size_t file_left_;  //!< payload bytes not yet read from the file
+    std::vector<unsigned char> buf_;
+    std::size_t pos_ = 0;
+    std::uint64_t crc_ = 0;
+};
+
 }  // namespace
+
+struct Entry::Impl {
+    int fd;
+    std::uint64_t crc;
+    std::size_t payload;
+    FileSource src;
+    archive::Reader reader{src};
+    Impl(int f, std::uint64_t c, std::size_t p) : fd(f), crc(c), payload(p), src(f, p) {}
+    ~Impl() { ::close(fd); }
+};
 
 std::optional<Config> config_from_environment() {
     Config c;
@@ -135,11 +196,14 @@ std::string key(std::initializer_list<std::string_view> parts) {
     return sha256_hex(buf.data(), buf.size());
 }
 
-Entry::Entry(const unsigned char* map, std::size_t map_bytes, std::size_t header_bytes)
-    : map_(map), size_(map_bytes), header_(header_bytes) {}
-Entry::Entry(Entry&& o) noexcept : map_(std::exchange(o.map_, nullptr)), size_(o.size_), header_(o.header_) {}
-Entry::~Entry() {
-    if (map_) ::munmap(const_cast<unsigned char*>(map_), size_);
+Entry::Entry(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Entry::Entry(Entry&& o) noexcept = default;
+Entry::~Entry() = default;
+archive::Reader& Entry::reader() { return impl_->reader; }
+std::size_t Entry::payload_bytes() const { return impl_->payload; }
+void Entry::finish() {
+    if (impl_->src.left() != 0) throw Error("cache entry: " + std::to_string(impl_->src.left()) + " bytes not read");
+    if (impl_->src.crc() != impl_->crc) throw Error("cache entry: CRC-64 mismatch");
 }
 
 Store::Store(Config c) : c_(std::move(c)) {}
@@ -154,39 +218,42 @@ std::optional<Entry> Store::find(const std::string& kind, const std::string& key
     if (fd < 0) return std::nullopt;
     struct stat st {};
     std::string bad;
-    const unsigned char* map = nullptr;
+    Header h{};
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         bad = "not a regular file";
-    } else if (std::size_t(st.st_size) < sizeof(Header)) {
+    } else if (std::size_t(st.st_size) < sizeof(Header) || ::read(fd, &h, sizeof h) != ssize_t(sizeof h)) {
         bad = "truncated (" + std::to_string(st.st_size) + " bytes)";
-    } else {
-        void* m = ::mmap(nullptr, std::size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
-        if (m == MAP_FAILED) {
-            ::close(fd);
-            return std::nullopt;  // cannot map (address space, limits): a miss, the entry may be fine
-        }
-        map = static_cast<const unsigned char*>(m);
-        Header h;
-        std::memcpy(&h, map, sizeof h);
-        const std::size_t payload = std::size_t(st.st_size) - sizeof h;
-        if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || h.format != kFormat)
-            bad = "not an entry of this format";
-        else if (h.payload_bytes != payload)
-            bad = "truncated (" + std::to_string(payload) + " of " + std::to_string(h.payload_bytes) + " bytes)";
-        else if (crc64_ecma_refl(0, map + sizeof h, payload) != h.crc)
-            bad = "damaged (CRC-64 mismatch)";
+    } else if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0 || h.format != kFormat) {
+        bad = "not an entry of this format";
+    } else if (h.payload_bytes != std::uint64_t(st.st_size) - sizeof h) {
+        bad = "truncated (" + std::to_string(std::uint64_t(st.st_size) - sizeof h) + " of " + std::to_string(h.payload_bytes) +
+              " bytes)";
     }
     if (!bad.empty()) {
-        if (map) ::munmap(const_cast<unsigned char*>(map), std::size_t(st.st_size));
         ::close(fd);
         ::unlink(p.c_str());
         if (problem) *problem = "cache entry '" + p + "' is " + bad + ": deleted, computed again";
         return std::nullopt;
     }
+    (void)::posix_fadvise(fd, 0, 0, POSIX_FADV_SEQUENTIAL);
     (void)::futimens(fd, nullptr);  // used now (LRU); a read-only cache still serves
-    ::close(fd);
-    return Entry(map, std::size_t(st.st_size), sizeof(Header));
+    return Entry(std::make_unique<Entry::Impl>(fd, h.crc, std::size_t(h.payload_bytes)));
 }
+
+std::string Store::read(const std::string& kind, const std::string& key, Entry& e,
+                        const std::function<bool(archive::Reader&)>& read) const {
+    try {
+        if (read(e.reader())) e.finish();
+        return {};
+    } catch (const Error& err) {
+        remove(kind, key);
+        std::string what = err.what();
+        if (what.rfind("cache entry: ", 0) == 0) what = what.substr(13);
+        return "cache entry '" + path(kind, key) + "' is damaged (" + what + "): deleted, computed again";
+    }
+}
+
+void Store::remove(const std::string& kind, const std::string& key) const { ::unlink(path(kind, key).c_str()); }
 
 std::string Store::store(const std::string& kind, const std::string& key,
                          const std::function<void(archive::Writer&)>& fill) const {

@@ -6,8 +6,8 @@
 // An entry is one file `<dir>/<kind>-<key>.aqc`, the key the SHA-256 of everything that shaped
 // it (cache::key). Written to a temporary file in the same folder and renamed into place, so a
 // reader sees a whole entry or none, whatever runs at once (shards, a killed process); its
-// header carries the payload's size and CRC-64, so a damaged entry is detected, reported, deleted
-// and recomputed — never used. Reading an entry is optional work: any failure (folder not
+// header carries the payload's size and CRC-64, checked as the payload is read, so a damaged
+// entry is detected, reported, deleted and recomputed — never used. Reading an entry is optional work: any failure (folder not
 // writable, disk full, damaged entry) costs only the time it saves. The folder holds at most
 // Config::max_bytes: after each write the least recently used entries (modification time, touched
 // on every hit) are deleted.
@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -47,29 +48,42 @@ std::optional<Config> config_from_environment();
 //! never reads its predecessor's entries).
 std::string key(std::initializer_list<std::string_view> parts);
 
-//! A found entry: its payload, mapped read-only while the Entry lives.
+//! A found entry, read from its file (not mapped: the bytes land only in the objects read, so a
+//! hit holds no second copy of a scene in memory). Read the payload through reader(), then call
+//! finish(), which checks that all of it was read and that its CRC-64 is the header's: decoded
+//! objects may be used only after finish() returned.
 class Entry {
 public:
-    Entry(const unsigned char* map, std::size_t map_bytes, std::size_t header_bytes);
+    struct Impl;
+    explicit Entry(std::unique_ptr<Impl> impl);
     Entry(Entry&& o) noexcept;
     Entry& operator=(Entry&&) = delete;
-    Entry(const Entry&) = delete;
     ~Entry();
-    archive::Reader reader() const { return {map_ + header_, size_ - header_}; }
-    std::size_t payload_bytes() const { return size_ - header_; }
+    archive::Reader& reader();
+    //! Throws aq::Error ("cache entry: ...") when bytes are left or the CRC-64 differs.
+    void finish();
+    std::size_t payload_bytes() const;
 
 private:
-    const unsigned char* map_;
-    std::size_t size_, header_;
+    std::unique_ptr<Impl> impl_;
 };
 
 class Store {
 public:
     explicit Store(Config c);
     const Config& config() const { return c_; }
-    //! The entry of `kind` and `key`, or nullopt: absent, or damaged (then deleted, and *problem
-    //! says why when given). A hit marks the entry as used now (LRU).
+    //! The entry of `kind` and `key`, or nullopt: absent, or with a bad header (then deleted, and
+    //! *problem says why when given). A hit marks the entry as used now (LRU).
     std::optional<Entry> find(const std::string& kind, const std::string& key, std::string* problem = nullptr) const;
+    //! Reads a found entry: `read` takes the payload from the reader and returns true, or returns
+    //! false having read a prefix that says the entry is not wanted (its inputs changed: a miss,
+    //! nothing checked); after true, Entry::finish(). On any aq::Error (damage found while reading
+    //! or by the CRC) the entry is deleted and the reason returned ("cache entry 'PATH' is damaged
+    //! (...): deleted, computed again"); else empty.
+    std::string read(const std::string& kind, const std::string& key, Entry& e,
+                     const std::function<bool(archive::Reader&)>& read) const;
+    //! Deletes an entry (absent: nothing happens).
+    void remove(const std::string& kind, const std::string& key) const;
     //! Writes the entry `fill` produces, atomically, then deletes least recently used entries
     //! beyond the size bound (never the one just written, unless it alone exceeds the bound:
     //! then it is not kept). Returns an empty string, or the reason nothing was stored (the caller

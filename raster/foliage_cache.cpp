@@ -3,8 +3,6 @@
 
 #include <cstdio>
 
-#include <unistd.h>
-
 #include "scenes/scene_archive.h"
 
 namespace aq::raster {
@@ -33,18 +31,17 @@ std::shared_ptr<const AbstractedScene> abstract_foliage_cached(const scene::Scen
     const std::string key = cache::key({"foliage", scene_key, params});
     std::string problem;
     if (std::optional<cache::Entry> e = store->find("foliage", key, &problem)) {
-        try {
-            archive::Reader r = e->reader();
-            std::vector<std::string> w;
-            auto a = std::make_shared<AbstractedScene>();
+        std::vector<std::string> w;
+        auto a = std::make_shared<AbstractedScene>();
+        const std::string bad = store->read("foliage", key, *e, [&](archive::Reader& r) {
             r(w, *a);
-            if (r.left() != 0) throw Error("cache entry: bytes after the foliage");
+            return true;
+        });
+        if (bad.empty()) {
             if (warnings) warnings->insert(warnings->end(), w.begin(), w.end());
             return a;
-        } catch (const Error& err) {
-            ::unlink(store->path("foliage", key).c_str());
-            if (notes) notes->push_back("cache entry '" + store->path("foliage", key) + "' unreadable (" + err.what() + "): computed again");
         }
+        if (notes) notes->push_back(bad);
     } else if (!problem.empty() && notes) {
         notes->push_back(problem);
     }

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <filesystem>
 
-#include <unistd.h>
 
 #include "core/input.h"
 #include "scenes/scene_archive.h"
@@ -61,21 +60,21 @@ SceneDesc load_scene_cached(const std::string& spec, const LoadOptions& options,
 
     std::string problem;
     if (std::optional<cache::Entry> e = store->find(kKind, u.key, &problem)) {
-        try {
-            archive::Reader r = e->reader();
+        SceneDesc d;
+        bool unchanged = false;
+        const std::string bad = store->read(kKind, u.key, *e, [&](archive::Reader& r) {
             std::vector<InputRecord> deps;
             r(deps);
-            if (inputs_unchanged(deps, self.path)) {
-                SceneDesc d;
-                r(d);
-                if (r.left() != 0) throw Error("cache entry: " + std::to_string(r.left()) + " bytes after the scene");
-                if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
-                u.hit = true;
-                return d;
-            }
-        } catch (const Error& err) {
-            ::unlink(store->path(kKind, u.key).c_str());
-            u.notes.push_back("cache entry '" + store->path(kKind, u.key) + "' unreadable (" + err.what() + "): deleted, loaded again");
+            unchanged = inputs_unchanged(deps, self.path);
+            if (unchanged) r(d);
+            return unchanged;
+        });
+        if (!bad.empty()) {
+            u.notes.push_back(bad);
+        } else if (unchanged) {
+            if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
+            u.hit = true;
+            return d;
         }
     } else if (!problem.empty()) {
         u.notes.push_back(problem);
