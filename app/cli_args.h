@@ -19,6 +19,7 @@ public:
     Args(int argc, char** argv, int first) {
         for (int i = first; i < argc; ++i) items_.emplace_back(argv[i]);
     }
+    explicit Args(std::vector<std::string> items) : items_(std::move(items)) {}
     bool done() const { return pos_ >= items_.size(); }
     const std::string& peek() const { return items_[pos_]; }
     std::string next() { return items_[pos_++]; }

@@ -18,6 +18,7 @@
 #include "app/manifest.h"
 #include "app/render_files.h"
 #include "app/render_job.h"
+#include "app/serve.h"
 #include "core/build_info.h"
 #include "core/color.h"
 #include "core/compare.h"
@@ -45,6 +46,8 @@ commands:
   compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
   reproduce M      render an image again from its manifest (IMAGE.json) and say whether it is
                    identical (docs/provenance.md)
+  serve SCENE      a local web page that art-directs the scene live: every parameter of the
+                   style, variants, shown target, camera by mouse, Save (docs/serve.md)
   grid SCENE       combinations of styles, variants and parameter values side by side: a labelled
                    contact sheet and an HTML report (docs/grid.md)
   coherence F...   temporal coherence of a rendered --frames sequence, as numbers
@@ -53,6 +56,27 @@ commands:
 
 Run `aquarelle COMMAND --help` for a command's options. Exit status: 0 on success, 1 on an
 error in the input or while rendering, 2 on a usage error.
+)";
+
+constexpr const char* kServeHelp = R"(usage: aquarelle serve SCENE [options] [render options]
+
+Starts a local web server and prints the page's URL (with its access token). The page shows the
+rendered image and a panel generated from the stage registry: every step of the style with its
+variant and parameters (range, default, doc), the style, the target shown (the final image, any
+G-buffer target or intermediate), the frame (tremor clock) and size; drag the image to turn the
+camera, scroll to move closer. Each change renders the newest state only; the page prints the
+equivalent `aquarelle render` command line, and Save writes the PNG, its manifest and the state
+into --out-dir (docs/serve.md).
+
+options:
+  --port P          port to listen on (default 0: a free one)
+  --bind ADDR       address to listen on (default 127.0.0.1; anything else is reachable from other
+                    machines: a warning is printed; the token still guards every request)
+  --out-dir DIR     where Save writes (default aquarelle-saved)
+  --quiet           print only the URL
+  --help            this text
+Any `aquarelle render` option (--style, --width, --height, --set, --variant, --ssaa, --threads,
+--no-cache, ...) sets the starting state; the page's changes come after it.
 )";
 
 constexpr const char* kRenderHelp = R"(usage: aquarelle render SCENE --out FILE.png [options]
@@ -87,6 +111,9 @@ options:
                         write exactly the files of one unsharded run (docs/shards.md)
   --orbit DEG           camera orbit: frame N sees the scene turned by N x DEG degrees about
                         the vertical (+Y) axis through the centre of its bounds (default 0)
+  --view Y,P,Z          the camera turned by Y degrees about +Y and P degrees up (|P| <= 89) through
+                        the centre of the scene's bounds, then Z times closer (Z in [0.05, 20]);
+                        after --orbit (what `aquarelle serve`'s mouse sets; default 0,0,1)
   --sweep S.P=A:B:N     render N images with parameter P of step S from A to B (G-buffer
                         rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
@@ -322,6 +349,13 @@ RenderOptions parse_render(Args& a) {
             o.sweep_count = int(aq::cli::parse_int(arg, v.substr(c2 + 1), lim::kMinSweepCount, lim::kMaxSweepCount));
         } else if (arg == "--orbit") {
             o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
+        } else if (arg == "--view") {
+            const std::string v = a.value(arg);
+            const auto c1 = v.find(','), c2 = c1 == std::string::npos ? c1 : v.find(',', c1 + 1);
+            if (c2 == std::string::npos) throw UsageError("--view expects YAW,PITCH,ZOOM, e.g. 30,10,1.5");
+            o.view_yaw = aq::cli::parse_double(arg, v.substr(0, c1), -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
+            o.view_pitch = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -lim::kMaxViewPitchDeg, lim::kMaxViewPitchDeg);
+            o.view_zoom = aq::cli::parse_double(arg, v.substr(c2 + 1), lim::kMinViewZoom, lim::kMaxViewZoom);
         } else if (arg == "--fps") {
             o.fps = aq::cli::parse_double(arg, a.value(arg), lim::kMinFps, lim::kMaxFps);
         } else if (arg == "--ssaa") {
@@ -508,6 +542,48 @@ int cmd_reproduce(Args& a) {
     return r.status;
 }
 
+int cmd_serve(Args& a) {
+    aq::app::ServeOptions so;
+    std::vector<std::string> rest;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << kServeHelp;
+            return 0;
+        } else if (arg == "--port") {
+            so.port = int(aq::cli::parse_int(arg, a.value(arg), 0, 65535));
+        } else if (arg == "--bind") {
+            so.bind = a.value(arg);
+        } else if (arg == "--out-dir") {
+            so.out_dir = a.value(arg);
+        } else if (arg == "--quiet" || arg == "-q") {
+            so.quiet = true;
+        } else if (arg == "--out" || arg == "-o" || arg == "--frames" || arg == "--sweep" || arg == "--targets" ||
+                   arg == "--targets-png" || arg == "--shard") {
+            throw UsageError("serve: " + arg + " is not for the live view (Save writes into --out-dir)");
+        } else if (so.scene.empty() && !arg.empty() && arg[0] != '-') {
+            so.scene = arg;
+        } else {
+            rest.push_back(arg);
+        }
+    }
+    if (so.scene.empty()) throw UsageError("serve: no SCENE given (see aquarelle serve --help)");
+    so.render_args = rest;
+    const char* web = std::getenv("AQ_WEB_DIR");
+    so.web_dir = web && *web ? web : AQ_WEB_DIR;
+    if (so.bind != "127.0.0.1" && so.bind != "::1")
+        std::cerr << "aquarelle serve: warning: listening on " << so.bind
+                  << ": other machines can reach the server (the token in the URL still guards it)\n";
+    const auto parse = [](const std::vector<std::string>& v) {
+        Args args(v);
+        return parse_render(args);
+    };
+    return aq::app::serve(so, parse, [&](const std::string& url) {
+        if (!so.quiet) std::cerr << "aquarelle serve: " << so.scene << " — open this page (Ctrl-C stops the server):\n";
+        std::cout << url << std::endl;
+    });
+}
+
 int cmd_grid(Args& a) {
     aq::app::GridOptions g;
     RenderOptions& o = g.base;
@@ -634,6 +710,7 @@ int main(int argc, char** argv) {
             else if (sub == "reproduce") std::cout << kReproduceHelp;
             else if (sub == "coherence") std::cout << kCoherenceHelp;
             else if (sub == "grid") std::cout << kGridHelp;
+            else if (sub == "serve") std::cout << kServeHelp;
             else std::cout << kMainHelp;
             return 0;
         }
@@ -650,6 +727,7 @@ int main(int argc, char** argv) {
         if (cmd == "reproduce") return cmd_reproduce(args);
         if (cmd == "coherence") return cmd_coherence(args);
         if (cmd == "grid") return cmd_grid(args);
+        if (cmd == "serve") return cmd_serve(args);
         std::cerr << "aquarelle: unknown command '" << cmd << "'\n\n" << kMainHelp;
         return 2;
     } catch (const UsageError& e) {

@@ -76,6 +76,7 @@ json request_json(const RenderJob& job, const RenderedImage& img) {
         {"targets_png", !o.targets_png_dir.empty()},
         {"output_format", fs::path(o.out).extension().string()},
     };
+    if (o.has_view()) r["view"] = {o.view_yaw, o.view_pitch, o.view_zoom};  // absent: 0, 0, 1
     if (!o.sweep.empty())
         r["sweep"] = {{"param", o.sweep}, {"from", o.sweep_from}, {"to", o.sweep_to}, {"count", o.sweep_count},
                       {"index", img.index}};
@@ -299,6 +300,13 @@ RenderOptions options_from(const json& m, const std::string& where, const std::s
     if (o.fps != 0.0 && o.fps < lim::kMinFps) rd.bad("request.fps", "value outside 0 (not given) or [" + std::to_string(lim::kMinFps) + ", " + std::to_string(lim::kMaxFps) + "]");
     o.orbit_deg = rd.number(at(r, "orbit_deg"), "request.orbit_deg", -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
     o.ssaa = rd.integer(at(r, "ssaa"), "request.ssaa", 1, lim::kMaxSsaa);
+    if (r.contains("view")) {  // newer than the manifest format; absent: the camera as framed
+        const json& v = r.at("view");
+        if (!v.is_array() || v.size() != 3) rd.bad("request.view", "expected [yaw, pitch, zoom]");
+        o.view_yaw = rd.number(v[0], "request.view[0]", -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
+        o.view_pitch = rd.number(v[1], "request.view[1]", -lim::kMaxViewPitchDeg, lim::kMaxViewPitchDeg);
+        o.view_zoom = rd.number(v[2], "request.view[2]", lim::kMinViewZoom, lim::kMaxViewZoom);
+    }
     const std::string w = where + ": request";
     const std::string control = rd.string(at(r, "control"), "request.control");
     if (control != "default" && control != "neutral") throw Error(w + ": control '" + control + "' is not default or neutral");

@@ -66,16 +66,38 @@ void fill_layer_colors(stylize::Pipeline& pipeline, const scene::Scene& sc) {
 
 scene::Camera frame_camera(const RenderJob& job, int frame) {
     scene::Camera cam = job.desc.camera;
-    const double deg = job.options.orbit_deg * double(frame);
-    if (deg == 0.0) return cam;
+    const RenderOptions& o = job.options;
+    const double deg = o.orbit_deg * double(frame);
+    if (deg == 0.0 && !o.has_view()) return cam;
     const scene::Bounds& b = job.world_bounds;
     if (!b.valid) return cam;
+    constexpr double kRad = 3.14159265358979323846 / 180.0;
     const glm::vec3 c = 0.5f * (b.min + b.max);
-    // world' = R(c) world: the camera sees the scene turned by -deg, i.e. the camera moves by +deg.
-    const glm::mat4 turn = glm::translate(glm::mat4(1.0f), c) *
-                           glm::rotate(glm::mat4(1.0f), float(-deg * 3.14159265358979323846 / 180.0), glm::vec3(0, 1, 0)) *
-                           glm::translate(glm::mat4(1.0f), -c);
-    cam.view = cam.view * turn;
+    // world' = R(c) world: the camera sees the scene turned by -a about `axis` through c, i.e. the
+    // camera moves by +a.
+    auto turn = [&](double a, glm::vec3 axis) {
+        if (a == 0.0) return;
+        cam.view = cam.view * glm::translate(glm::mat4(1.0f), c) * glm::rotate(glm::mat4(1.0f), float(-a * kRad), axis) *
+                   glm::translate(glm::mat4(1.0f), -c);
+    };
+    turn(deg + o.view_yaw, glm::vec3(0, 1, 0));
+    // The camera's right axis in world space: the first row of the view's rotation.
+    turn(-o.view_pitch, glm::normalize(glm::vec3(cam.view[0][0], cam.view[1][0], cam.view[2][0])));
+    if (o.view_zoom != 1.0) {
+        if (cam.orthographic) {
+            cam.xmag = float(double(cam.xmag) / o.view_zoom);
+            cam.ymag = float(double(cam.ymag) / o.view_zoom);
+        } else {
+            // Dolly along the line to the centre: in eye space everything moves by (1 - 1/zoom) of
+            // the centre's offset; near and far move with it (kept in front of the camera).
+            const glm::vec3 ce = glm::vec3(cam.view * glm::vec4(c, 1.0f));
+            const float k = float(1.0 - 1.0 / o.view_zoom);
+            cam.view = glm::translate(glm::mat4(1.0f), -k * ce) * cam.view;
+            const float shift = -k * ce.z;  // the eye moves this far forward (ce.z < 0 in front)
+            cam.znear = std::max(cam.znear - shift, cam.znear * 1e-3f);
+            cam.zfar = std::max(cam.zfar - shift, cam.znear * 2.0f);
+        }
+    }
     return cam;
 }
 
@@ -114,13 +136,20 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     if (o.cache) store.emplace(*o.cache);
     scene::SceneCacheUse cache_use;
     with_arena(o.reference ? Exec::reference() : Exec::fast(o.threads), [&] {
-        job.desc = scene::load_scene_cached(o.scene, load_options, store ? &*store : nullptr, &cache_use);
+        if (o.preloaded) {
+            job.desc = *o.preloaded;
+            if (!job.desc.paper.empty() && load_options.paper_known) load_options.paper_known(job.desc.paper);
+        } else {
+            job.desc = scene::load_scene_cached(o.scene, load_options, store ? &*store : nullptr, &cache_use);
+        }
     });
+    if (o.keep_loaded) job.loaded = std::make_shared<const scene::SceneDesc>(job.desc);
     job.prepare_phases.emplace_back("load", ms_since(t0));
     const auto t_prepare = std::chrono::steady_clock::now();
     scene::SceneDesc& desc = job.desc;
     for (auto& n : cache_use.notes) report.progress("cache: " + n);
-    for (auto& w : desc.scene.warnings) report.warning(w);
+    if (!o.preloaded)
+        for (auto& w : desc.scene.warnings) report.warning(w);
     report.progress("scene: " + o.scene + " (" + std::to_string(desc.scene.triangle_count()) + " triangles) loaded in " +
         std::to_string(int(ms_since(t0))) + " ms" + (cache_use.hit ? " from the cache" : ""));
     // The key of the scene as the raster passes get it (the default control below changes it).

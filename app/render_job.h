@@ -35,6 +35,8 @@ inline constexpr long long kMaxFrame = 10'000'000;         //!< --frame, --frame
 inline constexpr long long kMaxFramesPerRun = 100'000;     //!< --frames A-B: B - A < this
 inline constexpr double kMinFps = 0.001, kMaxFps = 10000.0;  //!< --fps
 inline constexpr double kMaxOrbitDeg = 360.0;              //!< --orbit in [-this, this]
+inline constexpr double kMaxViewPitchDeg = 89.0;           //!< --view pitch in [-this, this]
+inline constexpr double kMinViewZoom = 0.05, kMaxViewZoom = 20.0;  //!< --view zoom
 inline constexpr long long kMaxSsaa = 4;                   //!< --ssaa in [1, this]
 inline constexpr long long kMinSweepCount = 2, kMaxSweepCount = 1000;  //!< --sweep count
 inline constexpr double kMaxSweepValue = 1e30;             //!< --sweep ends in [-this, this]
@@ -53,6 +55,12 @@ struct RenderOptions {
     bool frame_given = false;  //!< --frame given (refused together with --frames)
     double fps = 0;
     double orbit_deg = 0;  //!< --orbit: camera turned by frame x this about +Y through the bounds' centre
+    //! --view YAW,PITCH,ZOOM: the camera turned by yaw degrees about +Y and pitch degrees about its
+    //! right axis through the bounds' centre, then moved towards it to 1/zoom of its distance
+    //! (orthographic: its extents scaled by 1/zoom); after --orbit. The live view's mouse
+    //! (`aquarelle serve`, docs/serve.md).
+    double view_yaw = 0, view_pitch = 0, view_zoom = 1;
+    bool has_view() const { return view_yaw != 0 || view_pitch != 0 || view_zoom != 1; }
     //! --shard I/N (docs/shards.md): this run renders the items k (frame f - frame_first, or sweep
     //! index) with k mod N == I; the N shards together write exactly the unsharded run's files.
     int shard_index = 0, shard_count = 1;
@@ -70,6 +78,12 @@ struct RenderOptions {
     raster::RenderSettings::Antialias antialias = raster::RenderSettings::Antialias::Coverage;
     //! --compression: of every PNG and EXR the render writes (--out, --targets, --targets-png).
     Compression compression = Compression::Fast;
+    //! A live server's render (`aquarelle serve`): the scene comes from `preloaded` (a copy of
+    //! what loading would return: no file is read) and nothing is released after the image (the
+    //! next one reuses the paper and the buffer pool). `keep_loaded`: the job keeps the scene as
+    //! loaded (RenderJob::loaded) for such renders.
+    std::shared_ptr<const scene::SceneDesc> preloaded;
+    bool live = false, keep_loaded = false;
     //! The content cache of loaded scenes and abstracted foliage (docs/cache.md): set by the CLI
     //! from the environment unless --no-cache; unset (library callers, tests, `reproduce`): no cache.
     std::optional<cache::Config> cache;
@@ -116,9 +130,11 @@ struct RenderJob {
     //! the scene's geometry after the G-buffer and the G-buffer targets after their last reader
     //! (issue 13 item 6: peak memory); such a job renders once.
     bool one_shot() const {
-        return !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
+        return !options.live && !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
     }
     bool consumed = false;
+    //! The scene as loaded, before the style's default control (RenderOptions::keep_loaded).
+    std::shared_ptr<const scene::SceneDesc> loaded;
     //! prepare_render's phases: "load" (the scene, its meshes and textures) and "prepare" (styles,
     //! paper set-up, foliage abstraction).
     PhaseTimes prepare_phases;

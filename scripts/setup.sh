@@ -24,7 +24,13 @@ pkgs=(build-essential cmake ninja-build pkg-config
       nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev
       libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       parallel fonts-dejavu-core git
-      slurmctld slurmd slurm-client munge gdb)
+      slurmctld slurmd slurm-client munge gdb
+      libboost-dev chromium chromium-driver python3-selenium)
+# Boost.Beast for `aquarelle serve`; headless Chromium, its driver and Selenium for the browser test
+# of its page (docs/serve.md). The page's UI package comes from npm (app/web/package-lock.json):
+# Node.js is installed from Debian unless an npm is already there (a NodeSource nodejs bundles
+# its own npm and conflicts with Debian's).
+command -v npm >/dev/null || pkgs+=(nodejs npm)
 
 [ "$install" = 1 ] && bash scripts/install_packages.sh setup "${pkgs[@]}"
 

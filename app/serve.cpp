@@ -1,0 +1,694 @@
+// app/serve.cpp — the live art-direction server: Boost.Beast HTTP + WebSocket on one Asio thread,
+// one render thread that takes each page's newest state (docs/serve.md).
+#include "app/serve.h"
+
+#include <sys/random.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "app/cli_args.h"
+#include "app/manifest.h"
+#include "app/render_files.h"
+#include "app/visualize.h"
+#include "core/png.h"
+#include "core/targets.h"
+#include "stylize/stage.h"
+
+namespace aq::app {
+namespace fs = std::filesystem;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+using nlohmann::json;
+
+// --- the page's state as render options ---------------------------------------------------------
+
+namespace {
+
+std::string num(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+const json& member(const json& state, const char* key) { return state.at(key); }
+
+double number(const json& v, const std::string& what) {
+    if (!v.is_number()) throw Error("live state: " + what + " must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) throw Error("live state: " + what + " must be finite");
+    return d;
+}
+
+int integer(const json& v, const std::string& what, int lo, int hi) {
+    const double d = number(v, what);
+    if (d != std::floor(d) || d < lo || d > hi)
+        throw Error("live state: " + what + " must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(d);
+}
+
+//! A name the CLI accepts in STEP=V / STEP.PARAM=X: letters, digits, '_', '-' (no '=', no spaces).
+std::string name(const json& v, const std::string& what) {
+    if (!v.is_string()) throw Error("live state: " + what + " must be a string");
+    const std::string s = v.get<std::string>();
+    if (s.empty() || s.size() > 64) throw Error("live state: " + what + " must be 1-64 characters");
+    for (char c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
+            throw Error("live state: " + what + " '" + s + "' has a character other than letters, digits, '_', '-', '.'");
+    return s;
+}
+
+std::string shell_quote(const std::string& s) {
+    bool plain = !s.empty();
+    for (char c : s) plain = plain && (std::isalnum(static_cast<unsigned char>(c)) || std::string("_-.,/:=+@%").find(c) != std::string::npos);
+    if (plain) return s;
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+}  // namespace
+
+std::vector<std::string> live_args(const json& state) {
+    if (!state.is_object()) throw Error("live state: expected an object");
+    static const std::set<std::string> known = {"style", "width", "height", "frame", "view", "variants", "params", "target"};
+    for (auto it = state.begin(); it != state.end(); ++it)
+        if (!known.count(it.key())) throw Error("live state: unknown key '" + it.key() + "'");
+    namespace lim = request_limits;
+    std::vector<std::string> a;
+    if (state.contains("style")) a.insert(a.end(), {"--style", name(member(state, "style"), "style")});
+    if (state.contains("width"))
+        a.insert(a.end(), {"--width", std::to_string(integer(member(state, "width"), "width", 1, serve_limits::kMaxLiveSide))});
+    if (state.contains("height"))
+        a.insert(a.end(), {"--height", std::to_string(integer(member(state, "height"), "height", 1, serve_limits::kMaxLiveSide))});
+    if (state.contains("frame")) {
+        const int f = integer(member(state, "frame"), "frame", 0, lim::kMaxFrame);
+        if (f) a.insert(a.end(), {"--frame", std::to_string(f)});
+    }
+    if (state.contains("view")) {
+        const json& v = member(state, "view");
+        if (!v.is_array() || v.size() != 3) throw Error("live state: view must be [yaw, pitch, zoom]");
+        const double yaw = number(v[0], "view yaw"), pitch = number(v[1], "view pitch"), zoom = number(v[2], "view zoom");
+        if (yaw != 0 || pitch != 0 || zoom != 1) a.insert(a.end(), {"--view", num(yaw) + "," + num(pitch) + "," + num(zoom)});
+    }
+    if (state.contains("variants")) {
+        const json& v = member(state, "variants");
+        if (!v.is_object()) throw Error("live state: variants must be an object {step: variant}");
+        for (auto it = v.begin(); it != v.end(); ++it)
+            a.insert(a.end(), {"--variant", name(json(it.key()), "variant step") + "=" + name(it.value(), "variant of " + it.key())});
+    }
+    if (state.contains("params")) {
+        const json& p = member(state, "params");
+        if (!p.is_object()) throw Error("live state: params must be an object {\"step.param\": value}");
+        for (auto it = p.begin(); it != p.end(); ++it)
+            a.insert(a.end(), {"--set", name(json(it.key()), "parameter") + "=" + num(number(it.value(), it.key()))});
+    }
+    return a;
+}
+
+std::string command_line(const std::string& scene, const std::vector<std::string>& base, const std::vector<std::string>& live,
+                         const std::string& out) {
+    std::string c = "aquarelle render " + shell_quote(scene);
+    for (const auto& s : base) c += " " + shell_quote(s);
+    for (const auto& s : live) c += " " + shell_quote(s);
+    return c + " --out " + shell_quote(out);
+}
+
+json live_schema(const RenderJob& job) {
+    json steps = json::array();
+    std::set<std::string> targets;
+    for (const target::GBufferTarget& g : target::kGBufferLayout) targets.insert(g.name);
+    if (job.stylize && !job.compiled.empty()) {
+        const stylize::Pipeline& p = job.styles.at(0);
+        const stylize::CompiledPipeline& c = job.compiled.at(0);
+        if (p.steps.size() != c.steps.size()) throw Error("live schema: compiled steps do not match the style's");
+        for (std::size_t i = 0; i < c.steps.size(); ++i) {
+            const stylize::CompiledStep& s = c.steps[i];
+            const stylize::Registry& reg = s.pass ? stylize::builtin_pass_registry() : stylize::builtin_registry();
+            json variants = json::array();
+            for (const stylize::StageVariant* v : reg.variants(s.variant->stage)) variants.push_back({{"name", v->variant}, {"doc", v->doc}});
+            json params = json::array();
+            for (const stylize::ParamDesc& d : s.variant->params)
+                params.push_back({{"name", d.name},
+                                  {"kind", d.kind == stylize::ParamKind::Int ? "int" : d.kind == stylize::ParamKind::Bool ? "bool" : "float"},
+                                  {"default", d.def}, {"min", d.lo}, {"max", d.hi}, {"doc", d.doc},
+                                  {"value", s.params.count(d.name) ? s.params.at(d.name) : d.def}});
+            steps.push_back({{"id", p.steps[i].id.empty() ? p.steps[i].stage : p.steps[i].id},
+                             {"stage", s.variant->stage}, {"variant", s.variant->variant}, {"pass", s.pass},
+                             {"doc", s.variant->doc}, {"variants", variants}, {"params", params}});
+            for (const std::string& o : s.outputs) targets.insert(o);
+        }
+    }
+    json t = json::array({"final"});
+    for (const std::string& n : targets) t.push_back(n);
+    return {{"style", job.stylize ? job.styles.at(0).name : "none"},
+            {"styles", stylize::preset_names()},
+            {"steps", steps},
+            {"targets", t},
+            {"width", job.settings.width},
+            {"height", job.settings.height}};
+}
+
+// --- the server ---------------------------------------------------------------------------------
+
+namespace {
+
+std::string random_token() {
+    unsigned char b[24];
+    std::size_t got = 0;
+    while (got < sizeof b) {
+        const ssize_t n = ::getrandom(b + got, sizeof b - got, 0);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw Error("serve: no random bytes for the access token");
+        }
+        got += std::size_t(n);
+    }
+    static const char* hex = "0123456789abcdef";
+    std::string t;
+    for (unsigned char c : b) t += hex[c >> 4], t += hex[c & 15];
+    return t;
+}
+
+bool same_token(const std::string& a, const std::string& b) {
+    if (a.size() != b.size()) return false;
+    unsigned char d = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) d |= static_cast<unsigned char>(a[i] ^ b[i]);
+    return d == 0;
+}
+
+//! The query parameter `key` of a request target ("/ws?token=..."), else "".
+std::string query_param(beast::string_view target, const std::string& key) {
+    const auto q = target.find('?');
+    if (q == beast::string_view::npos) return {};
+    std::string rest(target.substr(q + 1));
+    std::size_t p = 0;
+    while (p <= rest.size()) {
+        const std::size_t e = std::min(rest.find('&', p), rest.size());
+        const std::string kv = rest.substr(p, e - p);
+        const auto eq = kv.find('=');
+        if (eq != std::string::npos && kv.substr(0, eq) == key) return kv.substr(eq + 1);
+        p = e + 1;
+    }
+    return {};
+}
+
+std::string path_of(beast::string_view target) {
+    const auto q = target.find('?');
+    return std::string(q == beast::string_view::npos ? target : target.substr(0, q));
+}
+
+struct Asset {
+    std::string type, body;
+};
+
+//! The page's files, read once at start from the build's web folder: the server never opens a
+//! path that came from a client.
+std::map<std::string, Asset> load_assets(const std::string& dir, const std::string& token) {
+    std::map<std::string, Asset> a;
+    const std::pair<const char*, const char*> files[] = {
+        {"index.html", "text/html; charset=utf-8"}, {"app.js", "text/javascript; charset=utf-8"},
+        {"style.css", "text/css; charset=utf-8"}, {"lil-gui.esm.min.js", "text/javascript; charset=utf-8"}};
+    for (const auto& [f, type] : files) {
+        std::ifstream in(dir + "/" + f, std::ios::binary);
+        if (!in) throw Error("serve: the page's file '" + dir + "/" + f + "' is missing (build the target aquarelle_web)");
+        std::string body((std::istreambuf_iterator<char>(in)), {});
+        if (std::string(f) == "index.html") {
+            for (std::size_t p; (p = body.find("{{TOKEN}}")) != std::string::npos;) body.replace(p, 9, token);
+        }
+        a[std::string("/") + f] = {type, std::move(body)};
+    }
+    a["/"] = a["/index.html"];
+    return a;
+}
+
+class Server;
+
+//! One page's WebSocket. All its members are touched on the Asio thread only; the render thread
+//! hands results over with asio::post.
+class WsSession : public std::enable_shared_from_this<WsSession> {
+public:
+    WsSession(tcp::socket&& s, Server& server, int id) : ws_(std::move(s)), server_(server), id_(id) {}
+    void start(http::request<http::string_body> req);
+    //! Queues a text message and, optionally, a binary one after it (an image); drops the oldest
+    //! queued images beyond kMaxQueuedImages (a page that does not read cannot grow memory).
+    void send(std::string text, std::optional<std::string> binary = std::nullopt);
+    int id() const { return id_; }
+    void close();
+
+private:
+    void read();
+    void on_read(beast::error_code ec, std::size_t);
+    void write_next();
+    websocket::stream<beast::tcp_stream> ws_;
+    beast::flat_buffer buf_;
+    Server& server_;
+    int id_;
+    struct Out {
+        std::string data;
+        bool binary;
+        bool image;  //!< part of an image (header + PNG), droppable
+    };
+    std::deque<Out> out_;
+    bool writing_ = false, closed_ = false;
+    std::chrono::steady_clock::time_point window_start_ = std::chrono::steady_clock::now();
+    int window_count_ = 0;
+};
+
+class Server {
+public:
+    Server(const ServeOptions& o, const RenderArgsParser& parse)
+        : o_(o), parse_(parse), token_(random_token()), acceptor_(io_) {}
+    int run(const std::function<void(const std::string&)>& on_url);
+
+    // Called from sessions (Asio thread).
+    void on_message(const std::shared_ptr<WsSession>& s, const std::string& text);
+    void on_open(const std::shared_ptr<WsSession>& s);
+    void on_close(int id);
+    bool origin_ok(const http::request<http::string_body>& req) const;
+    asio::io_context& io() { return io_; }
+
+private:
+    void accept();
+    void serve_http(tcp::socket socket);
+    void render_loop();
+    void render_one(int session, const json& msg);
+    void post(int session, std::string text, std::optional<std::string> binary = std::nullopt);
+    std::string save(const json& state);
+
+    ServeOptions o_;
+    RenderArgsParser parse_;
+    std::string token_;
+    asio::io_context io_;
+    tcp::acceptor acceptor_;
+    std::map<std::string, Asset> assets_;
+    std::string host_port_;  //!< "127.0.0.1:PORT" as bound
+    std::map<int, std::weak_ptr<WsSession>> sessions_;  // Asio thread only
+    int next_id_ = 1;
+
+    // Render thread: each page's newest request, in arrival order.
+    std::mutex m_;
+    std::condition_variable cv_;
+    std::map<int, json> pending_;
+    std::deque<int> order_;
+    bool stop_ = false;
+    // The loaded scene, reused by every live image (the CLI path of `render` loads it each time;
+    // a copy here is what that load would return).
+    std::shared_ptr<const scene::SceneDesc> scene_;
+};
+
+void WsSession::start(http::request<http::string_body> req) {
+    ws_.read_message_max(serve_limits::kMaxMessageBytes);
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    auto self = shared_from_this();
+    ws_.async_accept(req, [self](beast::error_code ec) {
+        if (ec) return;
+        self->server_.on_open(self);
+        self->read();
+    });
+}
+
+void WsSession::read() {
+    auto self = shared_from_this();
+    ws_.async_read(buf_, [self](beast::error_code ec, std::size_t n) { self->on_read(ec, n); });
+}
+
+void WsSession::on_read(beast::error_code ec, std::size_t) {
+    if (ec) {
+        closed_ = true;
+        server_.on_close(id_);
+        return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - window_start_ > std::chrono::seconds(1)) window_start_ = now, window_count_ = 0;
+    if (++window_count_ > serve_limits::kMaxMessagesPerSecond) {
+        send(json{{"type", "error"}, {"message", "more than " + std::to_string(serve_limits::kMaxMessagesPerSecond) +
+                                                  " messages a second: disconnected"}}.dump());
+        close();
+        return;
+    }
+    if (!ws_.got_text()) {
+        send(json{{"type", "error"}, {"message", "binary messages are not understood"}}.dump());
+    } else {
+        server_.on_message(shared_from_this(), beast::buffers_to_string(buf_.data()));
+    }
+    buf_.consume(buf_.size());
+    read();
+}
+
+void WsSession::send(std::string text, std::optional<std::string> binary) {
+    if (closed_) return;
+    const bool image = binary.has_value();
+    if (image) {
+        // Drop queued images that are not being written (the first entry may be in flight).
+        std::size_t images = 0;
+        for (const Out& o : out_) images += o.image && !o.binary;
+        while (images >= serve_limits::kMaxQueuedImages) {
+            auto it = out_.begin() + (writing_ ? 1 : 0);
+            while (it != out_.end() && !(it->image && !it->binary)) ++it;
+            if (it == out_.end()) break;
+            it = out_.erase(it);                              // the header
+            if (it != out_.end() && it->image && it->binary) out_.erase(it);  // its PNG
+            --images;
+        }
+    }
+    out_.push_back({std::move(text), false, image});
+    if (binary) out_.push_back({std::move(*binary), true, true});
+    if (!writing_) write_next();
+}
+
+void WsSession::write_next() {
+    if (out_.empty() || closed_) {
+        writing_ = false;
+        return;
+    }
+    writing_ = true;
+    ws_.text(!out_.front().binary);
+    auto self = shared_from_this();
+    ws_.async_write(asio::buffer(out_.front().data), [self](beast::error_code ec, std::size_t) {
+        self->out_.pop_front();
+        if (ec) {
+            self->closed_ = true;
+            self->writing_ = false;
+            return;
+        }
+        self->write_next();
+    });
+}
+
+void WsSession::close() {
+    if (closed_) return;
+    closed_ = true;
+    auto self = shared_from_this();
+    ws_.async_close(websocket::close_code::policy_error, [self](beast::error_code) {});
+    server_.on_close(id_);
+}
+
+bool Server::origin_ok(const http::request<http::string_body>& req) const {
+    // Same origin only: the page this server served (a page of another site, or a DNS name
+    // rebound to this address, cannot drive it).
+    const std::string host(req[http::field::host]);
+    const std::string origin(req[http::field::origin]);
+    const std::string port = host_port_.substr(host_port_.rfind(':') + 1);
+    const bool host_ok = host == host_port_ || host == "localhost:" + port || host == "127.0.0.1:" + port ||
+                         host == "[::1]:" + port || host == o_.bind + ":" + port;
+    return host_ok && origin == "http://" + host;
+}
+
+void Server::on_open(const std::shared_ptr<WsSession>& s) {
+    sessions_[s->id()] = s;
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        pending_[s->id()] = json{{"type", "hello"}};
+        order_.push_back(s->id());
+    }
+    cv_.notify_one();
+}
+
+void Server::on_close(int id) {
+    sessions_.erase(id);
+    std::lock_guard<std::mutex> lock(m_);
+    pending_.erase(id);
+}
+
+void Server::on_message(const std::shared_ptr<WsSession>& s, const std::string& text) {
+    json msg;
+    try {
+        msg = json::parse(text);
+        if (!msg.is_object() || !msg.contains("type") || !msg["type"].is_string()) throw Error("expected {\"type\": ...}");
+        const std::string type = msg["type"];
+        if (type != "render" && type != "save") throw Error("unknown message type '" + type + "'");
+        if (!msg.contains("state")) throw Error("a " + type + " message needs a state");
+    } catch (const std::exception& e) {
+        s->send(json{{"type", "error"}, {"message", std::string("bad message: ") + e.what()}}.dump());
+        return;
+    }
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        // Coalescing: a page's newer render replaces the one not yet started; a save is kept.
+        auto it = pending_.find(s->id());
+        if (it != pending_.end() && it->second.value("type", "") == "save" && msg["type"] == "render") return;
+        if (it == pending_.end()) order_.push_back(s->id());
+        pending_[s->id()] = std::move(msg);
+    }
+    cv_.notify_one();
+}
+
+void Server::post(int session, std::string text, std::optional<std::string> binary) {
+    asio::post(io_, [this, session, text = std::move(text), binary = std::move(binary)]() mutable {
+        auto it = sessions_.find(session);
+        if (it == sessions_.end()) return;
+        if (auto s = it->second.lock()) s->send(std::move(text), std::move(binary));
+    });
+}
+
+void Server::render_loop() {
+    for (;;) {
+        int session = 0;
+        json msg;
+        {
+            std::unique_lock<std::mutex> lock(m_);
+            cv_.wait(lock, [&] { return stop_ || !order_.empty(); });
+            if (stop_) return;
+            session = order_.front();
+            order_.pop_front();
+            auto it = pending_.find(session);
+            if (it == pending_.end()) continue;  // the page went away
+            msg = std::move(it->second);
+            pending_.erase(it);
+        }
+        render_one(session, msg);
+    }
+}
+
+std::string Server::save(const json& state) {
+    std::error_code ec;
+    fs::create_directories(o_.out_dir, ec);
+    if (ec) throw Error("save: cannot create '" + o_.out_dir + "': " + ec.message());
+    std::string stem;
+    for (int i = 1; i < 100000; ++i) {
+        char b[32];
+        std::snprintf(b, sizeof b, "aquarelle_%04d", i);
+        if (!fs::exists(o_.out_dir + "/" + b + ".png")) {
+            stem = b;
+            break;
+        }
+    }
+    if (stem.empty()) throw Error("save: '" + o_.out_dir + "' holds 99999 saved images");
+    const std::string png = o_.out_dir + "/" + stem + ".png";
+    const std::vector<std::string> live = live_args(state);
+    std::vector<std::string> args = o_.render_args;
+    args.insert(args.begin(), o_.scene);
+    args.insert(args.end(), live.begin(), live.end());
+    args.insert(args.end(), {"--out", png, "--quiet"});
+    RenderOptions ro = parse_(args);
+    Reporter quiet;
+    RenderJob job = prepare_render(ro, quiet);
+    render_to_files(job, quiet);
+    const json saved = {{"state", state}, {"command", command_line(o_.scene, o_.render_args, live, png)}};
+    std::ofstream(o_.out_dir + "/" + stem + ".state.json") << saved.dump(2) << "\n";
+    return png;
+}
+
+void Server::render_one(int session, const json& msg) {
+    const std::string type = msg.value("type", "");
+    const json state = msg.contains("state") ? msg["state"] : json::object();
+    const json seq = msg.contains("seq") ? msg["seq"] : json(nullptr);
+    try {
+        if (type == "save") {
+            const std::string png = save(state);
+            post(session, json{{"type", "saved"}, {"png", png}, {"manifest", manifest_path(png)}}.dump());
+            return;
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::vector<std::string> live = live_args(state);
+        std::vector<std::string> args = o_.render_args;
+        args.insert(args.begin(), o_.scene);
+        args.insert(args.end(), live.begin(), live.end());
+        const std::string target = state.contains("target") ? name(state["target"], "target") : "final";
+        args.insert(args.end(), {"--out", "live.png", "--quiet"});
+        RenderOptions ro = parse_(args);
+        ro.keep_intermediates = target != "final";
+        ro.preloaded = scene_;
+        ro.live = true;
+        Reporter quiet;
+        RenderJob job = prepare_render(ro, quiet);
+        json schema;
+        if (type == "hello" || msg.value("schema", false)) schema = live_schema(job);
+        std::string png;
+        json phases = json::object();
+        std::string missing;
+        run_render(job, [&](RenderedImage& img) {
+            ImageF shown;
+            if (target == "final") {
+                shown = img.final_image();
+            } else if (img.targets.has(target)) {
+                shown = visualize_target(target, img.targets.get(target));
+            } else {
+                missing = target;
+                return;
+            }
+            std::vector<unsigned char> bytes, rows;
+            encode_png(shown, "", bytes, rows);
+            png.assign(bytes.begin(), bytes.end());
+            for (const auto& [k, v] : img.phases) phases[k] = v;
+        }, quiet);
+        if (!missing.empty()) throw Error("no target '" + missing + "' in this render");
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", ms}, {"phases", phases},
+                     {"command", command_line(o_.scene, o_.render_args, live, "out.png")}};
+        if (!schema.is_null()) head["schema"] = schema;
+        post(session, head.dump(), std::move(png));
+    } catch (const std::exception& e) {
+        post(session, json{{"type", "error"}, {"seq", seq}, {"message", e.what()}}.dump());
+    }
+}
+
+void Server::serve_http(tcp::socket socket) {
+    // One request per connection on the Asio thread; a WebSocket upgrade hands the socket on.
+    struct Conn : std::enable_shared_from_this<Conn> {
+        beast::tcp_stream stream;
+        beast::flat_buffer buf;
+        http::request_parser<http::string_body> parser;
+        Server& server;
+        Conn(tcp::socket&& s, Server& srv) : stream(std::move(s)), server(srv) {
+            parser.header_limit(16 * 1024);
+            parser.body_limit(0);
+        }
+        void start() {
+            stream.expires_after(std::chrono::seconds(10));
+            auto self = shared_from_this();
+            http::async_read(stream, buf, parser, [self](beast::error_code ec, std::size_t) { self->on_request(ec); });
+        }
+        void reply(http::status st, const std::string& type, std::string body) {
+            auto res = std::make_shared<http::response<http::string_body>>(st, parser.get().version());
+            res->set(http::field::content_type, type);
+            res->set(http::field::cache_control, "no-store");
+            res->set("X-Content-Type-Options", "nosniff");
+            res->set("Content-Security-Policy",
+                     "default-src 'self'; img-src 'self' blob:; connect-src 'self'; style-src 'self' 'unsafe-inline'; font-src 'self' data:");
+            res->body() = std::move(body);
+            res->prepare_payload();
+            res->keep_alive(false);
+            auto self = shared_from_this();
+            http::async_write(stream, *res, [self, res](beast::error_code, std::size_t) {
+                beast::error_code ignored;
+                self->stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
+            });
+        }
+        void on_request(beast::error_code ec) {
+            if (ec) return;
+            const auto& req = parser.get();
+            const std::string token = query_param(req.target(), "token");
+            if (!same_token(token, server.token_)) {
+                reply(http::status::forbidden, "text/plain", "aquarelle serve: this page needs the token of the URL the server printed\n");
+                return;
+            }
+            if (req.method() != http::verb::get) {
+                reply(http::status::method_not_allowed, "text/plain", "GET only\n");
+                return;
+            }
+            const std::string path = path_of(req.target());
+            if (path == "/ws" && websocket::is_upgrade(req)) {
+                if (!server.origin_ok(req)) {
+                    reply(http::status::forbidden, "text/plain", "aquarelle serve: WebSocket from another origin refused\n");
+                    return;
+                }
+                if (int(server.sessions_.size()) >= serve_limits::kMaxSessions) {
+                    reply(http::status::service_unavailable, "text/plain", "aquarelle serve: too many pages open\n");
+                    return;
+                }
+                stream.expires_never();
+                std::make_shared<WsSession>(stream.release_socket(), server, server.next_id_++)->start(parser.release());
+                return;
+            }
+            auto it = server.assets_.find(path);
+            if (it == server.assets_.end()) {
+                reply(http::status::not_found, "text/plain", "not found\n");
+                return;
+            }
+            reply(http::status::ok, it->second.type, it->second.body);
+        }
+    };
+    std::make_shared<Conn>(std::move(socket), *this)->start();
+}
+
+void Server::accept() {
+    acceptor_.async_accept([this](beast::error_code ec, tcp::socket s) {
+        if (!ec) serve_http(std::move(s));
+        if (acceptor_.is_open()) accept();
+    });
+}
+
+int Server::run(const std::function<void(const std::string&)>& on_url) {
+    assets_ = load_assets(o_.web_dir, token_);
+    beast::error_code ec;
+    const auto addr = asio::ip::make_address(o_.bind, ec);
+    if (ec) throw Error("serve: --bind '" + o_.bind + "' is not an IP address");
+    const tcp::endpoint ep(addr, static_cast<unsigned short>(o_.port));
+    acceptor_.open(ep.protocol(), ec);
+    if (!ec) acceptor_.set_option(asio::socket_base::reuse_address(true), ec);
+    if (!ec) acceptor_.bind(ep, ec);
+    if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+    if (ec) throw Error("serve: cannot listen on " + o_.bind + ":" + std::to_string(o_.port) + ": " + ec.message());
+    const int port = acceptor_.local_endpoint().port();
+    const std::string host = addr.is_v6() ? "[" + o_.bind + "]" : o_.bind;
+    host_port_ = host + ":" + std::to_string(port);
+    // Load the scene once before the first page connects: its errors end the server here.
+    {
+        std::vector<std::string> args = o_.render_args;
+        args.insert(args.begin(), o_.scene);
+        args.insert(args.end(), {"--out", "live.png", "--quiet"});
+        RenderOptions ro = parse_(args);
+        ro.keep_loaded = true;
+        Reporter quiet;
+        scene_ = prepare_render(ro, quiet).loaded;
+    }
+    std::thread renderer([this] { render_loop(); });
+    asio::signal_set signals(io_, SIGINT, SIGTERM);
+    signals.async_wait([this](beast::error_code, int) {
+        beast::error_code ignored;
+        acceptor_.close(ignored);
+        io_.stop();
+    });
+    accept();
+    on_url("http://" + (o_.bind == "0.0.0.0" ? std::string("127.0.0.1") : host) + ":" + std::to_string(port) + "/?token=" + token_);
+    io_.run();
+    {
+        std::lock_guard<std::mutex> lock(m_);
+        stop_ = true;
+    }
+    cv_.notify_one();
+    renderer.join();
+    return 0;
+}
+
+}  // namespace
+
+int serve(const ServeOptions& options, const RenderArgsParser& parse, const std::function<void(const std::string&)>& on_url) {
+    Server s(options, parse);
+    return s.run(on_url);
+}
+
+}  // namespace aq::app

@@ -1,0 +1,64 @@
+// app/serve.h — `aquarelle serve`: a local web page that art-directs a scene live (docs/serve.md).
+//
+// HTTP and WebSocket come from Boost.Beast (header-only in Debian's libboost-dev; chosen over
+// websocketpp for being part of Boost, maintained with Asio, with HTTP and WebSocket in one
+// library); the page's controls are lil-gui, from npm, pinned by app/web/package-lock.json and
+// copied into the build so the page needs no network. The server turns the page's state into
+// `aquarelle render` options (live_args) and renders them through the same code as the CLI, so
+// what the page shows is what `render` writes for the command line the page prints.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/render_job.h"
+
+namespace aq::app {
+
+struct ServeOptions {
+    std::string scene;
+    std::string bind = "127.0.0.1";
+    int port = 0;  //!< 0: any free port
+    std::string out_dir = "aquarelle-saved";
+    std::string web_dir;  //!< the page's files (the build's app/web)
+    bool quiet = false;
+    //! render options given on the command line (--style, --width, --set, ...), parsed for every
+    //! image with the page's state added after them.
+    std::vector<std::string> render_args;
+};
+
+//! Parses `aquarelle render` arguments (the CLI's own parser: app/main.cpp). Throws
+//! cli::UsageError or aq::Error.
+using RenderArgsParser = std::function<RenderOptions(const std::vector<std::string>&)>;
+
+//! Limits of the live server (docs/serve.md "Safety").
+namespace serve_limits {
+inline constexpr std::size_t kMaxMessageBytes = 64 * 1024;  //!< one WebSocket message from a page
+inline constexpr int kMaxSessions = 16;                     //!< pages connected at once
+inline constexpr int kMaxMessagesPerSecond = 200;           //!< per page; beyond: disconnected
+inline constexpr int kMaxLiveSide = 4096;                   //!< width and height of the live view
+inline constexpr std::size_t kMaxQueuedImages = 2;          //!< unsent images per page (newest kept)
+}  // namespace serve_limits
+
+//! The page's state as `render` arguments after the scene: --style, --width, --height, --frame,
+//! --view, --variant STEP=V and --set STEP.PARAM=X (every value checked for type here, for range by
+//! the render itself). Keys it does not know are an aq::Error naming them.
+std::vector<std::string> live_args(const nlohmann::json& state);
+
+//! The equivalent command line, quoted for a POSIX shell.
+std::string command_line(const std::string& scene, const std::vector<std::string>& base, const std::vector<std::string>& live,
+                         const std::string& out);
+
+//! What the page builds its panel from: the style's steps (id, stage, variant, the variants
+//! registered for that stage, every parameter with kind, default, range, doc and its value in this
+//! style), the targets it can show, the presets. Throws aq::Error.
+nlohmann::json live_schema(const RenderJob& job);
+
+//! Runs the server until SIGINT/SIGTERM. `on_url` receives the page's URL (token included) once
+//! it listens. Returns the exit status.
+int serve(const ServeOptions& options, const RenderArgsParser& parse, const std::function<void(const std::string&)>& on_url);
+
+}  // namespace aq::app
