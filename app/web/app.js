@@ -97,6 +97,7 @@ function showImage(blob) {
       timing.textContent = `${ms.toFixed(0)} ms to screen (server ${h.server_ms.toFixed(0)} ms)`;
       for (const k of sentAt.keys()) if (k <= h.seq) sentAt.delete(k);
     }
+    aq.shownPng = blob;  // the PNG bytes on screen, as the server sent them
     aq.shownSeq = h && typeof h.seq === 'number' ? h.seq : aq.shownSeq;
   };
   view.src = url;

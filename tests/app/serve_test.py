@@ -1,0 +1,233 @@
+#!/usr/bin/python3
+"""tests/app/serve_test.py — `aquarelle serve` in a real browser (headless Chromium via Selenium).
+
+Usage: serve_test.py AQUARELLE SHARED_DIR OUTPUT_PARENT
+Everything is written inside a fresh folder OUTPUT_PARENT/serve.XXXXXX (removed when every check
+passed, kept otherwise): the saved images, the CLI's renders, the screenshots (serve_*.png) and
+the latencies the page measured (latency.json). Exit status 0 when every check passed.
+
+Checks: the page loads and shows an image; moving a parameter's slider shows a new image whose
+pixels equal `aquarelle render` of the page's printed command line; switching a variant and the
+shown target; dragging the camera; an out-of-range value is shown as an error and the server goes
+on rendering; two tabs at once; Save writes a PNG whose manifest `aquarelle reproduce` calls
+identical; a page without the token is refused; the stopped server is reported by the page.
+"""
+import base64
+import json
+import os
+import shlex
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.error
+import urllib.request
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import WebDriverWait
+
+exe, shared, parent = sys.argv[1], sys.argv[2], sys.argv[3]
+os.makedirs(parent, exist_ok=True)
+work = tempfile.mkdtemp(prefix="serve.", dir=parent)
+env = dict(os.environ, AQUARELLE_CACHE_DIR=os.path.join(work, "cache"))
+scene = os.path.join(shared, "assets/gltf/WaterBottle/glTF/WaterBottle.gltf")
+passed = failed = 0
+
+
+def check(ok, what):
+    global passed, failed
+    if ok:
+        passed += 1
+        print("ok   - " + what, flush=True)
+    else:
+        failed += 1
+        print("FAIL - " + what, flush=True)
+    return ok
+
+
+def start_server():
+    p = subprocess.Popen([exe, "serve", scene, "--width", "320", "--height", "180", "--out-dir", os.path.join(work, "saved"), "--quiet"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    url = p.stdout.readline().strip()
+    if not url.startswith("http://127.0.0.1:"):
+        print(p.stderr.read())
+        raise SystemExit("the server printed no URL")
+    return p, url
+
+
+def browser():
+    o = webdriver.ChromeOptions()
+    o.binary_location = "/usr/bin/chromium"
+    for f in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1200,800"):
+        o.add_argument(f)
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=o)
+
+
+def wait_image(d, after_seq, timeout=30):
+    """Waits until the page shows the image of a request sent after `after_seq` (or an error)."""
+    WebDriverWait(d, timeout).until(lambda d: d.execute_script(
+        "return window.aq.shownSeq > arguments[0] || window.aq.lastError !== ''", after_seq))
+
+
+def shown_png(d, path):
+    b64 = d.execute_async_script("""
+        const done = arguments[0];
+        const r = new FileReader();
+        r.onload = () => done(r.result.split(',')[1]);
+        r.readAsDataURL(window.aq.shownPng);""")
+    with open(path, "wb") as f:
+        f.write(base64.b64decode(b64))
+
+
+def cli_equal(d, name):
+    """The shown image against `aquarelle render` of the page's command line: same pixels."""
+    live = os.path.join(work, name + "_live.png")
+    shown_png(d, live)
+    cmd = shlex.split(d.find_element(By.ID, "command").get_attribute("value"))
+    assert cmd[0] == "aquarelle" and cmd[-2] == "--out"
+    cli = os.path.join(work, name + "_cli.png")
+    r = subprocess.run([exe] + cmd[1:-1] + [cli, "--quiet"], env=env, capture_output=True, text=True)
+    if r.returncode != 0:
+        print(r.stderr)
+        return False
+    c = subprocess.run([exe, "compare", live, cli], capture_output=True, text=True)
+    fields = dict(l.split(None, 1) for l in c.stdout.splitlines() if l.strip())
+    return c.returncode == 0 and fields.get("max_abs", "").split()[0] == "0" and fields.get("size") == "320x180x3"
+
+
+server, url = start_server()
+d = None
+try:
+    # No token, a wrong token: refused.
+    base = url.split("?")[0]
+    for bad in (base, base + "?token=0"):
+        try:
+            urllib.request.urlopen(bad, timeout=5)
+            check(False, "a page without the right token is refused")
+        except urllib.error.HTTPError as e:
+            check(e.code == 403, "a page without the right token is refused (%d)" % e.code)
+
+    d = browser()
+    d.get(url)
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    check(True, "the page loads and shows an image")
+    schema = d.execute_script("return window.aq.schema")
+    ids = [s["id"] for s in schema["steps"]]
+    check("edge_darken" in ids and "bleed" in ids, "the panel lists the style's steps (%d)" % len(ids))
+    d.save_screenshot(os.path.join(work, "serve_page.png"))
+
+    # Move a slider: edge_darken.intensity, dragged with the mouse.
+    folder = [e for e in d.find_elements(By.CSS_SELECTOR, ".lil-gui .lil-title") if "edge_darken —" in e.text][0]
+    folder.click()
+    slider = d.find_element(By.CSS_SELECTOR, "[data-param='edge_darken.intensity'] .lil-slider")
+    WebDriverWait(d, 10).until(lambda d: slider.is_displayed())  # the folder opens with a transition
+    seq = d.execute_script("return window.aq.seq")
+    ActionChains(d).click_and_hold(slider).move_by_offset(30, 0).release().perform()
+    wait_image(d, seq)
+    params = d.execute_script("return window.aq.state.params")
+    check("edge_darken.intensity" in params, "the slider changed edge_darken.intensity (%s)" % params.get("edge_darken.intensity"))
+    check(d.execute_script("return window.aq.lastError") == "", "no error after the slider")
+    check(cli_equal(d, "slider"), "the shown image has the pixels of `aquarelle render` of the printed command line")
+
+    # Switch a variant: bleed to its other registered variant.
+    bleed = [s for s in schema["steps"] if s["id"] == "bleed"][0]
+    other = [v["name"] for v in bleed["variants"] if v["name"] != bleed["variant"]][0]
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.variants.bleed = arguments[0]; window.aq.render(true);", other)
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.schema.steps.find(s => s.id === 'bleed').variant") == other,
+          "switching bleed to %s rebuilds the panel" % other)
+    check(cli_equal(d, "variant"), "the variant's image equals the CLI's")
+
+    # Switch the shown target.
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.target = 'depth.linear'; window.aq.render();")
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.lastError") == "", "the target depth.linear is shown")
+    d.execute_script("window.aq.state.target = 'final';")
+
+    # Drag the camera.
+    view = d.find_element(By.ID, "view")
+    seq = d.execute_script("return window.aq.seq")
+    ActionChains(d).click_and_hold(view).move_by_offset(60, 20).move_by_offset(60, 0).release().perform()
+    wait_image(d, seq)
+    v = d.execute_script("return window.aq.state.view")
+    check(v[0] != 0 and v[1] != 0, "dragging turned the camera (%s)" % v)
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.shownSeq === window.aq.seq || window.aq.lastError !== ''"))
+    check(cli_equal(d, "camera"), "the turned camera's image equals the CLI's (--view)")
+    d.save_screenshot(os.path.join(work, "serve_camera.png"))
+
+    # An out-of-range value: an error on the page, and the server renders the next change.
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.params['edge_darken.intensity'] = 999; window.aq.render();")
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.lastError !== ''"))
+    err = d.execute_script("return window.aq.lastError")
+    check("edge_darken" in err and "999" in err, "an out-of-range value is shown as an error: " + err[:120])
+    d.save_screenshot(os.path.join(work, "serve_error.png"))
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.params['edge_darken.intensity'] = 2; window.aq.render();")
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.lastError") == "" and d.execute_script("return window.aq.shownSeq") > seq,
+          "the server renders again after the error")
+
+    # Latency of parameter changes as the browser measures it (change sent -> image decoded).
+    d.execute_script("window.aq.latencies = [];")
+    for i in range(12):
+        seq = d.execute_script("return window.aq.seq")
+        d.execute_script("window.aq.state.params['edge_darken.intensity'] = arguments[0]; window.aq.render();", 1.0 + 0.1 * i)
+        wait_image(d, seq)
+    lat = d.execute_script("return window.aq.latencies")
+    with open(os.path.join(work, "latency.json"), "w") as f:
+        json.dump({"size": "320x180", "latencies_ms": lat}, f)
+    check(len(lat) == 12, "12 changes, 12 images: median %.0f ms, max %.0f ms (320x180)" % (statistics.median(lat), max(lat)))
+
+    # Two tabs at once: the second gets its own state and images; the first is untouched.
+    first = d.current_window_handle
+    d.switch_to.new_window("tab")
+    d.get(url)
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.params['edge_darken.intensity'] = 0.5; window.aq.render();")
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.lastError") == "", "a second tab renders its own state")
+    second = d.current_window_handle
+    d.switch_to.window(first)
+    check(d.execute_script("return window.aq.state.params['edge_darken.intensity']") == 2.9 or
+          d.execute_script("return window.aq.connected"), "the first tab is still connected")
+    d.switch_to.window(second)
+    d.close()
+    d.switch_to.window(first)
+
+    # Save: PNG, manifest and state in --out-dir; reproduce says identical.
+    d.execute_script("document.getElementById('save').click();")
+    WebDriverWait(d, 60).until(lambda d: d.find_element(By.ID, "saved").text.startswith("saved"))
+    png = os.path.join(work, "saved", "aquarelle_0001.png")
+    check(os.path.exists(png) and os.path.exists(png + ".json") and os.path.exists(os.path.join(work, "saved", "aquarelle_0001.state.json")),
+          "Save wrote the PNG, its manifest and the state")
+    r = subprocess.run([exe, "reproduce", png + ".json", "--quiet"], capture_output=True, text=True, env=env)
+    check(r.returncode == 0 and "identical" in r.stdout, "reproduce of the saved image: " + (r.stdout.strip() or r.stderr.strip())[:100])
+
+    # The server stops: the page says so.
+    server.send_signal(signal.SIGTERM)
+    server.wait(timeout=10)
+    WebDriverWait(d, 30).until(lambda d: not d.execute_script("return window.aq.connected"))
+    check("server stopped" in d.find_element(By.ID, "status").text, "the page says the server stopped")
+    d.save_screenshot(os.path.join(work, "serve_stopped.png"))
+finally:
+    if d is not None:
+        d.quit()
+    if server.poll() is None:
+        server.kill()
+
+print("serve: %d passed, %d failed" % (passed, failed))
+if failed == 0 and not os.environ.get("AQ_KEEP_TEST_OUTPUT"):
+    import shutil
+    shutil.rmtree(work, ignore_errors=True)
+else:
+    print("serve: outputs kept in " + work)
+sys.exit(1 if failed else 0)
