@@ -154,6 +154,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         std::to_string(int(ms_since(t0))) + " ms" + (cache_use.hit ? " from the cache" : ""));
     // The key of the scene as the raster passes get it (the default control below changes it).
     std::string scene_key = cache_use.key;
+    std::string default_control_applied;  // the rules' text when they changed the scene
 
     raster::RenderSettings& rs = job.settings;
     rs.width = o.width ? o.width : (desc.width ? desc.width : 1280);
@@ -226,6 +227,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             const auto rules =
                 scene::parse_control_rules(pipeline.default_control, "style '" + pipeline.name + "' default_control");
             const std::size_t n = scene::apply_default_control(desc.scene, rules);
+            if (n) default_control_applied = pipeline.default_control;
             if (n && !scene_key.empty()) scene_key = cache::key({scene_key, "default_control", pipeline.default_control});
             if (n) report.progress("default control of style " + pipeline.name + " on " + std::to_string(n) + " primitive(s)");
         }
@@ -285,12 +287,34 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
-        std::vector<std::string> notes;
-        job.pass_scenes.push_back(raster::abstract_foliage_cached(job.desc.scene, fp, job.settings.exec, &warnings,
-                                                                  store ? &*store : nullptr, scene_key, &notes));
-        for (auto& n : notes) report.progress("cache: " + n);
-        job.pass_layers.push_back(raster::abstracted_layer_table(job.desc.scene, *job.pass_scenes.back()));
-        job.pass_contours.push_back(raster::build_contour_cache(job.pass_scenes.back()->scene));
+        // A live render of the server's preloaded scene: the memo (its scene never changes, so the
+        // default control and the parameters name the entry).
+        const std::string memo_key = o.pass_memo && o.preloaded
+                                         ? "default control " + default_control_applied + "\n" + raster::foliage_params_key(fp)
+                                         : std::string();
+        std::shared_ptr<const RenderOptions::PassSceneMemo::Entry> memo;
+        if (!memo_key.empty()) {
+            std::lock_guard<std::mutex> lock(o.pass_memo->m);
+            if (auto it = o.pass_memo->entries.find(memo_key); it != o.pass_memo->entries.end()) memo = it->second;
+        }
+        if (!memo) {
+            auto e = std::make_shared<RenderOptions::PassSceneMemo::Entry>();
+            std::vector<std::string> notes;
+            e->scene = raster::abstract_foliage_cached(job.desc.scene, fp, job.settings.exec, &e->warnings,
+                                                       store ? &*store : nullptr, scene_key, &notes);
+            for (auto& n : notes) report.progress("cache: " + n);
+            e->layers = raster::abstracted_layer_table(job.desc.scene, *e->scene);
+            e->contours = raster::build_contour_cache(e->scene->scene);
+            memo = e;
+            if (!memo_key.empty()) {
+                std::lock_guard<std::mutex> lock(o.pass_memo->m);
+                o.pass_memo->entries[memo_key] = memo;
+            }
+        }
+        warnings = memo->warnings;
+        job.pass_scenes.push_back(memo->scene);
+        job.pass_layers.push_back(memo->layers);
+        job.pass_contours.push_back(memo->contours);
         for (auto& w : warnings) report.warning(w);
         if (const auto& a = job.pass_scenes.back(); a->abstracted) {
             char fit[160];
@@ -398,6 +422,30 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     } pool_limit{one_shot_memory ? set_image_pool_limit(kOneShotPoolBytes) : 0, one_shot_memory};
     Targets gbuffer, frame_targets;
     ImageF converted;
+    // A live render continuing the previous image (RenderOptions::LiveFrame): from which step.
+    RenderOptions::LiveFrame* live = o.live_frame;
+    int first_step = 0;
+    bool continued = false;  // the previous live image's targets are this one's start
+    if (live && live->valid && job.stylize && job.compiled.size() == 1 && !sweeping && live->key == live->key_next &&
+        live->steps.size() == job.compiled[0].steps.size()) {
+        const auto& now = job.compiled[0].steps;
+        std::size_t k = 0;
+        bool same_structure = true;
+        for (std::size_t i = 0; i < now.size(); ++i) {
+            const stylize::CompiledStep &a = live->steps[i], &b = now[i];
+            same_structure = same_structure && a.variant == b.variant && a.inputs == b.inputs && a.outputs == b.outputs;
+            if (a.params == b.params && k == i) ++k;
+        }
+        if (same_structure) {
+            first_step = int(k);
+            continued = true;
+            frame_targets = std::move(live->targets);
+        }
+    }
+    if (live) {
+        live->valid = false;  // until this render completes
+        live->first_step = first_step;
+    }
     for (int f = o.frame_first; f <= o.frame_last; ++f) {
         if (o.animation && !o.in_shard(f - o.frame_first)) continue;  // another shard's frame
         const auto tf = std::chrono::steady_clock::now();
@@ -407,7 +455,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
         const scene::Camera camera = frame_camera(job, f);
         std::vector<std::string> warnings;
         PhaseTimes phases;
-        if (one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
+        if (!continued && one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
             // One-shot: the paper first, while nothing else large is alive; the decoded file is
             // then dropped, so its decoding is not on top of the G-buffer (issue 13 item 6).
             frame_targets.set(stylize::kPaperTarget, stylize::prepare_paper(job.compiled[0].paper, rs.width, rs.height, rs.exec));
@@ -415,7 +463,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             image_pool_release();  // the decoded file's buffer: no later image has its size
             phases.emplace_back("paper", ms_since(tf));
         }
-        if (job.needs_gbuffer()) {
+        if (job.needs_gbuffer() && !continued) {
             const auto tg = std::chrono::steady_clock::now();
             raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
             for (auto& w : warnings) report.warning(w);
@@ -478,6 +526,10 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                 ro.in_place = ro.fuse;            // nor do in-place steps keep their input (StageVariant::in_place_input)
                 ro.row_groups = o.row_groups;
                 ro.release_inputs = one_shot_memory;
+                if (live) {
+                    ro.first_step = first_step;
+                    ro.fuse = ro.in_place = ro.row_groups = ro.release_dead = false;
+                }
                 if (!o.quiet && !o.animation && !sweeping)
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
@@ -502,6 +554,13 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             img.phases.emplace_back("convert", ms_since(tc));
             sink(img);
             converted = std::move(img.converted);
+            if (live) {
+                live->targets = std::move(targets);  // G-buffer included: the next image may start past it
+                live->steps = job.compiled[0].steps;
+                live->key = live->key_next;
+                live->valid = true;
+                continue;
+            }
             if (!sweeping) move_gbuffer(frame_targets, gbuffer);
         }
     }

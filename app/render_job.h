@@ -6,7 +6,9 @@
 
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -84,6 +86,35 @@ struct RenderOptions {
     //! loaded (RenderJob::loaded) for such renders.
     std::shared_ptr<const scene::SceneDesc> preloaded;
     bool live = false, keep_loaded = false;
+    //! Live renders: the raster passes' scenes (abstracted foliage, layers, contours) of earlier
+    //! renders of the same preloaded scene, by foliage parameters, so that a parameter change
+    //! does not abstract the foliage again. Shared by the server's renders; guarded by its mutex.
+    struct PassSceneMemo {
+        struct Entry {
+            std::shared_ptr<const raster::AbstractedScene> scene;
+            scene::LayerTable layers;
+            raster::ContourCache contours;
+            std::vector<std::string> warnings;
+        };
+        std::mutex m;
+        std::map<std::string, std::shared_ptr<const Entry>> entries;
+    };
+    std::shared_ptr<PassSceneMemo> pass_memo;
+    //! Live renders: what the previous image of the same view left — every target (G-buffer, paper,
+    //! intermediates) and its compiled steps. When `key` (the server's: every option but the
+    //! parameter values) is unchanged and the steps differ only in parameter values, run_render
+    //! re-runs the pipeline from the first step whose values changed (stylize::RunOptions::
+    //! first_step) instead of rasterizing and running every step; the bytes are the full run's
+    //! (tests/app/serve_test.py compares with the CLI). Then it keeps this image's targets here.
+    struct LiveFrame {
+        std::string key;       //!< of the kept targets
+        std::string key_next;  //!< of the render about to run (set by the caller)
+        Targets targets;
+        std::vector<stylize::CompiledStep> steps;
+        bool valid = false;
+        int first_step = 0;  //!< of the last render (0: everything ran)
+    };
+    LiveFrame* live_frame = nullptr;
     //! The content cache of loaded scenes and abstracted foliage (docs/cache.md): set by the CLI
     //! from the environment unless --no-cache; unset (library callers, tests, `reproduce`): no cache.
     std::optional<cache::Config> cache;

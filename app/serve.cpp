@@ -316,6 +316,10 @@ private:
     // The loaded scene, reused by every live image (the CLI path of `render` loads it each time;
     // a copy here is what that load would return).
     std::shared_ptr<const scene::SceneDesc> scene_;
+    std::shared_ptr<RenderOptions::PassSceneMemo> pass_memo_ = std::make_shared<RenderOptions::PassSceneMemo>();
+    //! The last live image's targets, for every page (render thread only): one frame's memory
+    //! whatever the number of pages; pages taking turns each render from the start.
+    RenderOptions::LiveFrame live_frame_;
 };
 
 void WsSession::start(http::request<http::string_body> req) {
@@ -531,7 +535,18 @@ void Server::render_one(int session, const json& msg) {
         RenderOptions ro = parse_(args);
         ro.keep_intermediates = target != "final";
         ro.preloaded = scene_;
+        ro.pass_memo = pass_memo_;
         ro.live = true;
+        // Every option but the parameter values names the kept targets (RenderOptions::LiveFrame).
+        live_frame_.key_next.clear();
+        for (std::size_t i = 0; i < args.size(); ++i) {
+            if (args[i] == "--set" && i + 1 < args.size()) {
+                ++i;
+                continue;
+            }
+            live_frame_.key_next += args[i] + '\n';
+        }
+        ro.live_frame = &live_frame_;
         Reporter quiet;
         RenderJob job = prepare_render(ro, quiet);
         json schema;
@@ -556,7 +571,7 @@ void Server::render_one(int session, const json& msg) {
         }, quiet);
         if (!missing.empty()) throw Error("no target '" + missing + "' in this render");
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", ms}, {"phases", phases},
+        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", ms}, {"phases", phases}, {"first_step", live_frame_.first_step},
                      {"command", command_line(o_.scene, o_.render_args, live, "out.png")}};
         if (!schema.is_null()) head["schema"] = schema;
         post(session, head.dump(), std::move(png));

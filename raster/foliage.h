@@ -98,6 +98,9 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
                                                         const Exec& ex = {},
                                                         std::vector<std::string>* warnings = nullptr);
 
+//! Every parameter of `p` as text (floats exact, "%a"): the parameters' part of a cache key.
+std::string foliage_params_key(const FoliageParams& p);
+
 //! abstract_foliage through the content cache (core/cache.h): the entry keyed by `scene_key` (what
 //! the scene's content and every change made to it since loading hash to, scenes/scene_cache.h)
 //! and the parameters; `store` null or `scene_key` empty: abstract_foliage. The same result and

@@ -20,15 +20,19 @@ void fields(Ar& ar, AbstractedScene& a) {
        a.abstracted, a.texture_technique, a.surface_object_id, a.foliage_object_id, a.surface_material, a.foliage_material);
 }
 
-std::shared_ptr<const AbstractedScene> abstract_foliage_cached(const scene::Scene& sc, const FoliageParams& p, const Exec& ex,
-                                                               std::vector<std::string>* warnings, const cache::Store* store,
-                                                               const std::string& scene_key, std::vector<std::string>* notes) {
-    if (!store || scene_key.empty()) return abstract_foliage(sc, p, ex, warnings);
+std::string foliage_params_key(const FoliageParams& p) {
     // Every parameter by value (%a: exact floats), never the struct's bytes (padding).
     char params[200];
     std::snprintf(params, sizeof params, "abstract=%d T=%a r=%a relative=%d cells=%d fit=%d technique=%s", int(p.abstract),
                   double(p.threshold), double(p.radius), int(p.relative), p.cells_per_radius, int(p.fit), technique_name(p.technique));
-    const std::string key = cache::key({"foliage", scene_key, params});
+    return params;
+}
+
+std::shared_ptr<const AbstractedScene> abstract_foliage_cached(const scene::Scene& sc, const FoliageParams& p, const Exec& ex,
+                                                               std::vector<std::string>* warnings, const cache::Store* store,
+                                                               const std::string& scene_key, std::vector<std::string>* notes) {
+    if (!store || scene_key.empty()) return abstract_foliage(sc, p, ex, warnings);
+    const std::string key = cache::key({"foliage", scene_key, foliage_params_key(p)});
     std::string problem;
     if (std::optional<cache::Entry> e = store->find("foliage", key, &problem)) {
         std::vector<std::string> w;

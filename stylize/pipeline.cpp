@@ -561,7 +561,9 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     return c;
 }
 
-void check_gbuffer(const CompiledPipeline& c, const Targets& gbuffer) {
+namespace {
+//! check_gbuffer, with `kept` the outputs of steps a run from RunOptions::first_step does not run.
+void check_gbuffer_except(const CompiledPipeline& c, const Targets& gbuffer, const std::set<std::string>& kept) {
     const ImageF* first = nullptr;
     std::string first_name;
     for (const ExternalInput& x : c.external) {
@@ -586,10 +588,13 @@ void check_gbuffer(const CompiledPipeline& c, const Targets& gbuffer) {
         }
     }
     for (const std::string& t : c.produced)
-        if (gbuffer.has(t))
+        if (gbuffer.has(t) && !kept.count(t))
             throw Error(c.source + ": target '" + t + "' is written by a step but already present (a G-buffer target "
                         "cannot be overwritten; a frame loop passes RunOptions::reuse_outputs)");
 }
+}  // namespace
+
+void check_gbuffer(const CompiledPipeline& c, const Targets& gbuffer) { check_gbuffer_except(c, gbuffer, {}); }
 
 void validate_pipeline(const Pipeline& p, const Targets* gbuffer) { (void)compile_pipeline(p, gbuffer); }
 
@@ -724,14 +729,26 @@ void run_row_group(const CompiledPipeline& c, const RowGroup& gr, Targets& targe
 }  // namespace
 
 void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
+    const int first = opt.first_step;
+    if (first < 0 || first > int(c.steps.size())) throw Error(c.source + ": first step " + std::to_string(first) + " out of range");
+    // The outputs of the steps that do not run (first_step) are inputs of this run.
+    std::set<std::string> kept;
+    for (int i = 0; i < first; ++i)
+        for (const std::string& t : c.steps[std::size_t(i)].outputs) kept.insert(t);
+    if (first > 0) {
+        if (opt.fuse || opt.in_place || opt.row_groups || opt.release_dead)
+            throw Error(c.source + ": a run from step " + std::to_string(first) + " needs fuse, in_place, row_groups and release_dead off");
+        for (const std::string& t : kept)
+            if (!targets.has(t)) throw Error(c.source + ": a run from step " + std::to_string(first) + " needs '" + t + "' from an earlier run");
+    }
     std::map<std::string, ImageF> recycled;
     if (opt.reuse_outputs)
         for (const std::string& t : c.produced)
-            if (targets.has(t)) {
+            if (targets.has(t) && !kept.count(t)) {
                 recycled[t] = std::move(targets.get_mut(t));
                 targets.erase(t);
             }
-    check_gbuffer(c, targets);
+    check_gbuffer_except(c, targets, kept);
     // Image size: the first G-buffer target read (check_gbuffer checked they agree).
     int w = 0, h = 0;
     for (const ExternalInput& x : c.external)
@@ -792,7 +809,7 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     std::map<int, const RowGroup*> group_at;  // first step -> its row group
     if (opt.row_groups && opt.exec.traversal == Traversal::Fast)
         for (const RowGroup& gr : c.row_groups) group_at[int(gr.first)] = &gr;
-    for (int i = 0; i < n; ++i) {
+    for (int i = first; i < n; ++i) {
         if (const auto grp = group_at.find(i); grp != group_at.end()) {
             const RowGroup& gr = *grp->second;
             for (std::size_t s = gr.first; s <= gr.last; ++s)

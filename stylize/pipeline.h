@@ -129,6 +129,11 @@ struct RunOptions {
     //! StageVariant::in_place_input): the same output bytes, but that input is not in `targets`
     //! afterwards. For the same callers as `fuse`.
     bool in_place = false;
+    //! Runs steps first_step.. only: the outputs of the steps before it must be in `targets`, as a
+    //! run of the same pipeline with every intermediate kept left them, and those steps' parameters
+    //! unchanged since (the live view, app/serve.h: a parameter change re-runs from the first step
+    //! that reads it). Only with fuse, in_place, row_groups and release_dead off.
+    int first_step = 0;
 };
 
 //! One step of a compiled pipeline: the variant resolved, every parameter value checked and
