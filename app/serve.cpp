@@ -2,8 +2,14 @@
 // one render thread that takes each page's newest state (docs/serve.md).
 #include "app/serve.h"
 
+#include <spawn.h>
 #include <sys/random.h>
+#include <sys/wait.h>
 
+#include <cerrno>
+#include <cstring>
+
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -32,6 +38,8 @@
 #include "core/png.h"
 #include "core/targets.h"
 #include "stylize/stage.h"
+
+extern char** environ;
 
 namespace aq::app {
 namespace fs = std::filesystem;
@@ -97,7 +105,13 @@ std::vector<std::string> live_args(const json& state) {
         if (!known.count(it.key())) throw Error("live state: unknown key '" + it.key() + "'");
     namespace lim = request_limits;
     std::vector<std::string> a;
-    if (state.contains("style")) a.insert(a.end(), {"--style", name(member(state, "style"), "style")});
+    if (state.contains("style")) {
+        // A preset only: a page never names a file (a style file given on the command line stays).
+        const std::string st = name(member(state, "style"), "style");
+        const std::vector<std::string> presets = stylize::preset_names();
+        if (std::find(presets.begin(), presets.end(), st) == presets.end()) throw Error("live state: style '" + st + "' is not a preset");
+        a.insert(a.end(), {"--style", st});
+    }
     if (state.contains("width"))
         a.insert(a.end(), {"--width", std::to_string(integer(member(state, "width"), "width", 1, serve_limits::kMaxLiveSide))});
     if (state.contains("height"))
@@ -125,6 +139,37 @@ std::vector<std::string> live_args(const json& state) {
             a.insert(a.end(), {"--set", name(json(it.key()), "parameter") + "=" + num(number(it.value(), it.key()))});
     }
     return a;
+}
+
+LiveRequest parse_live_message(const std::string& text) {
+    if (text.size() > serve_limits::kMaxMessageBytes) throw Error("message of " + std::to_string(text.size()) + " bytes is too long");
+    json msg;
+    try {
+        msg = json::parse(text);
+    } catch (const json::exception& e) {
+        throw Error(std::string("message is not JSON: ") + e.what());
+    }
+    if (!msg.is_object()) throw Error("message: expected an object {\"type\": ...}");
+    for (auto it = msg.begin(); it != msg.end(); ++it)
+        if (it.key() != "type" && it.key() != "seq" && it.key() != "schema" && it.key() != "state")
+            throw Error("message: unknown key '" + it.key() + "'");
+    LiveRequest r;
+    if (!msg.contains("type") || !msg["type"].is_string()) throw Error("message: \"type\" must be a string");
+    r.type = msg["type"].get<std::string>();
+    if (r.type != "render" && r.type != "save") throw Error("message: unknown type '" + r.type + "'");
+    if (msg.contains("seq")) {
+        if (!msg["seq"].is_number_integer() && !msg["seq"].is_null()) throw Error("message: \"seq\" must be an integer");
+        r.seq = msg["seq"];
+    }
+    if (msg.contains("schema")) {
+        if (!msg["schema"].is_boolean()) throw Error("message: \"schema\" must be true or false");
+        r.want_schema = msg["schema"].get<bool>();
+    }
+    if (!msg.contains("state")) throw Error("message: a " + r.type + " message needs a state");
+    r.state = msg["state"];
+    r.args = live_args(r.state);
+    if (r.state.contains("target")) r.target = name(r.state["target"], "target");
+    return r;
 }
 
 std::string command_line(const std::string& scene, const std::vector<std::string>& base, const std::vector<std::string>& live,
@@ -293,7 +338,7 @@ private:
     void accept();
     void serve_http(tcp::socket socket);
     void render_loop();
-    void render_one(int session, const json& msg);
+    void render_one(int session, const LiveRequest& req);
     void post(int session, std::string text, std::optional<std::string> binary = std::nullopt);
     std::string save(const json& state);
 
@@ -310,7 +355,7 @@ private:
     // Render thread: each page's newest request, in arrival order.
     std::mutex m_;
     std::condition_variable cv_;
-    std::map<int, json> pending_;
+    std::map<int, LiveRequest> pending_;
     std::deque<int> order_;
     bool stop_ = false;
     // The loaded scene, reused by every live image (the CLI path of `render` loads it each time;
@@ -424,7 +469,11 @@ void Server::on_open(const std::shared_ptr<WsSession>& s) {
     sessions_[s->id()] = s;
     {
         std::lock_guard<std::mutex> lock(m_);
-        pending_[s->id()] = json{{"type", "hello"}};
+        LiveRequest hello;
+        hello.type = "hello";
+        hello.want_schema = true;
+        hello.state = json::object();
+        pending_[s->id()] = std::move(hello);
         order_.push_back(s->id());
     }
     cv_.notify_one();
@@ -437,24 +486,20 @@ void Server::on_close(int id) {
 }
 
 void Server::on_message(const std::shared_ptr<WsSession>& s, const std::string& text) {
-    json msg;
+    LiveRequest req;
     try {
-        msg = json::parse(text);
-        if (!msg.is_object() || !msg.contains("type") || !msg["type"].is_string()) throw Error("expected {\"type\": ...}");
-        const std::string type = msg["type"];
-        if (type != "render" && type != "save") throw Error("unknown message type '" + type + "'");
-        if (!msg.contains("state")) throw Error("a " + type + " message needs a state");
-    } catch (const std::exception& e) {
-        s->send(json{{"type", "error"}, {"message", std::string("bad message: ") + e.what()}}.dump());
+        req = parse_live_message(text);
+    } catch (const Error& e) {
+        s->send(json{{"type", "error"}, {"message", e.what()}}.dump());
         return;
     }
     {
         std::lock_guard<std::mutex> lock(m_);
         // Coalescing: a page's newer render replaces the one not yet started; a save is kept.
         auto it = pending_.find(s->id());
-        if (it != pending_.end() && it->second.value("type", "") == "save" && msg["type"] == "render") return;
+        if (it != pending_.end() && it->second.type == "save" && req.type == "render") return;
         if (it == pending_.end()) order_.push_back(s->id());
-        pending_[s->id()] = std::move(msg);
+        pending_[s->id()] = std::move(req);
     }
     cv_.notify_one();
 }
@@ -470,7 +515,7 @@ void Server::post(int session, std::string text, std::optional<std::string> bina
 void Server::render_loop() {
     for (;;) {
         int session = 0;
-        json msg;
+        LiveRequest msg;
         {
             std::unique_lock<std::mutex> lock(m_);
             cv_.wait(lock, [&] { return stop_ || !order_.empty(); });
@@ -502,35 +547,44 @@ std::string Server::save(const json& state) {
     if (stem.empty()) throw Error("save: '" + o_.out_dir + "' holds 99999 saved images");
     const std::string png = o_.out_dir + "/" + stem + ".png";
     const std::vector<std::string> live = live_args(state);
-    std::vector<std::string> args = o_.render_args;
-    args.insert(args.begin(), o_.scene);
+    // `aquarelle render` itself, in a child process: the saved files are exactly what that command
+    // line writes, and its manifest lists the files that render read (this process has read
+    // others: styles a page tried, the scene as it was when the server started).
+    std::vector<std::string> args = {"aquarelle", "render", o_.scene};
+    args.insert(args.end(), o_.render_args.begin(), o_.render_args.end());
     args.insert(args.end(), live.begin(), live.end());
     args.insert(args.end(), {"--out", png, "--quiet"});
-    RenderOptions ro = parse_(args);
-    Reporter quiet;
-    RenderJob job = prepare_render(ro, quiet);
-    render_to_files(job, quiet);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    if (::posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, argv.data(), environ) != 0)
+        throw Error("save: cannot start aquarelle render: " + std::string(std::strerror(errno)));
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw Error("save: aquarelle render failed (exit status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
     const json saved = {{"state", state}, {"command", command_line(o_.scene, o_.render_args, live, png)}};
     std::ofstream(o_.out_dir + "/" + stem + ".state.json") << saved.dump(2) << "\n";
     return png;
 }
 
-void Server::render_one(int session, const json& msg) {
-    const std::string type = msg.value("type", "");
-    const json state = msg.contains("state") ? msg["state"] : json::object();
-    const json seq = msg.contains("seq") ? msg["seq"] : json(nullptr);
+void Server::render_one(int session, const LiveRequest& req) {
+    const json& state = req.state;
+    const json& seq = req.seq;
     try {
-        if (type == "save") {
+        if (req.type == "save") {
             const std::string png = save(state);
             post(session, json{{"type", "saved"}, {"png", png}, {"manifest", manifest_path(png)}}.dump());
             return;
         }
         const auto t0 = std::chrono::steady_clock::now();
-        const std::vector<std::string> live = live_args(state);
+        const std::vector<std::string>& live = req.args;
         std::vector<std::string> args = o_.render_args;
         args.insert(args.begin(), o_.scene);
         args.insert(args.end(), live.begin(), live.end());
-        const std::string target = state.contains("target") ? name(state["target"], "target") : "final";
+        const std::string& target = req.target;
         args.insert(args.end(), {"--out", "live.png", "--quiet"});
         RenderOptions ro = parse_(args);
         ro.keep_intermediates = target != "final";
@@ -550,7 +604,7 @@ void Server::render_one(int session, const json& msg) {
         Reporter quiet;
         RenderJob job = prepare_render(ro, quiet);
         json schema;
-        if (type == "hello" || msg.value("schema", false)) schema = live_schema(job);
+        if (req.want_schema) schema = live_schema(job);
         std::string png;
         json phases = json::object();
         std::string missing;

@@ -48,6 +48,20 @@ inline constexpr std::size_t kMaxQueuedImages = 2;          //!< unsent images p
 //! the render itself). Keys it does not know are an aq::Error naming them.
 std::vector<std::string> live_args(const nlohmann::json& state);
 
+//! One message of a page, checked: {"type": "render" | "save", "seq": integer (optional),
+//! "schema": bool (optional: send the panel's schema with the image), "state": {...}}.
+struct LiveRequest {
+    std::string type;
+    nlohmann::json seq;  //!< echoed in the reply (null when absent)
+    bool want_schema = false;
+    nlohmann::json state;
+    std::vector<std::string> args;  //!< live_args(state)
+    std::string target = "final";   //!< the target shown
+};
+//! Parses a page's message (at most serve_limits::kMaxMessageBytes). Throws aq::Error with the
+//! text the page shows, for malformed JSON, unknown keys or types, and bad values.
+LiveRequest parse_live_message(const std::string& text);
+
 //! The equivalent command line, quoted for a POSIX shell.
 std::string command_line(const std::string& scene, const std::vector<std::string>& base, const std::vector<std::string>& live,
                          const std::string& out);

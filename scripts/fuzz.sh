@@ -48,7 +48,7 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-all_targets=(gltf scene_file pipeline image)
+all_targets=(gltf scene_file pipeline image live_message)
 [ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
 for t in "${targets[@]}"; do
   case " ${all_targets[*]} " in *" $t "*) ;; *) echo "fuzz.sh: unknown target '$t' (${all_targets[*]})" >&2; exit 2 ;; esac
@@ -66,7 +66,7 @@ max_len() {
 # docs/testing.md). Fixed counts, not time, so the run is the same on any machine.
 smoke_runs() {
   case "$1" in
-    gltf) echo 30000 ;; scene_file) echo 40000 ;; pipeline) echo 100000 ;; image) echo 5000 ;;
+    gltf) echo 30000 ;; scene_file) echo 40000 ;; pipeline) echo 100000 ;; image) echo 5000 ;; live_message) echo 100000 ;;
   esac
 }
 if [ "$smoke" = 1 ]; then
@@ -75,7 +75,8 @@ fi
 
 # --- packages (idempotent, as scripts/setup.sh) ----------------------------------------------------
 pkgs=(clang libclang-rt-14-dev cmake ninja-build pkg-config
-      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev)
+      libglm-dev libtinygltf-dev libopenimageio-dev libtbb-dev nlohmann-json3-dev libssl-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev libpng-dev
+      libboost-dev)
 [ "$install" = 1 ] && bash scripts/install_packages.sh fuzz.sh "${pkgs[@]}"
 
 # --- build (only the fuzz targets and the libraries they link) ---------------------------------------

@@ -25,6 +25,7 @@ aq.state = state;
 
 function send(type, wantSchema = false) {
   if (!ws || ws.readyState !== WebSocket.OPEN) return;
+  state = aq.state;  // the page's state (tests may replace it)
   const seq = ++aq.seq;
   sentAt.set(seq, performance.now());
   ws.send(JSON.stringify({ type, seq, schema: wantSchema, state }));
@@ -43,7 +44,6 @@ function buildPanel(schema) {
   aq.schema = schema;
   if (gui) gui.destroy();
   gui = new GUI({ container: document.getElementById('panel'), title: 'Aquarelle' });
-  state.style = schema.style;
   state.width = state.width || schema.width;
   state.height = state.height || schema.height;
   const top = { style: schema.style, target: state.target, frame: state.frame, width: state.width, height: state.height };

@@ -7,8 +7,8 @@ passed, kept otherwise): the saved images, the CLI's renders, the screenshots (s
 the latencies the page measured (latency.json). Exit status 0 when every check passed.
 
 Checks: the page loads and shows an image; moving a parameter's slider shows a new image whose
-pixels equal `aquarelle render` of the page's printed command line; switching a variant and the
-shown target; dragging the camera; an out-of-range value is shown as an error and the server goes
+pixels equal `aquarelle render` of the page's printed command line; switching a variant, the
+shown target and the style; dragging the camera; an out-of-range value is shown as an error and the server goes
 on rendering; two tabs at once; Save writes a PNG whose manifest `aquarelle reproduce` calls
 identical; a page without the token is refused; the stopped server is reported by the page.
 """
@@ -202,6 +202,13 @@ try:
     d.switch_to.window(second)
     d.close()
     d.switch_to.window(first)
+
+    # Another style (its preset is read by this server process), then Save.
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state = {style: 'mnpr', target: 'final', frame: 0, view: [0, 0, 1], variants: {}, params: {}}; window.aq.render(true);")
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.schema.style") == "mnpr" and d.execute_script("return window.aq.lastError") == "",
+          "switching the style to mnpr rebuilds the panel")
 
     # Save: PNG, manifest and state in --out-dir; reproduce says identical.
     d.execute_script("document.getElementById('save').click();")
