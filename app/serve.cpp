@@ -215,6 +215,42 @@ json live_schema(const RenderJob& job) {
             {"height", job.settings.height}};
 }
 
+LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ro.keep_intermediates = target != "final";
+    ro.live = true;
+    ro.keep_loaded = !state.scene;
+    ro.preloaded = state.scene;
+    ro.pass_memo = state.pass_memo;
+    state.frame.key_next = key;
+    ro.live_frame = &state.frame;
+    Reporter quiet;
+    RenderJob job = prepare_render(ro, quiet);
+    if (!state.scene) state.scene = job.loaded;
+    LiveImage out;
+    if (want_schema) out.schema = live_schema(job);
+    std::string missing;
+    run_render(job, [&](RenderedImage& img) {
+        ImageF shown;
+        if (target == "final") {
+            shown = img.final_image();
+        } else if (img.targets.has(target)) {
+            shown = visualize_target(target, img.targets.get(target));
+        } else {
+            missing = target;
+            return;
+        }
+        std::vector<unsigned char> bytes, rows;
+        encode_png(shown, "", bytes, rows);
+        out.png.assign(bytes.begin(), bytes.end());
+        for (const auto& [k, v] : img.phases) out.phases[k] = v;
+    }, quiet);
+    if (!missing.empty()) throw Error("no target '" + missing + "' in this render");
+    out.first_step = state.frame.first_step;
+    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
 // --- the server ---------------------------------------------------------------------------------
 
 namespace {
@@ -358,13 +394,10 @@ private:
     std::map<int, LiveRequest> pending_;
     std::deque<int> order_;
     bool stop_ = false;
-    // The loaded scene, reused by every live image (the CLI path of `render` loads it each time;
-    // a copy here is what that load would return).
-    std::shared_ptr<const scene::SceneDesc> scene_;
-    std::shared_ptr<RenderOptions::PassSceneMemo> pass_memo_ = std::make_shared<RenderOptions::PassSceneMemo>();
-    //! The last live image's targets, for every page (render thread only): one frame's memory
-    //! whatever the number of pages; pages taking turns each render from the start.
-    RenderOptions::LiveFrame live_frame_;
+    //! The loaded scene, the passes' scenes and the last live image's targets, for every page
+    //! (render thread only): one frame's memory whatever the number of pages; pages taking turns
+    //! each render from the start.
+    LiveState live_;
 };
 
 void WsSession::start(http::request<http::string_body> req) {
@@ -579,56 +612,25 @@ void Server::render_one(int session, const LiveRequest& req) {
             post(session, json{{"type", "saved"}, {"png", png}, {"manifest", manifest_path(png)}}.dump());
             return;
         }
-        const auto t0 = std::chrono::steady_clock::now();
         const std::vector<std::string>& live = req.args;
         std::vector<std::string> args = o_.render_args;
         args.insert(args.begin(), o_.scene);
         args.insert(args.end(), live.begin(), live.end());
-        const std::string& target = req.target;
         args.insert(args.end(), {"--out", "live.png", "--quiet"});
-        RenderOptions ro = parse_(args);
-        ro.keep_intermediates = target != "final";
-        ro.preloaded = scene_;
-        ro.pass_memo = pass_memo_;
-        ro.live = true;
         // Every option but the parameter values names the kept targets (RenderOptions::LiveFrame).
-        live_frame_.key_next.clear();
+        std::string key;
         for (std::size_t i = 0; i < args.size(); ++i) {
             if (args[i] == "--set" && i + 1 < args.size()) {
                 ++i;
                 continue;
             }
-            live_frame_.key_next += args[i] + '\n';
+            key += args[i] + '\n';
         }
-        ro.live_frame = &live_frame_;
-        Reporter quiet;
-        RenderJob job = prepare_render(ro, quiet);
-        json schema;
-        if (req.want_schema) schema = live_schema(job);
-        std::string png;
-        json phases = json::object();
-        std::string missing;
-        run_render(job, [&](RenderedImage& img) {
-            ImageF shown;
-            if (target == "final") {
-                shown = img.final_image();
-            } else if (img.targets.has(target)) {
-                shown = visualize_target(target, img.targets.get(target));
-            } else {
-                missing = target;
-                return;
-            }
-            std::vector<unsigned char> bytes, rows;
-            encode_png(shown, "", bytes, rows);
-            png.assign(bytes.begin(), bytes.end());
-            for (const auto& [k, v] : img.phases) phases[k] = v;
-        }, quiet);
-        if (!missing.empty()) throw Error("no target '" + missing + "' in this render");
-        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", ms}, {"phases", phases}, {"first_step", live_frame_.first_step},
+        LiveImage img = render_live(parse_(args), key, req.target, req.want_schema, live_);
+        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", img.ms}, {"phases", img.phases}, {"first_step", img.first_step},
                      {"command", command_line(o_.scene, o_.render_args, live, "out.png")}};
-        if (!schema.is_null()) head["schema"] = schema;
-        post(session, head.dump(), std::move(png));
+        if (!img.schema.is_null()) head["schema"] = img.schema;
+        post(session, head.dump(), std::move(img.png));
     } catch (const std::exception& e) {
         post(session, json{{"type", "error"}, {"seq", seq}, {"message", e.what()}}.dump());
     }
@@ -732,7 +734,7 @@ int Server::run(const std::function<void(const std::string&)>& on_url) {
         RenderOptions ro = parse_(args);
         ro.keep_loaded = true;
         Reporter quiet;
-        scene_ = prepare_render(ro, quiet).loaded;
+        live_.scene = prepare_render(ro, quiet).loaded;
     }
     std::thread renderer([this] { render_loop(); });
     asio::signal_set signals(io_, SIGINT, SIGTERM);

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,29 @@ std::string command_line(const std::string& scene, const std::vector<std::string
 //! registered for that stage, every parameter with kind, default, range, doc and its value in this
 //! style), the targets it can show, the presets. Throws aq::Error.
 nlohmann::json live_schema(const RenderJob& job);
+
+//! What the live server keeps between images (render thread only): the scene as loaded, the LD06
+//! passes' scenes by foliage parameters, the last image's targets.
+struct LiveState {
+    std::shared_ptr<const scene::SceneDesc> scene;
+    std::shared_ptr<RenderOptions::PassSceneMemo> pass_memo = std::make_shared<RenderOptions::PassSceneMemo>();
+    RenderOptions::LiveFrame frame;
+};
+
+//! One live image as PNG bytes (what the page shows: no text chunk), its phases and wall time.
+struct LiveImage {
+    std::string png;
+    nlohmann::json phases = nlohmann::json::object();
+    nlohmann::json schema;  //!< live_schema, when asked
+    int first_step = 0;     //!< the pipeline ran from this step (0: everything, G-buffer included)
+    double ms = 0;
+};
+
+//! Renders `ro` (the page's state parsed as `render` options) as the server does: from
+//! state.scene (loaded on the first call), continuing the last image where only parameter
+//! values changed (`key`: every option but those values); `target` "final" or a target's name.
+//! Throws aq::Error. The server-side benchmark (bench/serve_bench.cpp) times this.
+LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state);
 
 //! Runs the server until SIGINT/SIGTERM. `on_url` receives the page's URL (token included) once
 //! it listens. Returns the exit status.
