@@ -69,9 +69,11 @@ def browser():
 
 
 def wait_image(d, after_seq, timeout=30):
-    """Waits until the page shows the image of a request sent after `after_seq` (or an error)."""
+    """Waits until the page shows the image of its newest request, sent after `after_seq` (or
+    shows an error): no image of an older state, and no reply still on its way, so the command
+    line on the page belongs to the image on screen."""
     WebDriverWait(d, timeout).until(lambda d: d.execute_script(
-        "return window.aq.shownSeq > arguments[0] || window.aq.lastError !== ''", after_seq))
+        "return (window.aq.shownSeq > arguments[0] && window.aq.shownSeq === window.aq.seq) || window.aq.lastError !== ''", after_seq))
 
 
 def shown_png(d, path):
@@ -158,7 +160,6 @@ try:
     wait_image(d, seq)
     v = d.execute_script("return window.aq.state.view")
     check(v[0] != 0 and v[1] != 0, "dragging turned the camera (%s)" % v)
-    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.shownSeq === window.aq.seq || window.aq.lastError !== ''"))
     check(cli_equal(d, "camera"), "the turned camera's image equals the CLI's (--view)")
     d.save_screenshot(os.path.join(work, "serve_camera.png"))
 
@@ -170,7 +171,7 @@ try:
     check("edge_darken" in err and "999" in err, "an out-of-range value is shown as an error: " + err[:120])
     d.save_screenshot(os.path.join(work, "serve_error.png"))
     seq = d.execute_script("return window.aq.seq")
-    d.execute_script("window.aq.state.params['edge_darken.intensity'] = 2; window.aq.render();")
+    d.execute_script("window.aq.lastError = ''; window.aq.state.params['edge_darken.intensity'] = 2; window.aq.render();")
     wait_image(d, seq)
     check(d.execute_script("return window.aq.lastError") == "" and d.execute_script("return window.aq.shownSeq") > seq,
           "the server renders again after the error")
