@@ -47,9 +47,10 @@ TEST(LiveMessage, MalformedMessagesAreRefusedWithAReason) {
         {R"({"type": "render", "seq": "a", "state": {}})", "seq"},
         {R"({"type": "render", "schema": 1, "state": {}})", "schema"},
     };
-    for (const auto& [text, why] : bad) {
+    for (const auto& b : bad) {
+        const std::string text = b.first;
         const std::string e = test::error_of([&] { (void)parse_live_message(text); });
-        EXPECT_NE(e.find(why), std::string::npos) << text << " -> " << e;
+        EXPECT_NE(e.find(b.second), std::string::npos) << text << " -> " << e;
     }
     // NaN and infinities cannot be written in JSON; numbers beyond double are refused by the parser.
     EXPECT_NE(test::error_of([] { (void)parse_live_message(R"({"type": "render", "state": {"params": {"a.b": 1e999}}})"); }), "(no error)");
