@@ -6,11 +6,15 @@ Everything is written inside a fresh folder OUTPUT_PARENT/serve.XXXXXX (removed 
 passed, kept otherwise): the saved images, the CLI's renders, the screenshots (serve_*.png) and
 the latencies the page measured (latency.json). Exit status 0 when every check passed.
 
-Checks: the page loads and shows an image; moving a parameter's slider shows a new image whose
+Checks: a WebSocket from another origin is refused; a thousand reconnects; a malformed message
+gets an error, a 100 KB one closes its connection; a client that never reads keeps the server's
+memory bounded while a page is served; the page loads and shows an image; moving a parameter's slider shows a new image whose
 pixels equal `aquarelle render` of the page's printed command line; switching a variant, the
 shown target and the style; dragging the camera; an out-of-range value is shown as an error and the server goes
 on rendering; two tabs at once; Save writes a PNG whose manifest `aquarelle reproduce` calls
-identical; a page without the token is refused; the stopped server is reported by the page.
+identical; a page without the token is refused; the stopped server is reported by the page; a
+scene file changed on disk while served (images of the loaded scene go on, Save reports the
+render's error, the server goes on).
 """
 import base64
 import json
@@ -30,6 +34,87 @@ from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
+
+import socket
+
+
+def ws_connect(url, origin=None):
+    """A WebSocket handshake by hand (the client a test needs: one that never reads, floods,
+    reconnects). Returns the socket and the status line of the server's answer."""
+    port = int(url.split(":")[2].split("/")[0])
+    token = url.split("token=")[1]
+    s = socket.create_connection(("127.0.0.1", port), timeout=30)
+    key = base64.b64encode(os.urandom(16)).decode()
+    origin = origin or "http://127.0.0.1:%d" % port
+    s.sendall(("GET /ws?token=%s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+               "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\nOrigin: %s\r\n\r\n" % (token, port, key, origin)).encode())
+    resp = b""
+    while b"\r\n\r\n" not in resp:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        resp += chunk
+    return s, resp.split(b"\r\n")[0].decode(errors="replace")
+
+
+def ws_send(s, text):
+    payload = text.encode()
+    mask = os.urandom(4)
+    n = len(payload)
+    head = bytearray([0x81])
+    if n < 126:
+        head.append(0x80 | n)
+    elif n < 65536:
+        head += bytes([0x80 | 126]) + n.to_bytes(2, "big")
+    else:
+        head += bytes([0x80 | 127]) + n.to_bytes(8, "big")
+    s.sendall(bytes(head) + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+
+
+def ws_recv(s):
+    """One message: (opcode, payload); (None, b"") when the server closed the connection."""
+    def exact(n):
+        b = b""
+        while len(b) < n:
+            c = s.recv(n - len(b))
+            if not c:
+                raise EOFError
+            b += c
+        return b
+    try:
+        opcode, data = None, b""
+        while True:  # frames until FIN (a long message comes in fragments)
+            h = exact(2)
+            n = h[1] & 0x7F
+            if n == 126:
+                n = int.from_bytes(exact(2), "big")
+            elif n == 127:
+                n = int.from_bytes(exact(8), "big")
+            if opcode is None:
+                opcode = h[0] & 0x0F
+            data += exact(n)
+            if h[0] & 0x80:
+                return opcode, data
+    except (EOFError, ConnectionResetError, socket.timeout):
+        return None, b""
+
+
+def ws_next_text(s):
+    while True:
+        op, data = ws_recv(s)
+        if op is None or op == 8:
+            return None
+        if op == 1:
+            return json.loads(data)
+
+
+def rss_mb(pid):
+    with open("/proc/%d/status" % pid) as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    return 0
+
 
 exe, shared, parent = sys.argv[1], sys.argv[2], sys.argv[3]
 os.makedirs(parent, exist_ok=True)
@@ -113,6 +198,41 @@ try:
             check(False, "a page without the right token is refused")
         except urllib.error.HTTPError as e:
             check(e.code == 403, "a page without the right token is refused (%d)" % e.code)
+
+    # The WebSocket from another origin: refused.
+    s, status = ws_connect(url, origin="http://evil.example")
+    check(" 403 " in status, "a WebSocket from another origin is refused (%s)" % status)
+    s.close()
+    # A thousand reconnects: the server goes on.
+    t0 = time.time()
+    ok = 0
+    for i in range(1000):
+        s, status = ws_connect(url)
+        ok += " 101 " in status
+        s.close()
+    check(ok == 1000, "a thousand reconnects accepted and closed (%d in %.1f s)" % (ok, time.time() - t0))
+    # Malformed and oversized messages: an error reply, then the connection is closed for the
+    # oversized one; the server goes on.
+    s, _ = ws_connect(url)
+    ws_send(s, "{not json")
+    msg = ws_next_text(s)
+    while msg is not None and msg.get("type") != "error":
+        msg = ws_next_text(s)
+    check(msg is not None and "not JSON" in msg["message"], "a malformed message gets an error reply")
+    s.settimeout(10)
+    t0 = time.time()
+    ws_send(s, "x" * 100000)
+    op = 1
+    while op not in (None, 8):  # a close frame or the end of the stream; None also on the timeout
+        op, _ = ws_recv(s)
+    check(time.time() - t0 < 5, "a 100 KB message closes that connection (%.2f s)" % (time.time() - t0))
+    s.close()
+    # A client that never reads: renders requested, images never read; memory stays bounded
+    # (two images queued at most) while the page below is served.
+    lazy, _ = ws_connect(url)
+    for i in range(60):
+        ws_send(lazy, json.dumps({"type": "render", "seq": i, "state": {"params": {"edge_darken.intensity": 1 + (i % 10) * 0.1}}}))
+        time.sleep(0.02)
 
     d = browser()
     d.get(url)
@@ -220,6 +340,9 @@ try:
     r = subprocess.run([exe, "reproduce", png + ".json", "--quiet"], capture_output=True, text=True, env=env)
     check(r.returncode == 0 and "identical" in r.stdout, "reproduce of the saved image: " + (r.stdout.strip() or r.stderr.strip())[:100])
 
+    check(rss_mb(server.pid) < 1500, "the server's memory with a client that never reads: %.0f MB" % rss_mb(server.pid))
+    lazy.close()
+
     # The server stops: the page says so.
     server.send_signal(signal.SIGTERM)
     server.wait(timeout=10)
@@ -231,6 +354,39 @@ finally:
         d.quit()
     if server.poll() is None:
         server.kill()
+
+# A scene that changes on disk while served: the page goes on with the scene as loaded; Save
+# renders the file as it is now and reports its error; the server goes on.
+wb = os.path.join(work, "wb")
+os.makedirs(wb)
+src = os.path.join(shared, "assets/gltf/WaterBottle/glTF")
+for f in os.listdir(src):
+    with open(os.path.join(src, f), "rb") as a, open(os.path.join(wb, f), "wb") as b:
+        b.write(a.read())
+scene = os.path.join(wb, "WaterBottle.gltf")
+server, url = start_server()
+try:
+    s, _ = ws_connect(url)
+    msg = ws_next_text(s)
+    check(msg is not None and msg.get("type") == "image", "the copied scene renders")
+    ws_recv(s)  # its PNG
+    with open(scene, "w") as f:
+        f.write("{ this is no longer glTF")
+    ws_send(s, json.dumps({"type": "render", "seq": 1, "state": {"params": {"edge_darken.intensity": 2}}}))
+    msg = ws_next_text(s)
+    check(msg is not None and msg.get("type") == "image", "after the file changed, the page still gets images of the loaded scene")
+    ws_recv(s)
+    ws_send(s, json.dumps({"type": "save", "seq": 2, "state": {}}))
+    msg = ws_next_text(s)
+    check(msg is not None and msg.get("type") == "error" and "save" in msg.get("message", ""),
+          "Save of the changed file reports the render's failure: %s" % (msg or {}).get("message", "")[:80])
+    ws_send(s, json.dumps({"type": "render", "seq": 3, "state": {}}))
+    msg = ws_next_text(s)
+    check(msg is not None and msg.get("type") == "image", "the server goes on after the failed Save")
+    s.close()
+finally:
+    server.terminate()
+    server.wait(timeout=10)
 
 print("serve: %d passed, %d failed" % (passed, failed))
 if failed == 0 and not os.environ.get("AQ_KEEP_TEST_OUTPUT"):
