@@ -71,14 +71,15 @@ scene::Camera frame_camera(const RenderJob& job, int frame) {
     if (deg == 0.0 && !o.has_view()) return cam;
     const scene::Bounds& b = job.world_bounds;
     if (!b.valid) return cam;
-    constexpr double kRad = 3.14159265358979323846 / 180.0;
+    constexpr double kPi = 3.14159265358979323846;
     const glm::vec3 c = 0.5f * (b.min + b.max);
     // world' = R(c) world: the camera sees the scene turned by -a about `axis` through c, i.e. the
     // camera moves by +a.
     auto turn = [&](double a, glm::vec3 axis) {
         if (a == 0.0) return;
-        cam.view = cam.view * glm::translate(glm::mat4(1.0f), c) * glm::rotate(glm::mat4(1.0f), float(-a * kRad), axis) *
-                   glm::translate(glm::mat4(1.0f), -c);
+        const glm::mat4 t = glm::translate(glm::mat4(1.0f), c) * glm::rotate(glm::mat4(1.0f), float(-a * kPi / 180.0), axis) *
+                            glm::translate(glm::mat4(1.0f), -c);
+        cam.view = cam.view * t;  // the product as --orbit always formed it: the same bits
     };
     turn(deg + o.view_yaw, glm::vec3(0, 1, 0));
     // The camera's right axis in world space: the first row of the view's rotation.

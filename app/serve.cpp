@@ -328,9 +328,9 @@ class Server;
 
 //! One page's WebSocket. All its members are touched on the Asio thread only; the render thread
 //! hands results over with asio::post.
-class WsSession : public std::enable_shared_from_this<WsSession> {
+class PageConnection : public std::enable_shared_from_this<PageConnection> {
 public:
-    WsSession(tcp::socket&& s, Server& server, int id) : ws_(std::move(s)), server_(server), id_(id) {}
+    PageConnection(tcp::socket&& s, Server& server, int id) : ws_(std::move(s)), server_(server), id_(id) {}
     void start(http::request<http::string_body> req);
     //! Queues a text message and, optionally, a binary one after it (an image); drops the oldest
     //! queued images beyond kMaxQueuedImages (a page that does not read cannot grow memory).
@@ -363,9 +363,9 @@ public:
         : o_(o), parse_(parse), token_(random_token()), acceptor_(io_) {}
     int run(const std::function<void(const std::string&)>& on_url);
 
-    // Called from sessions (Asio thread).
-    void on_message(const std::shared_ptr<WsSession>& s, const std::string& text);
-    void on_open(const std::shared_ptr<WsSession>& s);
+    // Called from the connections (Asio thread).
+    void on_message(const std::shared_ptr<PageConnection>& s, const std::string& text);
+    void on_open(const std::shared_ptr<PageConnection>& s);
     void on_close(int id);
     bool origin_ok(const http::request<http::string_body>& req) const;
     asio::io_context& io() { return io_; }
@@ -374,8 +374,16 @@ private:
     void accept();
     void serve_http(tcp::socket socket);
     void render_loop();
-    void render_one(int session, const LiveRequest& req);
-    void post(int session, std::string text, std::optional<std::string> binary = std::nullopt);
+    void render_one(int page, const LiveRequest& req);
+    void post(int page, std::string text, std::optional<std::string> binary = std::nullopt);
+    //! `render` arguments after the command: the scene, the server's options, the page's, --out.
+    std::vector<std::string> render_args(const std::vector<std::string>& live, const std::string& out) const {
+        std::vector<std::string> a = {o_.scene};
+        a.insert(a.end(), o_.render_args.begin(), o_.render_args.end());
+        a.insert(a.end(), live.begin(), live.end());
+        a.insert(a.end(), {"--out", out, "--quiet"});
+        return a;
+    }
     std::string save(const json& state);
 
     ServeOptions o_;
@@ -385,7 +393,7 @@ private:
     tcp::acceptor acceptor_;
     std::map<std::string, Asset> assets_;
     std::string host_port_;  //!< "127.0.0.1:PORT" as bound
-    std::map<int, std::weak_ptr<WsSession>> sessions_;  // Asio thread only
+    std::map<int, std::weak_ptr<PageConnection>> pages_;  // Asio thread only
     int next_id_ = 1;
 
     // Render thread: each page's newest request, in arrival order.
@@ -400,7 +408,7 @@ private:
     LiveState live_;
 };
 
-void WsSession::start(http::request<http::string_body> req) {
+void PageConnection::start(http::request<http::string_body> req) {
     ws_.read_message_max(serve_limits::kMaxMessageBytes);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     auto self = shared_from_this();
@@ -411,12 +419,12 @@ void WsSession::start(http::request<http::string_body> req) {
     });
 }
 
-void WsSession::read() {
+void PageConnection::read() {
     auto self = shared_from_this();
     ws_.async_read(buf_, [self](beast::error_code ec, std::size_t n) { self->on_read(ec, n); });
 }
 
-void WsSession::on_read(beast::error_code ec, std::size_t) {
+void PageConnection::on_read(beast::error_code ec, std::size_t) {
     if (ec) {
         closed_ = true;
         server_.on_close(id_);
@@ -439,7 +447,7 @@ void WsSession::on_read(beast::error_code ec, std::size_t) {
     read();
 }
 
-void WsSession::send(std::string text, std::optional<std::string> binary) {
+void PageConnection::send(std::string text, std::optional<std::string> binary) {
     if (closed_) return;
     const bool image = binary.has_value();
     if (image) {
@@ -460,7 +468,7 @@ void WsSession::send(std::string text, std::optional<std::string> binary) {
     if (!writing_) write_next();
 }
 
-void WsSession::write_next() {
+void PageConnection::write_next() {
     if (out_.empty() || closed_) {
         writing_ = false;
         return;
@@ -479,7 +487,7 @@ void WsSession::write_next() {
     });
 }
 
-void WsSession::close() {
+void PageConnection::close() {
     if (closed_) return;
     closed_ = true;
     auto self = shared_from_this();
@@ -498,8 +506,8 @@ bool Server::origin_ok(const http::request<http::string_body>& req) const {
     return host_ok && origin == "http://" + host;
 }
 
-void Server::on_open(const std::shared_ptr<WsSession>& s) {
-    sessions_[s->id()] = s;
+void Server::on_open(const std::shared_ptr<PageConnection>& s) {
+    pages_[s->id()] = s;
     {
         std::lock_guard<std::mutex> lock(m_);
         LiveRequest hello;
@@ -513,12 +521,12 @@ void Server::on_open(const std::shared_ptr<WsSession>& s) {
 }
 
 void Server::on_close(int id) {
-    sessions_.erase(id);
+    pages_.erase(id);
     std::lock_guard<std::mutex> lock(m_);
     pending_.erase(id);
 }
 
-void Server::on_message(const std::shared_ptr<WsSession>& s, const std::string& text) {
+void Server::on_message(const std::shared_ptr<PageConnection>& s, const std::string& text) {
     LiveRequest req;
     try {
         req = parse_live_message(text);
@@ -537,30 +545,30 @@ void Server::on_message(const std::shared_ptr<WsSession>& s, const std::string& 
     cv_.notify_one();
 }
 
-void Server::post(int session, std::string text, std::optional<std::string> binary) {
-    asio::post(io_, [this, session, text = std::move(text), binary = std::move(binary)]() mutable {
-        auto it = sessions_.find(session);
-        if (it == sessions_.end()) return;
+void Server::post(int page, std::string text, std::optional<std::string> binary) {
+    asio::post(io_, [this, page, text = std::move(text), binary = std::move(binary)]() mutable {
+        auto it = pages_.find(page);
+        if (it == pages_.end()) return;
         if (auto s = it->second.lock()) s->send(std::move(text), std::move(binary));
     });
 }
 
 void Server::render_loop() {
     for (;;) {
-        int session = 0;
+        int page = 0;
         LiveRequest msg;
         {
             std::unique_lock<std::mutex> lock(m_);
             cv_.wait(lock, [&] { return stop_ || !order_.empty(); });
             if (stop_) return;
-            session = order_.front();
+            page = order_.front();
             order_.pop_front();
-            auto it = pending_.find(session);
+            auto it = pending_.find(page);
             if (it == pending_.end()) continue;  // the page went away
             msg = std::move(it->second);
             pending_.erase(it);
         }
-        render_one(session, msg);
+        render_one(page, msg);
     }
 }
 
@@ -583,10 +591,8 @@ std::string Server::save(const json& state) {
     // `aquarelle render` itself, in a child process: the saved files are exactly what that command
     // line writes, and its manifest lists the files that render read (this process has read
     // others: styles a page tried, the scene as it was when the server started).
-    std::vector<std::string> args = {"aquarelle", "render", o_.scene};
-    args.insert(args.end(), o_.render_args.begin(), o_.render_args.end());
-    args.insert(args.end(), live.begin(), live.end());
-    args.insert(args.end(), {"--out", png, "--quiet"});
+    std::vector<std::string> args = render_args(live, png);
+    args.insert(args.begin(), {"aquarelle", "render"});
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -603,20 +609,17 @@ std::string Server::save(const json& state) {
     return png;
 }
 
-void Server::render_one(int session, const LiveRequest& req) {
+void Server::render_one(int page, const LiveRequest& req) {
     const json& state = req.state;
     const json& seq = req.seq;
     try {
         if (req.type == "save") {
             const std::string png = save(state);
-            post(session, json{{"type", "saved"}, {"png", png}, {"manifest", manifest_path(png)}}.dump());
+            post(page, json{{"type", "saved"}, {"png", png}, {"manifest", manifest_path(png)}}.dump());
             return;
         }
         const std::vector<std::string>& live = req.args;
-        std::vector<std::string> args = o_.render_args;
-        args.insert(args.begin(), o_.scene);
-        args.insert(args.end(), live.begin(), live.end());
-        args.insert(args.end(), {"--out", "live.png", "--quiet"});
+        const std::vector<std::string> args = render_args(live, "live.png");
         // Every option but the parameter values names the kept targets (RenderOptions::LiveFrame).
         std::string key;
         for (std::size_t i = 0; i < args.size(); ++i) {
@@ -630,9 +633,9 @@ void Server::render_one(int session, const LiveRequest& req) {
         json head = {{"type", "image"}, {"seq", seq}, {"server_ms", img.ms}, {"phases", img.phases}, {"first_step", img.first_step},
                      {"command", command_line(o_.scene, o_.render_args, live, "out.png")}};
         if (!img.schema.is_null()) head["schema"] = img.schema;
-        post(session, head.dump(), std::move(img.png));
+        post(page, head.dump(), std::move(img.png));
     } catch (const std::exception& e) {
-        post(session, json{{"type", "error"}, {"seq", seq}, {"message", e.what()}}.dump());
+        post(page, json{{"type", "error"}, {"seq", seq}, {"message", e.what()}}.dump());
     }
 }
 
@@ -686,12 +689,12 @@ void Server::serve_http(tcp::socket socket) {
                     reply(http::status::forbidden, "text/plain", "aquarelle serve: WebSocket from another origin refused\n");
                     return;
                 }
-                if (int(server.sessions_.size()) >= serve_limits::kMaxSessions) {
+                if (int(server.pages_.size()) >= serve_limits::kMaxPages) {
                     reply(http::status::service_unavailable, "text/plain", "aquarelle serve: too many pages open\n");
                     return;
                 }
                 stream.expires_never();
-                std::make_shared<WsSession>(stream.release_socket(), server, server.next_id_++)->start(parser.release());
+                std::make_shared<PageConnection>(stream.release_socket(), server, server.next_id_++)->start(parser.release());
                 return;
             }
             auto it = server.assets_.find(path);
@@ -728,10 +731,7 @@ int Server::run(const std::function<void(const std::string&)>& on_url) {
     host_port_ = host + ":" + std::to_string(port);
     // Load the scene once before the first page connects: its errors end the server here.
     {
-        std::vector<std::string> args = o_.render_args;
-        args.insert(args.begin(), o_.scene);
-        args.insert(args.end(), {"--out", "live.png", "--quiet"});
-        RenderOptions ro = parse_(args);
+        RenderOptions ro = parse_(render_args({}, "live.png"));
         ro.keep_loaded = true;
         Reporter quiet;
         live_.scene = prepare_render(ro, quiet).loaded;

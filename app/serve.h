@@ -38,7 +38,7 @@ using RenderArgsParser = std::function<RenderOptions(const std::vector<std::stri
 //! Limits of the live server (docs/serve.md "Safety").
 namespace serve_limits {
 inline constexpr std::size_t kMaxMessageBytes = 64 * 1024;  //!< one WebSocket message from a page
-inline constexpr int kMaxSessions = 16;                     //!< pages connected at once
+inline constexpr int kMaxPages = 16;                     //!< pages connected at once
 inline constexpr int kMaxMessagesPerSecond = 200;           //!< per page; beyond: disconnected
 inline constexpr int kMaxLiveSide = 4096;                   //!< width and height of the live view
 inline constexpr std::size_t kMaxQueuedImages = 2;          //!< unsent images per page (newest kept)

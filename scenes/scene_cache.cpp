@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <filesystem>
 
-
 #include "core/input.h"
+#include "core/io.h"
 #include "scenes/scene_archive.h"
 
 namespace aq::scene {
@@ -14,12 +14,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kKind = "scene";
-
-std::string lower_ext(const std::string& p) {
-    std::string e = fs::path(p).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e;
-}
 
 //! Every file the entry lists besides the scene itself still has its recorded bytes (read, and so
 //! recorded as an input of this run, as the load would have).
@@ -47,7 +41,7 @@ SceneDesc load_scene_cached(const std::string& spec, const LoadOptions& options,
     if (!store || spec.rfind(kProceduralPrefix, 0) == 0) return load_scene(spec, options);
     std::error_code ec;
     const std::string abs = fs::absolute(spec, ec).lexically_normal().string();
-    const std::string ext = lower_ext(spec);
+    const std::string ext = lower_extension(spec);
     if (ec || (ext != ".json" && ext != ".gltf" && ext != ".glb")) return load_scene(spec, options);
     InputRecord self;
     try {

@@ -9,7 +9,7 @@ Starts the server, opens the page in headless Chromium, and
   - drags the camera for 5 s (a request per mouse move, as a user's drag) and reports images
     shown per second.
 """
-import argparse, statistics, subprocess, sys, time
+import argparse, shutil, statistics, subprocess, sys, tempfile, time
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.support.ui import WebDriverWait
@@ -19,7 +19,8 @@ ap.add_argument("exe"); ap.add_argument("scene"); ap.add_argument("param"); ap.a
 ap.add_argument("--style", default=""); ap.add_argument("--size", default="1280x720"); ap.add_argument("--changes", type=int, default=30)
 a = ap.parse_args()
 w, h = a.size.split("x")
-cmd = [a.exe, "serve", a.scene, "--width", w, "--height", h, "--quiet", "--out-dir", "/tmp/aq-serve-latency"] + (["--style", a.style] if a.style else [])
+out_dir = tempfile.mkdtemp(prefix="aq-serve-latency.")  # Save is not used; its own folder anyway
+cmd = [a.exe, "serve", a.scene, "--width", w, "--height", h, "--quiet", "--out-dir", out_dir] + (["--style", a.style] if a.style else [])
 srv = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
 url = srv.stdout.readline().strip()
 o = webdriver.ChromeOptions(); o.binary_location = "/usr/bin/chromium"
@@ -51,4 +52,4 @@ try:
     shown = d.execute_script("return window.aq.latencies.length") - shown0
     print("camera drag: %.1f images/s shown (%d requests in 5 s, the server renders the newest)" % (shown / 5.0, k))
 finally:
-    d.quit(); srv.terminate(); srv.wait()
+    d.quit(); srv.terminate(); srv.wait(); shutil.rmtree(out_dir, ignore_errors=True)
