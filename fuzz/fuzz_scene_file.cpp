@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "core/io.h"
 #include "fuzz/fuzz_common.h"
@@ -74,6 +75,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         aq::scene::LoadOptions options;
         options.texture_budget_bytes = aq::fuzz::kDecodeBytes;
         (void)aq::scene::load_scene(path, options);
+    });
+    // The art direction's values (render --scene-set): listed, then the first and last edited
+    // with a value of another kind and with the file's own value.
+    aq::fuzz::expect_only_aq_errors("scene_knobs", [&] {
+        const std::vector<aq::scene::SceneKnob> knobs = aq::scene::scene_knobs(path);
+        if (knobs.empty()) return;
+        aq::scene::LoadOptions options;
+        options.texture_budget_bytes = aq::fuzz::kDecodeBytes;
+        for (const aq::scene::SceneKnob* k : {&knobs.front(), &knobs.back()})
+            for (const std::string& v : {k->value, std::string("[1e308, -1, 0]"), std::string("true")}) {
+                options.edits = {{k->pointer, v}};
+                try {
+                    (void)aq::scene::load_scene(path, options);
+                } catch (const aq::Error&) {
+                }
+            }
     });
     return 0;
 }

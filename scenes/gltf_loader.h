@@ -33,6 +33,22 @@ inline constexpr std::size_t kMaxAccessorBytes = std::size_t(2) << 30;
 //! limited to 16 MiB per file, so a tiny file cannot ask for gigabytes of zeros.
 inline constexpr std::size_t kMaxImplicitAccessorBytes = std::size_t(16) << 20;
 
+//! One edit of a scene file's art direction (render --scene-set POINTER=VALUE; the live page's
+//! scene panel): the value at a JSON pointer of the file (RFC 6901, e.g. "/layers/1/color")
+//! replaced by `value` (JSON text) before the file is read. Only the values scene_knobs lists may
+//! be edited, each by one of its own kind (docs/scenes.md "Editing the art direction").
+struct SceneEdit {
+    std::string pointer;
+    std::string value;
+    bool operator==(const SceneEdit&) const = default;
+};
+//! Every pointer and value in order: what names a list of edits (cache keys, the live server).
+inline std::string edits_key(const std::vector<SceneEdit>& edits) {
+    std::string k;
+    for (const SceneEdit& e : edits) k += e.pointer + '\n' + e.value + '\n';
+    return k;
+}
+
 struct LoadOptions {
     //! Allow buffer and image URIs that resolve outside the model's folder (docs/limits.md
     //! "Path policy"; CLI --allow-outside-files).
@@ -43,6 +59,12 @@ struct LoadOptions {
     //! Scene files: called with the resolved path of the file's "paper" as soon as it is known,
     //! before the model loads, so a caller can decode it meanwhile (the CLI does; issue 13 item 3).
     std::function<void(const std::string& paper)> paper_known;
+    //! Scene files: edits of their art direction, applied in order (SceneEdit). Anything else
+    //! given edits is an error.
+    std::vector<SceneEdit> edits;
+    //! Scene files: where their model comes from; empty: load_gltf. A live server passes the model
+    //! it loaded once, so an edit of the art direction does not read and decode the model again.
+    std::function<Scene(const std::string& path, const LoadOptions& options)> load_model;
 };
 inline constexpr int kMaxNodeDepth = 1024;                   //!< node hierarchy depth
 

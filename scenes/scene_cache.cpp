@@ -38,7 +38,7 @@ SceneDesc load_scene_cached(const std::string& spec, const LoadOptions& options,
     SceneCacheUse local;
     SceneCacheUse& u = use ? *use : local;
     u = {};
-    if (!store || spec.rfind(kProceduralPrefix, 0) == 0) return load_scene(spec, options);
+    if (!store || options.load_model || spec.rfind(kProceduralPrefix, 0) == 0) return load_scene(spec, options);
     std::error_code ec;
     const std::string abs = fs::absolute(spec, ec).lexically_normal().string();
     const std::string ext = lower_extension(spec);
@@ -50,7 +50,7 @@ SceneDesc load_scene_cached(const std::string& spec, const LoadOptions& options,
         return load_scene(spec, options);  // the load reports it
     }
     u.key = cache::key({kKind, abs, self.sha256, options.allow_outside_files ? "outside" : "confined",
-                        std::to_string(options.texture_budget_bytes)});
+                        std::to_string(options.texture_budget_bytes), edits_key(options.edits)});
 
     std::string problem;
     if (std::optional<cache::Entry> e = store->find(kKind, u.key, &problem)) {

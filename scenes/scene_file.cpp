@@ -444,9 +444,104 @@ std::vector<int> match_materials(const Ctx& ctx, const Scene& s, const std::stri
     return out;
 }
 
+// --- editing the art direction (SceneEdit, SceneKnob) ------------------------------------------
+
+//! The blocks whose values may be edited, in the order knobs are listed.
+constexpr const char* kEditableRoots[] = {"control", "layers", "foliage", "lights", "ambient", "substrate_color", "materials"};
+
+//! Keys whose three numbers in [0, 1] are a colour (a panel shows a colour picker).
+bool colour_key(const std::string& key) {
+    const std::string k = lower(key);
+    return k.find("color") != std::string::npos || k == "dark" || k == "light" || k == "ambient";
+}
+
+//! Keys whose integer values are counts or seeds (a panel steps them by 1).
+bool integer_key(const std::string& key) { return key == "seed" || key == "octaves" || key == "cells_per_radius"; }
+
+std::string pointer_token(const std::string& key) {  // RFC 6901 escaping
+    std::string t;
+    for (char c : key) t += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+    return t;
+}
+
+//! `group`: the block, or the block's element ("layers[1] crown"); `path`: the keys inside it.
+void collect_knobs(const json& v, const std::string& ptr, const std::string& group, const std::string& path, const std::string& key,
+                   bool top, std::vector<SceneKnob>& out) {
+    if (out.size() >= kMaxSceneKnobs) return;
+    const std::string name = path.empty() ? key : path;
+    if (v.is_boolean()) {
+        out.push_back({ptr, "bool", v.dump(), group, name});
+    } else if (v.is_number()) {
+        out.push_back({ptr, v.is_number_integer() && integer_key(key) ? "integer" : "number", v.dump(), group, name});
+    } else if (v.is_object()) {
+        for (auto it = v.begin(); it != v.end(); ++it)
+            collect_knobs(it.value(), ptr + "/" + pointer_token(it.key()), group, path.empty() ? it.key() : path + "." + it.key(),
+                          it.key(), false, out);
+    } else if (v.is_array()) {
+        const bool numbers = std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); });
+        if (numbers && v.size() >= 2 && v.size() <= 4) {
+            const bool unit = std::all_of(v.begin(), v.end(), [](const json& x) { return x.get<double>() >= 0.0 && x.get<double>() <= 1.0; });
+            out.push_back({ptr, v.size() == 3 && unit && colour_key(key) ? "color" : "vector", v.dump(), group, name});
+            return;
+        }
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            if (!v[i].is_object()) continue;  // names, lists of names: not values
+            const std::string index = "[" + std::to_string(i) + "]";
+            std::string g = group, p = path + index;
+            if (top) {  // an element of a block: its own group, named by its name, target or comment
+                g = group + index;
+                for (const char* k : {"name", "target", "comment"})
+                    if (v[i].contains(k) && v[i][k].is_string()) {
+                        g += " " + v[i][k].get<std::string>().substr(0, 60);
+                        break;
+                    }
+                p.clear();
+            }
+            collect_knobs(v[i], ptr + "/" + std::to_string(i), g, p, key, false, out);
+        }
+    }
+}
+
+std::vector<SceneKnob> knobs_of(const json& j) {
+    std::vector<SceneKnob> out;
+    if (!j.is_object()) return out;
+    for (const char* root : kEditableRoots)
+        if (j.contains(root)) collect_knobs(j[root], std::string("/") + root, root, "", root, true, out);
+    return out;
+}
+
+//! Applies SceneEdits to a scene file's JSON: each must name one of the file's knobs and bring a
+//! value of that knob's kind (the ranges are the reader's, checked when the file is read).
+void apply_edits(json& j, const std::vector<SceneEdit>& edits, const Ctx& ctx) {
+    if (edits.size() > kMaxSceneEdits)
+        ctx.bad("", std::to_string(edits.size()) + " edits (--scene-set); at most " + std::to_string(kMaxSceneEdits));
+    const std::vector<SceneKnob> knobs = knobs_of(j);
+    for (const SceneEdit& e : edits) {
+        const std::string what = "--scene-set " + e.pointer;
+        const auto k = std::find_if(knobs.begin(), knobs.end(), [&](const SceneKnob& x) { return x.pointer == e.pointer; });
+        if (k == knobs.end())
+            throw Error(ctx.where + ": " + what + ": not an editable value of this file (numbers, bools and colours under "
+                        "control, layers, foliage, lights, ambient, substrate_color and materials; `aquarelle scene-values " +
+                        "FILE` lists them)");
+        const json v = json::parse(e.value, nullptr, false);
+        bool ok = false;
+        if (k->kind == "bool") ok = v.is_boolean();
+        else if (k->kind == "number") ok = v.is_number();
+        else if (k->kind == "integer") ok = v.is_number_integer();
+        else ok = v.is_array() && v.size() == json::parse(k->value).size() &&
+                  std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); });
+        if (!ok) throw Error(ctx.where + ": " + what + ": expected " + (k->kind == "color" || k->kind == "vector"
+                                 ? "an array of " + std::to_string(json::parse(k->value).size()) + " numbers"
+                                 : k->kind == "bool" ? std::string("true or false") : "a" + std::string(k->kind == "integer" ? "n integer" : " number")) +
+                             ", got '" + e.value.substr(0, 80) + "'");
+        j[json::json_pointer(e.pointer)] = v;
+    }
+}
+
 SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
     Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
-    const json j = read_json_file(path, "scene file");
+    json j = read_json_file(path, "scene file");
+    if (!options.edits.empty()) apply_edits(j, options.edits, ctx);
     ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
                            "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes", "layers"});
     if (j.contains("description")) ctx.string(j["description"], "description");
@@ -486,7 +581,8 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             d.scene.decode_budget = render_decode_budget(options.texture_budget_bytes);
             procedural = true;
         } else {
-            d.scene = load_gltf(ctx.file(j["gltf"], "gltf"), nullptr, options);
+            const std::string model = ctx.file(j["gltf"], "gltf");
+            d.scene = options.load_model ? options.load_model(model, options) : load_gltf(model, nullptr, options);
         }
     }
 
@@ -812,9 +908,22 @@ std::size_t apply_default_control(Scene& scene, const std::vector<ControlRule>& 
     return todo.size();
 }
 
+SceneEdit parse_scene_edit(const std::string& text) {
+    const std::size_t eq = text.find('=');
+    if (text.empty() || text[0] != '/' || eq == std::string::npos || eq + 1 == text.size())
+        throw Error("--scene-set expects /JSON/POINTER=VALUE, e.g. /layers/1/color=[0.3,0.5,0.2] or /foliage/T=60, got '" +
+                    text.substr(0, 120) + "'");
+    return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+std::vector<SceneKnob> scene_knobs(const std::string& path) { return knobs_of(read_json_file(path, "scene file")); }
+
 SceneDesc load_scene(const std::string& spec, const LoadOptions& options) {
     SceneDesc d;
+    const std::string no_edits = "scene '" + spec + "': --scene-set edits a scene file's art direction; a bare model or "
+                                 "procedural scene has none (write a scene file naming it: docs/scenes.md)";
     if (spec.rfind(kProceduralPrefix, 0) == 0) {
+        if (!options.edits.empty()) throw Error(no_edits);
         d.scene = make_procedural(spec.substr(std::string(kProceduralPrefix).size()));
         if (d.scene.lights.empty()) d.scene.lights.push_back(default_light());
         if (!d.scene.cameras.empty()) {
@@ -829,6 +938,7 @@ SceneDesc load_scene(const std::string& spec, const LoadOptions& options) {
     if (!fs::exists(spec, ec)) throw Error("scene '" + spec + "': file not found");
     const std::string ext = lower(fs::path(spec).extension().string());
     if (ext == ".json") return load_scene_file(spec, options);
+    if (!options.edits.empty()) throw Error(no_edits);
     if (ext == ".gltf" || ext == ".glb") {
         d.scene = load_gltf(spec, nullptr, options);
         d.scene.lights = {default_light()};

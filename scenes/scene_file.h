@@ -109,6 +109,29 @@ struct SceneDesc {
     std::optional<std::string> foliage_technique;
 };
 
+//! One value of a scene file's art direction that may be edited (SceneEdit): every number, bool
+//! and array of 2 to 4 numbers under "control", "layers", "foliage", "lights", "ambient",
+//! "substrate_color" and "materials" (names, sources and file paths are not values; hand-made
+//! strokes are geometry). At most kMaxSceneKnobs, in file order.
+struct SceneKnob {
+    std::string pointer;  //!< RFC 6901, e.g. "/layers/1/color"
+    std::string kind;     //!< "number", "integer", "bool", "color" (3 numbers named *color/dark/light/ambient in [0, 1]), "vector"
+    std::string value;    //!< as JSON text
+    std::string group;    //!< for a panel: the block or its element, named by its "name", "target" or "comment" ("layers[1] crown")
+    std::string name;     //!< the keys inside the group ("color", "noise.amplitude")
+};
+inline constexpr std::size_t kMaxSceneKnobs = 512;
+inline constexpr std::size_t kMaxSceneEdits = 512;
+
+//! "POINTER=VALUE" (render --scene-set, the manifest's "scene_set") as a SceneEdit; throws
+//! aq::Error when the pointer does not start with '/' or there is no '='. The value is checked
+//! when the scene file is read.
+SceneEdit parse_scene_edit(const std::string& text);
+inline std::string to_string(const SceneEdit& e) { return e.pointer + "=" + e.value; }
+
+//! The editable values of a scene file (reads and parses it; throws aq::Error as load_scene).
+std::vector<SceneKnob> scene_knobs(const std::string& scene_file);
+
 //! What names a procedural scene instead of a file: "procedural:NAME".
 inline constexpr const char* kProceduralPrefix = "procedural:";
 

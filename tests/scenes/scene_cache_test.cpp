@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "scenes/scene_archive.h"
+#include "scenes/scene_file.h"
 #include "tests/test_support.h"
 
 namespace aq::scene {
@@ -103,6 +104,27 @@ TEST(SceneCache, AChangedFileTheSceneReadsIsAMiss) {
     (void)load_scene_cached(test::asset("gltf/BoxTextured/BoxTextured.gltf"), {}, &store, &u);
     (void)load_scene_cached(test::asset("gltf/BoxTextured/BoxTextured.gltf"), outside, &store, &v);
     EXPECT_NE(u.key, v.key);
+}
+
+TEST(SceneCache, EditsOfTheArtDirectionArePartOfTheKey) {
+    const cache::Store store({fresh_dir("edits") + "/cache", cache::kDefaultMaxBytes});
+    const std::string oak = test::source_dir() + "/scenes/data/oak.json";
+    LoadOptions a, b;
+    a.edits = {parse_scene_edit("/layers/1/color=[0.8,0.3,0.2]")};
+    b.edits = {parse_scene_edit("/layers/1/color=[0.2,0.3,0.8]")};
+    SceneCacheUse plain, ua, ub, again;
+    (void)load_scene_cached(oak, {}, &store, &plain);
+    const SceneDesc da = load_scene_cached(oak, a, &store, &ua);
+    const SceneDesc db = load_scene_cached(oak, b, &store, &ub);
+    (void)load_scene_cached(oak, a, &store, &again);
+    EXPECT_FALSE(ua.hit);
+    EXPECT_FALSE(ub.hit);
+    EXPECT_TRUE(again.hit);
+    EXPECT_NE(plain.key, ua.key);
+    EXPECT_NE(ua.key, ub.key);
+    EXPECT_FLOAT_EQ(da.scene.layers.at(1).color->r, 0.8f);
+    EXPECT_FLOAT_EQ(db.scene.layers.at(1).color->r, 0.2f);
+    EXPECT_TRUE(archived(da) == archived(load_scene(oak, a)));
 }
 
 TEST(SceneCache, ADamagedEntryIsReportedAndLoadedAgain) {

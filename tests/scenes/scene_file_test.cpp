@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -477,6 +478,96 @@ TEST(SceneFile, LayerNamesAndColoursAreChecked) {
     expect_error(write_scene("layers_alpha.json", R"({"gltf": ")" + box_path() + R"(", "layers": [{"meshes": ["Mesh"], "alpha": -0.1}]})"),
                  "layers[0].alpha");
     expect_error(write_scene("layers_type.json", R"({"gltf": ")" + box_path() + R"(", "layers": {"meshes": ["Mesh"]}})"), "layers");
+}
+
+// --- editing the art direction (render --scene-set, the live page) -----------------------------
+
+std::string editable_scene() {
+    return write_scene("editable.json", R"({"gltf": ")" + box_path() + R"(",
+      "lights": [{"direction": [0, 2, 0], "color": [1, 0.5, 0.25], "intensity": 2}],
+      "control": [{"target": "pigment.density", "source": "noise", "noise": {"frequency": 2.0, "seed": 4}}],
+      "layers": [{"name": "box", "meshes": ["Mesh"], "color": [0.2, 0.4, 0.6], "dark": [0.1, 0.1, 0.2], "alpha": 0.75}],
+      "foliage": {"meshes": ["Mesh"], "T": 50, "radius": 0.1, "relative": true},
+      "style": {"preset": "ld06", "set": {"strokes.width": 2}}, "width": 64, "height": 48})");
+}
+
+TEST(SceneEdits, TheKnobsAreTheFilesValuesOfArtDirection) {
+    const std::vector<SceneKnob> k = scene_knobs(editable_scene());
+    std::map<std::string, std::string> kind;
+    for (const SceneKnob& x : k) kind[x.pointer] = x.kind;
+    EXPECT_EQ(kind.at("/layers/0/color"), "color");
+    EXPECT_EQ(kind.at("/layers/0/alpha"), "number");
+    EXPECT_EQ(kind.at("/foliage/T"), "number");
+    EXPECT_EQ(kind.at("/foliage/relative"), "bool");
+    EXPECT_EQ(kind.at("/control/0/noise/seed"), "integer");
+    EXPECT_EQ(kind.at("/lights/0/direction"), "vector");
+    EXPECT_EQ(kind.at("/lights/0/color"), "color");
+    // names, geometry, sizes and the style are not art-direction values
+    for (const char* p : {"/gltf", "/layers/0/name", "/layers/0/meshes/0", "/width", "/style/set/strokes.width", "/control/0/target"})
+        EXPECT_EQ(kind.count(p), 0u) << p;
+    const auto layer = std::find_if(k.begin(), k.end(), [](const SceneKnob& x) { return x.pointer == "/layers/0/color"; });
+    EXPECT_EQ(layer->group, "layers[0] box");
+    EXPECT_EQ(layer->name, "color");
+    EXPECT_EQ(layer->value, "[0.2,0.4,0.6]");
+}
+
+TEST(SceneEdits, EditsChangeWhatIsLoaded) {
+    const std::string p = editable_scene();
+    LoadOptions o;
+    o.edits = {parse_scene_edit("/layers/0/color=[0.5,0.25,0.125]"), parse_scene_edit("/foliage/T=60"),
+               parse_scene_edit("/lights/0/intensity=0.5"), parse_scene_edit("/foliage/relative=false")};
+    const SceneDesc d = load_scene(p, o);
+    ASSERT_TRUE(d.scene.layers.at(0).color);
+    EXPECT_FLOAT_EQ(d.scene.layers[0].color->g, 0.25f);
+    EXPECT_FLOAT_EQ(*d.foliage_threshold, 60.0f);
+    EXPECT_FALSE(*d.foliage_relative);
+    EXPECT_FLOAT_EQ(d.scene.lights.at(0).intensity, 0.5f);
+    const SceneDesc plain = load_scene(p);
+    EXPECT_FLOAT_EQ(plain.scene.layers.at(0).color->g, 0.4f);
+    EXPECT_FLOAT_EQ(*plain.foliage_threshold, 50.0f);
+}
+
+TEST(SceneEdits, TheModelComesFromTheLoaderHook) {
+    int calls = 0;
+    LoadOptions o;
+    o.load_model = [&](const std::string& path, const LoadOptions& lo) {
+        ++calls;
+        EXPECT_EQ(fs::path(path), fs::path(box_path()).lexically_normal());
+        return load_gltf(path, nullptr, lo);
+    };
+    o.edits = {parse_scene_edit("/layers/0/alpha=0.5")};
+    const SceneDesc d = load_scene(editable_scene(), o);
+    EXPECT_EQ(calls, 1);
+    EXPECT_FLOAT_EQ(*d.scene.layers.at(0).alpha, 0.5f);
+}
+
+TEST(SceneEdits, BadEditsAreClearErrors) {
+    const std::string p = editable_scene();
+    auto error_of = [&](const std::string& spec, const std::string& edit) -> std::string {
+        try {
+            LoadOptions o;
+            o.edits = {parse_scene_edit(edit)};
+            load_scene(spec, o);
+        } catch (const aq::Error& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_NE(error_of(p, "/gltf=1").find("not an editable value"), std::string::npos);
+    EXPECT_NE(error_of(p, "/layers/3/color=[0,0,0]").find("not an editable value"), std::string::npos);
+    EXPECT_NE(error_of(p, "/layers/0/color=[0,0]").find("an array of 3 numbers"), std::string::npos);
+    EXPECT_NE(error_of(p, R"(/layers/0/color="red")").find("an array of 3 numbers"), std::string::npos);
+    EXPECT_NE(error_of(p, "/foliage/T=x").find("a number"), std::string::npos);
+    EXPECT_NE(error_of(p, "/control/0/noise/seed=1.5").find("an integer"), std::string::npos);
+    EXPECT_NE(error_of(p, "/foliage/relative=1").find("true or false"), std::string::npos);
+    // in range only as the file itself: the reader's checks name the key
+    EXPECT_NE(error_of(p, "/layers/0/color=[0.2,1.5,0]").find("layers[0].color[1]"), std::string::npos);
+    EXPECT_NE(error_of(p, "/foliage/T=-1").find("foliage.T"), std::string::npos);
+    // only scene files have art direction to edit
+    EXPECT_NE(error_of(box_path(), "/foliage/T=1").find("a bare model or procedural scene has none"), std::string::npos);
+    EXPECT_NE(error_of("procedural:swatches", "/foliage/T=1").find("a bare model or procedural scene has none"), std::string::npos);
+    for (const char* bad : {"", "foliage/T=1", "/foliage/T", "/foliage/T="})
+        EXPECT_THROW(parse_scene_edit(bad), aq::Error) << bad;
 }
 
 TEST(SceneFile, TextureSpaceStrokesAreCopiedOntoEveryLeafOfTheirMaterial) {
