@@ -8,11 +8,13 @@
 
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include <jpeglib.h>
 
-#include "core/image.h"  // aq::Error
+#include "core/image.h"
+#include "core/io.h"
 #include "core/unorm8.h"
 
 namespace aq {
@@ -83,7 +85,58 @@ bool decompress(Decoder& d, PixelDest dst) {
     return true;
 }
 
+struct Encoder {
+    jpeg_compress_struct cinfo{};
+    ErrorManager err;
+    bool created = false;
+    unsigned char* buffer = nullptr;  // jpeg_mem_dest's, malloc'ed
+    unsigned long size = 0;
+    Encoder() {
+        cinfo.err = jpeg_std_error(&err.pub);
+        err.pub.error_exit = on_error;
+        err.pub.output_message = on_message;
+    }
+    ~Encoder() {
+        if (created) jpeg_destroy_compress(&cinfo);
+        std::free(buffer);
+    }
+    Encoder(const Encoder&) = delete;
+    Encoder& operator=(const Encoder&) = delete;
+};
+
+bool compress(Encoder& e, int width, int height, int channels, int quality, const unsigned char* rows) {
+    if (setjmp(e.err.jump)) return false;
+    jpeg_create_compress(&e.cinfo);
+    e.created = true;
+    jpeg_mem_dest(&e.cinfo, &e.buffer, &e.size);
+    e.cinfo.image_width = static_cast<JDIMENSION>(width);
+    e.cinfo.image_height = static_cast<JDIMENSION>(height);
+    e.cinfo.input_components = channels;
+    e.cinfo.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_set_defaults(&e.cinfo);
+    jpeg_set_quality(&e.cinfo, quality, TRUE);
+    jpeg_start_compress(&e.cinfo, TRUE);
+    const std::size_t stride = std::size_t(width) * std::size_t(channels);
+    while (e.cinfo.next_scanline < e.cinfo.image_height) {
+        JSAMPROW row = const_cast<JSAMPROW>(rows + std::size_t(e.cinfo.next_scanline) * stride);
+        jpeg_write_scanlines(&e.cinfo, &row, 1);
+    }
+    jpeg_finish_compress(&e.cinfo);
+    return true;
+}
+
 }  // namespace
+
+void encode_jpeg(const ImageF& img, int quality, std::vector<unsigned char>& out, std::vector<unsigned char>& rows) {
+    const int c = img.channels();
+    if (img.empty() || (c != 1 && c != 3)) throw Error("JPEG: needs a non-empty grey or RGB image");
+    if (quality < 1 || quality > 100) throw Error("JPEG: quality " + std::to_string(quality) + " outside [1, 100]");
+    rows.resize(img.num_values());
+    to_unorm8_n(img.data(), rows.data(), rows.size());
+    Encoder e;
+    if (!compress(e, img.width(), img.height(), c, quality, rows.data())) throw Error(std::string("JPEG: cannot encode: ") + e.err.message);
+    out.assign(e.buffer, e.buffer + e.size);
+}
 
 bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, AcceptHeader accept,
                  void* ctx) {

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "core/image_header.h"
 
@@ -26,5 +27,16 @@ namespace aq {
 //! whatever `accept` throws.
 bool decode_jpeg(const unsigned char* bytes, std::size_t size, const std::string& where, AcceptHeader accept,
                  void* ctx);
+
+class ImageF;
+
+//! The quality of preview JPEGs (the live view while the camera or a slider moves; docs/serve.md):
+//! libjpeg's scale, with its default 4:2:0 chroma subsampling.
+inline constexpr int kPreviewJpegQuality = 85;
+
+//! Encodes a grey or RGB image, its values quantised with to_unorm8 as encode_png does, as a
+//! baseline JPEG of `quality` (1-100) into `out`; `rows` is scratch, both keep their capacity. For
+//! previews only: every file Aquarelle writes is lossless. Throws aq::Error.
+void encode_jpeg(const ImageF& img, int quality, std::vector<unsigned char>& out, std::vector<unsigned char>& rows);
 
 }  // namespace aq

@@ -3,6 +3,8 @@
 // OpenImageIO.
 #include "core/jpeg.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -153,6 +155,32 @@ TEST(JpegDecoder, CmykIsLeftToOpenImageIO) {
     const ImageF decoded = decode_image(cmyk.data(), cmyk.size(), "cmyk.jpg");  // OpenImageIO's reader
     EXPECT_EQ(decoded.width(), 24);
     EXPECT_EQ(decoded.height(), 16);
+}
+
+// The live view's preview encoder: what it writes decodes to the image within the loss of its
+// quality (a smooth gradient: within a few codes at either quality), at its size and channels.
+TEST(JpegEncoder, PreviewsDecodeToTheImage) {
+    ImageF img(96, 64, 3);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 96; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = float(x + 2 * y + 40 * c) / 400.0f;
+    std::vector<unsigned char> bytes, rows;
+    double worst[2] = {0, 0};
+    int k = 0;
+    for (int q : {kPreviewJpegQuality, 100}) {
+        aq::encode_jpeg(img, q, bytes, rows);
+        const ImageF back = decode_with_ours(bytes);
+        ASSERT_EQ(back.width(), 96);
+        ASSERT_EQ(back.height(), 64);
+        ASSERT_EQ(back.channels(), 3);
+        for (std::size_t i = 0; i < img.num_values(); ++i) worst[k] = std::max(worst[k], double(std::abs(back.data()[i] - img.data()[i])));
+        ++k;
+    }
+    EXPECT_LT(worst[0], 8.0 / 255.0);
+    EXPECT_LT(worst[1], 3.0 / 255.0);
+    ImageF rgba(4, 4, 4);
+    EXPECT_THROW(aq::encode_jpeg(rgba, 85, bytes, rows), Error);
+    EXPECT_THROW(aq::encode_jpeg(img, 0, bytes, rows), Error);
 }
 
 }  // namespace
