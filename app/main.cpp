@@ -43,6 +43,8 @@ commands:
   render SCENE     render a scene file (.json), a bare .gltf/.glb or procedural:NAME
   stages           list every stylization stage, its variants and parameters (defaults, ranges)
   styles           list the pipeline presets
+  scene-values F   list the art-direction values of a scene file that --scene-set (and the
+                   live page) can edit
   compare A B      compare two images (mean/max abs error, fraction over 1/255, PSNR)
   reproduce M      render an image again from its manifest (IMAGE.json) and say whether it is
                    identical (docs/provenance.md)
@@ -100,6 +102,11 @@ options:
   --working-space W     display | linear: colour space of the watercolor maths (default display,
                         as the papers; linear encodes the result to sRGB at the end; docs/look.md)
   --set STAGE.PARAM=V   override a stage parameter (repeatable)
+  --scene-set PTR=V     edit a value of the scene file's art direction before it is read: a JSON
+                        pointer under control, layers, foliage, lights, ambient, substrate_color
+                        or materials and a JSON value of the same kind, e.g.
+                        /layers/1/color=[0.3,0.5,0.2] or /foliage/T=60 (repeatable;
+                        `aquarelle scene-values FILE` lists them; docs/scenes.md)
   --variant STAGE=VAR   choose a stage variant (repeatable)
   --bypass STEP         leave a step out: its readers get its input instead, so the image shows
                         what the step adds (repeatable; e.g. --bypass edge_darken)
@@ -111,9 +118,11 @@ options:
                         write exactly the files of one unsharded run (docs/shards.md)
   --orbit DEG           camera orbit: frame N sees the scene turned by N x DEG degrees about
                         the vertical (+Y) axis through the centre of its bounds (default 0)
-  --view Y,P,Z          the camera turned by Y degrees about +Y and P degrees up (|P| <= 89) through
-                        the centre of the scene's bounds, then Z times closer (Z in [0.05, 20]);
-                        after --orbit (what `aquarelle serve`'s mouse sets; default 0,0,1)
+  --view Y,P,Z[,X,V]    the camera turned by Y degrees about +Y and P degrees up (|P| <= 89) through
+                        the centre of the scene's bounds, then Z times closer (Z in [0.05, 20]),
+                        then moved X right and V up, in half-heights of the view at the centre
+                        (|X|, |V| <= 20); after --orbit (what `aquarelle serve`'s mouse sets;
+                        default 0,0,1,0,0)
   --sweep S.P=A:B:N     render N images with parameter P of step S from A to B (G-buffer
                         rendered once); --out must contain #### (the sweep index), with progress
   --fps F               frames per second for the tremor clock (default: scene file, else 24)
@@ -321,6 +330,12 @@ RenderOptions parse_render(Args& a) {
             o.variants.push_back(a.value(arg));
         } else if (arg == "--bypass") {
             o.bypass.push_back(a.value(arg));
+        } else if (arg == "--scene-set") {
+            try {
+                o.scene_edits.push_back(aq::scene::parse_scene_edit(a.value(arg)));
+            } catch (const aq::Error& e) {
+                throw UsageError(e.what());
+            }
         } else if (arg == "--timings") {
             o.timings = true;
         } else if (arg == "--frames") {
@@ -351,11 +366,22 @@ RenderOptions parse_render(Args& a) {
             o.orbit_deg = aq::cli::parse_double(arg, a.value(arg), -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
         } else if (arg == "--view") {
             const std::string v = a.value(arg);
-            const auto c1 = v.find(','), c2 = c1 == std::string::npos ? c1 : v.find(',', c1 + 1);
-            if (c2 == std::string::npos) throw UsageError("--view expects YAW,PITCH,ZOOM, e.g. 30,10,1.5");
-            o.view_yaw = aq::cli::parse_double(arg, v.substr(0, c1), -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
-            o.view_pitch = aq::cli::parse_double(arg, v.substr(c1 + 1, c2 - c1 - 1), -lim::kMaxViewPitchDeg, lim::kMaxViewPitchDeg);
-            o.view_zoom = aq::cli::parse_double(arg, v.substr(c2 + 1), lim::kMinViewZoom, lim::kMaxViewZoom);
+            std::vector<std::string> f;
+            for (std::size_t at = 0;;) {
+                const std::size_t c = v.find(',', at);
+                f.push_back(v.substr(at, c == std::string::npos ? c : c - at));
+                if (c == std::string::npos) break;
+                at = c + 1;
+            }
+            if (f.size() != 3 && f.size() != 5)
+                throw UsageError("--view expects YAW,PITCH,ZOOM or YAW,PITCH,ZOOM,PANX,PANY, e.g. 30,10,1.5 or 30,10,1.5,0.2,0");
+            o.view_yaw = aq::cli::parse_double(arg, f[0], -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
+            o.view_pitch = aq::cli::parse_double(arg, f[1], -lim::kMaxViewPitchDeg, lim::kMaxViewPitchDeg);
+            o.view_zoom = aq::cli::parse_double(arg, f[2], lim::kMinViewZoom, lim::kMaxViewZoom);
+            if (f.size() == 5) {
+                o.view_pan_x = aq::cli::parse_double(arg, f[3], -lim::kMaxViewPan, lim::kMaxViewPan);
+                o.view_pan_y = aq::cli::parse_double(arg, f[4], -lim::kMaxViewPan, lim::kMaxViewPan);
+            }
         } else if (arg == "--fps") {
             o.fps = aq::cli::parse_double(arg, a.value(arg), lim::kMinFps, lim::kMaxFps);
         } else if (arg == "--ssaa") {
@@ -470,6 +496,28 @@ int cmd_styles(Args& a) {
             std::cout << (i ? " -> " : "") << p.steps[i].stage << ":" << p.steps[i].variant;
         std::cout << "\n";
     }
+    return 0;
+}
+
+int cmd_scene_values(Args& a) {
+    std::string file;
+    while (!a.done()) {
+        const std::string arg = a.next();
+        if (arg == "--help" || arg == "-h") {
+            std::cout << "usage: aquarelle scene-values SCENE.json\n\nLists the values of a scene file's art direction "
+                         "that `render --scene-set POINTER=VALUE` (and the live page's scene panel) can edit: JSON\n"
+                         "pointer, kind, value, and where it is (docs/scenes.md \"Editing the art direction\").\n";
+            return 0;
+        }
+        if (!arg.empty() && arg[0] == '-') throw UsageError("scene-values: unknown option '" + arg + "'");
+        if (!file.empty()) throw UsageError("scene-values: one scene file, got '" + file + "' and '" + arg + "'");
+        file = arg;
+    }
+    if (file.empty()) throw UsageError("scene-values: expected a scene file (.json)");
+    if (aq::lower_extension(file) != ".json")
+        throw aq::Error("scene-values: '" + file + "' is not a scene file (.json); a bare model has no art direction to edit");
+    for (const aq::scene::SceneKnob& k : aq::scene::scene_knobs(file))
+        std::cout << k.pointer << "\t" << k.kind << "\t" << k.value << "\t" << k.group << ": " << k.name << "\n";
     return 0;
 }
 
@@ -723,6 +771,7 @@ int main(int argc, char** argv) {
         if (cmd == "render") return cmd_render(args);
         if (cmd == "stages") return cmd_stages(args);
         if (cmd == "styles") return cmd_styles(args);
+        if (cmd == "scene-values") return cmd_scene_values(args);
         if (cmd == "compare") return cmd_compare(args);
         if (cmd == "reproduce") return cmd_reproduce(args);
         if (cmd == "coherence") return cmd_coherence(args);

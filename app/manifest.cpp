@@ -76,7 +76,14 @@ json request_json(const RenderJob& job, const RenderedImage& img) {
         {"targets_png", !o.targets_png_dir.empty()},
         {"output_format", fs::path(o.out).extension().string()},
     };
-    if (o.has_view()) r["view"] = {o.view_yaw, o.view_pitch, o.view_zoom};  // absent: 0, 0, 1
+    if (!o.scene_edits.empty()) {  // absent: none (older readers know no edits)
+        r["scene_set"] = json::array();
+        for (const scene::SceneEdit& e : o.scene_edits) r["scene_set"].push_back(scene::to_string(e));
+    }
+    if (o.has_view()) {  // absent: 0, 0, 1; the pan only when there is one (older readers take three)
+        r["view"] = {o.view_yaw, o.view_pitch, o.view_zoom};
+        if (o.has_pan()) r["view"].insert(r["view"].end(), {o.view_pan_x, o.view_pan_y});
+    }
     if (!o.sweep.empty())
         r["sweep"] = {{"param", o.sweep}, {"from", o.sweep_from}, {"to", o.sweep_to}, {"count", o.sweep_count},
                       {"index", img.index}};
@@ -300,12 +307,22 @@ RenderOptions options_from(const json& m, const std::string& where, const std::s
     if (o.fps != 0.0 && o.fps < lim::kMinFps) rd.bad("request.fps", "value outside 0 (not given) or [" + std::to_string(lim::kMinFps) + ", " + std::to_string(lim::kMaxFps) + "]");
     o.orbit_deg = rd.number(at(r, "orbit_deg"), "request.orbit_deg", -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
     o.ssaa = rd.integer(at(r, "ssaa"), "request.ssaa", 1, lim::kMaxSsaa);
+    if (r.contains("scene_set")) {  // newer than the manifest format; absent: no edits
+        const json& v = r.at("scene_set");
+        if (!v.is_array() || v.size() > scene::kMaxSceneEdits) rd.bad("request.scene_set", "expected a list of \"POINTER=VALUE\" strings");
+        for (std::size_t i = 0; i < v.size(); ++i)
+            o.scene_edits.push_back(scene::parse_scene_edit(rd.string(v[i], "request.scene_set[" + std::to_string(i) + "]")));
+    }
     if (r.contains("view")) {  // newer than the manifest format; absent: the camera as framed
         const json& v = r.at("view");
-        if (!v.is_array() || v.size() != 3) rd.bad("request.view", "expected [yaw, pitch, zoom]");
+        if (!v.is_array() || (v.size() != 3 && v.size() != 5)) rd.bad("request.view", "expected [yaw, pitch, zoom] or [yaw, pitch, zoom, pan x, pan y]");
         o.view_yaw = rd.number(v[0], "request.view[0]", -lim::kMaxOrbitDeg, lim::kMaxOrbitDeg);
         o.view_pitch = rd.number(v[1], "request.view[1]", -lim::kMaxViewPitchDeg, lim::kMaxViewPitchDeg);
         o.view_zoom = rd.number(v[2], "request.view[2]", lim::kMinViewZoom, lim::kMaxViewZoom);
+        if (v.size() == 5) {
+            o.view_pan_x = rd.number(v[3], "request.view[3]", -lim::kMaxViewPan, lim::kMaxViewPan);
+            o.view_pan_y = rd.number(v[4], "request.view[4]", -lim::kMaxViewPan, lim::kMaxViewPan);
+        }
     }
     const std::string w = where + ": request";
     const std::string control = rd.string(at(r, "control"), "request.control");

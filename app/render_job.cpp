@@ -99,6 +99,13 @@ scene::Camera frame_camera(const RenderJob& job, int frame) {
             cam.zfar = std::max(cam.zfar - shift, cam.znear * 2.0f);
         }
     }
+    if (o.has_pan()) {
+        // The view's half-height at the centre's depth, then a move in the camera's own plane.
+        const glm::vec3 ce = glm::vec3(cam.view * glm::vec4(c, 1.0f));
+        const double half = cam.orthographic ? double(cam.ymag) : double(-ce.z) * std::tan(0.5 * double(cam.yfov));
+        const glm::vec3 t(float(o.view_pan_x * half), float(o.view_pan_y * half), 0.0f);
+        cam.view = glm::translate(glm::mat4(1.0f), -t) * cam.view;
+    }
     return cam;
 }
 
@@ -119,6 +126,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     }
     scene::LoadOptions load_options;
     load_options.allow_outside_files = o.allow_outside_files;
+    load_options.edits = o.scene_edits;
     // A scene file naming its paper: the same, decoded while the model loads. The layout is the
     // style's when --style names one, else the presets' (every preset is "mnpr"; a scene whose own
     // style file reads its paper in another layout decodes it again, and the prefetch is wasted).
@@ -288,10 +296,12 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<std::string> warnings;
-        // A live render of the server's preloaded scene: the memo (its scene never changes, so the
-        // default control and the parameters name the entry).
+        // A live render of the server's preloaded scene: the memo (the scene file's edits, the
+        // default control and the parameters name the entry; the server drops the memo when the
+        // files change).
         const std::string memo_key = o.pass_memo && o.preloaded
-                                         ? "default control " + default_control_applied + "\n" + raster::foliage_params_key(fp)
+                                         ? "edits " + scene::edits_key(o.scene_edits) + "default control " + default_control_applied +
+                                               "\n" + raster::foliage_params_key(fp)
                                          : std::string();
         std::shared_ptr<const RenderOptions::PassSceneMemo::Entry> memo;
         if (!memo_key.empty()) {
@@ -309,7 +319,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
             memo = e;
             if (!memo_key.empty()) {
                 std::lock_guard<std::mutex> lock(o.pass_memo->m);
-                o.pass_memo->entries[memo_key] = memo;
+                o.pass_memo->put(memo_key, memo);
             }
         }
         warnings = memo->warnings;

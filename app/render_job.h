@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <future>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -39,6 +40,7 @@ inline constexpr double kMinFps = 0.001, kMaxFps = 10000.0;  //!< --fps
 inline constexpr double kMaxOrbitDeg = 360.0;              //!< --orbit in [-this, this]
 inline constexpr double kMaxViewPitchDeg = 89.0;           //!< --view pitch in [-this, this]
 inline constexpr double kMinViewZoom = 0.05, kMaxViewZoom = 20.0;  //!< --view zoom
+inline constexpr double kMaxViewPan = 20.0;  //!< --view pan in [-this, this] half-heights
 inline constexpr long long kMaxSsaa = 4;                   //!< --ssaa in [1, this]
 inline constexpr long long kMinSweepCount = 2, kMaxSweepCount = 1000;  //!< --sweep count
 inline constexpr double kMaxSweepValue = 1e30;             //!< --sweep ends in [-this, this]
@@ -51,18 +53,22 @@ struct RenderOptions {
     bool style_given = false;
     std::vector<std::string> sets, variants;
     std::vector<std::string> bypass;  //!< --bypass STEP, applied after --variant and --set
+    std::vector<scene::SceneEdit> scene_edits;  //!< --scene-set POINTER=VALUE (scene files only)
     int width = 0, height = 0, ssaa = 1, threads = 0;
     int frame_first = 0, frame_last = 0;
     bool animation = false;    //!< --frames given
     bool frame_given = false;  //!< --frame given (refused together with --frames)
     double fps = 0;
     double orbit_deg = 0;  //!< --orbit: camera turned by frame x this about +Y through the bounds' centre
-    //! --view YAW,PITCH,ZOOM: the camera turned by yaw degrees about +Y and pitch degrees about its
-    //! right axis through the bounds' centre, then moved towards it to 1/zoom of its distance
-    //! (orthographic: its extents scaled by 1/zoom); after --orbit. The live view's mouse
-    //! (`aquarelle serve`, docs/serve.md).
-    double view_yaw = 0, view_pitch = 0, view_zoom = 1;
-    bool has_view() const { return view_yaw != 0 || view_pitch != 0 || view_zoom != 1; }
+    //! --view YAW,PITCH,ZOOM[,PANX,PANY]: the camera turned by yaw degrees about +Y and pitch degrees
+    //! about its right axis through the bounds' centre, then moved towards it to 1/zoom of its
+    //! distance (orthographic: its extents scaled by 1/zoom), then moved along its own right and up
+    //! axes by PANX, PANY half-heights of the view at the centre's depth (the centre lands at
+    //! NDC (-PANX / aspect, -PANY)); after --orbit. The live view's mouse (`aquarelle serve`,
+    //! docs/serve.md).
+    double view_yaw = 0, view_pitch = 0, view_zoom = 1, view_pan_x = 0, view_pan_y = 0;
+    bool has_pan() const { return view_pan_x != 0 || view_pan_y != 0; }
+    bool has_view() const { return view_yaw != 0 || view_pitch != 0 || view_zoom != 1 || has_pan(); }
     //! --shard I/N (docs/shards.md): this run renders the items k (frame f - frame_first, or sweep
     //! index) with k mod N == I; the N shards together write exactly the unsharded run's files.
     int shard_index = 0, shard_count = 1;
@@ -96,8 +102,20 @@ struct RenderOptions {
             raster::ContourCache contours;
             std::vector<std::string> warnings;
         };
+        //! Entries kept (the newest): a slider over a foliage parameter or a scene edit makes one
+        //! per value, each the size of the abstracted scene.
+        static constexpr std::size_t kMaxEntries = 4;
         std::mutex m;
         std::map<std::string, std::shared_ptr<const Entry>> entries;
+        std::deque<std::string> order;  //!< keys, oldest first
+        void put(const std::string& key, std::shared_ptr<const Entry> e) {
+            if (!entries.count(key)) order.push_back(key);
+            entries[key] = std::move(e);
+            while (order.size() > kMaxEntries) {
+                entries.erase(order.front());
+                order.pop_front();
+            }
+        }
     };
     std::shared_ptr<PassSceneMemo> pass_memo;
     //! Live renders: what the previous image of the same view left — every target (G-buffer, paper,

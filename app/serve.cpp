@@ -35,6 +35,9 @@
 #include "app/manifest.h"
 #include "app/render_files.h"
 #include "app/visualize.h"
+#include "core/input.h"
+#include "core/io.h"
+#include "core/jpeg.h"
 #include "core/png.h"
 #include "core/targets.h"
 #include "stylize/stage.h"
@@ -87,6 +90,27 @@ std::string name(const json& v, const std::string& what) {
     return s;
 }
 
+//! A JSON pointer the page names in "scene": printable ASCII, no '=' (it ends the pointer in
+//! POINTER=VALUE), at most 256 characters; whether it is editable is the loader's check.
+std::string pointer(const std::string& p) {
+    if (p.empty() || p[0] != '/' || p.size() > 256) throw Error("live state: scene key '" + p.substr(0, 64) + "' is not a JSON pointer (/a/b)");
+    for (char c : p)
+        if (c < 0x20 || c > 0x7e || c == '=') throw Error("live state: scene key '" + p.substr(0, 64) + "' has a character outside printable ASCII or '='");
+    return p;
+}
+
+//! A scene edit's value as JSON text: a number, true/false or an array of 2-4 numbers.
+std::string scene_value(const json& v, const std::string& what) {
+    if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+    if (v.is_number()) return num(number(v, what));
+    if (v.is_array() && v.size() >= 2 && v.size() <= 4) {
+        std::string t = "[";
+        for (std::size_t i = 0; i < v.size(); ++i) t += (i ? "," : "") + num(number(v[i], what));
+        return t + "]";
+    }
+    throw Error("live state: " + what + " must be a number, true/false or an array of 2-4 numbers");
+}
+
 std::string shell_quote(const std::string& s) {
     bool plain = !s.empty();
     for (char c : s) plain = plain && (std::isalnum(static_cast<unsigned char>(c)) || std::string("_-.,/:=+@%").find(c) != std::string::npos);
@@ -100,7 +124,7 @@ std::string shell_quote(const std::string& s) {
 
 std::vector<std::string> live_args(const json& state) {
     if (!state.is_object()) throw Error("live state: expected an object");
-    static const std::set<std::string> known = {"style", "width", "height", "frame", "view", "variants", "params", "target"};
+    static const std::set<std::string> known = {"style", "width", "height", "frame", "view", "variants", "params", "scene", "target"};
     for (auto it = state.begin(); it != state.end(); ++it)
         if (!known.count(it.key())) throw Error("live state: unknown key '" + it.key() + "'");
     namespace lim = request_limits;
@@ -122,9 +146,13 @@ std::vector<std::string> live_args(const json& state) {
     }
     if (state.contains("view")) {
         const json& v = member(state, "view");
-        if (!v.is_array() || v.size() != 3) throw Error("live state: view must be [yaw, pitch, zoom]");
+        if (!v.is_array() || (v.size() != 3 && v.size() != 5))
+            throw Error("live state: view must be [yaw, pitch, zoom] or [yaw, pitch, zoom, pan x, pan y]");
         const double yaw = number(v[0], "view yaw"), pitch = number(v[1], "view pitch"), zoom = number(v[2], "view zoom");
-        if (yaw != 0 || pitch != 0 || zoom != 1) a.insert(a.end(), {"--view", num(yaw) + "," + num(pitch) + "," + num(zoom)});
+        const double px = v.size() == 5 ? number(v[3], "view pan x") : 0.0, py = v.size() == 5 ? number(v[4], "view pan y") : 0.0;
+        std::string arg = num(yaw) + "," + num(pitch) + "," + num(zoom);
+        if (px != 0 || py != 0) arg += "," + num(px) + "," + num(py);
+        if (yaw != 0 || pitch != 0 || zoom != 1 || px != 0 || py != 0) a.insert(a.end(), {"--view", arg});
     }
     if (state.contains("variants")) {
         const json& v = member(state, "variants");
@@ -137,6 +165,13 @@ std::vector<std::string> live_args(const json& state) {
         if (!p.is_object()) throw Error("live state: params must be an object {\"step.param\": value}");
         for (auto it = p.begin(); it != p.end(); ++it)
             a.insert(a.end(), {"--set", name(json(it.key()), "parameter") + "=" + num(number(it.value(), it.key()))});
+    }
+    if (state.contains("scene")) {
+        const json& sc = member(state, "scene");
+        if (!sc.is_object() || sc.size() > scene::kMaxSceneEdits)
+            throw Error("live state: scene must be an object {\"/json/pointer\": value} of at most " + std::to_string(scene::kMaxSceneEdits) + " edits");
+        for (auto it = sc.begin(); it != sc.end(); ++it)
+            a.insert(a.end(), {"--scene-set", pointer(it.key()) + "=" + scene_value(it.value(), "scene value " + it.key().substr(0, 64))});
     }
     return a;
 }
@@ -151,7 +186,7 @@ LiveRequest parse_live_message(const std::string& text) {
     }
     if (!msg.is_object()) throw Error("message: expected an object {\"type\": ...}");
     for (auto it = msg.begin(); it != msg.end(); ++it)
-        if (it.key() != "type" && it.key() != "seq" && it.key() != "schema" && it.key() != "state")
+        if (it.key() != "type" && it.key() != "seq" && it.key() != "schema" && it.key() != "moving" && it.key() != "state")
             throw Error("message: unknown key '" + it.key() + "'");
     LiveRequest r;
     if (!msg.contains("type") || !msg["type"].is_string()) throw Error("message: \"type\" must be a string");
@@ -164,6 +199,10 @@ LiveRequest parse_live_message(const std::string& text) {
     if (msg.contains("schema")) {
         if (!msg["schema"].is_boolean()) throw Error("message: \"schema\" must be true or false");
         r.want_schema = msg["schema"].get<bool>();
+    }
+    if (msg.contains("moving")) {
+        if (!msg["moving"].is_boolean()) throw Error("message: \"moving\" must be true or false");
+        r.moving = msg["moving"].get<bool>();
     }
     if (!msg.contains("state")) throw Error("message: a " + r.type + " message needs a state");
     r.state = msg["state"];
@@ -180,7 +219,7 @@ std::string command_line(const std::string& scene, const std::vector<std::string
     return c + " --out " + shell_quote(out);
 }
 
-json live_schema(const RenderJob& job) {
+json live_schema(const RenderJob& job, const json& knobs) {
     json steps = json::array();
     std::set<std::string> targets;
     for (const target::GBufferTarget& g : target::kGBufferLayout) targets.insert(g.name);
@@ -212,23 +251,97 @@ json live_schema(const RenderJob& job) {
             {"steps", steps},
             {"targets", t},
             {"width", job.settings.width},
-            {"height", job.settings.height}};
+            {"height", job.settings.height},
+            {"scene", knobs}};
 }
 
-LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state) {
+namespace {
+
+std::vector<LiveState::Watched> watch(const std::vector<InputRecord>& records) {
+    std::vector<LiveState::Watched> w;
+    for (const InputRecord& r : records) {
+        std::error_code ec;
+        LiveState::Watched x{r.path};
+        const auto t = fs::last_write_time(r.path, ec);
+        if (!ec) x.mtime_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+        x.size = ec ? 0 : fs::file_size(r.path, ec);
+        if (std::find_if(w.begin(), w.end(), [&](const LiveState::Watched& y) { return y.path == x.path; }) == w.end()) w.push_back(x);
+    }
+    return w;
+}
+
+bool files_changed(const std::vector<LiveState::Watched>& inputs) {
+    for (const LiveState::Watched& f : inputs) {
+        InputRecord r{f.path};
+        if (watch({r}).front() != f) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+void load_live_scene(const RenderOptions& options, LiveState& state) {
+    const int loads = state.loads;
+    state = LiveState{};
+    state.loads = loads + 1;
+    RenderOptions ro = options;
+    ro.keep_loaded = true;
+    ro.preloaded = nullptr;
+    ro.live_frame = nullptr;
+    Reporter quiet;
+    InputCapture capture;
+    state.scene = prepare_render(ro, quiet).loaded;
+    state.edits = scene::edits_key(ro.scene_edits);
+    state.inputs = watch(capture.records());
+    if (lower_extension(ro.scene) == ".json")
+        for (const scene::SceneKnob& k : scene::scene_knobs(ro.scene))
+            state.knobs.push_back({{"pointer", k.pointer}, {"kind", k.kind}, {"value", json::parse(k.value)}, {"group", k.group}, {"name", k.name}});
+}
+
+LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state,
+                      bool preview) {
     const auto t0 = std::chrono::steady_clock::now();
     ro.keep_intermediates = target != "final";
     ro.live = true;
-    ro.keep_loaded = !state.scene;
+    LiveImage out;
+    if (state.scene && files_changed(state.inputs)) {
+        const int loads = state.loads;
+        state = LiveState{};
+        state.loads = loads;
+    }
+    if (!state.scene) {
+        const bool again = state.loads > 0;
+        try {
+            load_live_scene(ro, state);
+        } catch (const Error& e) {
+            if (!again) throw;
+            throw Error("a file of the scene changed on disk and the scene does not load now (fix it; the next change loads it "
+                        "again): " + std::string(e.what()));
+        }
+        if (again) out.notice = "a file of the scene changed on disk: loaded again";
+    } else if (const std::string edits = scene::edits_key(ro.scene_edits); edits != state.edits) {
+        // Another edit of the scene file's art direction: read the file again (small), the model
+        // from memory (read on the first edit).
+        scene::LoadOptions lo;
+        lo.allow_outside_files = ro.allow_outside_files;
+        lo.edits = ro.scene_edits;
+        lo.load_model = [&state](const std::string& path, const scene::LoadOptions& o) {
+            if (!state.model || state.model_path != path) {
+                state.model = std::make_shared<const scene::Scene>(scene::load_gltf(path, nullptr, o));
+                state.model_path = path;
+            }
+            return *state.model;
+        };
+        state.scene = std::make_shared<const scene::SceneDesc>(scene::load_scene(ro.scene, lo));
+        state.edits = edits;
+    }
     ro.preloaded = state.scene;
     ro.pass_memo = state.pass_memo;
     state.frame.key_next = key;
     ro.live_frame = &state.frame;
     Reporter quiet;
     RenderJob job = prepare_render(ro, quiet);
-    if (!state.scene) state.scene = job.loaded;
-    LiveImage out;
-    if (want_schema) out.schema = live_schema(job);
+    if (want_schema || !out.notice.empty()) out.schema = live_schema(job, state.knobs);
     std::string missing;
     run_render(job, [&](RenderedImage& img) {
         ImageF shown;
@@ -241,8 +354,10 @@ LiveImage render_live(RenderOptions ro, const std::string& key, const std::strin
             return;
         }
         std::vector<unsigned char> bytes, rows;
-        encode_png(shown, "", bytes, rows);
-        out.png.assign(bytes.begin(), bytes.end());
+        if (preview) encode_jpeg(shown, kPreviewJpegQuality, bytes, rows);
+        else encode_png(shown, "", bytes, rows);
+        out.bytes.assign(bytes.begin(), bytes.end());
+        out.format = preview ? "jpeg" : "png";
         for (const auto& [k, v] : img.phases) out.phases[k] = v;
     }, quiet);
     if (!missing.empty()) throw Error("no target '" + missing + "' in this render");
@@ -629,11 +744,12 @@ void Server::render_one(int page, const LiveRequest& req) {
             }
             key += args[i] + '\n';
         }
-        LiveImage img = render_live(parse_(args), key, req.target, req.want_schema, live_);
-        json head = {{"type", "image"}, {"seq", seq}, {"server_ms", img.ms}, {"phases", img.phases}, {"first_step", img.first_step},
+        LiveImage img = render_live(parse_(args), key, req.target, req.want_schema, live_, req.moving);
+        json head = {{"type", "image"}, {"seq", seq}, {"format", img.format}, {"server_ms", img.ms}, {"phases", img.phases}, {"first_step", img.first_step},
                      {"command", command_line(o_.scene, o_.render_args, live, "out.png")}};
+        if (!img.notice.empty()) head["notice"] = img.notice;
         if (!img.schema.is_null()) head["schema"] = img.schema;
-        post(page, head.dump(), std::move(img.png));
+        post(page, head.dump(), std::move(img.bytes));
     } catch (const std::exception& e) {
         post(page, json{{"type", "error"}, {"seq", seq}, {"message", e.what()}}.dump());
     }
@@ -731,10 +847,7 @@ int Server::run(const std::function<void(const std::string&)>& on_url) {
     host_port_ = host + ":" + std::to_string(port);
     // Load the scene once before the first page connects: its errors end the server here.
     {
-        RenderOptions ro = parse_(render_args({}, "live.png"));
-        ro.keep_loaded = true;
-        Reporter quiet;
-        live_.scene = prepare_render(ro, quiet).loaded;
+        load_live_scene(parse_(render_args({}, "live.png")), live_);
     }
     std::thread renderer([this] { render_loop(); });
     asio::signal_set signals(io_, SIGINT, SIGTERM);

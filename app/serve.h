@@ -8,6 +8,7 @@
 // what the page shows is what `render` writes for the command line the page prints.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -50,11 +51,13 @@ inline constexpr std::size_t kMaxQueuedImages = 2;          //!< unsent images p
 std::vector<std::string> live_args(const nlohmann::json& state);
 
 //! One message of a page, checked: {"type": "render" | "save", "seq": integer (optional),
-//! "schema": bool (optional: send the panel's schema with the image), "state": {...}}.
+//! "schema": bool (optional: send the panel's schema with the image), "moving": bool (optional:
+//! a preview JPEG will do), "state": {...}}.
 struct LiveRequest {
     std::string type;
     nlohmann::json seq;  //!< echoed in the reply (null when absent)
     bool want_schema = false;
+    bool moving = false;  //!< "moving": true while the page's view or a slider moves: a preview JPEG
     nlohmann::json state;
     std::vector<std::string> args;  //!< live_args(state)
     std::string target = "final";   //!< the target shown
@@ -69,31 +72,58 @@ std::string command_line(const std::string& scene, const std::vector<std::string
 
 //! What the page builds its panel from: the style's steps (id, stage, variant, the variants
 //! registered for that stage, every parameter with kind, default, range, doc and its value in this
-//! style), the targets it can show, the presets. Throws aq::Error.
-nlohmann::json live_schema(const RenderJob& job);
+//! style), the targets it can show, the presets, the scene file's editable values (`knobs`: each
+//! {pointer, kind, value, group, name}). Throws aq::Error.
+nlohmann::json live_schema(const RenderJob& job, const nlohmann::json& knobs = nlohmann::json::array());
 
-//! What the live server keeps between images (render thread only): the scene as loaded, the LD06
-//! passes' scenes by foliage parameters, the last image's targets.
+//! What the live server keeps between images (render thread only): the scene as loaded (with the
+//! page's edits of its art direction), the scene file's model as read once, the LD06 passes'
+//! scenes by foliage parameters, the last image's targets, and the files the load read.
 struct LiveState {
     std::shared_ptr<const scene::SceneDesc> scene;
+    std::string edits;  //!< scene::edits_key of the edits `scene` was loaded with
+    //! The scene file's model (glTF) as read on the first edit: later edits load from it.
+    std::shared_ptr<const scene::Scene> model;
+    std::string model_path;
+    nlohmann::json knobs = nlohmann::json::array();  //!< the scene file's editable values (scene::scene_knobs)
+    //! Every file the load read, with its modification time and size when read: when one changes
+    //! the scene is loaded again (the page is told; a file that no longer loads is its error).
+    struct Watched {
+        std::string path;
+        std::int64_t mtime_ns = 0;
+        std::uintmax_t size = 0;
+        bool operator==(const Watched&) const = default;
+    };
+    std::vector<Watched> inputs;
+    int loads = 0;  //!< loads of the scene so far (a later one: its files changed on disk)
     std::shared_ptr<RenderOptions::PassSceneMemo> pass_memo = std::make_shared<RenderOptions::PassSceneMemo>();
     RenderOptions::LiveFrame frame;
 };
 
-//! One live image as PNG bytes (what the page shows: no text chunk), its phases and wall time.
+//! Loads `ro.scene` (with its edits) into `state` afresh, as `render` would, recording what it
+//! read. Throws aq::Error.
+void load_live_scene(const RenderOptions& ro, LiveState& state);
+
+//! One live image as the page gets it — a PNG (no text chunk), or a preview JPEG while the view
+//! or a slider moves — its phases and wall time.
 struct LiveImage {
-    std::string png;
+    std::string bytes;
+    std::string format = "png";  //!< "png" or "jpeg"
     nlohmann::json phases = nlohmann::json::object();
-    nlohmann::json schema;  //!< live_schema, when asked
+    nlohmann::json schema;  //!< live_schema, when asked or when the scene was loaded again
+    std::string notice;     //!< e.g. that the scene file changed on disk and was loaded again
     int first_step = 0;     //!< the pipeline ran from this step (0: everything, G-buffer included)
     double ms = 0;
 };
 
 //! Renders `ro` (the page's state parsed as `render` options) as the server does: from
-//! state.scene (loaded on the first call), continuing the last image where only parameter
-//! values changed (`key`: every option but those values); `target` "final" or a target's name.
-//! Throws aq::Error. The server-side benchmark (bench/serve_bench.cpp) times this.
-LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state);
+//! state.scene (loaded on the first call, again when a file it read changed, from state.model
+//! when the scene edits changed), continuing the last image where only parameter values changed
+//! (`key`: every option but those values); `target` "final" or a target's name; `preview`: a
+//! JPEG of kPreviewJpegQuality (the page asks while its view or a slider moves, and for the PNG
+//! when it stops). Throws aq::Error. The server-side benchmark (bench/serve_bench.cpp) times this.
+LiveImage render_live(RenderOptions ro, const std::string& key, const std::string& target, bool want_schema, LiveState& state,
+                      bool preview = false);
 
 //! Runs the server until SIGINT/SIGTERM. `on_url` receives the page's URL (token included) once
 //! it listens. Returns the exit status.

@@ -4,6 +4,9 @@
 //   serve/param/<scene>/<style>/1280x720: a parameter value changes every iteration (two values
 //     alternate): the live image continues the last one from the first step that reads it
 //   serve/camera/<scene>/<style>/1280x720: the view turns every iteration: G-buffer and every step
+//   serve/camera_preview/...: the same with the preview JPEG the page asks for while dragging
+//   serve/scene_edit/<scene>/<style>/1280x720: a value of the scene file's art direction changes
+//     every iteration (a light's direction, a layer's colour)
 // The browser's part (WebSocket, decoding, display) is measured by scripts/serve_latency.py in
 // headless Chromium; docs/performance.md "Live view" gives both. 2 threads, wall time.
 #include <string>
@@ -41,19 +44,34 @@ void bm_param(benchmark::State& st, Case c) {
         o.sets = {c.param + "=" + std::to_string(i++ % 2 ? c.a : c.b)};
         const aq::app::LiveImage img = aq::app::render_live(o, "view", "final", false, live);
         if (img.first_step == 0) st.SkipWithError("the live image did not continue the previous one");
-        benchmark::DoNotOptimize(img.png.data());
+        benchmark::DoNotOptimize(img.bytes.data());
     }
 }
 
-void bm_camera(benchmark::State& st, Case c) {
+void bm_camera(benchmark::State& st, Case c, bool preview) {
     aq::app::LiveState live;
     int i = 0;
     (void)aq::app::render_live(options(c), "view", "final", false, live);  // loads the scene: not timed
     for (auto _ : st) {
         aq::app::RenderOptions o = options(c);
         o.view_yaw = double(++i % 60);
-        const aq::app::LiveImage img = aq::app::render_live(o, "view " + std::to_string(i), "final", false, live);
-        benchmark::DoNotOptimize(img.png.data());
+        const aq::app::LiveImage img = aq::app::render_live(o, "view " + std::to_string(i), "final", false, live, preview);
+        benchmark::DoNotOptimize(img.bytes.data());
+    }
+}
+
+//! An edit of the scene file's art direction, a new value every iteration (as while typing or
+//! picking a colour): the scene file read again with the edit, the model from memory, a new frame.
+void bm_scene_edit(benchmark::State& st, Case c) {
+    aq::app::LiveState live;
+    int i = 0;
+    (void)aq::app::render_live(options(c), "view", "final", false, live);  // loads the scene: not timed
+    for (auto _ : st) {
+        aq::app::RenderOptions o = options(c);
+        const double v = c.a + (c.b - c.a) * double(++i % 97) / 97.0;
+        o.scene_edits = {{c.param, "[" + std::to_string(v) + "," + std::to_string(v) + "," + std::to_string(v) + "]"}};
+        const aq::app::LiveImage img = aq::app::render_live(o, "edit " + o.scene_edits[0].value, "final", false, live);
+        benchmark::DoNotOptimize(img.bytes.data());
     }
 }
 
@@ -66,9 +84,18 @@ const int registered = [] {
     for (const Case& c : cases) {
         benchmark::RegisterBenchmark(("serve/param/" + c.name + "/1280x720").c_str(), bm_param, c)
             ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
-        benchmark::RegisterBenchmark(("serve/camera/" + c.name + "/1280x720").c_str(), bm_camera, c)
+        benchmark::RegisterBenchmark(("serve/camera/" + c.name + "/1280x720").c_str(), bm_camera, c, false)
+            ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+        benchmark::RegisterBenchmark(("serve/camera_preview/" + c.name + "/1280x720").c_str(), bm_camera, c, true)
             ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
     }
+    const Case edits[] = {
+        {"waterbottle_scene/wc18", std::string(AQ_SOURCE_DIR) + "/scenes/data/waterbottle.json", "wc18", "/lights/0/direction", 0.3, 0.6},
+        {"oak_scene/ld06", std::string(AQ_SOURCE_DIR) + "/scenes/data/oak.json", "ld06", "/layers/1/color", 0.3, 0.6},
+    };
+    for (const Case& c : edits)
+        benchmark::RegisterBenchmark(("serve/scene_edit/" + c.name + "/1280x720").c_str(), bm_scene_edit, c)
+            ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
     return 0;
 }();
 

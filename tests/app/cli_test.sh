@@ -256,6 +256,26 @@ cmp -s "$work/c0.png" "$work/c4.png" && ok "cache: same bytes without a usable f
 AQUARELLE_CACHE_MAX_MB=lots expect_rc "cache: a malformed AQUARELLE_CACHE_MAX_MB" 1 "$bin" render "$bottle" "${csmall[@]}" --out "$work/c5.png"
 grep -q "AQUARELLE_CACHE_MAX_MB" "$work/last.err" && ok "cache: names the malformed variable" || bad "cache: does not name the malformed variable"
 
+# --view with a pan and --scene-set: what the live page sets, written into the manifest and
+# rendered again by reproduce; scene-values lists what --scene-set may edit.
+oak="$src/scenes/data/oak.json"
+expect_rc "scene-values lists a scene file's values" 0 "$bin" scene-values "$oak"
+grep -q "^/layers/1/color	color	" "$work/last.out" && ok "scene-values: the crown's colour is a colour" || bad "scene-values: no /layers/1/color colour"
+expect_rc "scene-values of a bare model" 1 "$bin" scene-values "$bottle"
+expect_rc "render with --scene-set and a panned --view" 0 "$bin" render "$oak" "${small[@]}" --no-cache --view 20,10,1.2,0.3,-0.2 \
+  --scene-set '/layers/1/color=[0.8,0.3,0.2]' --scene-set /foliage/T=70 --out "$work/edit.png"
+expect_rc "the same without the edits" 0 "$bin" render "$oak" "${small[@]}" --no-cache --view 20,10,1.2,0.3,-0.2 --out "$work/noedit.png"
+cmp -s "$work/edit.png" "$work/noedit.png" && bad "--scene-set changed nothing" || ok "--scene-set changes the image"
+grep -q '"/layers/1/color=\[0.8,0.3,0.2\]"' "$work/edit.png.json" && ok "the manifest records the edits" || bad "the manifest lacks scene_set"
+expect_rc "reproduce of an edited, panned render" 0 "$bin" reproduce "$work/edit.png.json" --quiet
+grep -q "identical" "$work/last.out" && ok "reproduce of --scene-set and the pan says identical" || bad "reproduce of --scene-set is not identical"
+expect_rc "--scene-set of a value the file lacks" 1 "$bin" render "$oak" "${small[@]}" --scene-set /gltf=1 --out "$work/x.png"
+grep -q "not an editable value" "$work/last.err" && ok "--scene-set names a value it cannot edit" || bad "--scene-set's error is unclear"
+expect_rc "--scene-set without a pointer" 2 "$bin" render "$oak" "${small[@]}" --scene-set foliage=1 --out "$work/x.png"
+expect_rc "--scene-set on a bare model" 1 "$bin" render "$bottle" "${small[@]}" --scene-set /foliage/T=1 --out "$work/x.png"
+expect_rc "--view with four values" 2 "$bin" render "$oak" "${small[@]}" --view 1,2,1,0 --out "$work/x.png"
+expect_rc "--view pan out of range" 2 "$bin" render "$oak" "${small[@]}" --view 1,2,1,0,99 --out "$work/x.png"
+
 echo "cli: $pass passed, $fail failed"
 if [ $fail -eq 0 ]; then rm -rf "$work"; else echo "cli: outputs kept in $work"; fi
 [ $fail -eq 0 ]

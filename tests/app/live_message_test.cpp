@@ -16,6 +16,8 @@ TEST(LiveMessage, AStateBecomesTheRenderArgumentsOfTheCommandLine) {
     EXPECT_EQ(r.type, "render");
     EXPECT_EQ(r.seq, 7);
     EXPECT_TRUE(r.want_schema);
+    EXPECT_FALSE(r.moving);
+    EXPECT_TRUE(parse_live_message(R"({"type": "render", "moving": true, "state": {}})").moving);
     EXPECT_EQ(r.target, "depth.linear");
     const std::vector<std::string> want = {"--style", "wc18", "--width", "320", "--height", "180", "--frame", "3",
                                            "--view", "10,-5,1.5", "--variant", "bleed=naive", "--set", "edge_darken.intensity=2.5"};
@@ -25,6 +27,18 @@ TEST(LiveMessage, AStateBecomesTheRenderArgumentsOfTheCommandLine) {
               "--variant bleed=naive --set edge_darken.intensity=2.5 --out out.png");
     // The neutral view and frame 0 add nothing: the command line of the page's first image.
     EXPECT_TRUE(parse_live_message(R"({"type": "render", "state": {"view": [0, 0, 1], "frame": 0}})").args.empty());
+    EXPECT_TRUE(parse_live_message(R"({"type": "render", "state": {"view": [0, 0, 1, 0, 0]}})").args.empty());
+}
+
+TEST(LiveMessage, PanAndSceneEditsBecomeViewAndSceneSet) {
+    const LiveRequest r = parse_live_message(R"({"type": "render", "state": {"view": [0, 0, 1, 0.25, -0.5],
+        "scene": {"/layers/1/color": [0.5, 0.25, 1], "/foliage/T": 60, "/foliage/relative": false}}})");
+    const std::vector<std::string> want = {"--view", "0,0,1,0.25,-0.5", "--scene-set", "/foliage/T=60", "--scene-set",
+                                           "/foliage/relative=false", "--scene-set", "/layers/1/color=[0.5,0.25,1]"};
+    EXPECT_EQ(r.args, want);
+    EXPECT_EQ(command_line("oak.json", {}, r.args, "o.png"),
+              "aquarelle render oak.json --view 0,0,1,0.25,-0.5 --scene-set /foliage/T=60 --scene-set /foliage/relative=false "
+              "--scene-set '/layers/1/color=[0.5,0.25,1]' --out o.png");
 }
 
 TEST(LiveMessage, MalformedMessagesAreRefusedWithAReason) {
@@ -42,10 +56,21 @@ TEST(LiveMessage, MalformedMessagesAreRefusedWithAReason) {
         {R"({"type": "render", "state": {"params": {"a.b=1 --out /etc/x": 1}}})", "character"},
         {R"({"type": "render", "state": {"variants": {"bleed": "../x"}}})", "character"},
         {R"({"type": "render", "state": {"view": [1, 2]}})", "view"},
+        {R"({"type": "render", "state": {"view": [1, 2, 1, 0]}})", "view"},
+        {R"({"type": "render", "state": {"view": [1, 2, 1, 0, "x"]}})", "pan"},
+        {R"({"type": "render", "state": {"scene": [1]}})", "scene must be an object"},
+        {R"({"type": "render", "state": {"scene": {"foliage/T": 1}}})", "not a JSON pointer"},
+        {R"({"type": "render", "state": {"scene": {"/a=1 --out /etc/x": 1}}})", "'='"},
+        {R"({"type": "render", "state": {"scene": {"/a\u0001b": 1}}})", "printable"},
+        {R"({"type": "render", "state": {"scene": {"/a": "red"}}})", "must be a number, true/false or an array"},
+        {R"({"type": "render", "state": {"scene": {"/a": [1, 2, 3, 4, 5]}}})", "array of 2-4 numbers"},
+        {R"({"type": "render", "state": {"scene": {"/a": [1, "x"]}}})", "must be a number"},
+        {R"({"type": "render", "state": {"scene": {"/a": {"b": 1}}}})", "must be a number"},
         {R"({"type": "render", "state": {"style": "/etc/passwd"}})", "character"},
         {R"({"type": "render", "state": {"style": ".."}})", "not a preset"},
         {R"({"type": "render", "seq": "a", "state": {}})", "seq"},
         {R"({"type": "render", "schema": 1, "state": {}})", "schema"},
+        {R"({"type": "render", "moving": "yes", "state": {}})", "moving"},
     };
     for (const auto& b : bad) {
         const std::string text = b.first;

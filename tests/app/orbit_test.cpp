@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "app/render_job.h"
+#include "raster/vertex.h"
 
 namespace aq::app {
 namespace {
@@ -43,6 +44,38 @@ TEST(Orbit, TurnsTheCameraAboutTheVerticalAxisThroughTheBoundsCentre) {
         const scene::Camera cf = frame_camera(job, f);
         const float cos0 = glm::dot(glm::normalize(c - e0), forward_of(c0));
         EXPECT_NEAR(glm::dot(glm::normalize(c - e), forward_of(cf)), cos0, 1e-4f) << f;
+    }
+}
+
+// --view Y,P,Z,X,V: after the turn and the zoom, the pan moves the camera in its own plane so the
+// bounds' centre lands at NDC (-X / aspect, -V); the view direction and the centre's depth stay.
+TEST(View, PanPutsTheCentreWhereItSays) {
+    RenderOptions o;
+    o.scene = "procedural:tree";
+    o.style = "none";
+    o.style_given = true;
+    o.width = 96;
+    o.height = 64;
+    o.view_yaw = 20;
+    o.view_pitch = 10;
+    o.view_zoom = 1.5;
+    RenderJob job = prepare_render(o, Reporter{});
+    const scene::Bounds b = job.desc.scene.world_bounds();
+    const glm::vec3 c = 0.5f * (b.min + b.max);
+    const scene::Camera still = frame_camera(job, 0);
+    const float aspect = 96.0f / 64.0f;
+    for (auto [x, y] : {std::pair{0.5, 0.0}, std::pair{0.0, -0.25}, std::pair{-1.2, 0.8}}) {
+        job.options.view_pan_x = x;
+        job.options.view_pan_y = y;
+        const scene::Camera cam = frame_camera(job, 0);
+        const glm::vec4 e = cam.view * glm::vec4(c, 1.0f);
+        const glm::vec4 e0 = still.view * glm::vec4(c, 1.0f);
+        EXPECT_NEAR(e.z, e0.z, 1e-4f * std::abs(e0.z));  // same depth
+        EXPECT_EQ(forward_of(cam), forward_of(still));    // same direction
+        const glm::vec4 clip = raster::projection_matrix(cam, aspect) * e;
+        const glm::vec4 clip0 = raster::projection_matrix(still, aspect) * e0;
+        EXPECT_NEAR(clip.x / clip.w - clip0.x / clip0.w, -x / aspect, 1e-4) << x << "," << y;
+        EXPECT_NEAR(clip.y / clip.w - clip0.y / clip0.w, -y, 1e-4) << x << "," << y;
     }
 }
 

@@ -12,9 +12,10 @@ memory bounded while a page is served; the page loads and shows an image; moving
 pixels equal `aquarelle render` of the page's printed command line; switching a variant, the
 shown target and the style; dragging the camera; an out-of-range value is shown as an error and the server goes
 on rendering; two tabs at once; Save writes a PNG whose manifest `aquarelle reproduce` calls
-identical; a page without the token is refused; the stopped server is reported by the page; a
-scene file changed on disk while served (images of the loaded scene go on, Save reports the
-render's error, the server goes on).
+identical; a page without the token is refused; the stopped server is reported by the page;
+panning; a scene file's art direction edited from the panel (CLI-equal, saved and reproduced, a
+bad edit's error); the scene file and its model changed on disk while served (loaded again and
+said so, a broken file a clear error, fixed it renders again, the server goes on).
 """
 import base64
 import json
@@ -33,6 +34,7 @@ from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
+from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.support.ui import WebDriverWait
 
 import socket
@@ -173,6 +175,9 @@ def shown_png(d, path):
 
 def cli_equal(d, name):
     """The shown image against `aquarelle render` of the page's command line: same pixels."""
+    if d.execute_script("return window.aq.shownFormat") != "png":
+        print("the image on screen is not the still PNG")
+        return False
     live = os.path.join(work, name + "_live.png")
     shown_png(d, live)
     cmd = shlex.split(d.find_element(By.ID, "command").get_attribute("value"))
@@ -276,12 +281,22 @@ try:
     # Drag the camera.
     view = d.find_element(By.ID, "view")
     seq = d.execute_script("return window.aq.seq")
-    ActionChains(d).click_and_hold(view).move_by_offset(60, 20).move_by_offset(60, 0).release().perform()
+    d.execute_script("window.aq.formats = [];")
+    ActionChains(d).click_and_hold(view).move_by_offset(60, 20).pause(0.3).move_by_offset(60, 0).pause(0.3).release().perform()
     wait_image(d, seq)
+    formats = d.execute_script("return window.aq.formats")
+    check("jpeg" in formats and formats[-1] == "png", "while dragging the page shows previews, then the still PNG (%s)" % formats)
     v = d.execute_script("return window.aq.state.view")
     check(v[0] != 0 and v[1] != 0, "dragging turned the camera (%s)" % v)
     check(cli_equal(d, "camera"), "the turned camera's image equals the CLI's (--view)")
     d.save_screenshot(os.path.join(work, "serve_camera.png"))
+    # Pan: shift-drag moves the view in its own plane.
+    seq = d.execute_script("return window.aq.seq")
+    ActionChains(d).key_down(Keys.SHIFT).click_and_hold(view).move_by_offset(-40, 25).release().key_up(Keys.SHIFT).perform()
+    wait_image(d, seq)
+    v = d.execute_script("return window.aq.state.view")
+    check(len(v) == 5 and v[3] > 0 and v[4] > 0, "shift-dragging panned the camera (%s)" % v)
+    check(cli_equal(d, "pan"), "the panned camera's image equals the CLI's (--view Y,P,Z,X,V)")
 
     # An out-of-range value: an error on the page, and the server renders the next change.
     seq = d.execute_script("return window.aq.seq")
@@ -355,36 +370,108 @@ finally:
     if server.poll() is None:
         server.kill()
 
-# A scene that changes on disk while served: the page goes on with the scene as loaded; Save
-# renders the file as it is now and reports its error; the server goes on.
+# A scene file's art direction edited from the page, then the file changed on disk while served.
 wb = os.path.join(work, "wb")
 os.makedirs(wb)
 src = os.path.join(shared, "assets/gltf/WaterBottle/glTF")
 for f in os.listdir(src):
     with open(os.path.join(src, f), "rb") as a, open(os.path.join(wb, f), "wb") as b:
         b.write(a.read())
-scene = os.path.join(wb, "WaterBottle.gltf")
+scene_file = {"gltf": "WaterBottle.gltf", "scale": 40.0, "camera": "auto",
+              "lights": [{"direction": [-0.5, 0.6, 0.6], "intensity": 1.0}],
+              "control": [{"target": "pigment.density", "source": "noise", "noise": {"frequency": 25.0, "amplitude": 0.8, "seed": 11}}],
+              "materials": {"*": {"cangiante": 0.3, "shade_color": [0.1, 0.1, 0.3]}}}
+scene = os.path.join(wb, "bottle.json")
+with open(scene, "w") as f:
+    json.dump(scene_file, f)
 server, url = start_server()
+d = None
 try:
-    s, _ = ws_connect(url)
-    msg = ws_next_text(s)
-    check(msg is not None and msg.get("type") == "image", "the copied scene renders")
-    ws_recv(s)  # its PNG
+    d = browser()
+    d.get(url)
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    knobs = {k["pointer"]: k for k in d.execute_script("return window.aq.schema.scene")}
+    check({"/lights/0/intensity", "/control/0/noise/frequency", "/materials/*/cangiante", "/materials/*/shade_color"} <= set(knobs)
+          and knobs["/materials/*/shade_color"]["kind"] == "color",
+          "the panel lists the scene file's art direction (%d values)" % len(knobs))
+    # Type a new value into the scene panel's field: the image is the CLI's with --scene-set.
+    top = [e for e in d.find_elements(By.CSS_SELECTOR, ".lil-gui .lil-title") if e.text.startswith("scene file")][0]
+    top.click()
+    group = [e for e in d.find_elements(By.CSS_SELECTOR, ".lil-gui .lil-title") if e.text.startswith("control[0]")][0]
+    WebDriverWait(d, 10).until(lambda d: group.is_displayed())
+    group.click()
+    field = d.find_element(By.CSS_SELECTOR, "[data-scene='/control/0/noise/frequency'] input")
+    WebDriverWait(d, 10).until(lambda d: field.is_displayed())
+    seq = d.execute_script("return window.aq.seq")
+    field.click()
+    field.send_keys(Keys.CONTROL + "a")
+    field.send_keys("12.5" + Keys.ENTER)
+    wait_image(d, seq)
+    edited = d.execute_script("return window.aq.state.scene")
+    check(edited.get("/control/0/noise/frequency") == 12.5 and d.execute_script("return window.aq.lastError") == "",
+          "typing into the scene panel edits the control rule (%s)" % edited)
+    check("--scene-set /control/0/noise/frequency=12.5" in d.find_element(By.ID, "command").get_attribute("value"),
+          "the command line carries the edit")
+    check(cli_equal(d, "scene_edit"), "the edited scene's image equals the CLI's (--scene-set)")
+    d.save_screenshot(os.path.join(work, "serve_scene.png"))
+    # A colour and a second edit, then Save: reproduce says identical.
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.scene['/materials/*/shade_color'] = [0.4, 0.1, 0.05]; window.aq.render();")
+    wait_image(d, seq)
+    check(cli_equal(d, "scene_colour"), "an edited colour's image equals the CLI's")
+    d.execute_script("document.getElementById('save').click();")
+    WebDriverWait(d, 60).until(lambda d: d.find_element(By.ID, "saved").text.startswith("saved"))
+    png = d.find_element(By.ID, "saved").text.split()[1]
+    r = subprocess.run([exe, "reproduce", png + ".json", "--quiet"], capture_output=True, text=True, env=env)
+    check(r.returncode == 0 and "identical" in r.stdout, "reproduce of a saved edited scene: " + (r.stdout.strip() or r.stderr.strip())[:100])
+    # An edit the file cannot take: the reader's message on the page.
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.state.scene['/control/0/noise/frequency'] = -5; window.aq.render();")
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.lastError !== ''"))
+    check("frequency" in d.execute_script("return window.aq.lastError"), "a bad edit is the reader's error: " +
+          d.execute_script("return window.aq.lastError")[:100])
+    d.execute_script("window.aq.lastError = ''; window.aq.state.scene['/control/0/noise/frequency'] = 12.5;")
+
+    # The file changes on disk: the next change loads it again (the page says so, the panel shows
+    # the new values); a file that no longer loads is a clear error; fixed, it renders again.
+    scene_file["lights"][0]["intensity"] = 0.6
     with open(scene, "w") as f:
+        json.dump(scene_file, f)
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.render();")
+    wait_image(d, seq)
+    check("changed on disk" in d.execute_script("return window.aq.notice") and
+          [k for k in d.execute_script("return window.aq.schema.scene") if k["pointer"] == "/lights/0/intensity"][0]["value"] == 0.6,
+          "a scene file changed on disk is loaded again and the page says so")
+    check(cli_equal(d, "reloaded"), "the reloaded scene's image equals the CLI's")
+    with open(scene, "w") as f:
+        f.write("{ this is no longer a scene file")
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.render();")
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.lastError !== ''"))
+    err = d.execute_script("return window.aq.lastError")
+    check("changed on disk" in err and "bottle.json" in err, "a scene file broken on disk is a clear error: " + err[:120])
+    with open(scene, "w") as f:
+        json.dump(scene_file, f)
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.lastError = ''; window.aq.render();")
+    wait_image(d, seq)
+    check(d.execute_script("return window.aq.lastError") == "" and d.execute_script("return window.aq.shownSeq") > seq,
+          "fixed on disk, the scene renders again")
+    # The model changes on disk (a file the scene file reads): loaded again too.
+    with open(os.path.join(wb, "WaterBottle.gltf"), "w") as f:
         f.write("{ this is no longer glTF")
-    ws_send(s, json.dumps({"type": "render", "seq": 1, "state": {"params": {"edge_darken.intensity": 2}}}))
-    msg = ws_next_text(s)
-    check(msg is not None and msg.get("type") == "image", "after the file changed, the page still gets images of the loaded scene")
-    ws_recv(s)
-    ws_send(s, json.dumps({"type": "save", "seq": 2, "state": {}}))
-    msg = ws_next_text(s)
-    check(msg is not None and msg.get("type") == "error" and "save" in msg.get("message", ""),
-          "Save of the changed file reports the render's failure: %s" % (msg or {}).get("message", "")[:80])
-    ws_send(s, json.dumps({"type": "render", "seq": 3, "state": {}}))
-    msg = ws_next_text(s)
-    check(msg is not None and msg.get("type") == "image", "the server goes on after the failed Save")
-    s.close()
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.render();")
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.lastError !== ''"))
+    check("WaterBottle.gltf" in d.execute_script("return window.aq.lastError"), "a model broken on disk is a clear error naming it")
+    seq = d.execute_script("return window.aq.seq")
+    d.execute_script("window.aq.lastError = ''; window.aq.render();")
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.lastError !== ''"))
+    check(server.poll() is None, "the server goes on serving")
 finally:
+    if d is not None:
+        d.quit()
     server.terminate()
     server.wait(timeout=10)
 
