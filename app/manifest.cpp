@@ -228,7 +228,13 @@ std::string manifest_path(const std::string& image_path) { return image_path + "
 
 json manifest_core(const RenderJob& job, const RenderedImage& img) {
     json inputs = json::array();
-    for (const InputRecord& r : inputs_read())
+    std::vector<InputRecord> read = job.inputs ? job.inputs->records() : inputs_read();
+    if (job.inputs) {  // one record per file, sorted by path, as inputs_read lists them
+        std::stable_sort(read.begin(), read.end(), [](const InputRecord& a, const InputRecord& b) { return a.path < b.path; });
+        read.erase(std::unique(read.begin(), read.end(), [](const InputRecord& a, const InputRecord& b) { return a.path == b.path; }),
+                   read.end());
+    }
+    for (const InputRecord& r : read)
         inputs.push_back({{"path", r.path}, {"bytes", r.bytes}, {"sha256", r.sha256}});
     json m = {{"aquarelle_manifest", kManifestFormat},
               {"build", build_json()},

@@ -384,6 +384,37 @@ const ImageF& RenderedImage::final_image() {
     return converted_ ? converted : targets.get(final_target);
 }
 
+void move_gbuffer(Targets& from, Targets& to) {
+    for (const target::GBufferTarget& g : target::kGBufferLayout)
+        if (from.has(g.name)) {
+            to.set(g.name, std::move(from.get_mut(g.name)));
+            from.erase(g.name);
+        }
+}
+
+Targets run_style_on(const RenderJob& job, Targets& gbuffer, int frame, stylize::RunOptions ro) {
+    ro.fuse = ro.in_place = ro.release_dead = ro.reuse_outputs = false;  // the G-buffer's images stay as they are
+    Targets t;
+    move_gbuffer(gbuffer, t);
+    try {
+        run_style(job, 0, frame_camera(job, frame), t, ro);
+    } catch (...) {
+        move_gbuffer(t, gbuffer);
+        throw;
+    }
+    move_gbuffer(t, gbuffer);
+    ImageF fin = output_image(job, t, job.styles.at(0).output);
+    t.set("final", std::move(fin));
+    return t;
+}
+
+ImageF output_image(const RenderJob& job, Targets& targets, const std::string& final_target) {
+    RenderedImage img{job.options.frame_first, job.options.frame_first, 0, "", targets, final_target, {}, {}, {}, false};
+    const ImageF& fin = targets.get(final_target);
+    convert_final(img, fin, job.options.working_space == WorkingSpace::Linear, job.stylize && fin.channels() == 4);
+    return img.final_image();
+}
+
 ImageF RenderedImage::take_final_rgba() {
     if (!drop_alpha || converted_ || taken_) throw Error("render job: no RGBA final image to hand over");
     ImageF img = std::move(targets.get_mut(final_target));
@@ -394,18 +425,38 @@ ImageF RenderedImage::take_final_rgba() {
 
 namespace {
 
-//! Moves the G-buffer targets between the rasterizer's set (reused by render_gbuffer_into when it
-//! holds exactly them) and the frame's set (G-buffer + paper + intermediates, reused by
-//! run_pipeline with reuse_outputs). Moves, not copies.
-void move_gbuffer(Targets& from, Targets& to) {
-    for (const target::GBufferTarget& g : target::kGBufferLayout)
-        if (from.has(g.name)) {
-            to.set(g.name, std::move(from.get_mut(g.name)));
-            from.erase(g.name);
+}  // namespace
+
+void run_style(const RenderJob& job, std::size_t si, const scene::Camera& camera, Targets& targets, stylize::RunOptions ro) {
+    const raster::RenderSettings& rs = job.settings;
+    ro.exec = rs.exec;
+    // Raster passes (LD06) draw the scene themselves, at the output size's scales.
+    std::optional<raster::PassScene> pass_scene;
+    raster::PassFrameCache pass_frames;  // this frame's prepared geometry, shared by its passes
+    if (job.compiled.at(si).has_passes) {
+        const raster::AbstractedScene& a = *job.pass_scenes.at(si);
+        pass_scene = raster::make_pass_scene(a.scene, camera, rs.width, rs.height);
+        pass_scene->layers = &job.pass_layers[si];
+        pass_scene->contours = &job.pass_contours[si];
+        pass_scene->frames = &pass_frames;
+        if (a.abstracted) {
+            pass_scene->foliage_surface = &a.surface;
+            pass_scene->plant_height = a.height;
         }
+        pass_scene->foliage_detail = a.texture_technique;
+        ro.scene = &*pass_scene;
+    }
+    stylize::run_pipeline(job.compiled[si], targets, ro);
 }
 
-}  // namespace
+Targets render_gbuffer(const RenderJob& job, int frame, std::vector<std::string>* warnings) {
+    raster::RenderSettings rs = job.settings;
+    rs.targets = job.gbuffer_targets();
+    rs.frame = frame;
+    Targets t;
+    raster::render_gbuffer_into(t, job.desc.scene, frame_camera(job, frame), rs, warnings);
+    return t;
+}
 
 void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report) {
     const RenderOptions& o = job.options;
@@ -511,24 +562,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             if (job.stylize) {
                 const auto ts = std::chrono::steady_clock::now();
                 stylize::RunOptions ro;
-                ro.exec = rs.exec;
-                // Raster passes (LD06) draw the scene themselves, at the output size's scales.
-                std::optional<raster::PassScene> pass_scene;
-                raster::PassFrameCache pass_frames;  // this frame's prepared geometry, shared by its passes
                 std::vector<std::string> step_warnings;
-                if (job.compiled[si].has_passes) {
-                    const raster::AbstractedScene& a = *job.pass_scenes[si];
-                    pass_scene = raster::make_pass_scene(a.scene, camera, rs.width, rs.height);
-                    pass_scene->layers = &job.pass_layers[si];
-                    pass_scene->contours = &job.pass_contours[si];
-                    pass_scene->frames = &pass_frames;
-                    if (a.abstracted) {
-                        pass_scene->foliage_surface = &a.surface;
-                        pass_scene->plant_height = a.height;
-                    }
-                    pass_scene->foliage_detail = a.texture_technique;
-                    ro.scene = &*pass_scene;
-                }
                 ro.warnings = &step_warnings;
                 ro.step_ms = &step_ms;
                 ro.reuse_outputs = !sweeping;
@@ -545,7 +579,7 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
                     ro.progress = [&](int i, int n, const std::string& step) {
                         report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
                     };
-                stylize::run_pipeline(job.compiled[si], targets, ro);
+                run_style(job, si, camera, targets, ro);
                 for (auto& w : step_warnings) report.warning(w);
                 final_name = style.output;
                 report.progress(tag + "style " + style.name + " (" + std::to_string(style.steps.size()) + " stages) in " +

@@ -24,6 +24,10 @@
 #include "scenes/scene_file.h"
 #include "stylize/pipeline.h"
 
+namespace aq {
+class InputCapture;
+}
+
 namespace aq::app {
 
 //! The image pool's limit during a one-shot render (core/image.h set_image_pool_limit): measured
@@ -182,6 +186,10 @@ struct RenderJob {
         return !options.live && !options.animation && !options.keep_intermediates && !sweeping() && options.frame_first == options.frame_last;
     }
     bool consumed = false;
+    //! The files this job read, when its caller captured them (the Python module: a process that
+    //! renders several jobs); unset: every file the process read (core/input.h inputs_read), what
+    //! the CLI's manifests list.
+    const InputCapture* inputs = nullptr;
     //! The scene as loaded, before the style's default control (RenderOptions::keep_loaded).
     std::shared_ptr<const scene::SceneDesc> loaded;
     //! prepare_render's phases: "load" (the scene, its meshes and textures) and "prepare" (styles,
@@ -231,6 +239,31 @@ scene::Camera frame_camera(const RenderJob& job, int frame);
 //! Loads the scene and configures the style (scene-file values, automatic depth range, --variant,
 //! --set, paper, working space, default art-direction, sweep values). Throws aq::Error.
 RenderJob prepare_render(const RenderOptions& options, const Reporter& report);
+
+//! Frame `frame`'s G-buffer as run_render renders it (the job's settings, camera and targets
+//! mask), on its own: what the Python module's rasterize returns. Throws aq::Error.
+Targets render_gbuffer(const RenderJob& job, int frame, std::vector<std::string>* warnings = nullptr);
+
+//! Runs style `si` of the job on `targets` (a frame's G-buffer in them, seen by `camera`): its
+//! intermediates and final target (styles[si].output) are added. Raster passes (LD06) draw the
+//! job's scene through `camera`. `ro` says how (fusion, progress, ...); its exec and scene are
+//! the job's. What run_render does for each style; throws aq::Error.
+void run_style(const RenderJob& job, std::size_t si, const scene::Camera& camera, Targets& targets, stylize::RunOptions ro);
+
+//! Moves the G-buffer's targets from one set to another, moves not copies (their memory stays
+//! where it is): between the rasterizer's set (reused by render_gbuffer_into when it holds exactly
+//! them) and a frame's set (G-buffer + paper + intermediates, reused by run_pipeline).
+void move_gbuffer(Targets& from, Targets& to);
+
+//! Runs the job's (first) style on a frame's G-buffer without changing it: its images are lent to
+//! the run (moved in and back: their memory stays where it is), the run unfused, so every
+//! intermediate is a new image. Returns every target the style produced and "final", the image
+//! `--out` receives (output_image). What the Python module's Style.run does (python/module.cpp).
+Targets run_style_on(const RenderJob& job, Targets& gbuffer, int frame, stylize::RunOptions ro = {});
+
+//! The image `--out` receives for `final_target` of `targets` (converted as run_render converts
+//! it: linear working space to sRGB, a stylised painting without its alpha), as a copy.
+ImageF output_image(const RenderJob& job, Targets& targets, const std::string& final_target);
 
 //! One rendered image: all targets (G-buffer and every intermediate) and the final image as it
 //! is written (display-encoded; opaque RGB for a stylised image).

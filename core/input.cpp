@@ -173,6 +173,11 @@ bool is_input_of_run(const std::string& path) {
     return inputs().count({st.st_dev, st.st_ino}) != 0;
 }
 
+void note_cached_input(const InputRecord& r) {
+    std::lock_guard<std::mutex> lock(inputs_mutex());
+    for (std::vector<InputRecord>* c : captures()) c->push_back(r);
+}
+
 void note_input_of_run(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0) remember(st);

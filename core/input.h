@@ -63,6 +63,11 @@ private:
     std::vector<InputRecord> records_;
 };
 
+//! Adds `r` to the live InputCaptures: for a cache in memory that hands out what it decoded from
+//! a file read earlier in the process (the paper cache), so a capture lists every file its work
+//! depended on, as a fresh process would have read it.
+void note_cached_input(const InputRecord& r);
+
 //! Drops `path` from inputs_read() (it stays protected from overwriting): for files a command
 //! reads about a render rather than for it (`reproduce` reading the manifest).
 void forget_input_record(const std::string& path);

@@ -15,10 +15,12 @@
 #include <map>
 #include <memory>
 #include <cstdint>
+#include <filesystem>
 #include <future>
 #include <mutex>
 #include <utility>
 
+#include "core/input.h"
 #include "core/io.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
@@ -96,6 +98,12 @@ std::map<std::string, CacheEntry>& paper_cache() {
     static std::map<std::string, CacheEntry> cache;
     return cache;
 }
+//! The record of each cached paper's file read (by cache key, under cache_mutex): announced again
+//! to the live InputCaptures when the cache hands the paper out (core/input.h note_cached_input).
+std::map<std::string, std::vector<InputRecord>>& paper_reads() {
+    static std::map<std::string, std::vector<InputRecord>> reads;
+    return reads;
+}
 
 //! The decoded paper file, from the cache or decoded here (the first reader decodes; later and
 //! concurrent readers of the same key wait for it). A failed decode is not kept: its waiters get
@@ -122,10 +130,20 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
     if (decode_here) {
         try {
             ImageF img;
+            std::vector<InputRecord> reads;
             try {
+                InputCapture capture;  // other threads' reads land in it too: only the paper's are kept
                 img = read_image(path);
+                std::error_code ec;
+                const std::string abs = std::filesystem::absolute(path, ec).lexically_normal().string();
+                for (const InputRecord& r : capture.records())
+                    if (r.path == abs) reads.push_back(r);
             } catch (const Error& e) {
                 throw Error(std::string("paper file '") + path + "' could not be read: " + e.what());
+            }
+            {
+                std::lock_guard<std::mutex> lock(mu);
+                paper_reads()[key] = std::move(reads);
             }
             promise.set_value(std::make_shared<const ImageF>(to_mnpr_layout(std::move(img), layout, path)));
         } catch (...) {
@@ -135,7 +153,13 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
             if (it != cache.end() && it->second.serial == serial) cache.erase(it);
         }
     }
-    return future.get();  // the decoded paper, or the decoder's error
+    std::shared_ptr<const ImageF> paper = future.get();  // the decoded paper, or the decoder's error
+    if (!decode_here) {
+        std::lock_guard<std::mutex> lock(mu);
+        if (auto it = paper_reads().find(key); it != paper_reads().end())
+            for (const InputRecord& r : it->second) note_cached_input(r);
+    }
+    return paper;
 }
 
 }  // namespace
@@ -143,6 +167,7 @@ std::shared_ptr<const ImageF> load_cached(const std::string& path, const std::st
 void clear_paper_cache() {
     std::lock_guard<std::mutex> lock(cache_mutex());
     paper_cache().clear();
+    paper_reads().clear();
 }
 
 std::future<void> prefetch_paper(const PaperSpec& spec) {
