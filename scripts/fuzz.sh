@@ -85,7 +85,7 @@ if [ "$build" = 1 ]; then
     gen=()
     command -v ninja >/dev/null && gen=(-G Ninja)
     CC=clang CXX=clang++ cmake -S . -B "$build_dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DAQ_BUILD_FUZZ=ON -DBUILD_TESTING=OFF -DAQ_BUILD_BENCH=OFF -DAQ_BUILD_REFERENCE=OFF >/dev/null
+      -DAQ_BUILD_FUZZ=ON -DBUILD_TESTING=OFF -DAQ_BUILD_BENCH=OFF -DAQ_BUILD_REFERENCE=OFF -DAQ_BUILD_PYTHON=OFF >/dev/null
   fi
   build_targets=()
   for t in "${targets[@]}"; do build_targets+=(--target "fuzz_$t"); done

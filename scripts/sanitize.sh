@@ -19,7 +19,7 @@ build_dir=build-fuzz
 bash scripts/fuzz.sh "${install[@]}" --build-only
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
-CC=clang CXX=clang++ cmake -S . -B "$build_dir" "${gen[@]}" -DBUILD_TESTING=ON >/dev/null
+CC=clang CXX=clang++ cmake -S . -B "$build_dir" "${gen[@]}" -DBUILD_TESTING=ON -DAQ_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build_dir" --parallel "$(nproc)"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"

@@ -25,8 +25,11 @@ pkgs=(build-essential cmake ninja-build pkg-config
       libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       parallel fonts-dejavu-core git
       slurmctld slurmd slurm-client munge gdb
-      libboost-dev chromium chromium-driver python3-selenium)
-# Boost.Beast for `aquarelle serve`; headless Chromium, its driver and Selenium for the browser test
+      libboost-dev chromium chromium-driver python3-selenium
+      pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-pil
+      python3-nbclient python3-nbformat python3-ipykernel python3-matplotlib)
+# pybind11 and NumPy for the Python module, pytest, Pillow, nbclient, ipykernel and Matplotlib for
+# its tests and the example notebook (docs/python.md). Boost.Beast for `aquarelle serve`; headless Chromium, its driver and Selenium for the browser test
 # of its page (docs/serve.md). The page's UI package comes from npm (app/web/package-lock.json):
 # Node.js is installed from Debian unless an npm is already there (a NodeSource nodejs bundles
 # its own npm and conflicts with Debian's).
@@ -41,3 +44,15 @@ if [ ! -f "$build_dir/CMakeCache.txt" ]; then
 fi
 cmake --build "$build_dir" --parallel "$(nproc)"
 echo "setup: built into $build_dir/"
+# The Python module into Debian's /usr/local site folder, so `/usr/bin/python3 -c "import aquarelle"`
+# works (docs/python.md); without the rights to write there, the build's copy is used through
+# PYTHONPATH.
+if [ "$install" = 1 ] && grep -q "^AQ_BUILD_PYTHON:BOOL=ON" "$build_dir/CMakeCache.txt"; then
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo -n"
+  if $sudo_cmd cmake --install "$build_dir" --component python >/dev/null; then
+    echo "setup: Python module installed (import aquarelle)"
+  else
+    echo "setup: could not install the Python module; use PYTHONPATH=$PWD/$build_dir/python" >&2
+  fi
+fi
