@@ -184,6 +184,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     if (job.stylize) {
         // A bare model has no scene file to name another style: the one loaded above.
         pipeline = early_pipeline && style == early_style ? std::move(*early_pipeline) : stylize::load_pipeline(style);
+        if (o.edit_style) o.edit_style(pipeline);
         fill_layer_colors(pipeline, desc.scene);
         if (!o.style_given || o.style == desc.style) {
             for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);

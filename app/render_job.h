@@ -58,6 +58,9 @@ struct RenderOptions {
     std::vector<std::string> sets, variants;
     std::vector<std::string> bypass;  //!< --bypass STEP, applied after --variant and --set
     std::vector<scene::SceneEdit> scene_edits;  //!< --scene-set POINTER=VALUE (scene files only)
+    //! A library caller's change of the style's steps, applied as soon as it is loaded (before
+    //! --variant, --set and --bypass): the Python module's Style.with_step. No CLI option sets it.
+    std::function<void(stylize::Pipeline&)> edit_style;
     int width = 0, height = 0, ssaa = 1, threads = 0;
     int frame_first = 0, frame_last = 0;
     bool animation = false;    //!< --frames given

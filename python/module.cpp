@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -108,18 +109,152 @@ struct Scene {
     std::shared_ptr<const scene::SceneDesc> desc;
 };
 
+//! A step added to a style (Style.with_step): a registered Python stage after the step `after`.
+struct InsertedStep {
+    std::string stage, after, id;
+    std::map<std::string, double> params;
+    std::map<std::string, std::string> in, out;
+};
+
 struct Style {
     std::string name = "wc18";
     std::vector<std::string> sets, variants, bypass;
+    std::vector<InsertedStep> inserted;
     std::string key() const {
         std::string k = name + "\n";
         for (const auto* l : {&sets, &variants, &bypass}) {
             for (const auto& s : *l) k += s + "\n";
             k += "|\n";
         }
+        for (const InsertedStep& i : inserted) {
+            // the registration too: a stage registered again is another stage for a new compile
+            k += i.stage + " " + i.after + " " + i.id + " " + std::to_string(reinterpret_cast<std::uintptr_t>(stylize::runtime_registry(i.stage))) + "\n";
+            for (const auto& [a, b] : i.params) k += a + "=" + number_text(b, a) + "\n";
+            for (const auto& [a, b] : i.in) k += "in " + a + "=" + b + "\n";
+            for (const auto& [a, b] : i.out) k += "out " + a + "=" + b + "\n";
+        }
         return k;
     }
 };
+
+//! Puts the inserted steps into a loaded pipeline: each after its step, reading that step's first
+//! output through its first input (unless bound), writing its first output to "ID.PORT" (unless
+//! bound), and every later reader of that output (and the style's output) reads the new one.
+void insert_steps(stylize::Pipeline& p, const std::vector<InsertedStep>& steps) {
+    for (const InsertedStep& ins : steps) {
+        const stylize::Registry* reg = stylize::runtime_registry(ins.stage);
+        if (!reg) throw Error("with_step: no stage '" + ins.stage + "' registered (aquarelle.register_stage)");
+        const stylize::StageVariant& v = reg->default_variant(ins.stage);
+        std::size_t at = p.steps.size();
+        for (std::size_t i = 0; i < p.steps.size(); ++i)
+            if ((p.steps[i].id.empty() ? p.steps[i].stage : p.steps[i].id) == ins.after) at = i;
+        if (at == p.steps.size()) throw Error("with_step: style '" + p.name + "' has no step '" + ins.after + "'");
+        std::vector<stylize::ResolvedStep> resolved;
+        for (std::size_t i = 0; i < p.steps.size(); ++i) resolved.push_back(stylize::resolve_step(p, i));
+        if (resolved[at].outputs.empty() || v.inputs.empty() || v.outputs.empty())
+            throw Error("with_step: '" + ins.stage + "' after '" + ins.after + "' needs an input and an output");
+        const std::string from = resolved[at].outputs[0];
+        stylize::PipelineStep step;
+        step.stage = ins.stage;
+        step.variant = v.variant;
+        step.id = ins.id.empty() ? ins.stage : ins.id;
+        step.params = ins.params;
+        step.in = ins.in;
+        step.out = ins.out;
+        step.in.try_emplace(v.inputs[0].name, from);
+        step.out.try_emplace(v.outputs[0].name, step.id + "." + v.outputs[0].name);
+        const std::string to = step.out.at(v.outputs[0].name);
+        for (std::size_t j = at + 1; j < p.steps.size(); ++j) {
+            const stylize::StageVariant& rv = *resolved[j].variant;
+            for (std::size_t k = 0; k < rv.inputs.size() && k < resolved[j].inputs.size(); ++k)
+                if (resolved[j].inputs[k] == from) p.steps[j].in[rv.inputs[k].name] = to;
+        }
+        if (p.output == from) p.output = to;
+        p.steps.insert(p.steps.begin() + std::ptrdiff_t(at + 1), std::move(step));
+    }
+}
+
+//! A copy of `img` as a fresh NumPy array (what a Python stage gets: it may keep it).
+py::array copy_of(const ImageF& img) {
+    const py::ssize_t h = img.height(), w = img.width(), c = img.channels();
+    py::array_t<float> a({h, w, c});
+    std::copy(img.data(), img.data() + img.num_values(), a.mutable_data());
+    return a;
+}
+
+//! register_stage: a Python function as a stage (one variant, "python") of the runtime registry.
+void register_stage(const std::string& name, const py::function& fn, const std::vector<std::pair<std::string, int>>& inputs,
+                    const std::vector<std::pair<std::string, int>>& outputs,
+                    const std::map<std::string, std::tuple<double, double, double, std::string>>& params, const std::string& doc) {
+    stylize::StageVariant v;
+    v.stage = name;
+    v.variant = "python";
+    v.doc = doc.empty() ? "a stage written in Python (a prototype: slow, one thread)" : doc;
+    if (inputs.empty() || outputs.empty()) throw Error("register_stage '" + name + "': needs at least one input and one output");
+    for (const auto& [port, ch] : inputs) {
+        if (ch < 1 || ch > 4) throw Error("register_stage '" + name + "': input '" + port + "' needs 1-4 channels");
+        v.inputs.push_back({port, port, ch, false});
+    }
+    for (const auto& [port, ch] : outputs) {
+        if (ch < 1 || ch > 4) throw Error("register_stage '" + name + "': output '" + port + "' needs 1-4 channels");
+        v.outputs.push_back({port, name + "." + port, ch, false});
+    }
+    for (const auto& [pname, d] : params) {
+        const auto& [def, lo, hi, pdoc] = d;
+        if (!(lo <= def && def <= hi)) throw Error("register_stage '" + name + "': parameter '" + pname + "' default outside [min, max]");
+        v.params.push_back({pname, stylize::ParamKind::Float, def, lo, hi, pdoc});
+    }
+    // The function is held by a pointer whose deleter takes the GIL (the registry may outlive any
+    // Python frame); copies of the stage's run share it.
+    std::shared_ptr<py::object> f(new py::object(fn), [](py::object* o) {
+        py::gil_scoped_acquire gil;
+        delete o;
+    });
+    const auto ins = v.inputs, outs = v.outputs;
+    v.run = [f, ins, outs, name](stylize::StageIO& io, const stylize::ParamValues& values, const Exec&) {
+        py::gil_scoped_acquire gil;
+        py::dict in, pv;
+        const ImageF* first = nullptr;
+        for (std::size_t k = 0; k < ins.size(); ++k) {
+            if (!io.in[k]) throw Error("Python stage '" + name + "': input '" + ins[k].name + "' is missing");
+            if (!first) first = io.in[k];
+            in[py::str(ins[k].name)] = copy_of(*io.in[k]);
+        }
+        for (const auto& [k, x] : values) pv[py::str(k)] = x;
+        py::object r;
+        try {
+            r = (*f)(in, pv);
+        } catch (py::error_already_set& e) {
+            // The exception and the frame that raised it (pybind11's text lists every frame after "At:").
+            std::string what = e.what();
+            if (const auto at = what.find("\n\nAt:\n"); at != std::string::npos) {
+                const std::string frames = what.substr(at + 7);
+                what = what.substr(0, at) + " (at " + frames.substr(frames.find_first_not_of(' '), frames.find('\n') - frames.find_first_not_of(' ')) + ")";
+            }
+            throw Error("Python stage '" + name + "' raised " + what);
+        }
+        if (py::isinstance<py::array>(r) && outs.size() == 1) {
+            py::dict d;
+            d[py::str(outs[0].name)] = r;
+            r = d;
+        }
+        if (!py::isinstance<py::dict>(r))
+            throw Error("Python stage '" + name + "' returned " + std::string(py::str(r.get_type())) + "; expected a dict {output: array}");
+        const py::dict d = r;
+        for (std::size_t k = 0; k < outs.size(); ++k) {
+            const std::string what = "Python stage '" + name + "' output '" + outs[k].name + "'";
+            if (!d.contains(outs[k].name)) throw Error(what + " is missing");
+            py::object o = d[py::str(outs[k].name)];
+            if (!py::isinstance<py::array>(o)) throw Error(what + ": expected a NumPy array");
+            ImageF img = image_from(o.cast<py::array>(), what, outs[k].channels);
+            if (first && (img.width() != first->width() || img.height() != first->height()))
+                throw Error(what + ": " + std::to_string(img.width()) + " x " + std::to_string(img.height()) + ", its input is " +
+                            std::to_string(first->width()) + " x " + std::to_string(first->height()));
+            *io.out[k] = std::move(img);
+        }
+    };
+    stylize::register_runtime_stage(std::move(v));
+}
 
 //! The render options every call shares.
 struct Request {
@@ -161,6 +296,7 @@ app::RenderOptions options_of(const Scene& s, const Style& st, const Request& r)
     o.sets = st.sets;
     o.variants = st.variants;
     o.bypass = st.bypass;
+    if (!st.inserted.empty()) o.edit_style = [ins = st.inserted](stylize::Pipeline& p) { insert_steps(p, ins); };
     o.width = r.width.value_or(0);
     o.height = r.height.value_or(0);
     if (o.width < 0 || o.height < 0 || o.width > kMaxImageSide || o.height > kMaxImageSide)
@@ -275,6 +411,8 @@ std::shared_ptr<app::RenderJob> style_job(GBuffer& g, const Style& st, int threa
     o.sets = st.sets;
     o.variants = st.variants;
     o.bypass = st.bypass;
+    o.edit_style = nullptr;
+    if (!st.inserted.empty()) o.edit_style = [ins = st.inserted](stylize::Pipeline& p) { insert_steps(p, ins); };
     o.threads = threads;
     o.preloaded = g.job->loaded;
     o.keep_loaded = false;
@@ -301,6 +439,7 @@ std::shared_ptr<Result> run_style(const Style& st, GBuffer& g, std::optional<int
     } else {
         // A G-buffer from arrays: the style alone (no scene: no raster passes, no camera depth range).
         stylize::Pipeline p = stylize::load_pipeline(st.name);
+        insert_steps(p, st.inserted);
         for (const auto& v : st.variants) stylize::set_variant(p, v);
         for (const auto& s : st.sets) stylize::set_param(p, s);
         for (const auto& b : st.bypass) stylize::bypass_step(p, b);
@@ -332,6 +471,8 @@ std::shared_ptr<Result> run_style(const Style& st, GBuffer& g, std::optional<int
 //! listing the files this call read. Returns nothing; the files are the result.
 void render_files(const Scene& s, const std::optional<Style>& st, const Request& r, const std::string& out, const std::string& targets_dir,
                   const std::string& targets_png_dir) {
+    if (st && !st->inserted.empty())
+        throw Error("render: a style with Python stages has no reproducible manifest; run it with Style.run and write the image with aquarelle.save");
     app::RenderOptions o = options_of(s, st.value_or(Style{}), r);
     if (!st) {  // the scene's own style, as a render without --style (the manifest says so)
         o.style.clear();
@@ -425,6 +566,7 @@ std::string style_doc(const Style& s) {
 //! The style's pipeline with its variants, values and bypasses applied: every name checked now.
 aq::stylize::Pipeline pipeline_of(const Style& s) {
     aq::stylize::Pipeline p = aq::stylize::load_pipeline(s.name);
+    insert_steps(p, s.inserted);
     for (const auto& v : s.variants) aq::stylize::set_variant(p, v);
     for (const auto& a : s.sets) aq::stylize::set_param(p, a);
     for (const auto& b : s.bypass) aq::stylize::bypass_step(p, b);
@@ -549,6 +691,18 @@ target's channel count (H x W allowed for one channel). The values are copied.)"
             (void)pipeline_of(t);
             return t;
         }, py::arg("step"), py::arg("variant"), "A copy with that step's variant (a step's parameters set earlier must exist in it).")
+        .def("with_step", [](const Style& s, const std::string& stage, const std::string& after, const std::string& id,
+                             const std::map<std::string, double>& params, const std::map<std::string, std::string>& inputs,
+                             const std::map<std::string, std::string>& outputs) {
+            Style t = s;
+            t.inserted.push_back({stage, after, id, params, inputs, outputs});
+            (void)pipeline_of(t);
+            return t;
+        }, py::arg("stage"), py::kw_only(), py::arg("after"), py::arg("id") = "", py::arg("params") = std::map<std::string, double>{},
+           py::arg("inputs") = std::map<std::string, std::string>{}, py::arg("outputs") = std::map<std::string, std::string>{},
+           R"(A copy with a registered Python stage (aquarelle.register_stage) after the step `after`: its first
+input reads that step's first output, its first output is written to "ID.PORT", and every later
+step reading the old image reads the new one. inputs/outputs bind other ports to targets.)")
         .def("without", [](const Style& s, const std::string& step) {
             Style t = s;
             t.bypass.push_back(step);
@@ -608,6 +762,13 @@ G-buffer compiles it (kept for later runs). threads: default the G-buffer's.)")
                        "manifest (OUT.json, listing the files this call read) and --targets/--targets-png folders.\n\n") +
            kRequestArgsDoc).c_str());
 
+    m.def("register_stage", &register_stage, py::arg("name"), py::arg("fn"), py::kw_only(), py::arg("inputs"), py::arg("outputs"),
+          py::arg("params") = std::map<std::string, std::tuple<double, double, double, std::string>>{}, py::arg("doc") = "",
+          R"(Registers a Python function as a stage, to prototype an effect between C++ stages (slow: it runs
+on one thread with the GIL, its images copied in and out). fn(inputs, params) gets {port: float32
+H x W x C array (a copy)} and {param: value} and returns {output port: array} (or one array for a
+single output) of the input's size and the port's channels. inputs/outputs: [(port, channels)];
+params: {name: (default, min, max, doc)}. Style.with_step puts it into a style.)");
     m.def("stages", &stages, "The stage registry: every stage variant with its ports and parameters (kind, default, range, doc).");
     m.def("styles", &aq::stylize::preset_names, "The style presets.");
     m.def("compare", &compare, py::arg("a"), py::arg("b"), py::arg("threshold") = 1.0 / 255.0,

@@ -54,7 +54,12 @@ std::string port_list(const std::vector<Port>& ports) {
     return s.empty() ? "none" : s;
 }
 
-const Registry& registry_of(const PipelineStep& s) { return s.pass ? builtin_pass_registry() : builtin_registry(); }
+const Registry& registry_of(const PipelineStep& s) {
+    if (s.pass) return builtin_pass_registry();
+    if (builtin_registry().variants(s.stage).empty())
+        if (const Registry* r = runtime_registry(s.stage)) return *r;  // a stage registered at run time (Python)
+    return builtin_registry();
+}
 
 //! Checks one step against the registry; `key` is "steps[i]".
 void check_step(const PipelineStep& s, const std::string& src, const std::string& key) {

@@ -1,6 +1,9 @@
 // stylize/stage.cpp — registry storage, lookup and parameter validation.
 #include "stylize/stage.h"
 
+#include <map>
+#include <mutex>
+
 #include <cmath>
 #include <sstream>
 
@@ -163,6 +166,35 @@ const Registry& builtin_registry() {
         return reg;
     }();
     return r;
+}
+
+namespace {
+std::mutex& runtime_mutex() {
+    static std::mutex m;
+    return m;
+}
+//! By stage name; every registry ever made stays alive (compiled steps point into them).
+std::map<std::string, const Registry*>& runtime_stages() {
+    static std::map<std::string, const Registry*> m;
+    return m;
+}
+}  // namespace
+
+void register_runtime_stage(StageVariant v) {
+    if (!builtin_registry().variants(v.stage).empty() || !builtin_pass_registry().variants(v.stage).empty())
+        throw Error("stage '" + v.stage + "' is a built-in stage: give the prototype another name");
+    if (v.stage.empty() || v.variant.empty() || !v.run) throw Error("a registered stage needs a name, a variant name and a function");
+    auto* r = new Registry;  // never freed: compiled pipelines keep pointers to its variant
+    const std::string name = v.stage;
+    r->add(std::move(v));
+    std::lock_guard<std::mutex> lock(runtime_mutex());
+    runtime_stages()[name] = r;
+}
+
+const Registry* runtime_registry(const std::string& stage) {
+    std::lock_guard<std::mutex> lock(runtime_mutex());
+    const auto it = runtime_stages().find(stage);
+    return it == runtime_stages().end() ? nullptr : it->second;
 }
 
 const Registry& builtin_pass_registry() {

@@ -198,6 +198,15 @@ private:
 //! The registry holding every built-in stage variant (built once, thread-safe).
 const Registry& builtin_registry();
 
+//! Stages registered while the program runs — the Python module's prototypes (docs/python.md
+//! "Prototyping a stage in Python"): one stage, one variant each, named apart from every built-in
+//! stage. A pipeline step naming a stage no built-in registry has is looked up here. Registering
+//! a name again replaces it for later pipelines; compiled ones keep the variant they resolved (a
+//! registry is never freed). Thread-safe. Throws aq::Error for a built-in name or a bad variant.
+void register_runtime_stage(StageVariant v);
+//! The runtime registry holding `stage`, or null.
+const Registry* runtime_registry(const std::string& stage);
+
 void register_builtin_stages(Registry& r);  // stylize/stages/register.cpp, in pipeline order
 
 //! The registry of raster passes (LD06: ../shared/spec/ld06.md): steps that draw the scene

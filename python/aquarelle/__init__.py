@@ -18,6 +18,7 @@ from ._aquarelle import (  # noqa: F401
     compare,
     load_scene,
     rasterize,
+    register_stage,
     render,
     save,
     stages,
@@ -25,5 +26,5 @@ from ._aquarelle import (  # noqa: F401
     styles,
 )
 
-__all__ = ["Error", "GBuffer", "Result", "Scene", "Style", "compare", "load_scene", "rasterize", "render", "save",
+__all__ = ["Error", "GBuffer", "Result", "Scene", "Style", "compare", "load_scene", "rasterize", "register_stage", "render", "save",
            "stages", "style", "styles"]

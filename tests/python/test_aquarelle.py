@@ -256,3 +256,77 @@ def test_no_leak_over_a_thousand_runs(bottle):
     gc.collect()
     assert sys.getrefcount(g) == refs
     assert rss_mb() - before < 40, "memory grew by %.0f MB over 1000 runs" % (rss_mb() - before)
+
+
+# --- a stage prototyped in Python --------------------------------------------------------------
+
+def posterize(inputs, params):
+    c = inputs["color"]
+    k = params["levels"]
+    out = np.floor(c * k) / k
+    out[..., 3] = c[..., 3]
+    return {"color": out.astype(np.float32)}
+
+
+def test_a_python_stage_runs_between_cpp_stages(gb):
+    aq.register_stage("py_posterize", posterize, inputs=[("color", 4)], outputs=[("color", 4)],
+                      params={"levels": (4.0, 2.0, 32.0, "levels per channel")}, doc="posterize (a test)")
+    st = aq.style("wc18").with_step("py_posterize", after="edge_darken", params={"levels": 3.0})
+    ids = [s["id"] for s in st.steps()]
+    assert ids[ids.index("edge_darken") + 1] == "py_posterize"
+    out = st.run(gb)
+    # the stage saw edge darkening's output and the steps after it read the stage's
+    want = posterize({"color": np.array(out["color.darkened"])}, {"levels": 3.0})["color"]
+    assert np.array_equal(out["py_posterize.color"], want)
+    plain = aq.style("wc18").run(gb)["final"]
+    assert aq.compare(out["final"], plain)["max_abs"] > 0
+    # the same run twice: the same image
+    assert np.array_equal(st.run(gb)["final"], out["final"])
+    # parameters are checked against the declared range
+    with pytest.raises(aq.Error, match="levels"):
+        aq.style("wc18").with_step("py_posterize", after="edge_darken", params={"levels": 100.0})
+    with pytest.raises(aq.Error, match="no stage 'nope' registered"):
+        aq.style("wc18").with_step("nope", after="edge_darken")
+    with pytest.raises(aq.Error, match="no step"):
+        aq.style("wc18").with_step("py_posterize", after="nope")
+    with pytest.raises(aq.Error, match="manifest"):
+        aq.render(aq.load_scene(BOTTLE), "never.png", style=st)
+
+
+def raises(inputs, params):
+    raise ValueError("a prototype's bug")
+
+
+def wrong_shape(inputs, params):
+    return {"color": np.zeros((3, 3, 4), np.float32)}
+
+
+def wrong_type(inputs, params):
+    return [1, 2]
+
+
+kept = []
+
+
+def keeps_its_input(inputs, params):
+    kept.append(inputs["color"])
+    return {"color": inputs["color"]}
+
+
+@pytest.mark.parametrize("fn, message", [(raises, "a prototype's bug"), (wrong_shape, "3 x 3"), (wrong_type, "expected a dict")])
+def test_a_bad_python_stage_is_a_clear_error(gb, fn, message):
+    aq.register_stage("py_bad", fn, inputs=[("color", 4)], outputs=[("color", 4)])
+    with pytest.raises(aq.Error, match=message):
+        aq.style("wc18").with_step("py_bad", after="edge_darken").run(gb)
+    assert aq.style("wc18").run(gb)["final"].shape == (H, W, 3)  # the G-buffer is intact
+
+
+def test_a_python_stage_may_keep_its_input(gb):
+    aq.register_stage("py_keep", keeps_its_input, inputs=[("color", 4)], outputs=[("color", 4)])
+    st = aq.style("wc18").with_step("py_keep", after="edge_darken")
+    a = st.run(gb)["final"].copy()
+    assert np.array_equal(a, aq.style("wc18").run(gb)["final"])  # an identity stage changes nothing
+    kept[0][:] = 7.0  # its copy: the library's images are untouched
+    assert np.array_equal(st.run(gb)["final"], a)
+    with pytest.raises(aq.Error, match="built-in"):
+        aq.register_stage("bleed", posterize, inputs=[("color", 4)], outputs=[("color", 4)])
