@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "app/coherence.h"
 #include "app/render_files.h"
 #include "app/render_job.h"
 #include "core/cache.h"
@@ -25,6 +26,7 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/targets.h"
+#include "raster/vertex.h"
 #include "scenes/scene_cache.h"
 #include "stylize/pipeline.h"
 #include "stylize/stage.h"
@@ -531,6 +533,41 @@ void save(const std::string& path, const py::array& a) {
     write_image(path, img);
 }
 
+//! aquarelle coherence's two measures between consecutive frames, on images and the G-buffers
+//! (with their cameras) they were made from.
+py::dict coherence(GBuffer& g0, const py::array& i0, GBuffer& g1, const py::array& i1, double threshold) {
+    if (!g0.job || !g1.job) throw Error("coherence: needs G-buffers from aquarelle.rasterize (their cameras)");
+    const ImageF a = image_from(i0, "coherence: image 0"), b = image_from(i1, "coherence: image 1");
+    app::CoherenceParams p;
+    if (!(threshold > 0.0 && threshold <= 1.0)) throw Error("coherence: threshold must be in (0, 1]");
+    p.threshold = threshold;
+    auto frame_of = [](const GBuffer& g, const ImageF& img) {
+        app::CoherenceFrame f;
+        f.image = &img;
+        f.depth = &g.targets.get(target::kDepthLinear);
+        f.normal = &g.targets.get(target::kNormal);
+        f.id = &g.targets.get(target::kObjectId);
+        const scene::Camera cam = app::frame_camera(*g.job, g.frame);
+        f.view = glm::dmat4(cam.view);
+        f.projection = glm::dmat4(raster::projection_matrix(cam, float(g.job->settings.width) / float(g.job->settings.height)));
+        f.orthographic = cam.orthographic;
+        return f;
+    };
+    app::CoherenceStats st;
+    {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> l0(g0.m, std::defer_lock), l1(g1.m, std::defer_lock);
+        if (&g0 == &g1) l0.lock();
+        else std::lock(l0, l1);
+        st = app::frame_coherence(frame_of(g0, a), frame_of(g1, b), p);
+    }
+    auto frac = [](long long n, long long d) { return d ? double(n) / double(d) : 0.0; };
+    return py::dict(py::arg("static_mean") = st.static_mean(), py::arg("static_changed") = frac(st.static_changed, st.static_pixels),
+                    py::arg("static_pixels") = st.static_pixels, py::arg("warp_mean") = st.warp_mean(),
+                    py::arg("warp_changed") = frac(st.warped_changed, st.warped_pixels), py::arg("warped_pixels") = st.warped_pixels,
+                    py::arg("object_pixels") = st.object_pixels, py::arg("pixels") = st.pixels);
+}
+
 py::list target_names(const Targets& t) {
     py::list l;
     for (const std::string& n : t.names()) l.append(n);
@@ -769,6 +806,16 @@ on one thread with the GIL, its images copied in and out). fn(inputs, params) ge
 H x W x C array (a copy)} and {param: value} and returns {output port: array} (or one array for a
 single output) of the input's size and the port's channels. inputs/outputs: [(port, channels)];
 params: {name: (default, min, max, doc)}. Style.with_step puts it into a style.)");
+    m.def("coherence", &coherence, py::arg("gbuffer0"), py::arg("image0"), py::arg("gbuffer1"), py::arg("image1"),
+          py::arg("threshold") = 1.0 / 255.0,
+          R"(aquarelle coherence's measures between frame t-1 (gbuffer0, image0) and frame t (docs/coherence.md): the
+change where the G-buffer did not change (static_mean, static_changed: the fraction over threshold)
+and the motion-compensated change (warp_mean, warp_changed), with their pixel counts.)");
+    m.def("coherence_report", [](const std::vector<std::string>& images, const std::string& targets_dir, const std::string& json_out) {
+              py::gil_scoped_release release;
+              return aq::app::coherence_report(images, targets_dir, aq::app::CoherenceParams{}, json_out);
+          }, py::arg("images"), py::arg("targets_dir"), py::kw_only(), py::arg("json_out") = "",
+          "aquarelle coherence on the files of a --frames run rendered with --targets: the report's text (and JSON in json_out).");
     m.def("stages", &stages, "The stage registry: every stage variant with its ports and parameters (kind, default, range, doc).");
     m.def("styles", &aq::stylize::preset_names, "The style presets.");
     m.def("compare", &compare, py::arg("a"), py::arg("b"), py::arg("threshold") = 1.0 / 255.0,

@@ -15,6 +15,8 @@ from ._aquarelle import (  # noqa: F401
     Result,
     Scene,
     Style,
+    coherence,
+    coherence_report,
     compare,
     load_scene,
     rasterize,
@@ -26,5 +28,5 @@ from ._aquarelle import (  # noqa: F401
     styles,
 )
 
-__all__ = ["Error", "GBuffer", "Result", "Scene", "Style", "compare", "load_scene", "rasterize", "register_stage", "render", "save",
+__all__ = ["Error", "GBuffer", "Result", "Scene", "Style", "coherence", "coherence_report", "compare", "load_scene", "rasterize", "register_stage", "render", "save",
            "stages", "style", "styles"]

@@ -330,3 +330,22 @@ def test_a_python_stage_may_keep_its_input(gb):
     assert np.array_equal(st.run(gb)["final"], a)
     with pytest.raises(aq.Error, match="built-in"):
         aq.register_stage("bleed", posterize, inputs=[("color", 4)], outputs=[("color", 4)])
+
+
+def test_coherence_of_two_frames(bottle, tmp_path):
+    st = aq.style("wc18")
+    g0 = aq.rasterize(bottle, W, H, threads=2, view=[0, 0, 1])
+    g1 = aq.rasterize(bottle, W, H, threads=2, view=[2, 0, 1])
+    i0, i1 = st.run(g0)["final"], st.run(g1)["final"]
+    same = aq.coherence(g0, i0, g0, i0)
+    assert same["static_mean"] == 0 and same["warp_mean"] < 1e-9 and same["static_pixels"] == W * H  # reprojection: rounding only
+    moved = aq.coherence(g0, i0, g1, i1)
+    assert 0 < moved["warped_pixels"] <= moved["object_pixels"] <= W * H
+    assert moved["static_pixels"] < W * H and 0 <= moved["warp_changed"] <= 1
+    with pytest.raises(aq.Error, match="rasterize"):
+        aq.coherence(aq.GBuffer.from_arrays({k: np.array(g0[k]) for k in g0.keys()}), i0, g1, i1)
+    # the files of a --frames run, as `aquarelle coherence` reads them
+    cli("render", BOTTLE, "--frames", "0-2", "--orbit", "2", "--width", "64", "--height", "40", "--targets", str(tmp_path / "t"),
+        "--out", str(tmp_path / "f_####.png"))
+    report = aq.coherence_report([str(tmp_path / ("f_%04d.png" % k)) for k in range(3)], str(tmp_path / "t"))
+    assert "total" in report
