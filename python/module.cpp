@@ -288,17 +288,34 @@ std::optional<cache::Config> cache_config(bool on) {
     return cache::config_from_environment();
 }
 
-app::RenderOptions options_of(const Scene& s, const Style& st, const Request& r) {
-    app::RenderOptions o;
-    o.scene = s.spec;
-    o.scene_edits = s.edits;
-    o.allow_outside_files = s.allow_outside_files;
+//! The style's pipeline with its variants, values and bypasses applied: every name checked now.
+stylize::Pipeline pipeline_of(const Style& s) {
+    stylize::Pipeline p = stylize::load_pipeline(s.name);
+    insert_steps(p, s.inserted);
+    for (const auto& v : s.variants) stylize::set_variant(p, v);
+    for (const auto& a : s.sets) stylize::set_param(p, a);
+    for (const auto& b : s.bypass) stylize::bypass_step(p, b);
+    stylize::validate_pipeline(p);
+    return p;
+}
+
+//! The style's part of the render options: --style, --set, --variant, --bypass and inserted steps.
+void set_style(app::RenderOptions& o, const Style& st) {
     o.style = st.name;
     o.style_given = true;
     o.sets = st.sets;
     o.variants = st.variants;
     o.bypass = st.bypass;
+    o.edit_style = nullptr;
     if (!st.inserted.empty()) o.edit_style = [ins = st.inserted](stylize::Pipeline& p) { insert_steps(p, ins); };
+}
+
+app::RenderOptions options_of(const Scene& s, const Style& st, const Request& r) {
+    app::RenderOptions o;
+    o.scene = s.spec;
+    o.scene_edits = s.edits;
+    o.allow_outside_files = s.allow_outside_files;
+    set_style(o, st);
     o.width = r.width.value_or(0);
     o.height = r.height.value_or(0);
     if (o.width < 0 || o.height < 0 || o.width > kMaxImageSide || o.height > kMaxImageSide)
@@ -409,12 +426,7 @@ std::shared_ptr<app::RenderJob> style_job(GBuffer& g, const Style& st, int threa
     const std::string key = st.key() + std::to_string(threads);
     if (auto it = g.style_jobs.find(key); it != g.style_jobs.end()) return it->second;
     app::RenderOptions o = g.job->options;
-    o.style = st.name;
-    o.sets = st.sets;
-    o.variants = st.variants;
-    o.bypass = st.bypass;
-    o.edit_style = nullptr;
-    if (!st.inserted.empty()) o.edit_style = [ins = st.inserted](stylize::Pipeline& p) { insert_steps(p, ins); };
+    set_style(o, st);
     o.threads = threads;
     o.preloaded = g.job->loaded;
     o.keep_loaded = false;
@@ -440,11 +452,7 @@ std::shared_ptr<Result> run_style(const Style& st, GBuffer& g, std::optional<int
         r->targets = app::run_style_on(*r->job, g.targets, g.frame, ro);
     } else {
         // A G-buffer from arrays: the style alone (no scene: no raster passes, no camera depth range).
-        stylize::Pipeline p = stylize::load_pipeline(st.name);
-        insert_steps(p, st.inserted);
-        for (const auto& v : st.variants) stylize::set_variant(p, v);
-        for (const auto& s : st.sets) stylize::set_param(p, s);
-        for (const auto& b : st.bypass) stylize::bypass_step(p, b);
+        const stylize::Pipeline p = pipeline_of(st);
         const stylize::CompiledPipeline c = stylize::compile_pipeline(p, &g.targets);
         if (c.has_passes) throw Error("style '" + st.name + "' draws the scene with its own raster passes: run it on aq.rasterize's G-buffer");
         stylize::check_gbuffer(c, g.targets);
@@ -600,16 +608,6 @@ std::string style_doc(const Style& s) {
     return t;
 }
 
-//! The style's pipeline with its variants, values and bypasses applied: every name checked now.
-aq::stylize::Pipeline pipeline_of(const Style& s) {
-    aq::stylize::Pipeline p = aq::stylize::load_pipeline(s.name);
-    insert_steps(p, s.inserted);
-    for (const auto& v : s.variants) aq::stylize::set_variant(p, v);
-    for (const auto& a : s.sets) aq::stylize::set_param(p, a);
-    for (const auto& b : s.bypass) aq::stylize::bypass_step(p, b);
-    aq::stylize::validate_pipeline(p);
-    return p;
-}
 
 }  // namespace
 
