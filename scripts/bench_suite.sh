@@ -35,7 +35,7 @@ mkdir -p "$out"
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 ratio_filter=$(grep -o '"\(slow\|fast\)": "[^"]*"' bench/ratios.json | sed 's/.*: "\(.*\)"/\1/; s#/\(real\|manual\)_time$##; s/[][().*+?^$|]/\\&/g' |
                sort -u | paste -sd'|')
-matrix='^(pipeline/(wc16|wc17|wc18|mnpr)/(640x360|1920x1080)/fast/threads:[12]|gl/pipeline/|BM_RasterFrame/|BM_Ld06Frame/|cli/)'
+matrix='^(pipeline/(wc16|wc17|wc18|mnpr)/(640x360|1920x1080)/fast/threads:[12]|gl/pipeline/|BM_RasterFrame/|BM_Ld06Frame/|cli/|serve/|style/run_on_gbuffer/)'
 if [ "$smoke" = 1 ]; then
   echo "bench_suite: smoke run of every benchmark (one iteration each)"
   "$bench" --benchmark_min_time=0 --benchmark_out="$out/smoke_all.json" --benchmark_out_format=json >"$out/smoke_all.txt" 2>&1 ||
