@@ -22,7 +22,6 @@ namespace aq::raster {
 
 namespace {
 
-constexpr int kTile = 64;
 
 // Seeded choices are keyed by particle index through core/hash.h's hash32, never by thread.
 inline float unit01(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }

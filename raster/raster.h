@@ -21,6 +21,11 @@
 
 namespace aq::raster {
 
+//! The tile side in pixels of every tiled traversal in raster — the G-buffer's triangles, the LD06
+//! passes, sprites and strokes: each bins its primitives into tiles of this side and gives every
+//! tile one writer. 64: one 64-bit coverage word per tile row (raster_internal.h CoverageBits).
+inline constexpr int kTile = 64;
+
 //! Hand tremor, spec §2 / WC17 eq. 1-2 in MNPR's form; defaults are MNPR's.
 struct TremorParams {
     float tremor_px = 4;    //!< amplitude in output pixels, [0, 50]

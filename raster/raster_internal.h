@@ -28,7 +28,6 @@ constexpr std::uint32_t kChunkTris = 32768;  // most triangles per setup chunk (
 constexpr std::uint32_t kMinChunkTris = 2048;
 constexpr std::uint32_t kChunksPerThread = 4;
 constexpr std::size_t kVertexGrain = 4096;
-constexpr int kTile = 64;                   // tile side in pixels (binning and raster)
 constexpr std::uint32_t kNoChunk = 0xffffffffu;
 
 // AQ_RASTER_PROFILE=1 prints per-phase wall times to stderr (profiling aid, docs/performance.md).

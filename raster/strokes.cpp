@@ -25,7 +25,6 @@ namespace aq::raster {
 
 namespace {
 
-constexpr int kTile = 64;
 constexpr int kGroup = 8;                   // pixels per vector step of the capsule scan (AVX2 lanes)
 constexpr std::size_t kProjectBlock = 512;  // strokes per projection task
 constexpr std::uint32_t kPrefetchAhead = 4;  // strokes of a tile fetched ahead of the scan
