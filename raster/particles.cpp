@@ -16,7 +16,7 @@
 
 #include "core/hash.h"
 #include "raster/vertex.h"
-#include "stylize/kernels.h"
+#include "core/maths.h"
 
 namespace aq::raster {
 
@@ -75,15 +75,15 @@ void fragment_row_avx2(const Sprite& s, bool round, float delta, float beta, int
             const __m256 u = _mm256_div_ps(_mm256_sub_ps(_mm256_add_ps(fx, half), left), size);
             const __m256 du = _mm256_sub_ps(u, half);
             const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(du, du), dv2));
-            shape = _mm256_sub_ps(one, stylize::smoothstep8(0.4f, 0.5f, r));  // particle_shape
+            shape = _mm256_sub_ps(one, maths::smoothstep8(0.4f, 0.5f, r));  // particle_shape
             if (depth_finite)
                 keep = _mm256_or_ps(keep, _mm256_and_ps(_mm256_cmp_ps(shape, _mm256_setzero_ps(), _CMP_EQ_OQ), finite8(Dv)));
         }
         if (_mm256_movemask_ps(keep) == 0xff) continue;
         const __m256 arg = _mm256_add_ps(_mm256_sub_ps(Dv, depth), vbeta);  // blurred_visibility
         const __m256 fv = step ? _mm256_and_ps(_mm256_cmp_ps(arg, _mm256_set1_ps(-delta), _CMP_GE_OQ), one)
-                               : stylize::smoothstep8(-delta, delta, arg);
-        const __m256 nb = stylize::sat8(_mm256_add_ps(_mm256_mul_ps(fv, shape), bv));
+                               : maths::smoothstep8(-delta, delta, arg);
+        const __m256 nb = maths::sat8(_mm256_add_ps(_mm256_mul_ps(fv, shape), bv));
         _mm256_maskstore_ps(b + x, _mm256_castps_si256(_mm256_andnot_ps(keep, _mm256_castsi256_ps(in))), nb);
     }
 }
@@ -129,7 +129,7 @@ float particle_size_px(float d, float size_scale, float size_bias, int raster_w)
 float particle_shape(float u, float v) {
     const float du = u - 0.5f, dv = v - 0.5f;
     const float r = std::sqrt(du * du + dv * dv);
-    return 1.0f - stylize::smoothstep(0.4f, 0.5f, r);
+    return 1.0f - maths::smoothstep(0.4f, 0.5f, r);
 }
 
 void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassScene& ps,
@@ -168,7 +168,7 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
         s.cx = snap((double(c.x) / c.w + 1.0) * 0.5 * W);
         s.cy = snap((1.0 - double(c.y) / c.w) * 0.5 * H);
         s.depth = view.normalized(eye);
-        s.size = snap(particle_size_px(stylize::sat(s.depth), p.size_scale, p.size_bias, W));
+        s.size = snap(particle_size_px(maths::sat(s.depth), p.size_scale, p.size_bias, W));
         // Pixels with centre x + 0.5 in [cx - s/2, cx + s/2): x in [ceil(cx - s/2 - 0.5), ceil(cx + s/2 - 0.5) - 1].
         const double x0 = std::ceil(double(s.cx) - 0.5 * s.size - 0.5), x1 = std::ceil(double(s.cx) + 0.5 * s.size - 0.5) - 1;
         const double y0 = std::ceil(double(s.cy) - 0.5 * s.size - 0.5), y1 = std::ceil(double(s.cy) + 0.5 * s.size - 0.5) - 1;
@@ -188,7 +188,7 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
     std::vector<float> dpix(std::size_t(W) * H);
     auto sample_row = [&](int y) {
         for (int x = 0; x < W; ++x) {
-            float Dv = stylize::sample_resampled(D, x, y, W, H);
+            float Dv = maths::sample_resampled(D, x, y, W, H);
             if (p.test == DepthTest::BlurredRgba8) Dv = quantize_depth_rgba8(Dv);
             dpix[std::size_t(y) * W + x] = Dv;
         }
@@ -216,7 +216,7 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
             if (shape == 0.0f && std::isfinite(dpix[i]) && std::isfinite(s.depth)) return;
         }
         const float fv = blurred_visibility(dpix[i], s.depth, delta, p.beta);
-        b = stylize::sat(fv * shape + b);
+        b = maths::sat(fv * shape + b);
     };
     if (ex.traversal == Traversal::Reference) {
         for (const Sprite& s : sprites)

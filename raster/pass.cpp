@@ -10,7 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "raster/raster_internal.h"
-#include "stylize/kernels.h"
+#include "core/maths.h"
 
 namespace aq::raster {
 
@@ -24,9 +24,9 @@ constexpr float kUnorm8 = 255.0f;
 }  // namespace
 
 float quantize_depth_rgba8(float d) {
-    d = stylize::sat(d);
+    d = maths::sat(d);
     float sum = 0.0f;
-    for (int k = 0; k < 4; ++k) sum += std::nearbyint(stylize::sat(kRgba8Scale * d - float(k)) * kUnorm8) / kUnorm8;
+    for (int k = 0; k < 4; ++k) sum += std::nearbyint(maths::sat(kRgba8Scale * d - float(k)) * kUnorm8) / kUnorm8;
     return sum / kRgba8Scale;
 }
 
@@ -127,7 +127,7 @@ struct PassContext {
 };
 
 float sample_map(const View<const float>& m, float px, float py) {
-    return stylize::sample_bilinear(m, px, py, Border::Clamp);
+    return maths::sample_bilinear(m, px, py, Border::Clamp);
 }
 
 // View-space position and normal of a fragment (the part of interpolate() the passes need), and
@@ -149,7 +149,7 @@ inline PosNormal gather(const Frame& fr, const Chunk& ch, const TriSetup& t, con
 }
 
 // PassValue::Depth of a fragment at linear eye depth d.
-inline float depth_value(const PassContext& cx, float d) { return stylize::sat(cx.view.normalized(d)); }
+inline float depth_value(const PassContext& cx, float d) { return maths::sat(cx.view.normalized(d)); }
 
 // The value a fragment writes (PassValue), given its weights.
 inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b) {
@@ -163,7 +163,7 @@ inline float fragment_value(const PassContext& cx, const Frame& fr, const Chunk&
             const float l2 = glm::dot(n, n);
             n = l2 > 0.0f ? n * (1.0f / std::sqrt(l2)) : glm::vec3(0, 0, 1);
             if (g.back) n = -n;  // two-sided lighting, as gl_FrontFacing
-            return stylize::sat((1.0f + glm::dot(n, cx.light_view)) * 0.5f);
+            return maths::sat((1.0f + glm::dot(n, cx.light_view)) * 0.5f);
         }
         case PassValue::Shadow: {
             const PosNormal g = gather(fr, ch, t, b);
@@ -208,15 +208,15 @@ inline void fragment(const PassContext& cx, const Frame& fr, const Chunk& ch, co
         *z = b.depth;
     } else {
         if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) return;
-        float D = sample_map(cx.depth_map, stylize::texel_coord(x, cx.view.width, cx.depth_map.width),
-                             stylize::texel_coord(y, cx.view.height, cx.depth_map.height));
+        float D = sample_map(cx.depth_map, maths::texel_coord(x, cx.view.width, cx.depth_map.width),
+                             maths::texel_coord(y, cx.view.height, cx.depth_map.height));
         if (p.test == DepthTest::BlurredRgba8) D = quantize_depth_rgba8(D);
         fv = blurred_visibility(D, cx.view.normalized(b.depth), p.delta, p.beta);
     }
     const float v = fragment_value(cx, fr, ch, t, b);
     switch (p.blend) {
         case Blend::Replace: *dst = fv * v; break;
-        case Blend::Add: *dst = stylize::sat(*dst + fv * v); break;
+        case Blend::Add: *dst = maths::sat(*dst + fv * v); break;
         case Blend::Over: {
             const float a = fv * p.alpha;
             *dst = v * a + *dst * (1.0f - a);

@@ -20,7 +20,7 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "raster/implicit_surface.h"
-#include "stylize/kernels.h"
+#include "core/maths.h"
 #include "scenes/layers.h"
 #include "scenes/scene.h"
 
@@ -33,7 +33,7 @@ namespace aq::raster {
 //! Inline: the per-fragment functions of every pass call it.
 inline float ld06_step(float l, float u, float v) {
     if (!(u > l)) return v >= l ? 1.0f : 0.0f;
-    return stylize::smoothstep(l, u, v);
+    return maths::smoothstep(l, u, v);
 }
 //! LD06 eq. 2: visibility of a fragment of normalised depth fd against the stored (blurred) depth
 //! D: f_v = Δstep(−δ, +δ, D − fd + β).

@@ -19,7 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "raster/vertex.h"
-#include "stylize/kernels.h"
+#include "core/maths.h"
 
 namespace aq::raster {
 
@@ -424,7 +424,7 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     const bool tested = D.data != nullptr;
     const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
     auto depth_at = [&](int x, int y) {
-        const float Dv = stylize::sample_resampled(D, x, y, W, H);
+        const float Dv = maths::sample_resampled(D, x, y, W, H);
         return p.test == DepthTest::BlurredRgba8 ? quantize_depth_rgba8(Dv) : Dv;
     };
     auto alpha_of = [&](bool light_dependent, const Seg& g, float ts, int x, int y) {
@@ -437,14 +437,14 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         const glm::vec3 pv = g.pa + (g.pb - g.pa) * t;
         const float fd = view.normalized(-pv.z);
         const float fv = tested ? blurred_visibility(depth_at(x, y), fd, delta, p.beta) : 1.0f;
-        float a = p.alpha * fv * (1.0f - stylize::smoothstep(p.fade_near, p.fade_far, fd));
+        float a = p.alpha * fv * (1.0f - maths::smoothstep(p.fade_near, p.fade_far, fd));
         if (g.has_normal) {
             glm::vec3 n = g.na + (g.nb - g.na) * t;
             const float ln = glm::length(n);
             n = ln > 0.0f ? n / ln : n;
             const glm::vec3 v = view.camera.orthographic ? glm::vec3(0, 0, 1) : glm::normalize(-pv);
-            a *= stylize::smoothstep(p.nv_lo, p.nv_hi, std::abs(glm::dot(n, v)));
-            if (light_dependent) a *= 1.0f - stylize::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
+            a *= maths::smoothstep(p.nv_lo, p.nv_hi, std::abs(glm::dot(n, v)));
+            if (light_dependent) a *= 1.0f - maths::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
         }
         return a;
     };
@@ -509,10 +509,10 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         __m256 fv = one;
         if (tested) {
             const __m256 x = _mm256_add_ps(_mm256_sub_ps(ld(13), fd), set(p.beta));
-            fv = delta > -delta ? stylize::smoothstep8(-delta, delta, x)
+            fv = delta > -delta ? maths::smoothstep8(-delta, delta, x)
                                 : _mm256_and_ps(_mm256_cmp_ps(x, set(-delta), _CMP_GE_OQ), one);
         }
-        __m256 a = _mm256_mul_ps(_mm256_mul_ps(set(p.alpha), fv), _mm256_sub_ps(one, stylize::smoothstep8(p.fade_near, p.fade_far, fd)));
+        __m256 a = _mm256_mul_ps(_mm256_mul_ps(set(p.alpha), fv), _mm256_sub_ps(one, maths::smoothstep8(p.fade_near, p.fade_far, fd)));
         if (any_normal) {
             auto dot = [](__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
                 return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
@@ -530,10 +530,10 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
                 vx = _mm256_mul_ps(wx, inv), vy = _mm256_mul_ps(wy, inv), vz = _mm256_mul_ps(wz, inv);
             }
             const __m256 nv = _mm256_andnot_ps(sign, dot(nx, ny, nz, vx, vy, vz));
-            __m256 an = _mm256_mul_ps(a, stylize::smoothstep8(p.nv_lo, p.nv_hi, nv));
+            __m256 an = _mm256_mul_ps(a, maths::smoothstep8(p.nv_lo, p.nv_hi, nv));
             if (any_light) {
                 const __m256 nl = dot(nx, ny, nz, set(light_view.x), set(light_view.y), set(light_view.z));
-                const __m256 lit = _mm256_mul_ps(an, _mm256_sub_ps(one, stylize::smoothstep8(p.nl_lo, p.nl_hi, nl)));
+                const __m256 lit = _mm256_mul_ps(an, _mm256_sub_ps(one, maths::smoothstep8(p.nl_lo, p.nl_hi, nl)));
                 an = _mm256_blendv_ps(an, lit, _mm256_cmp_ps(ld(15), zero, _CMP_GT_OQ));
             }
             a = _mm256_blendv_ps(a, an, _mm256_cmp_ps(ld(14), zero, _CMP_GT_OQ));

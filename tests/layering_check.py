@@ -1,0 +1,34 @@
+#!/usr/bin/python3
+"""tests/layering_check.py — the layers include only downwards (docs/architecture.md "Layers"):
+core includes no other module; scenes includes core; raster includes core and scenes; stylize
+includes core, scenes and raster; app and python include anything but each other's executables.
+Checks every #include "..." of the project's sources. Usage: layering_check.py SOURCE_DIR."""
+import os
+import re
+import sys
+
+ALLOWED = {
+    "core": {"core"},
+    "scenes": {"core", "scenes"},
+    "raster": {"core", "scenes", "raster"},
+    "stylize": {"core", "scenes", "raster", "stylize"},
+}
+root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+include = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/')
+bad = []
+for layer, allowed in ALLOWED.items():
+    for dirpath, _, files in os.walk(os.path.join(root, layer)):
+        for f in files:
+            if not f.endswith((".h", ".cpp")):
+                continue
+            path = os.path.join(dirpath, f)
+            with open(path, encoding="utf-8", errors="replace") as fh:
+                for n, line in enumerate(fh, 1):
+                    m = include.match(line)
+                    if m and m.group(1) not in allowed and os.path.isdir(os.path.join(root, m.group(1))):
+                        bad.append("%s:%d: %s includes %s/ (%s may include only %s)" % (
+                            os.path.relpath(path, root), n, layer, m.group(1), layer, ", ".join(sorted(allowed))))
+for b in bad:
+    print(b)
+print("layering: %s" % ("%d include(s) against the layers" % len(bad) if bad else "every include goes downwards"))
+sys.exit(1 if bad else 0)
