@@ -261,7 +261,8 @@ std::vector<LiveState::Watched> watch(const std::vector<InputRecord>& records) {
     std::vector<LiveState::Watched> w;
     for (const InputRecord& r : records) {
         std::error_code ec;
-        LiveState::Watched x{r.path};
+        LiveState::Watched x;
+        x.path = r.path;
         const auto t = fs::last_write_time(r.path, ec);
         if (!ec) x.mtime_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
         x.size = ec ? 0 : fs::file_size(r.path, ec);
@@ -272,7 +273,8 @@ std::vector<LiveState::Watched> watch(const std::vector<InputRecord>& records) {
 
 bool files_changed(const std::vector<LiveState::Watched>& inputs) {
     for (const LiveState::Watched& f : inputs) {
-        InputRecord r{f.path};
+        InputRecord r;
+        r.path = f.path;
         if (watch({r}).front() != f) return true;
     }
     return false;

@@ -709,8 +709,9 @@ target's channel count (H x W allowed for one channel). The values are copied.)"
         })
         .def("with_params", [](const Style& s, const std::map<std::string, double>& values) {
             Style t = s;
-            for (const auto& [k, v] : values) {
-                const std::string a = k + "=" + number_text(v, k);
+            for (const auto& kv : values) {
+                const std::string& k = kv.first;  // not a structured binding: clang 14 captures none
+                const std::string a = k + "=" + number_text(kv.second, k);
                 t.sets.erase(std::remove_if(t.sets.begin(), t.sets.end(), [&](const std::string& x) { return x.substr(0, x.find('=')) == k; }),
                              t.sets.end());
                 t.sets.push_back(a);
