@@ -385,6 +385,11 @@ const ImageF& RenderedImage::final_image() {
     return converted_ ? converted : targets.get(final_target);
 }
 
+namespace {
+
+//! Moves the G-buffer targets between two sets — the rasterizer's (reused by render_gbuffer_into
+//! when it holds exactly them) and a frame's (G-buffer + paper + intermediates, reused by
+//! run_pipeline with reuse_outputs). Moves, not copies.
 void move_gbuffer(Targets& from, Targets& to) {
     for (const target::GBufferTarget& g : target::kGBufferLayout)
         if (from.has(g.name)) {
@@ -393,17 +398,24 @@ void move_gbuffer(Targets& from, Targets& to) {
         }
 }
 
-Targets run_style_on(const RenderJob& job, Targets& gbuffer, int frame, stylize::RunOptions ro) {
-    ro.fuse = ro.in_place = ro.release_dead = ro.reuse_outputs = false;  // the G-buffer's images stay as they are
+}  // namespace
+
+Targets lend_gbuffer(Targets& gbuffer, const std::function<void(Targets&)>& run) {
     Targets t;
     move_gbuffer(gbuffer, t);
     try {
-        run_style(job, 0, frame_camera(job, frame), t, ro);
+        run(t);
     } catch (...) {
         move_gbuffer(t, gbuffer);
         throw;
     }
     move_gbuffer(t, gbuffer);
+    return t;
+}
+
+Targets run_style_on(const RenderJob& job, Targets& gbuffer, int frame, stylize::RunOptions ro) {
+    ro.fuse = ro.in_place = ro.release_dead = ro.reuse_outputs = false;  // the G-buffer's images stay as they are
+    Targets t = lend_gbuffer(gbuffer, [&](Targets& set) { run_style(job, 0, frame_camera(job, frame), set, ro); });
     ImageF fin = output_image(job, t, job.styles.at(0).output);
     t.set("final", std::move(fin));
     return t;
@@ -423,10 +435,6 @@ ImageF RenderedImage::take_final_rgba() {
     taken_ = true;
     return img;
 }
-
-namespace {
-
-}  // namespace
 
 void run_style(const RenderJob& job, std::size_t si, const scene::Camera& camera, Targets& targets, stylize::RunOptions ro) {
     const raster::RenderSettings& rs = job.settings;

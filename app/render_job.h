@@ -253,10 +253,11 @@ Targets render_gbuffer(const RenderJob& job, int frame, std::vector<std::string>
 //! the job's. What run_render does for each style; throws aq::Error.
 void run_style(const RenderJob& job, std::size_t si, const scene::Camera& camera, Targets& targets, stylize::RunOptions ro);
 
-//! Moves the G-buffer's targets from one set to another, moves not copies (their memory stays
-//! where it is): between the rasterizer's set (reused by render_gbuffer_into when it holds exactly
-//! them) and a frame's set (G-buffer + paper + intermediates, reused by run_pipeline).
-void move_gbuffer(Targets& from, Targets& to);
+//! Lends the G-buffer's images to `run` (moved into a new set and back, also when `run` throws;
+//! moves, not copies: their memory stays where it is):
+//! returns the set without them — every target `run` added. `run` must not write the G-buffer's
+//! images (an unfused pipeline run writes only new ones).
+Targets lend_gbuffer(Targets& gbuffer, const std::function<void(Targets&)>& run);
 
 //! Runs the job's (first) style on a frame's G-buffer without changing it: its images are lent to
 //! the run (moved in and back: their memory stays where it is), the run unfused, so every

@@ -38,6 +38,7 @@
 #include "core/input.h"
 #include "core/io.h"
 #include "core/jpeg.h"
+#include "core/json_file.h"
 #include "core/png.h"
 #include "core/targets.h"
 #include "stylize/stage.h"
@@ -57,11 +58,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string num(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
+std::string num(double v) { return exact_number_text(v); }
 
 const json& member(const json& state, const char* key) { return state.at(key); }
 
@@ -257,27 +254,19 @@ json live_schema(const RenderJob& job, const json& knobs) {
 
 namespace {
 
-std::vector<LiveState::Watched> watch(const std::vector<InputRecord>& records) {
-    std::vector<LiveState::Watched> w;
-    for (const InputRecord& r : records) {
-        std::error_code ec;
-        LiveState::Watched x;
-        x.path = r.path;
-        const auto t = fs::last_write_time(r.path, ec);
-        if (!ec) x.mtime_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-        x.size = ec ? 0 : fs::file_size(r.path, ec);
-        if (std::find_if(w.begin(), w.end(), [&](const LiveState::Watched& y) { return y.path == x.path; }) == w.end()) w.push_back(x);
-    }
-    return w;
+//! A file as it is on disk now: its modification time and size (0 when it cannot be read).
+LiveState::Watched watched(const std::string& path) {
+    LiveState::Watched x;
+    x.path = path;
+    std::error_code ec;
+    const auto t = fs::last_write_time(path, ec);
+    if (!ec) x.mtime_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+    x.size = ec ? 0 : fs::file_size(path, ec);
+    return x;
 }
 
 bool files_changed(const std::vector<LiveState::Watched>& inputs) {
-    for (const LiveState::Watched& f : inputs) {
-        InputRecord r;
-        r.path = f.path;
-        if (watch({r}).front() != f) return true;
-    }
-    return false;
+    return std::any_of(inputs.begin(), inputs.end(), [](const LiveState::Watched& f) { return watched(f.path) != f; });
 }
 
 }  // namespace
@@ -294,7 +283,9 @@ void load_live_scene(const RenderOptions& options, LiveState& state) {
     InputCapture capture;
     state.scene = prepare_render(ro, quiet).loaded;
     state.edits = scene::edits_key(ro.scene_edits);
-    state.inputs = watch(capture.records());
+    for (const InputRecord& r : capture.records())  // each file once (the capture lists every read)
+        if (std::none_of(state.inputs.begin(), state.inputs.end(), [&](const LiveState::Watched& w) { return w.path == r.path; }))
+            state.inputs.push_back(watched(r.path));
     if (lower_extension(ro.scene) == ".json")
         for (const scene::SceneKnob& k : scene::scene_knobs(ro.scene))
             state.knobs.push_back({{"pointer", k.pointer}, {"kind", k.kind}, {"value", json::parse(k.value)}, {"group", k.group}, {"name", k.name}});
@@ -306,11 +297,7 @@ LiveImage render_live(RenderOptions ro, const std::string& key, const std::strin
     ro.keep_intermediates = target != "final";
     ro.live = true;
     LiveImage out;
-    if (state.scene && files_changed(state.inputs)) {
-        const int loads = state.loads;
-        state = LiveState{};
-        state.loads = loads;
-    }
+    if (state.scene && files_changed(state.inputs)) state.scene.reset();  // load_live_scene starts afresh
     if (!state.scene) {
         const bool again = state.loads > 0;
         try {

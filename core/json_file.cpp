@@ -1,6 +1,8 @@
 // core/json_file.cpp
 #include "core/json_file.h"
 
+#include <cstdio>
+
 #include <cmath>
 #include <vector>
 
@@ -70,6 +72,12 @@ json parse_json(const std::string& text, const std::string& where) {
             msg = msg.substr(p + 2);
         throw Error(where + ": invalid JSON" + (path.empty() ? std::string() : " at key '" + path + "'") + ": " + msg);
     }
+}
+
+std::string exact_number_text(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
 }
 
 json read_json_file(const std::string& path, const std::string& what) {

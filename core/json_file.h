@@ -18,6 +18,10 @@ inline constexpr int kMaxJsonDepth = 256;  //!< nesting levels; deeper input is 
 //! (strings and escapes are skipped). Linear, no allocation: runs before the recursive parser.
 void check_json_depth(const unsigned char* p, std::size_t n, const std::string& where);
 
+//! The shortest-to-write exact text of a double ("%.17g"): what a JSON or command-line reader
+//! reads back as the same double (the live page's and the Python module's render arguments).
+std::string exact_number_text(double v);
+
 //! Parses text as JSON. Errors become aq::Error "WHERE: invalid JSON at key 'a.b[2]': ..." (the
 //! key being read when the parser stopped: a number out of range such as 1e400, a syntax error).
 nlohmann::json parse_json(const std::string& text, const std::string& where);

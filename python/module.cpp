@@ -25,6 +25,7 @@
 #include "core/compare.h"
 #include "core/input.h"
 #include "core/io.h"
+#include "core/json_file.h"
 #include "core/targets.h"
 #include "raster/vertex.h"
 #include "scenes/scene_cache.h"
@@ -96,9 +97,7 @@ std::string value_text(const py::handle& v, const std::string& what) {
 
 std::string number_text(double v, const std::string& what) {
     if (!std::isfinite(v)) throw Error(what + ": must be finite");
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
+    return exact_number_text(v);
 }
 
 // --- the objects -----------------------------------------------------------------------------
@@ -458,15 +457,7 @@ std::shared_ptr<Result> run_style(const Style& st, GBuffer& g, std::optional<int
         stylize::check_gbuffer(c, g.targets);
         ro.exec = Exec::fast(threads.value_or(0));
         ro.fuse = ro.in_place = ro.release_dead = ro.reuse_outputs = false;  // the G-buffer's images stay as they are
-        Targets t;
-        app::move_gbuffer(g.targets, t);
-        try {
-            stylize::run_pipeline(c, t, ro);
-        } catch (...) {
-            app::move_gbuffer(t, g.targets);
-            throw;
-        }
-        app::move_gbuffer(t, g.targets);
+        Targets t = app::lend_gbuffer(g.targets, [&](Targets& set) { stylize::run_pipeline(c, set, ro); });
         const ImageF& fin = t.get(p.output);  // a painting is written opaque, as render --out writes it
         ImageF out;
         if (fin.channels() == 4) rgb_of(fin, out);
