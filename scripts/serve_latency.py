@@ -29,7 +29,7 @@ for f in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window
 d = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=o)
 try:
     d.get(url)
-    WebDriverWait(d, 60).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    WebDriverWait(d, 60).until(lambda d: d.execute_script("return !!window.aq && window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
     d.execute_script("window.aq.latencies = [];")
     for i in range(a.changes):
         v = a.lo + (a.hi - a.lo) * i / max(1, a.changes - 1)

@@ -241,7 +241,7 @@ try:
 
     d = browser()
     d.get(url)
-    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return !!window.aq && window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
     check(True, "the page loads and shows an image")
     schema = d.execute_script("return window.aq.schema")
     ids = [s["id"] for s in schema["steps"]]
@@ -326,7 +326,7 @@ try:
     first = d.current_window_handle
     d.switch_to.new_window("tab")
     d.get(url)
-    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return !!window.aq && window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
     seq = d.execute_script("return window.aq.seq")
     d.execute_script("window.aq.state.params['edge_darken.intensity'] = 0.5; window.aq.render();")
     wait_image(d, seq)
@@ -389,7 +389,7 @@ d = None
 try:
     d = browser()
     d.get(url)
-    WebDriverWait(d, 30).until(lambda d: d.execute_script("return window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
+    WebDriverWait(d, 30).until(lambda d: d.execute_script("return !!window.aq && window.aq.schema !== null && document.getElementById('view').naturalWidth > 0"))
     knobs = {k["pointer"]: k for k in d.execute_script("return window.aq.schema.scene")}
     check({"/lights/0/intensity", "/control/0/noise/frequency", "/materials/*/cangiante", "/materials/*/shade_color"} <= set(knobs)
           and knobs["/materials/*/shade_color"]["kind"] == "color",
