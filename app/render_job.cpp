@@ -15,6 +15,7 @@
 #include "app/cli_args.h"
 #include "scenes/scene_cache.h"
 #include "scenes/scene_file.h"
+#include "stylize/scene_inputs.h"
 
 namespace aq::app {
 
@@ -24,42 +25,6 @@ using stylize::split_step_param;
 
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-//! LD06 layer colours (docs/ld06.md "Layers"): every color_ramp step whose `source` is 1 or 2 gets
-//! the colours of the scene's layers (1: layers first..first+3; 2: the foliage layer in all four)
-//! as parameter values. Called before the scene file's style values and --set, which override it.
-void fill_layer_colors(stylize::Pipeline& pipeline, const scene::Scene& sc) {
-    std::optional<scene::LayerTable> table;
-    for (std::size_t i = 0; i < pipeline.steps.size(); ++i) {
-        const stylize::PipelineStep& step = pipeline.steps[i];
-        if (step.pass || step.stage != "color_ramp") continue;
-        const stylize::ResolvedStep r = stylize::resolve_step(pipeline, i);
-        const int source = int(r.params.at("source"));
-        if (source == 0) continue;
-        if (!table) table = scene::build_layer_table(sc);
-        int foliage_layer = -1;
-        if (source == 2)
-            for (const scene::Instance& inst : sc.instances) {
-                if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size()) || foliage_layer >= 0) continue;
-                for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives)
-                    if (foliage_layer < 0 && scene::is_foliage(sc, inst, prim)) foliage_layer = table->of(inst.object_id, prim.material);
-            }
-        const std::string id = step.id.empty() ? step.stage : step.id;
-        const std::string why = "the scene's layer colours";
-        for (int k = 0; k < 4; ++k) {
-            const int l = source == 1 ? int(r.params.at("first")) + k : foliage_layer;
-            if (l < 0 || l >= int(table->layers.size())) continue;
-            const scene::Layer& layer = table->layers[std::size_t(l)];
-            const std::string n = std::to_string(k);
-            for (int c = 0; c < 3; ++c) {
-                const std::string ch(1, "rgb"[c]);
-                stylize::set_param_value(pipeline, id, "color" + n + "_" + ch, double(layer.color[c]), why);
-                stylize::set_param_value(pipeline, id, "dark" + n + "_" + ch, double(layer.dark[c]), why);
-            }
-            if (source == 1) stylize::set_param_value(pipeline, id, "alpha" + n, double(layer.alpha) * r.params.at("alpha" + n), why);
-        }
-    }
 }
 
 }  // namespace
@@ -185,7 +150,9 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         // A bare model has no scene file to name another style: the one loaded above.
         pipeline = early_pipeline && style == early_style ? std::move(*early_pipeline) : stylize::load_pipeline(style);
         if (o.edit_style) o.edit_style(pipeline);
-        fill_layer_colors(pipeline, desc.scene);
+        std::optional<std::pair<float, float>> framed_depth_range;
+        if (desc.camera_auto) framed_depth_range = std::make_pair(desc.camera.znear, desc.camera.zfar);
+        stylize::apply_scene_inputs(pipeline, stylize::SceneInputs(desc.scene, framed_depth_range));
         if (!o.style_given || o.style == desc.style) {
             for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);
             for (auto& [k, v] : desc.style_set) {
@@ -193,18 +160,6 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
                 stylize::set_param_value(pipeline, step, param, v,
                                          "scene file '" + o.scene + "' style value '" + k + "'");
             }
-        }
-        if (desc.camera_auto) {
-            // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically
-            // framed camera hugs the scene's bounding sphere, so its clip range is the scene's
-            // depth range whatever the model's units: normalise over it instead.
-            for (const auto& step : pipeline.steps)
-                if (step.stage == "adjust") {
-                    const std::string id = step.id.empty() ? step.stage : step.id;
-                    const std::string why = "the automatic depth range of the framed camera";
-                    stylize::set_param_value(pipeline, id, "depth_near", double(desc.camera.znear), why);
-                    stylize::set_param_value(pipeline, id, "depth_far", double(desc.camera.zfar), why);
-                }
         }
         for (auto& v : o.variants) stylize::set_variant(pipeline, v);
         for (auto& s : o.sets) stylize::set_param(pipeline, s);
@@ -226,11 +181,9 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         if (job.stylize) pipeline.substrate_color = rs.substrate_color;
     }
     if (job.stylize) {
-        // WC17 §3.2: pigment turbulence is object-space in a pipeline without the image-space
-        // density stage (wc16, wc17): the material applies eq. 6 from ctrl.pigment.b.
-        bool image_space_density = false;
-        for (const auto& step : pipeline.steps) image_space_density |= step.stage == "pigment_density";
-        if (!image_space_density) rs.turbulence = raster::RenderSettings::Turbulence::ObjectSpace;
+        // WC17 §3.2: pigment turbulence is object-space in a pipeline without an image-space
+        // density step (wc16, wc17): the material applies eq. 6 from ctrl.pigment.b.
+        if (!stylize::has_image_space_turbulence(pipeline)) rs.turbulence = raster::RenderSettings::Turbulence::ObjectSpace;
         // Default art-direction (docs/look.md) for primitives without painted control, unless the
         // scene file has its own rules or --control neutral.
         if (!o.neutral_control && !desc.control_rules && !pipeline.default_control.empty()) {

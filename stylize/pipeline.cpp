@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stylize/kernels.h"
+#include "raster/pass.h"  // the scene's size when a pipeline starts with raster passes
 
 #ifndef AQ_PRESET_DIR
 #define AQ_PRESET_DIR "stylize/presets"
@@ -336,6 +337,11 @@ void set_variant(Pipeline& p, const std::string& a) {
             it = find_port(m == &s.in ? v->inputs : v->outputs, it->first) ? std::next(it) : m->erase(it);
     s.variant = variant;
     Registry::resolve_params(*v, s.params, "--variant '" + a + "'");
+}
+
+bool has_image_space_turbulence(const Pipeline& p) {
+    return std::any_of(p.steps.begin(), p.steps.end(),
+                       [](const PipelineStep& s) { return variant_of(s).image_space_turbulence; });
 }
 
 void bypass_step(Pipeline& p, const std::string& step) {

@@ -84,6 +84,9 @@ void set_variant(Pipeline& p, const std::string& assignment);
 //! `blurred`) cannot be bypassed: the error names the steps reading it, which can. Steps whose
 //! outputs nobody reads any more stay (their targets are still written by --targets).
 void bypass_step(Pipeline& p, const std::string& step);
+//! Some step's variant applies the pigment turbulence in image space
+//! (StageVariant::image_space_turbulence).
+bool has_image_space_turbulence(const Pipeline& p);
 
 struct RunOptions {
     Exec exec;

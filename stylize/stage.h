@@ -16,7 +16,10 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "core/targets.h"
-#include "raster/pass.h"
+
+namespace aq::raster {
+struct PassScene;  // raster/pass.h: only the pass registry's steps (stylize/passes/) read it
+}
 
 namespace aq::stylize {
 
@@ -115,6 +118,17 @@ struct StageIO {
 
 using RunFn = std::function<void(StageIO& io, const ParamValues& params, const Exec& ex)>;
 
+class SceneInputs;  // stylize/scene_inputs.h
+//! A parameter value a step takes from the scene being rendered, and where it came from (named
+//! when the value is out of range).
+struct SceneValue {
+    std::string param;
+    double value = 0;
+    std::string source;
+};
+//! The values a variant takes from the scene, given its resolved parameters.
+using SceneParamsFn = std::function<std::vector<SceneValue>(const ParamValues& params, const SceneInputs& scene)>;
+
 struct StageVariant {
     std::string stage;    //!< e.g. "bleed"
     std::string variant;  //!< e.g. "joint_bilateral"
@@ -141,6 +155,13 @@ struct StageVariant {
     //! outputs of its full-size input's size, and with an empty window only checks and allocates.
     //! Such steps in a row run band by band (CompiledPipeline::row_groups). Null: never windowed.
     std::function<int(const ParamValues&)> row_halo;
+    //! Parameter values the variant takes from the scene being rendered (docs/stylize.md "Scene
+    //! inputs"; stylize::apply_scene_inputs): set before the scene file's style values and --set,
+    //! which override them. Null: none.
+    SceneParamsFn scene_params;
+    //! The step applies WC17 eq. 6's pigment turbulence in image space: without such a step in the
+    //! pipeline the material applies it in object space (WC17 §3.2; raster::RenderSettings::turbulence).
+    bool image_space_turbulence = false;
     std::string key() const { return stage + "/" + variant; }
 };
 

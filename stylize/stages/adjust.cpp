@@ -4,6 +4,8 @@
 // against the reference by tests/stylize/registry_traversal_test.cpp).
 #include "stylize/stages/adjust.h"
 
+#include "stylize/scene_inputs.h"
+
 #include <cmath>
 
 #include <immintrin.h>
@@ -172,6 +174,17 @@ void register_adjust(Registry& r) {
     };
     v.reference = StageVariant::Reference::PlainLoop;
     v.row_halo = pointwise_rows;
+    // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically framed
+    // camera hugs the scene's bounding sphere, so its clip range is the scene's depth range
+    // whatever the model's units: normalise over it instead.
+    v.scene_params = [](const ParamValues&, const SceneInputs& scene) {
+        std::vector<SceneValue> out;
+        if (const auto& range = scene.framed_depth_range()) {
+            const std::string why = "the automatic depth range of the framed camera";
+            out = {{"depth_near", double(range->first), why}, {"depth_far", double(range->second), why}};
+        }
+        return out;
+    };
     r.add(std::move(v));
 }
 

@@ -2,6 +2,8 @@
 #pragma GCC optimize("no-trapping-math")  // lets the row loop if-convert and vectorise; values unchanged
 #include "stylize/stages/color_ramp.h"
 
+#include "stylize/scene_inputs.h"
+
 #include <algorithm>
 
 #include "stylize/stages/toolkit.h"
@@ -124,6 +126,32 @@ ColorRampParams color_ramp_params(const ParamValues& pv) {
     return p;
 }
 
+namespace {
+//! LD06 layer colours (docs/ld06.md "Layers"): with `source` 1 or 2 the step takes the colours of
+//! the scene's layers (1: layers first..first+3; 2: the foliage layer in all four).
+std::vector<SceneValue> layer_colors(const ParamValues& pv, const SceneInputs& scene) {
+    std::vector<SceneValue> out;
+    const int source = int(pv.at("source"));
+    if (source == 0) return out;
+    const scene::LayerTable& table = scene.layers();
+    const int foliage_layer = source == 2 ? scene.foliage_layer() : -1;
+    const std::string why = "the scene's layer colours";
+    for (int k = 0; k < 4; ++k) {
+        const int l = source == 1 ? int(pv.at("first")) + k : foliage_layer;
+        if (l < 0 || l >= int(table.layers.size())) continue;
+        const scene::Layer& layer = table.layers[std::size_t(l)];
+        const std::string n = std::to_string(k);
+        for (int c = 0; c < 3; ++c) {
+            const std::string ch(1, "rgb"[c]);
+            out.push_back({"color" + n + "_" + ch, double(layer.color[c]), why});
+            out.push_back({"dark" + n + "_" + ch, double(layer.dark[c]), why});
+        }
+        if (source == 1) out.push_back({"alpha" + n, double(layer.alpha) * pv.at("alpha" + n), why});
+    }
+    return out;
+}
+}  // namespace
+
 void register_color_ramp(Registry& r) {
     StageVariant v;
     v.stage = "color_ramp";
@@ -140,6 +168,7 @@ void register_color_ramp(Registry& r) {
         color_ramp(out, *io.in[0], color_ramp_params(pv), ex);
     });
     v.reference = StageVariant::Reference::SharedMaths;
+    v.scene_params = layer_colors;
     r.add(std::move(v));
 }
 

@@ -139,6 +139,7 @@ void register_pigment_density(Registry& r) {
     };
     v.reference = StageVariant::Reference::PlainLoop;
     v.row_halo = pointwise_rows;
+    v.image_space_turbulence = true;
     r.add(std::move(v));
 }
 

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/hash.h"
+#include "raster/pass.h"
 #include "stylize/pipeline.h"
 #include "tests/test_support.h"
 
