@@ -325,73 +325,16 @@ glm::vec3 base_color_working(const ShadeContext& ctx, const scene::Material& m, 
 
 // ---- The material, lane-generic ------------------------------------------------------------
 // The maths of shade_fragment is written once (shade_lanes) over a lane type: one fragment in
-// float / glm::vec3, or eight fragments in simd::v8f / Lanes3 (shade_fragments). Every lane
+// float / glm::vec3, or eight fragments in simd::v8f / lanes::Lanes3 (shade_fragments). Every lane
 // operation is the scalar one (element-wise IEEE, operands in the same order, branches as
 // selects of both computed values), so a batch gives each fragment the bits shade_fragment gives
 // it. Texture fetches and powf stay per fragment (scalar calls on each lane).
 namespace {
 
+// The lane vocabulary (core/lanes.h): scalar and eight-lane forms of one set of functions.
 using simd::v8f;
 using simd::v8i;
-// The one-fragment forms of material.h beside the lane forms below.
-using raster::dot3;
-using raster::normalize3;
-using raster::sat;
-
-inline v8f bcast(float x) { return v8f{x, x, x, x, x, x, x, x}; }  // (not 0 + x: keeps -0)
-//! x in every lane of F, bit for bit.
-template <class F> inline F splat(float x);
-template <> inline float splat<float>(float x) { return x; }
-template <> inline v8f splat<v8f>(float x) { return bcast(x); }
-
-//! Three coordinates of eight fragments.
-struct Lanes3 {
-    v8f x, y, z;
-};
-inline Lanes3 bcast(glm::vec3 v) { return {bcast(v.x), bcast(v.y), bcast(v.z)}; }
-inline Lanes3 operator+(const Lanes3& a, const Lanes3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Lanes3 operator-(const Lanes3& a, const Lanes3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Lanes3 operator*(const Lanes3& a, const Lanes3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-inline Lanes3 operator*(const Lanes3& a, v8f s) { return {a.x * s, a.y * s, a.z * s}; }
-inline Lanes3 operator*(v8f s, const Lanes3& a) { return {s * a.x, s * a.y, s * a.z}; }
-inline Lanes3 operator*(const Lanes3& a, float s) { return a * bcast(s); }
-inline Lanes3 operator-(const Lanes3& a) { return {-a.x, -a.y, -a.z}; }
-// Uniform (per draw) glm vectors on either side, in the operand order of the glm expression.
-inline Lanes3 operator+(glm::vec3 a, const Lanes3& b) { return bcast(a) + b; }
-inline Lanes3 operator+(const Lanes3& a, glm::vec3 b) { return a + bcast(b); }
-inline Lanes3 operator-(glm::vec3 a, const Lanes3& b) { return bcast(a) - b; }
-inline Lanes3 operator*(glm::vec3 a, v8f s) { return bcast(a) * s; }
-
-// Selects and the std::min / std::max / sat / dot3 / normalize3 of material.h, lane by lane.
-inline float select(bool m, float a, float b) { return m ? a : b; }
-inline v8f select(v8i m, v8f a, v8f b) { return m ? a : b; }
-inline glm::vec3 select(bool m, glm::vec3 a, glm::vec3 b) { return m ? a : b; }
-inline Lanes3 select(v8i m, const Lanes3& a, const Lanes3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
-template <class F> inline F min_of(F a, F b) { return select(b < a, b, a); }  // std::min(a, b)
-template <class F> inline F max_of(F a, F b) { return select(a < b, b, a); }  // std::max(a, b)
-inline float root(float x) { return std::sqrt(x); }
-inline v8f root(v8f x) { return simd::sqrt8(x); }
-inline v8f sat(v8f x) { return min_of(max_of(x, bcast(0.0f)), bcast(1.0f)); }
-inline Lanes3 sat(const Lanes3& v) { return {sat(v.x), sat(v.y), sat(v.z)}; }
-inline v8f dot3(const Lanes3& a, const Lanes3& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-inline Lanes3 normalize3(const Lanes3& v) {
-    const v8f l2 = dot3(v, v);
-    return select(l2 > 0.0f, v * (1.0f / root(l2)), v);
-}
-template <class F> inline F clamp1_of(F v) { return min_of(max_of(v, splat<F>(-1.0f)), splat<F>(1.0f)); }  // clamp1
-inline glm::vec3 cross3(glm::vec3 a, glm::vec3 b) { return glm::cross(a, b); }
-inline Lanes3 cross3(const Lanes3& a, const Lanes3& b) {  // glm::cross's order of operations
-    return {a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y};
-}
-inline float sign_of(float w) { return w < 0.0f ? -1.0f : 1.0f; }
-inline v8f sign_of(v8f w) { return select(w < 0.0f, bcast(-1.0f), bcast(1.0f)); }
-
-//! f applied to each lane (scalar calls: powf, textures).
-template <class Fn> inline float each_lane(float x, Fn&& f) { return f(x, 0); }
-template <class Fn> inline v8f each_lane(v8f x, Fn&& f) {
-    for (int i = 0; i < 8; ++i) x[i] = f(x[i], i);
-    return x;
-}
+using namespace lanes;
 
 // The WC17 / MNPR pure functions of material.h, lane-generic (the float forms call these).
 template <class F> inline F diffuse_factor_of(F n_dot_l, float shade_wrap, float k) {

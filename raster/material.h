@@ -12,19 +12,15 @@
 
 #include <glm/glm.hpp>
 
+#include "core/lanes.h"
 #include "raster/raster.h"
 
 namespace aq::raster {
 
-inline float sat(float x) { return std::min(std::max(x, 0.0f), 1.0f); }
-inline glm::vec3 sat(glm::vec3 v) { return {sat(v.x), sat(v.y), sat(v.z)}; }
-inline float dot3(glm::vec3 a, glm::vec3 b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-//! v * (1 / sqrt(dot(v, v))); the zero vector is returned unchanged.
-inline glm::vec3 normalize3(glm::vec3 v) {
-    const float l2 = dot3(v, v);
-    if (!(l2 > 0.0f)) return v;
-    return v * (1.0f / std::sqrt(l2));
-}
+// One-value forms of the lane vocabulary the material is written in (core/lanes.h).
+using lanes::dot3;
+using lanes::normalize3;
+using lanes::sat;
 
 //! The base colour (factor x texture x COLOR_0) in the working space: a glTF material
 //! (linear_color) is clamped to [0, 1] and encoded to sRGB for the display-referred space; a

@@ -1,6 +1,7 @@
-// stylize/kernels.h — the shared maths (core/maths.h) under the names the stages use.
+// stylize/kernels.h — the shared maths (core/maths.h, core/fastmath.h) under the names the stages use.
 #pragma once
 
+#include "core/fastmath.h"
 #include "core/maths.h"
 
 namespace aq::stylize {
@@ -14,6 +15,9 @@ using maths::length3;
 using maths::lerp;
 using maths::luminance;
 using maths::mix;
+using maths::pow_c;
+using maths::pow_c8;
+using maths::pow_c_many;
 using maths::sample_bilinear;
 using maths::sample_resampled;
 using maths::sat;

@@ -1,6 +1,6 @@
 // stylize/stages/extend_edges.cpp — see extend_edges.h. The separable part is blur.h (bit-exact
 // reference/fast); the pointwise gamma is extend_edges_gamma, pixel by pixel in the reference and
-// packed by chunks in the fast schedule, with the deterministic pow_c of stylize/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
+// packed by chunks in the fast schedule, with the deterministic pow_c of core/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
 // flags only, no value changes).
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/extend_edges.h"
@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 #include <vector>
 
 #include "stylize/stages/blur.h"

@@ -7,7 +7,7 @@
 
 #include "core/exec.h"
 #include "core/image.h"
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize {

@@ -1,6 +1,6 @@
 // stylize/stages/pigment_density.cpp — spec §4.3 (WC18 pigment turbulence in image space, MNPR
 // form). Pointwise: reference and fast run the same per-pixel function (bit-exact). The powers
-// are the deterministic pow_c of stylize/fastmath.h, taken over chunks of a row so the loop
+// are the deterministic pow_c of core/fastmath.h, taken over chunks of a row so the loop
 // vectorises (it needs -fno-trapping-math: FP exception flags only, no value changes).
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/pigment_density.h"
@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <cmath>
 
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
 

@@ -27,7 +27,7 @@ void register_pigment_density(Registry& r);
 
 }  // namespace aq::stylize
 
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 #include "stylize/kernels.h"
 
 namespace aq::stylize {

@@ -21,7 +21,6 @@
 #include "core/exec.h"
 #include "core/image.h"
 #include "core/simd.h"
-#include "stylize/fastmath.h"
 #include "stylize/kernels.h"
 #include "stylize/paper.h"
 #include "stylize/stage.h"

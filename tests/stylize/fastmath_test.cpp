@@ -1,6 +1,6 @@
-// tests/stylize/fastmath_test.cpp — stylize/fastmath.h: the deterministic vectorisable pow_c of
+// tests/stylize/fastmath_test.cpp — core/fastmath.h: the deterministic vectorisable pow_c of
 // the colour-transmittance model against std::pow, and its exact cases.
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 
 #include <algorithm>
 #include <bit>

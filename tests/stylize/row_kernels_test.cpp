@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "stylize/fastmath.h"
+#include "stylize/kernels.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/edge_darken.h"
 #include "stylize/stages/pigment_apply.h"

@@ -1,5 +1,5 @@
-// stylize/fastmath.h — deterministic, vectorisable replacements for libm calls in stage inner
-// loops. Written once over the number type (one float, or eight lanes of core/simd.h) with plain
+// core/fastmath.h — deterministic, vectorisable replacements for libm calls in inner loops (the
+// stages' colour transmittance powers; stylize/kernels.h names them in aq::stylize). Written once over the number type (one float, or eight lanes of core/simd.h) with plain
 // float multiply/add and selects only (no libm call, no branch), so the scalar and the lane forms
 // perform the same IEEE operations: the same bits on every machine and in both traversals (our
 // flags forbid FMA contraction, docs/determinism.md). Loops over arrays of values call the array
@@ -11,9 +11,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/lanes.h"
 #include "core/simd.h"
 
-namespace aq::stylize {
+namespace aq::maths {
 
 // pow for the colour transmittance model C^d (WC17 eq. 8/9, WC18 §3.1 and eq. 2): x in [0,1]
 // (values are clamped to >= 0, as MNPR's pow(abs(c), d) for colours), d > 0 in practice.
@@ -24,33 +25,7 @@ namespace aq::stylize {
 // one 8-bit output step.
 
 namespace fastmath_detail {
-// What pow_lanes needs of its number type, for one float and for eight in lanes (core/simd.h):
-// broadcast constants, bit casts, int <-> float conversions and floor. Each is exact (or, for
-// floor, the one correctly defined value), so the lanes compute what the scalar computes.
-template <class F>
-struct Num;
-template <>
-struct Num<float> {
-    using I = int;
-    using U = std::uint32_t;
-    static float k(float v) { return v; }
-    static U bits(float x) { return std::bit_cast<U>(x); }
-    static float from_bits(U b) { return std::bit_cast<float>(b); }
-    static float to_float(I i) { return float(i); }
-    static I to_int(float x) { return I(x); }
-    static float floor(float x) { return std::floor(x); }
-};
-template <>
-struct Num<simd::v8f> {
-    using I = simd::v8i;
-    typedef std::uint32_t U __attribute__((vector_size(32)));
-    static simd::v8f k(float v) { return simd::v8f{} + v; }
-    static U bits(simd::v8f x) { return U(x); }
-    static simd::v8f from_bits(U b) { return simd::v8f(b); }
-    static simd::v8f to_float(I i) { return __builtin_convertvector(i, simd::v8f); }
-    static I to_int(simd::v8f x) { return __builtin_convertvector(x, simd::v8i); }
-    static simd::v8f floor(simd::v8f x) { return simd::floor8(x); }
-};
+using lanes::Num;
 
 // pow_c's operations for F = float or eight lanes (simd::v8f): written once, so a lane performs
 // exactly the scalar's IEEE operations (conditions combine with & and |, selects are ?:).
@@ -124,4 +99,4 @@ inline void pow_c_many(const float* x, const float* d, float* r, std::size_t n) 
     for (; i < n; ++i) r[i] = pow_c(x[i], d[i]);
 }
 
-}  // namespace aq::stylize
+}  // namespace aq::maths
