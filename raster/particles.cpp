@@ -4,6 +4,8 @@
 // particles and their blocks on the whole image and calls the same per-fragment function.
 #include "raster/particles.h"
 
+#include "raster/tiles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -224,36 +226,24 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
                 for (int x = s.x0; x <= s.x1; ++x) fragment(s, x, y);
         return;
     }
-    // Bin sprites into tiles, in particle order (counting sort: stable).
-    const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile, nt = tx * ty;
-    std::vector<std::uint32_t> offsets(std::size_t(nt) + 1, 0);
-    for (const Sprite& s : sprites)
-        for (int j = s.y0 / kTile; j <= s.y1 / kTile; ++j)
-            for (int i = s.x0 / kTile; i <= s.x1 / kTile; ++i) ++offsets[std::size_t(j * tx + i) + 1];
-    for (int t = 0; t < nt; ++t) offsets[std::size_t(t) + 1] += offsets[std::size_t(t)];
-    std::vector<std::uint32_t> items(offsets.back()), fill(offsets.begin(), offsets.end() - 1);
-    for (std::uint32_t k = 0; k < sprites.size(); ++k) {
-        const Sprite& s = sprites[k];
-        for (int j = s.y0 / kTile; j <= s.y1 / kTile; ++j)
-            for (int i = s.x0 / kTile; i <= s.x1 / kTile; ++i) items[fill[std::size_t(j * tx + i)]++] = k;
-    }
-    with_arena(ex, [&] {
-        tbb::parallel_for(0, nt, [&](int t) {
-            const int X0 = (t % tx) * kTile, Y0 = (t / tx) * kTile;
-            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
-            for (std::uint32_t k = offsets[std::size_t(t)]; k < offsets[std::size_t(t) + 1]; ++k) {
-                const Sprite& s = sprites[items[k]];
-                const int xa = std::max(s.x0, X0), xb = std::min(s.x1, X1);
-                for (int y = std::max(s.y0, Y0); y <= std::min(s.y1, Y1); ++y) {
+    // Sprites binned into tiles in particle order (raster/tiles.h), each tile drawn by one task.
+    const TileGrid grid(W, H);
+    const TileBins bins = bin_boxes(grid, sprites.size(), [&](std::size_t k) {
+        return TileRect{sprites[k].x0, sprites[k].y0, sprites[k].x1, sprites[k].y1};
+    });
+    for_each_grid_tile(ex, grid, [&](int t, TileRect tr) {
+        for (const std::uint32_t k : bins.of(t)) {
+            const Sprite& s = sprites[k];
+            const int xa = std::max(s.x0, tr.x0), xb = std::min(s.x1, tr.x1);
+            for (int y = std::max(s.y0, tr.y0); y <= std::min(s.y1, tr.y1); ++y) {
 #ifdef __AVX2__
-                    const std::size_t row = std::size_t(y) * W;
-                    fragment_row_avx2(s, round, delta, p.beta, y, xa, xb, maps[s.cls] + row, dpix.data() + row);
+                const std::size_t row = std::size_t(y) * W;
+                fragment_row_avx2(s, round, delta, p.beta, y, xa, xb, maps[s.cls] + row, dpix.data() + row);
 #else
-                    for (int x = xa; x <= xb; ++x) fragment(s, x, y);
+                for (int x = xa; x <= xb; ++x) fragment(s, x, y);
 #endif
-                }
             }
-        });
+        }
     });
 }
 

@@ -3,6 +3,8 @@
 // tiled oneTBB), both calling the one per-fragment function `fragment`.
 #include "raster/pass.h"
 
+#include "raster/tiles.h"
+
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -365,8 +367,8 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             return;
         }
         tbb::parallel_for(0, fr.tiles_x * fr.tiles_y, [&](int tile) {
-            const int X0 = (tile % fr.tiles_x) * kTile, Y0 = (tile / fr.tiles_x) * kTile;
-            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+            const TileRect tr = TileGrid::tile_rect(tile, fr.tiles_x, W, H);
+            const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1;
             float zbuf[kTile * kTile];
             std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
             if (deferred) {

@@ -9,6 +9,8 @@
 #pragma GCC optimize("no-trapping-math")  // lets the capsule row loop if-convert and vectorise; values unchanged
 #include "raster/strokes.h"
 
+#include "raster/tiles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -20,6 +22,7 @@
 
 #include "raster/vertex.h"
 #include "core/maths.h"
+#include "core/simd.h"
 
 namespace aq::raster {
 
@@ -285,8 +288,11 @@ void render_strokes(ImageF& out, const PassScene& ps, const std::vector<Stroke>&
     render_strokes(out, ps, one, p, ex, dropped);
 }
 
-void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vector<Stroke>* const> lists,
-                    const StrokeParams& p, const Exec& ex, std::size_t* dropped) {
+namespace {
+
+//! Throws aq::Error for a parameter out of range or more strokes / vertices than the limits;
+//! returns the number of strokes.
+std::size_t check_strokes(std::span<const std::vector<Stroke>* const> lists, const StrokeParams& p) {
     auto finite_in = [](float v, float lo, float hi) { return std::isfinite(v) && v >= lo && v <= hi; };
     if (!(std::isfinite(p.width_px) && p.width_px > 0.0f && p.width_px <= kMaxStrokeWidthPx))
         throw Error("strokes: width must be in (0, 64] pixels");
@@ -305,19 +311,26 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         throw Error("strokes: " + std::to_string(total) + " stroke vertices exceed the limit of " + std::to_string(kMaxStrokeVertices));
     if (p.test != DepthTest::Binary && (!p.depth_map || p.depth_map->empty() || p.depth_map->channels() != 1))
         throw Error("strokes: the blurred depth test needs a 1-channel depth map");
-    const PassViewSetup view = pass_view(ps, PassView::Camera, p.scale);
+    return count;
+}
+
+//! The strokes projected to the pass's pixels: one slot per stroke segment (a dropped or
+//! clipped-away one stays invalid and is skipped) and the strokes with pixels to draw, in
+//! submission order.
+struct ProjectedStrokes {
+    std::vector<Seg> segs;
+    std::vector<PStroke> strokes;
+    std::size_t dropped = 0;  //!< segments with non-finite or far-off coordinates
+};
+
+//! Project (clip at the near plane in view space). Strokes in parallel: each fills its own slots
+//! of `segs` and its bounds.
+ProjectedStrokes project_strokes(std::span<const std::vector<Stroke>* const> lists, std::size_t count,
+                                 const PassScene& ps, const PassViewSetup& view, float half, const Exec& ex) {
     const int W = view.width, H = view.height;
-    if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, 0.0f);
-    else std::fill(out.data(), out.data() + std::size_t(W) * H, 0.0f);
-    const float half = 0.5f * p.width_px * float(W) / float(kLd06SizeReferenceStrokes);
-    const float r2 = half * half;
     const glm::mat4 proj = projection_matrix(view.camera, float(ps.width) / float(ps.height));
     const glm::mat3 vrot(view.camera.view);
-    const glm::vec3 light_view = glm::normalize(vrot * ps.light_dir);
     const float znear = view.camera.znear;
-
-    // Project (clip at the near plane in view space). Strokes in parallel: each fills its own slots
-    // of `segs` (one per segment; a dropped or clipped-away one stays invalid) and its bounds.
     std::vector<const Stroke*> all;
     all.reserve(count);
     for (const std::vector<Stroke>* l : lists)
@@ -325,7 +338,9 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     std::vector<std::uint32_t> slot(all.size() + 1, 0);
     for (std::size_t i = 0; i < all.size(); ++i)
         slot[i + 1] = slot[i] + std::uint32_t(all[i]->points.size() > 1 ? all[i]->points.size() - 1 : 0);
-    std::vector<Seg> segs(slot.back());
+    ProjectedStrokes r;
+    std::vector<Seg>& segs = r.segs;
+    segs.resize(slot.back());
     std::vector<PStroke> projected(all.size());
     std::vector<std::uint32_t> valid_count(all.size(), 0), drops(all.size(), 0);
     auto to_px = [&](glm::vec3 v, float* x, float* y) {
@@ -407,27 +422,70 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     for_each_block(ex, all.size(), kProjectBlock, [&](std::size_t s0, std::size_t s1) {
         for (std::size_t si = s0; si < s1; ++si) project(si);
     });
-    std::vector<PStroke> ps_strokes;
-    std::size_t drop = 0;
     for (std::size_t si = 0; si < all.size(); ++si) {
         const PStroke& q = projected[si];
-        drop += drops[si];
-        if (valid_count[si] > 0 && q.bx0 <= q.bx1 && q.by0 <= q.by1) ps_strokes.push_back(q);
+        r.dropped += drops[si];
+        if (valid_count[si] > 0 && q.bx0 <= q.bx1 && q.by0 <= q.by1) r.strokes.push_back(q);
     }
-    if (dropped) *dropped = drop;
-    View<const float> D;
-    if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) D = p.depth_map->view<float>();
+    return r;
+}
 
-    // The pixel's value once its nearest segment is known: eq. 2 visibility and the §4.4 fades,
-    // alpha_of(...) composited "over" the stroke map (over). depth_at: the depth map at a pixel
-    // (the texel itself when the map has the pass's size, as the toolkit resamples).
-    const bool tested = D.data != nullptr;
-    const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
-    auto depth_at = [&](int x, int y) {
+//! The drawing's work, bounded before any pixel is touched (docs/limits.md "Work budgets"): in
+//! pixel-segment distance tests as the chosen traversal makes them. The reference tries every
+//! segment of a stroke at every pixel of the stroke's bounds; the tiled traversal tries each
+//! segment over its capsule bounds within the image, and looks at every segment of a stroke once
+//! per tile the stroke's bounds touch. Throws aq::Error over kMaxStrokeWork.
+void check_stroke_work(const ProjectedStrokes& pr, float half, int W, int H, const Exec& ex) {
+    const std::vector<PStroke>& ps_strokes = pr.strokes;
+    const std::vector<Seg>& segs = pr.segs;
+    double work = 0;
+    for (const PStroke& st : ps_strokes) {
+        const double bw = st.bx1 - st.bx0 + 1, bh = st.by1 - st.by0 + 1;
+        if (ex.traversal == Traversal::Reference) {
+            work += bw * bh * double(st.count);
+            continue;
+        }
+        const double tiles = double(st.bx1 / kTile - st.bx0 / kTile + 1) * double(st.by1 / kTile - st.by0 / kTile + 1);
+        work += tiles * double(st.count);
+        for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+            if (!segs[k].valid) continue;
+            const PxBox b = capsule_box(segs[k], half);
+            const double w = std::min(b.x1, W - 1) - std::max(b.x0, 0) + 1 + 2 * (kGroup - 1);  // widened to 8-pixel groups
+            const double h = std::min(b.y1, H - 1) - std::max(b.y0, 0) + 1;
+            if (w > 0 && h > 0) work += w * h;
+        }
+    }
+    if (work > double(kMaxStrokeWork))
+        throw Error("strokes: drawing these strokes at " + std::to_string(W) + "x" + std::to_string(H) + " would take " +
+                    std::to_string(static_cast<long long>(work / 1e6)) + " million pixel-segment tests, over the budget of " +
+                    std::to_string(kMaxStrokeWork / 1'000'000) + " million (docs/limits.md \"Work budgets\"); use fewer or "
+                    "shorter segments, a narrower stroke or a smaller image");
+}
+
+//! The value of a drawn pixel once its nearest segment is known (composite): eq. 2 visibility and
+//! the §4.4 fades, alpha_of(...) composited "over" the stroke map (over). depth_at: the depth map
+//! at a pixel (the texel itself when the map has the pass's size, as the toolkit resamples).
+struct StrokeShader {
+    const StrokeParams& p;
+    const PassViewSetup& view;
+    const std::vector<Seg>& segs;
+    glm::vec3 light_view;
+    View<const float> D;
+    int W, H;
+    bool tested;
+    float delta;
+
+    StrokeShader(const StrokeParams& params, const PassViewSetup& v, const std::vector<Seg>& s, glm::vec3 light)
+        : p(params), view(v), segs(s), light_view(light), W(v.width), H(v.height) {
+        if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) D = p.depth_map->view<float>();
+        tested = D.data != nullptr;
+        delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
+    }
+    float depth_at(int x, int y) const {
         const float Dv = maths::sample_resampled(D, x, y, W, H);
         return p.test == DepthTest::BlurredRgba8 ? quantize_depth_rgba8(Dv) : Dv;
-    };
-    auto alpha_of = [&](bool light_dependent, const Seg& g, float ts, int x, int y) {
+    }
+    float alpha_of(bool light_dependent, const Seg& g, float ts, int x, int y) const {
         // Screen parameter -> view-space parameter (perspective-correct through the depths).
         float t = ts;
         if (!view.camera.orthographic) {
@@ -447,15 +505,14 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
             if (light_dependent) a *= 1.0f - maths::smoothstep(p.nl_lo, p.nl_hi, glm::dot(n, light_view));
         }
         return a;
-    };
-    auto over = [](float* dst, float a) { *dst = a + *dst * (1.0f - a); };
+    }
 #ifdef __AVX2__
     // alpha_of for eight drawn pixels (lane l: pixel (xs[l], ys[l]), segment ks[l], screen parameter
     // ts[l], a hatching stroke's when lights[l]; n <= 8 lanes used, the others copy lane 0): its
     // operations lane by lane, bit for bit (glm's dot is (x·x + y·y) + z·z, normalize multiplies by
     // 1 / sqrt).
-    auto alpha8 = [&](const int* xs, const int* ys, const std::uint32_t* ks, const float* ts,
-                      const std::uint8_t* lights, int n, float* out_a) {
+    void alpha8(const int* xs, const int* ys, const std::uint32_t* ks, const float* ts, const std::uint8_t* lights,
+                int n, float* out_a) const {
         // Fields, one register each: ts, pa.xyz, pb.xyz, na.xyz, nb.xyz (transposed from the
         // lanes' segments: 8 x 8 and 8 x 4 floats), D, has_normal, light.
         alignas(32) float f0[8], f13[8], f14[8], f15[8];
@@ -541,242 +598,264 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
         alignas(32) float r[8];
         _mm256_store_ps(r, a);
         for (int l = 0; l < n; ++l) out_a[l] = r[l];
-    };
+    }
 #endif
-    // The drawing's work, bounded before any pixel is touched (docs/limits.md "Work budgets"): in
-    // pixel-segment distance tests as the chosen traversal makes them. The reference tries every
-    // segment of a stroke at every pixel of the stroke's bounds; the tiled traversal tries each
-    // segment over its capsule bounds within the image, and looks at every segment of a stroke once
-    // per tile the stroke's bounds touch.
-    {
-        double work = 0;
-        for (const PStroke& st : ps_strokes) {
-            const double bw = st.bx1 - st.bx0 + 1, bh = st.by1 - st.by0 + 1;
-            if (ex.traversal == Traversal::Reference) {
-                work += bw * bh * double(st.count);
-                continue;
-            }
-            const double tiles = double(st.bx1 / kTile - st.bx0 / kTile + 1) * double(st.by1 / kTile - st.by0 / kTile + 1);
-            work += tiles * double(st.count);
-            for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
-                if (!segs[k].valid) continue;
-                const PxBox b = capsule_box(segs[k], half);
-                const double w = std::min(b.x1, W - 1) - std::max(b.x0, 0) + 1 + 2 * (kGroup - 1);  // widened to 8-pixel groups
-                const double h = std::min(b.y1, H - 1) - std::max(b.y0, 0) + 1;
-                if (w > 0 && h > 0) work += w * h;
-            }
-        }
-        if (work > double(kMaxStrokeWork))
-            throw Error("strokes: drawing these strokes at " + std::to_string(W) + "x" + std::to_string(H) + " would take " +
-                        std::to_string(static_cast<long long>(work / 1e6)) + " million pixel-segment tests, over the budget of " +
-                        std::to_string(kMaxStrokeWork / 1'000'000) + " million (docs/limits.md \"Work budgets\"); use fewer or "
-                        "shorter segments, a narrower stroke or a smaller image");
-    }
-    float* img = out.data();
-    if (ex.traversal == Traversal::Reference) {
-        for (const PStroke& st : ps_strokes)
-            for (int y = st.by0; y <= st.by1; ++y)
-                for (int x = st.bx0; x <= st.bx1; ++x) {
-                    const float px = float(x) + 0.5f, py = float(y) + 0.5f;
-                    float best = std::numeric_limits<float>::infinity(), bt = 0;
-                    std::uint32_t bs = 0;
-                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
-                        if (!segs[k].valid) continue;
-                        float t;
-                        const float d2 = seg_dist2(segs[k], px, py, &t);
-                        if (d2 < best) best = d2, bt = t, bs = k;
-                    }
-                    if (best <= r2) over(img + std::size_t(y) * W + x, alpha_of(st.light_dependent, segs[bs], bt, x, y));
-                }
-        return;
-    }
-    const int tx = (W + kTile - 1) / kTile, ty = (H + kTile - 1) / kTile, nt = tx * ty;
-    std::vector<std::uint32_t> offsets(std::size_t(nt) + 1, 0);
+};
+
+inline void over(float* dst, float a) { *dst = a + *dst * (1.0f - a); }
+
+//! The reference traversal: per stroke, every pixel of its bounds tries every segment.
+void draw_strokes_reference(float* img, const ProjectedStrokes& pr, float r2, const StrokeShader& sh) {
+    const std::vector<PStroke>& ps_strokes = pr.strokes;
+    const std::vector<Seg>& segs = pr.segs;
+    const int W = sh.W;
     for (const PStroke& st : ps_strokes)
-        for (int j = st.by0 / kTile; j <= st.by1 / kTile; ++j)
-            for (int i = st.bx0 / kTile; i <= st.bx1 / kTile; ++i) ++offsets[std::size_t(j * tx + i) + 1];
-    for (int t = 0; t < nt; ++t) offsets[std::size_t(t) + 1] += offsets[std::size_t(t)];
-    std::vector<std::uint32_t> items(offsets.back()), fill(offsets.begin(), offsets.end() - 1);
-    for (std::uint32_t k = 0; k < ps_strokes.size(); ++k) {
-        const PStroke& st = ps_strokes[k];
-        for (int j = st.by0 / kTile; j <= st.by1 / kTile; ++j)
-            for (int i = st.bx0 / kTile; i <= st.bx1 / kTile; ++i) items[fill[std::size_t(j * tx + i)]++] = k;
-    }
-    with_arena(ex, [&] {
-        tbb::parallel_for(0, nt, [&](int tile) {
-            const int X0 = (tile % tx) * kTile, Y0 = (tile / tx) * kTile;
-            const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
-            float best[kTile * kTile], bt[kTile * kTile];
-            std::uint32_t bs[kTile * kTile];
-            // Drawn pixels waiting to be shaded, in drawing order (strokes in order, each row by row):
-            // their alphas do not depend on the order, so they are computed eight at a time across
-            // strokes, then composited "over" in this order. Flushed at kShadeBatch and at the end.
-            alignas(32) int qx[kPending], qy[kPending];
-            alignas(32) std::uint32_t pk[kPending];
-            alignas(32) float pt[kPending];
-            std::uint8_t plight[kPending];
-            int np = 0;
-            auto flush = [&] {
-#ifdef __AVX2__
-                for (int i0 = 0; i0 < np; i0 += 8) {
-                    const int m = std::min(8, np - i0);
-                    float av[8];
-                    alpha8(qx + i0, qy + i0, pk + i0, pt + i0, plight + i0, m, av);
-                    for (int l = 0; l < m; ++l) over(img + std::size_t(qy[i0 + l]) * W + qx[i0 + l], av[l]);
+        for (int y = st.by0; y <= st.by1; ++y)
+            for (int x = st.bx0; x <= st.bx1; ++x) {
+                const float px = float(x) + 0.5f, py = float(y) + 0.5f;
+                float best = std::numeric_limits<float>::infinity(), bt = 0;
+                std::uint32_t bs = 0;
+                for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+                    if (!segs[k].valid) continue;
+                    float t;
+                    const float d2 = seg_dist2(segs[k], px, py, &t);
+                    if (d2 < best) best = d2, bt = t, bs = k;
                 }
-#else
-                for (int i = 0; i < np; ++i)
-                    over(img + std::size_t(qy[i]) * W + qx[i], alpha_of(plight[i] != 0, segs[pk[i]], pt[i], qx[i], qy[i]));
-#endif
-                np = 0;
-            };
-#ifdef __AVX2__
-            const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-            // Appends the lanes of `mask` (pixels xs on row y, screen parameters u, segments k) to
-            // the drawn-pixel list, in lane order: a table gives the kept lanes' indices.
-            auto list8 = [&](int mask, __m256i xs, int y, __m256 u, __m256i k, std::uint8_t light) {
-                const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
-                _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_permutevar8x32_epi32(xs, idx));
-                _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
-                _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(u, idx));
-                _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np), _mm256_permutevar8x32_epi32(k, idx));
-                std::memset(plight + np, light, kGroup);
-                np += __builtin_popcount(unsigned(mask));
-            };
-#endif
-            const std::uint32_t it_end = offsets[std::size_t(tile) + 1];
-            for (std::uint32_t it = offsets[std::size_t(tile)]; it < it_end; ++it) {
-                const PStroke& st = ps_strokes[items[it]];
-                if (it + kPrefetchAhead < it_end) {  // the strokes of a tile lie apart in memory
-                    const PStroke& ahead = ps_strokes[items[it + kPrefetchAhead]];
-                    __builtin_prefetch(&segs[ahead.first]);
-                    __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 64);
-                    __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 128);
-                }
-                if (it + 2 * kPrefetchAhead < it_end) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
-                const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
-                const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
-                const std::uint8_t light = st.light_dependent ? 1 : 0;
-#ifdef __AVX2__
-                // A short stroke (hatching: a few segments over a few pixels) in one pass over its
-                // bounds: per group of eight pixels, every segment in order (the strict < of
-                // nearest(), first on a tie) in registers, the drawn lanes listed at once. Pixels
-                // of the bounds outside every capsule_box are not drawn, as in the reference.
-                if (st.count <= kDirectSegments && x1 - x0 < kDirectSpan && y1 - y0 < kDirectSpan) {
-                    int nseg = 0;
-                    SegLanes sl[kDirectSegments];
-                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k)
-                        if (segs[k].valid) sl[nseg++] = SegLanes(segs[k], k);
-                    const int gx0 = X0 + ((x0 - X0) & ~(kGroup - 1));
-                    const __m256 r2v = _mm256_set1_ps(r2), inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-                    for (int y = y0; y <= y1; ++y) {
-                        const __m256 vpy = _mm256_set1_ps(float(y) + 0.5f);
-                        for (int gx = gx0; gx <= x1; gx += kGroup) {
-                            const __m256i xs = _mm256_add_epi32(_mm256_set1_epi32(gx), lanes);
-                            const __m256 vpx = _mm256_add_ps(_mm256_cvtepi32_ps(xs), _mm256_set1_ps(0.5f));
-                            __m256 best8 = inf, bu = _mm256_setzero_ps();
-                            __m256i bk = _mm256_setzero_si256();
-                            for (int i = 0; i < nseg; ++i) {
-                                __m256 u;
-                                const __m256 d2 = sl[i].dist2(vpx, vpy, &u);
-                                const __m256 win = _mm256_cmp_ps(d2, best8, _CMP_LT_OQ);
-                                best8 = _mm256_blendv_ps(best8, d2, win);
-                                bu = _mm256_blendv_ps(bu, u, win);
-                                bk = _mm256_blendv_epi8(bk, sl[i].k, _mm256_castps_si256(win));
-                            }
-                            const __m256 in_tile = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(X1 + 1), xs));
-                            const int mask = _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(best8, r2v, _CMP_LE_OQ), in_tile));
-                            if (mask != 0) list8(mask, xs, y, bu, bk, light);
-                        }
-                    }
-                } else
-#endif
-                {  // A longer stroke, segment by segment.
-                    // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
-                    // only it is initialised and scanned (outside it no segment is near, best stays
-                    // +inf and nothing is drawn, as over the whole stroke bounds).
-                    int lo[kTile], hi[kTile];
-                    for (int y = y0; y <= y1; ++y) lo[y - Y0] = x1 + 1, hi[y - Y0] = x1;
-                    auto touch = [&](int y, int a, int b) {
-                        float* brow = best + (y - Y0) * kTile - X0;
-                        int& l = lo[y - Y0];
-                        int& h = hi[y - Y0];
-                        if (l > h) {
-                            std::fill(brow + a, brow + b + 1, std::numeric_limits<float>::infinity());
-                            l = a, h = b;
-                            return;
-                        }
-                        if (a < l) std::fill(brow + a, brow + l, std::numeric_limits<float>::infinity()), l = a;
-                        if (b > h) std::fill(brow + h + 1, brow + b + 1, std::numeric_limits<float>::infinity()), h = b;
-                    };
-                    // Segments in order, each over its own capsule bounds: the same minimum (first on
-                    // a tie) as the reference's loop over all segments per pixel.
-                    // A segment's span is widened to whole 8-pixel groups of the tile row (within the
-                    // tile): its distances there are exact too, and a pixel outside its capsule_box is
-                    // either not drawn or nearer to another segment, so the minimum is the reference's
-                    // (which tries every segment at every pixel of the stroke's bounds). The groups run
-                    // as one 8-lane step each, without the short rows' scalar remainders.
-                    for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
-                        const Seg& g = segs[k];
-                        if (!g.valid) continue;
-                        const PxBox b = capsule_box(g, half);
-                        const int sy0 = std::max(y0, b.y0), sy1 = std::min(y1, b.y1);
-                        const int cx0 = std::max(x0, b.x0), cx1 = std::min(x1, b.x1);
-                        if (cx0 > cx1 || sy0 > sy1) continue;
-                        const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
-                        const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
-                        const int groups_end = sx0 + ((sx1 - sx0 + 1) & ~(kGroup - 1));
-                        for (int y = sy0; y <= sy1; ++y) {
-                            touch(y, sx0, sx1);
-                            // Selects, not a branch: the groups vectorise (no-trapping-math above); the
-                            // same strict < (first segment on a tie; NaN never wins).
-                            float* __restrict brow = best + (y - Y0) * kTile - X0;
-                            float* __restrict trow = bt + (y - Y0) * kTile - X0;
-                            std::uint32_t* __restrict srow = bs + (y - Y0) * kTile - X0;
-                            const float py = float(y) + 0.5f;
-                            auto nearer = [&](int x) {
-                                float t;
-                                const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
-                                const bool win = d2 < brow[x];
-                                brow[x] = win ? d2 : brow[x];
-                                trow[x] = win ? t : trow[x];
-                                srow[x] = win ? k : srow[x];
-                            };
-                            int x = sx0;
-                            for (; x < groups_end; x += kGroup)
-                                for (int l = 0; l < kGroup; ++l) nearer(x + l);
-                            for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
-                        }
-                    }
-                    // The drawn pixels are listed: with AVX2 eight at a time, compressed by a table, without
-                    // a branch per pixel (which ones are drawn is irregular along a thin stroke).
-                    for (int y = y0; y <= y1; ++y) {
-                        const float* brow = best + (y - Y0) * kTile - X0;
-                        const float* trow = bt + (y - Y0) * kTile - X0;
-                        const std::uint32_t* srow = bs + (y - Y0) * kTile - X0;
-                        int x = lo[y - Y0];
-                        const int h = hi[y - Y0];
-#ifdef __AVX2__
-                        const __m256 r2v = _mm256_set1_ps(r2);
-                        for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
-                            const int mask =
-                                _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
-                            if (mask != 0)
-                                list8(mask, _mm256_add_epi32(_mm256_set1_epi32(x), lanes), y,
-                                      _mm256_loadu_ps(trow + x),
-                                      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), light);
-                        }
-#endif
-                        for (; x <= h; ++x)
-                            if (brow[x] <= r2)
-                                qx[np] = x, qy[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
-                    }
-                }
-                if (np >= kShadeBatch) flush();
+                if (best <= r2) over(img + std::size_t(y) * W + x, sh.alpha_of(st.light_dependent, segs[bs], bt, x, y));
             }
-            flush();
-        });
+}
+
+//! One tile's drawing (draw_strokes_tiled), strokes in order: per pixel the nearest segment of the
+//! stroke being drawn (best, bt, bs), and the drawn pixels waiting to be shaded, in drawing order
+//! (strokes in order, each row by row): their alphas do not depend on the order, so they are
+//! computed eight at a time across strokes, then composited "over" in this order. Flushed at
+//! kShadeBatch and at the end.
+class StrokeTile {
+public:
+    StrokeTile(float* img, const StrokeShader& sh, const std::vector<Seg>& segs, TileRect tr, float half, float r2)
+        : img(img), sh(sh), segs(segs), W(sh.W), X0(tr.x0), Y0(tr.y0), X1(tr.x1), Y1(tr.y1), half(half), r2(r2) {}
+
+    //! Lists the pixels of the stroke in this tile (x0..x1, y0..y1: its bounds clipped to the tile).
+    void draw(const PStroke& st) {
+        const int x0 = std::max(st.bx0, X0), x1 = std::min(st.bx1, X1);
+        const int y0 = std::max(st.by0, Y0), y1 = std::min(st.by1, Y1);
+        const std::uint8_t light = st.light_dependent ? 1 : 0;
+#ifdef __AVX2__
+        if (st.count <= kDirectSegments && x1 - x0 < kDirectSpan && y1 - y0 < kDirectSpan) scan_short(st, x0, x1, y0, y1, light);
+        else
+#endif
+            scan_long(st, x0, x1, y0, y1, light);
+        if (np >= kShadeBatch) flush();
+    }
+
+    //! Shades the listed pixels and composites them in order.
+    void flush() {
+#ifdef __AVX2__
+    for (int i0 = 0; i0 < np; i0 += 8) {
+        const int m = std::min(8, np - i0);
+        float av[8];
+        sh.alpha8(qx + i0, qy + i0, pk + i0, pt + i0, plight + i0, m, av);
+        for (int l = 0; l < m; ++l) over(img + std::size_t(qy[i0 + l]) * W + qx[i0 + l], av[l]);
+    }
+#else
+    for (int i = 0; i < np; ++i)
+        over(img + std::size_t(qy[i]) * W + qx[i], sh.alpha_of(plight[i] != 0, segs[pk[i]], pt[i], qx[i], qy[i]));
+#endif
+    np = 0;
+    }
+
+private:
+#ifdef __AVX2__
+    // Appends the lanes of `mask` (pixels xs on row y, screen parameters u, segments k) to the
+    // drawn-pixel list, in lane order: a table gives the kept lanes' indices.
+    void list8(int mask, __m256i xs, int y, __m256 u, __m256i k, std::uint8_t light) {
+    const __m256i idx = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(std::int64_t(kCompress.lanes[mask])));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(qx + np), _mm256_permutevar8x32_epi32(xs, idx));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(qy + np), _mm256_set1_epi32(y));
+    _mm256_storeu_ps(pt + np, _mm256_permutevar8x32_ps(u, idx));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(pk + np), _mm256_permutevar8x32_epi32(k, idx));
+    std::memset(plight + np, light, kGroup);
+    np += __builtin_popcount(unsigned(mask));
+    }
+
+    // A short stroke (hatching: a few segments over a few pixels) in one pass over its bounds: per
+    // group of eight pixels, every segment in order (the strict < of nearest(), first on a tie) in
+    // registers, the drawn lanes listed at once. Pixels of the bounds outside every capsule_box
+    // are not drawn, as in the reference.
+    void scan_short(const PStroke& st, int x0, int x1, int y0, int y1, std::uint8_t light) {
+    int nseg = 0;
+    SegLanes sl[kDirectSegments];
+    for (std::uint32_t k = st.first; k < st.first + st.count; ++k)
+        if (segs[k].valid) sl[nseg++] = SegLanes(segs[k], k);
+    const int gx0 = X0 + ((x0 - X0) & ~(kGroup - 1));
+    const __m256 r2v = _mm256_set1_ps(r2), inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+    for (int y = y0; y <= y1; ++y) {
+        const __m256 vpy = _mm256_set1_ps(float(y) + 0.5f);
+        for (int gx = gx0; gx <= x1; gx += kGroup) {
+            const __m256i xs = _mm256_add_epi32(_mm256_set1_epi32(gx), __m256i(simd::kLaneIndex8));
+            const __m256 vpx = _mm256_add_ps(_mm256_cvtepi32_ps(xs), _mm256_set1_ps(0.5f));
+            __m256 best8 = inf, bu = _mm256_setzero_ps();
+            __m256i bk = _mm256_setzero_si256();
+            for (int i = 0; i < nseg; ++i) {
+                __m256 u;
+                const __m256 d2 = sl[i].dist2(vpx, vpy, &u);
+                const __m256 win = _mm256_cmp_ps(d2, best8, _CMP_LT_OQ);
+                best8 = _mm256_blendv_ps(best8, d2, win);
+                bu = _mm256_blendv_ps(bu, u, win);
+                bk = _mm256_blendv_epi8(bk, sl[i].k, _mm256_castps_si256(win));
+            }
+            const __m256 in_tile = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(X1 + 1), xs));
+            const int mask = _mm256_movemask_ps(_mm256_and_ps(_mm256_cmp_ps(best8, r2v, _CMP_LE_OQ), in_tile));
+            if (mask != 0) list8(mask, xs, y, bu, bk, light);
+        }
+    }
+    }
+#endif
+
+    // A longer stroke, segment by segment.
+    void scan_long(const PStroke& st, int x0, int x1, int y0, int y1, std::uint8_t light) {
+    // Per row of the tile, the span [lo, hi] the stroke's segment bounds have touched:
+    // only it is initialised and scanned (outside it no segment is near, best stays
+    // +inf and nothing is drawn, as over the whole stroke bounds).
+    int lo[kTile], hi[kTile];
+    for (int y = y0; y <= y1; ++y) lo[y - Y0] = x1 + 1, hi[y - Y0] = x1;
+    auto touch = [&](int y, int a, int b) {
+        float* brow = best + (y - Y0) * kTile - X0;
+        int& l = lo[y - Y0];
+        int& h = hi[y - Y0];
+        if (l > h) {
+            std::fill(brow + a, brow + b + 1, std::numeric_limits<float>::infinity());
+            l = a, h = b;
+            return;
+        }
+        if (a < l) std::fill(brow + a, brow + l, std::numeric_limits<float>::infinity()), l = a;
+        if (b > h) std::fill(brow + h + 1, brow + b + 1, std::numeric_limits<float>::infinity()), h = b;
+    };
+    // Segments in order, each over its own capsule bounds: the same minimum (first on
+    // a tie) as the reference's loop over all segments per pixel.
+    // A segment's span is widened to whole 8-pixel groups of the tile row (within the
+    // tile): its distances there are exact too, and a pixel outside its capsule_box is
+    // either not drawn or nearer to another segment, so the minimum is the reference's
+    // (which tries every segment at every pixel of the stroke's bounds). The groups run
+    // as one 8-lane step each, without the short rows' scalar remainders.
+    for (std::uint32_t k = st.first; k < st.first + st.count; ++k) {
+        const Seg& g = segs[k];
+        if (!g.valid) continue;
+        const PxBox b = capsule_box(g, half);
+        const int sy0 = std::max(y0, b.y0), sy1 = std::min(y1, b.y1);
+        const int cx0 = std::max(x0, b.x0), cx1 = std::min(x1, b.x1);
+        if (cx0 > cx1 || sy0 > sy1) continue;
+        const int sx0 = X0 + ((cx0 - X0) & ~(kGroup - 1));
+        const int sx1 = std::min(X1, X0 + ((cx1 - X0) | (kGroup - 1)));
+        const int groups_end = sx0 + ((sx1 - sx0 + 1) & ~(kGroup - 1));
+        for (int y = sy0; y <= sy1; ++y) {
+            touch(y, sx0, sx1);
+            // Selects, not a branch: the groups vectorise (no-trapping-math above); the
+            // same strict < (first segment on a tie; NaN never wins).
+            float* __restrict brow = best + (y - Y0) * kTile - X0;
+            float* __restrict trow = bt + (y - Y0) * kTile - X0;
+            std::uint32_t* __restrict srow = bs + (y - Y0) * kTile - X0;
+            const float py = float(y) + 0.5f;
+            auto nearer = [&](int x) {
+                float t;
+                const float d2 = seg_dist2(g, float(x) + 0.5f, py, &t);
+                const bool win = d2 < brow[x];
+                brow[x] = win ? d2 : brow[x];
+                trow[x] = win ? t : trow[x];
+                srow[x] = win ? k : srow[x];
+            };
+            int x = sx0;
+            for (; x < groups_end; x += kGroup)
+                for (int l = 0; l < kGroup; ++l) nearer(x + l);
+            for (; x <= sx1; ++x) nearer(x);  // the tile's last pixels when W % 8 != 0
+        }
+    }
+    // The drawn pixels are listed: with AVX2 eight at a time, compressed by a table, without
+    // a branch per pixel (which ones are drawn is irregular along a thin stroke).
+    for (int y = y0; y <= y1; ++y) {
+        const float* brow = best + (y - Y0) * kTile - X0;
+        const float* trow = bt + (y - Y0) * kTile - X0;
+        const std::uint32_t* srow = bs + (y - Y0) * kTile - X0;
+        int x = lo[y - Y0];
+        const int h = hi[y - Y0];
+#ifdef __AVX2__
+        const __m256 r2v = _mm256_set1_ps(r2);
+        for (; x + kGroup - 1 <= h; x += kGroup) {  // spans are whole groups but at the image's edge
+            const int mask =
+                _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(brow + x), r2v, _CMP_LE_OQ));
+            if (mask != 0)
+                list8(mask, _mm256_add_epi32(_mm256_set1_epi32(x), __m256i(simd::kLaneIndex8)), y,
+                      _mm256_loadu_ps(trow + x),
+                      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(srow + x)), light);
+        }
+#endif
+        for (; x <= h; ++x)
+            if (brow[x] <= r2)
+                qx[np] = x, qy[np] = y, pk[np] = srow[x], pt[np] = trow[x], plight[np++] = light;
+    }
+    }
+
+    float* const img;
+    const StrokeShader& sh;
+    const std::vector<Seg>& segs;
+    const int W, X0, Y0, X1, Y1;
+    const float half, r2;
+    float best[kTile * kTile], bt[kTile * kTile];
+    std::uint32_t bs[kTile * kTile];
+    alignas(32) int qx[kPending], qy[kPending];
+    alignas(32) std::uint32_t pk[kPending];
+    alignas(32) float pt[kPending];
+    std::uint8_t plight[kPending];
+    int np = 0;
+};
+
+//! The tiled traversal: strokes binned into tiles in submission order (raster/tiles.h); per tile,
+//! each stroke's segments over their capsule bounds, the drawn pixels listed and shaded eight at a
+//! time, composited in drawing order (StrokeTile).
+void draw_strokes_tiled(float* img, const ProjectedStrokes& pr, float half, float r2, const StrokeShader& sh,
+                        const Exec& ex) {
+    const std::vector<PStroke>& ps_strokes = pr.strokes;
+    const std::vector<Seg>& segs = pr.segs;
+    const TileGrid grid(sh.W, sh.H);
+    const TileBins bins = bin_boxes(grid, ps_strokes.size(), [&](std::size_t k) {
+        const PStroke& st = ps_strokes[k];
+        return TileRect{st.bx0, st.by0, st.bx1, st.by1};
     });
+    for_each_grid_tile(ex, grid, [&](int tile, TileRect tr) {
+        StrokeTile t(img, sh, segs, tr, half, r2);
+        const std::span<const std::uint32_t> items = bins.of(tile);
+        for (std::size_t it = 0; it < items.size(); ++it) {
+            if (it + kPrefetchAhead < items.size()) {  // the strokes of a tile lie apart in memory
+                const PStroke& ahead = ps_strokes[items[it + kPrefetchAhead]];
+                __builtin_prefetch(&segs[ahead.first]);
+                __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 64);
+                __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 128);
+            }
+            if (it + 2 * kPrefetchAhead < items.size()) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
+            t.draw(ps_strokes[items[it]]);
+        }
+        t.flush();
+    });
+}
+
+}  // namespace
+
+void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vector<Stroke>* const> lists,
+                    const StrokeParams& p, const Exec& ex, std::size_t* dropped) {
+    const std::size_t count = check_strokes(lists, p);
+    const PassViewSetup view = pass_view(ps, PassView::Camera, p.scale);
+    const int W = view.width, H = view.height;
+    if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, 0.0f);
+    else std::fill(out.data(), out.data() + std::size_t(W) * H, 0.0f);
+    const float half = 0.5f * p.width_px * float(W) / float(kLd06SizeReferenceStrokes);
+    const float r2 = half * half;
+    const ProjectedStrokes pr = project_strokes(lists, count, ps, view, half, ex);
+    if (dropped) *dropped = pr.dropped;
+    const glm::mat3 vrot(view.camera.view);
+    const StrokeShader sh(p, view, pr.segs, glm::normalize(vrot * ps.light_dir));
+    check_stroke_work(pr, half, W, H, ex);
+    if (ex.traversal == Traversal::Reference) draw_strokes_reference(out.data(), pr, r2, sh);
+    else draw_strokes_tiled(out.data(), pr, half, r2, sh, ex);
 }
 
 }  // namespace aq::raster
