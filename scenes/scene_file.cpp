@@ -1,13 +1,10 @@
-// scenes/scene_file.cpp — JSON scene files, control mapping rules and automatic framing.
+// scenes/scene_file.cpp — JSON scene files (the LD06 sections in scene_file_ld06.cpp), control
+// mapping rules and automatic framing.
 #include "scenes/scene_file.h"
-
-#include "scenes/layers.h"
-#include "scenes/leaf_strokes.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -24,32 +21,16 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/material_params.h"
 #include "scenes/procedural.h"
+#include "scenes/scene_file_reader.h"
 
 namespace aq::scene {
 namespace {
 
 constexpr std::size_t kVerticesPerTask = 4096;  //!< grain of the per-vertex control rules
 namespace fs = std::filesystem;
-using nlohmann::json;
+using namespace file;  // Ctx, the LD06 sections (scenes/scene_file_reader.h)
 
 
-// --- strict JSON access with key paths -----------------------------------------------------------
-
-struct Ctx : JsonReader {
-    fs::path base;  //!< folder of the scene file
-
-    //! Path relative to the scene file; must exist.
-    std::string file(const json& j, const std::string& key) const {
-        const std::string rel = string(j, key);
-        if (rel.empty()) bad(key, "empty path");
-        fs::path p(rel);
-        if (p.is_relative()) p = base / p;
-        p = p.lexically_normal();
-        std::error_code ec;
-        if (!fs::is_regular_file(p, ec)) bad(key, "file '" + p.string() + "' not found");
-        return p.string();
-    }
-};
 
 std::string lower(std::string s) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -538,28 +519,8 @@ void apply_edits(json& j, const std::vector<SceneEdit>& edits, const Ctx& ctx) {
     }
 }
 
-SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
-    Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
-    json j = read_json_file(path, "scene file");
-    if (!options.edits.empty()) apply_edits(j, options.edits, ctx);
-    ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
-                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes", "layers"});
-    if (j.contains("description")) ctx.string(j["description"], "description");
-
-    SceneDesc d;
-    // Output settings first: the automatic framing needs the aspect.
-    if (j.contains("width")) d.width = ctx.integer(j["width"], "width", 1, kMaxImageSide);
-    if (j.contains("height")) d.height = ctx.integer(j["height"], "height", 1, kMaxImageSide);
-    if (j.contains("fps")) d.fps = float(ctx.number(j["fps"], "fps", 1e-3, 1000.0));
-    if (j.contains("paper")) d.paper = ctx.file(j["paper"], "paper");
-    if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
-    if (j.contains("substrate_color")) {
-        d.substrate_color = ctx.vec3(j["substrate_color"], "substrate_color", 0.0, 1.0);
-        d.substrate_color_set = true;
-    }
-    const float aspect = (d.width > 0 && d.height > 0) ? float(d.width) / float(d.height) : 16.0f / 9.0f;
-
-    // Geometry.
+//! "gltf" or "procedural" (exactly one): the scene's geometry. Returns whether it is procedural.
+bool read_geometry(const Ctx& ctx, const json& j, const LoadOptions& options, SceneDesc& d) {
     if (j.contains("gltf") == j.contains("procedural")) ctx.bad("gltf", "give exactly one of \"gltf\" and \"procedural\"");
     bool procedural = false;
     if (j.contains("procedural")) {
@@ -585,54 +546,58 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             d.scene = options.load_model ? options.load_model(model, options) : load_gltf(model, nullptr, options);
         }
     }
+    return procedural;
+}
 
-    // Uniform scale of the whole model (instances and its glTF cameras), e.g. to bring a 20 cm
-    // scan into the scene-unit range the depth-based stages expect (MNPR: 8..50 units).
-    if (j.contains("scale")) {
-        const float k = float(ctx.number(j["scale"], "scale", 1e-6, 1e6));
-        const glm::mat4 S = glm::scale(glm::mat4(1.0f), glm::vec3(k));
-        for (Instance& inst : d.scene.instances) inst.world = S * inst.world;
-        for (Camera& c : d.scene.cameras) {
-            c.view[3] = glm::vec4(glm::vec3(c.view[3]) * k, 1.0f);
-            c.znear *= k;
-            c.zfar *= k;
-            c.xmag *= k;
-            c.ymag *= k;
-        }
+// Uniform scale of the whole model (instances and its glTF cameras), e.g. to bring a 20 cm
+// scan into the scene-unit range the depth-based stages expect (MNPR: 8..50 units).
+void read_scale(const Ctx& ctx, const json& j, Scene& scene) {
+    if (!j.contains("scale")) return;
+    const float k = float(ctx.number(j["scale"], "scale", 1e-6, 1e6));
+    const glm::mat4 S = glm::scale(glm::mat4(1.0f), glm::vec3(k));
+    for (Instance& inst : scene.instances) inst.world = S * inst.world;
+    for (Camera& c : scene.cameras) {
+        c.view[3] = glm::vec4(glm::vec3(c.view[3]) * k, 1.0f);
+        c.znear *= k;
+        c.zfar *= k;
+        c.xmag *= k;
+        c.ymag *= k;
     }
+}
 
-    // Style.
-    if (j.contains("style")) {
-        const json& s = j["style"];
-        if (s.is_string()) {
-            d.style = s.get<std::string>();
-            if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s, "style");
-        } else {
-            ctx.check_keys(s, "style", {"preset", "set", "variant"});
-            if (s.contains("preset")) {
-                d.style = ctx.string(s["preset"], "style.preset");
-                if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s["preset"], "style.preset");
-            }
-            if (s.contains("set")) {
-                if (!s["set"].is_object()) ctx.bad("style.set", "expected an object of \"stage.param\": number");
-                for (auto it = s["set"].begin(); it != s["set"].end(); ++it) {
-                    if (it.key().find('.') == std::string::npos) ctx.bad("style.set." + it.key(), "expected \"stage.param\"");
-                    d.style_set[it.key()] = ctx.number(it.value(), "style.set." + it.key(), -1e9, 1e9);
-                }
-            }
-            if (s.contains("variant")) {
-                if (!s["variant"].is_object()) ctx.bad("style.variant", "expected an object of \"stage\": \"variant\"");
-                for (auto it = s["variant"].begin(); it != s["variant"].end(); ++it)
-                    d.style_variant[it.key()] = ctx.string(it.value(), "style.variant." + it.key());
+void read_style(const Ctx& ctx, const json& j, SceneDesc& d) {
+    if (!j.contains("style")) return;
+    const json& s = j["style"];
+    if (s.is_string()) {
+        d.style = s.get<std::string>();
+        if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s, "style");
+    } else {
+        ctx.check_keys(s, "style", {"preset", "set", "variant"});
+        if (s.contains("preset")) {
+            d.style = ctx.string(s["preset"], "style.preset");
+            if (ends_with(lower(d.style), ".json")) d.style = ctx.file(s["preset"], "style.preset");
+        }
+        if (s.contains("set")) {
+            if (!s["set"].is_object()) ctx.bad("style.set", "expected an object of \"stage.param\": number");
+            for (auto it = s["set"].begin(); it != s["set"].end(); ++it) {
+                if (it.key().find('.') == std::string::npos) ctx.bad("style.set." + it.key(), "expected \"stage.param\"");
+                d.style_set[it.key()] = ctx.number(it.value(), "style.set." + it.key(), -1e9, 1e9);
             }
         }
+        if (s.contains("variant")) {
+            if (!s["variant"].is_object()) ctx.bad("style.variant", "expected an object of \"stage\": \"variant\"");
+            for (auto it = s["variant"].begin(); it != s["variant"].end(); ++it)
+                d.style_variant[it.key()] = ctx.string(it.value(), "style.variant." + it.key());
+        }
     }
+}
 
-    // Lights (procedural scenes bring their own unless the file names some).
+// Lights (procedural scenes bring their own unless the file names some), ambient.
+void read_lights(const Ctx& ctx, const json& j, Scene& scene) {
     if (j.contains("lights")) {
         const json& l = j["lights"];
         if (!l.is_array()) ctx.bad("lights", "expected an array");
-        d.scene.lights.clear();
+        scene.lights.clear();
         for (std::size_t i = 0; i < l.size(); ++i) {
             const std::string k = "lights[" + std::to_string(i) + "]";
             ctx.check_keys(l[i], k, {"direction", "color", "intensity"});
@@ -644,190 +609,45 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
             }
             if (l[i].contains("color")) li.color = ctx.vec3(l[i]["color"], k + ".color", 0.0, 1e3);
             if (l[i].contains("intensity")) li.intensity = float(ctx.number(l[i]["intensity"], k + ".intensity", 0.0, 1e3));
-            d.scene.lights.push_back(li);
+            scene.lights.push_back(li);
         }
-    } else if (d.scene.lights.empty()) {
-        d.scene.lights.push_back(default_light());
+    } else if (scene.lights.empty()) {
+        scene.lights.push_back(default_light());
     }
-    if (j.contains("ambient")) d.scene.ambient = ctx.vec3(j["ambient"], "ambient", 0.0, 1e3);
+    if (j.contains("ambient")) scene.ambient = ctx.vec3(j["ambient"], "ambient", 0.0, 1e3);
+    if (j.contains("ambient")) scene.ambient = ctx.vec3(j["ambient"], "ambient", 0.0, 1e3);
+}
 
-    // Per-material overrides.
-    if (j.contains("materials")) {
-        const json& m = j["materials"];
-        if (!m.is_object()) ctx.bad("materials", "expected an object keyed by material name, index or \"*\"");
-        std::map<std::string, int> intensity_of;  // one decode per file, however many keys name it
-        for (auto it = m.begin(); it != m.end(); ++it) {
-            const std::string k = "materials." + it.key();
-            int intensity = -1;  // LD06 §4.3: one texture, shared by the matched materials
-            if (it.value().is_object() && it.value().contains("intensity_texture")) {
-                const std::string file = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
-                if (const auto seen = intensity_of.find(file); seen != intensity_of.end()) {
-                    intensity = seen->second;
-                } else {
-                    Texture t = read_texture(file, &d.scene.decode_budget);
-                    finish_texture(t);
-                    d.scene.textures.push_back(std::move(t));
-                    intensity = intensity_of[file] = int(d.scene.textures.size()) - 1;
-                }
-            }
-            for (int mi : match_materials(ctx, d.scene, it.key(), k)) {
-                detail::apply_material_json(d.scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".",
-                                            {"intensity_texture"});
-                if (intensity >= 0) d.scene.materials[std::size_t(mi)].intensity_texture.texture = intensity;
+// Per-material overrides.
+void read_materials(const Ctx& ctx, const json& j, Scene& scene) {
+    if (!j.contains("materials")) return;
+    const json& m = j["materials"];
+    if (!m.is_object()) ctx.bad("materials", "expected an object keyed by material name, index or \"*\"");
+    std::map<std::string, int> intensity_of;  // one decode per file, however many keys name it
+    for (auto it = m.begin(); it != m.end(); ++it) {
+        const std::string k = "materials." + it.key();
+        int intensity = -1;  // LD06 §4.3: one texture, shared by the matched materials
+        if (it.value().is_object() && it.value().contains("intensity_texture")) {
+            const std::string file = ctx.file(it.value()["intensity_texture"], k + ".intensity_texture");
+            if (const auto seen = intensity_of.find(file); seen != intensity_of.end()) {
+                intensity = seen->second;
+            } else {
+                Texture t = read_texture(file, &scene.decode_budget);
+                finish_texture(t);
+                scene.textures.push_back(std::move(t));
+                intensity = intensity_of[file] = int(scene.textures.size()) - 1;
             }
         }
+        for (int mi : match_materials(ctx, scene, it.key(), k)) {
+            detail::apply_material_json(scene.materials[std::size_t(mi)], it.value(), ctx.where, k + ".",
+                                        {"intensity_texture"});
+            if (intensity >= 0) scene.materials[std::size_t(mi)].intensity_texture.texture = intensity;
+        }
     }
+}
 
-    // LD06 selections by name (foliage, layers); every name must exist (a typo would silently
-    // select nothing).
-    // Sorted name lists: a lookup is a binary search (a file may name many thousands).
-    std::vector<std::string> node_names, mesh_names, material_names;
-    for (const Instance& inst : d.scene.instances) node_names.push_back(inst.name);
-    for (const Mesh& m : d.scene.meshes) mesh_names.push_back(m.name);
-    for (const Material& m : d.scene.materials) material_names.push_back(m.name);
-    for (auto* v : {&node_names, &mesh_names, &material_names}) {
-        std::sort(v->begin(), v->end());
-        v->erase(std::unique(v->begin(), v->end()), v->end());
-    }
-    auto names = [&](const json& f, const std::string& where, const char* key, std::vector<std::string>& out,
-                     const std::vector<std::string>& have) {
-        if (!f.contains(key)) return;
-        const std::string k = where + "." + key;
-        if (!f[key].is_array()) ctx.bad(k, "expected an array of names");
-        for (std::size_t i = 0; i < f[key].size(); ++i) {
-            const std::string n = ctx.string(f[key][i], k + "[" + std::to_string(i) + "]");
-            if (!std::binary_search(have.begin(), have.end(), n)) {
-                std::string list;
-                for (const std::string& h : have) list += (list.empty() ? "" : ", ") + ("'" + h + "'");
-                const std::string singular = std::strcmp(key, "meshes") == 0 ? "mesh" : std::string(key).substr(0, std::strlen(key) - 1);
-                ctx.bad(k + "[" + std::to_string(i) + "]", "no " + singular +
-                                                             " is named '" + n + "' (have: " + (list.empty() ? "none" : list) + ")");
-            }
-            out.push_back(n);
-        }
-    };
-    if (j.contains("foliage")) {
-        const json& f = j["foliage"];
-        ctx.check_keys(f, "foliage", {"nodes", "meshes", "materials", "T", "radius", "relative", "cells_per_radius", "technique", "comment"});
-        if (f.contains("technique")) {
-            const json& t = f["technique"];
-            if (!t.is_string() || (t != "auto" && t != "surface" && t != "texture"))
-                ctx.bad("foliage.technique", "expected \"auto\", \"surface\" or \"texture\"");
-            else d.foliage_technique = t.get<std::string>();
-        }
-        if (f.contains("T")) d.foliage_threshold = float(ctx.number(f["T"], "foliage.T", 1e-6, 1e6));
-        if (f.contains("radius")) d.foliage_radius = float(ctx.number(f["radius"], "foliage.radius", 1e-6, 1e6));
-        if (f.contains("relative")) {
-            if (!f["relative"].is_boolean()) ctx.bad("foliage.relative", "expected true or false");
-            d.foliage_relative = f["relative"].get<bool>();
-        }
-        if (f.contains("cells_per_radius")) d.foliage_cells_per_radius = ctx.integer(f["cells_per_radius"], "foliage.cells_per_radius", 1, 16);
-        FoliageSelection& sel = d.scene.foliage;
-        // Without names the default rule selects the foliage (the block only sets parameters).
-        const bool selects = f.contains("nodes") || f.contains("meshes") || f.contains("materials");
-        sel.set = selects;
-        names(f, "foliage", "nodes", sel.nodes, node_names);
-        names(f, "foliage", "meshes", sel.meshes, mesh_names);
-        names(f, "foliage", "materials", sel.materials, material_names);
-        if (selects && sel.nodes.empty() && sel.meshes.empty() && sel.materials.empty())
-            ctx.bad("foliage", "names no node, mesh or material");
-        for (auto* v : {&sel.nodes, &sel.meshes, &sel.materials}) {  // sorted and unique (is_foliage searches them)
-            std::sort(v->begin(), v->end());
-            v->erase(std::unique(v->begin(), v->end()), v->end());
-        }
-    }
-
-    // LD06 §3.1 layers: groups of primitives painted as one wash, with their colours (docs/ld06.md "Layers").
-    if (j.contains("layers")) {
-        const json& ls = j["layers"];
-        if (!ls.is_array()) ctx.bad("layers", "expected an array of {\"name\", \"nodes\", \"meshes\", \"materials\", \"color\", \"dark\", \"alpha\"}");
-        if (ls.size() > kMaxLayerSpecs) ctx.bad("layers", "more than " + std::to_string(kMaxLayerSpecs) + " layers");
-        for (std::size_t i = 0; i < ls.size(); ++i) {
-            const std::string k = "layers[" + std::to_string(i) + "]";
-            ctx.check_keys(ls[i], k, {"name", "nodes", "meshes", "materials", "color", "dark", "alpha", "comment"});
-            LayerSpec l;
-            l.name = ls[i].contains("name") ? ctx.string(ls[i]["name"], k + ".name") : "layer " + std::to_string(i);
-            names(ls[i], k, "nodes", l.nodes, node_names);
-            names(ls[i], k, "meshes", l.meshes, mesh_names);
-            names(ls[i], k, "materials", l.materials, material_names);
-            if (l.nodes.empty() && l.meshes.empty() && l.materials.empty()) ctx.bad(k, "names no node, mesh or material");
-            if (ls[i].contains("color")) l.color = ctx.vec3(ls[i]["color"], k + ".color", 0.0, 1.0);
-            if (ls[i].contains("dark")) l.dark = ctx.vec3(ls[i]["dark"], k + ".dark", 0.0, 1.0);
-            if (ls[i].contains("alpha")) l.alpha = float(ctx.number(ls[i]["alpha"], k + ".alpha", 0.0, 1.0));
-            d.scene.layers.push_back(std::move(l));
-        }
-    }
-
-    // LD06 §4.4 hand-made strokes: polylines in world coordinates ("scale" does not apply), or in a
-    // material's texture space copied onto every leaf of that material (scenes/leaf_strokes.h), in
-    // file order.
-    if (j.contains("strokes")) {
-        const json& st = j["strokes"];
-        if (!st.is_array())
-            ctx.bad("strokes", "expected an array of {\"points\": [[x, y, z], ...], \"normals\", \"hatching\"} or "
-                               "{\"uv\": [[u, v], ...], \"material\": NAME, \"hatching\"}");
-        if (st.size() > kMaxSceneStrokes) ctx.bad("strokes", "more than " + std::to_string(kMaxSceneStrokes) + " strokes");
-        std::size_t vertices = 0, uv_work = kMaxUvStrokeWork;
-        for (std::size_t i = 0; i < st.size(); ++i) {
-            const std::string k = "strokes[" + std::to_string(i) + "]";
-            ctx.check_keys(st[i], k, {"points", "normals", "uv", "material", "hatching", "comment"});
-            bool hatching = false;
-            if (st[i].contains("hatching")) {
-                if (!st[i]["hatching"].is_boolean()) ctx.bad(k + ".hatching", "expected true or false");
-                hatching = st[i]["hatching"].get<bool>();
-            }
-            if (st[i].contains("uv")) {
-                if (st[i].contains("points") || st[i].contains("normals"))
-                    ctx.bad(k, "a stroke has either \"points\" (world) or \"uv\" (texture space), not both");
-                if (!st[i]["uv"].is_array() || st[i]["uv"].size() < 2)
-                    ctx.bad(k + ".uv", "expected an array of at least two [u, v] points");
-                if (!st[i].contains("material")) ctx.bad(k + ".material", "a texture-space stroke names the material whose leaves it is copied onto");
-                UvStroke us;
-                us.material = ctx.string(st[i]["material"], k + ".material");
-                if (!std::binary_search(material_names.begin(), material_names.end(), us.material))
-                    ctx.bad(k + ".material", "no material is named '" + us.material + "'");
-                us.light_dependent = hatching;
-                for (std::size_t q = 0; q < st[i]["uv"].size(); ++q) {
-                    const std::string kq = k + ".uv[" + std::to_string(q) + "]";
-                    const json& uv = st[i]["uv"][q];
-                    if (!uv.is_array() || uv.size() != 2) ctx.bad(kq, "expected [u, v]");
-                    us.uv.push_back({float(ctx.number(uv[0], kq + "[0]", -1e6, 1e6)), float(ctx.number(uv[1], kq + "[1]", -1e6, 1e6))});
-                }
-                std::vector<Stroke> placed;
-                try {
-                    placed = place_uv_strokes(d.scene, {us}, kMaxSceneStrokes - d.scene.strokes.size(),
-                                              kMaxSceneStrokeVertices - vertices, &uv_work);
-                } catch (const Error& e) {
-                    ctx.bad(k, e.what());
-                }
-                if (placed.empty()) ctx.bad(k, "lands on no leaf of material '" + us.material + "' (no triangle's UVs contain its points)");
-                for (Stroke& ps : placed) {
-                    vertices += ps.points.size();
-                    d.scene.strokes.push_back(std::move(ps));
-                }
-                continue;
-            }
-            if (!st[i].contains("points") || !st[i]["points"].is_array() || st[i]["points"].size() < 2)
-                ctx.bad(k + ".points", "expected an array of at least two [x, y, z] points");
-            Stroke s;
-            vertices += st[i]["points"].size();
-            if (vertices > kMaxSceneStrokeVertices || d.scene.strokes.size() >= kMaxSceneStrokes)
-                ctx.bad(k + ".points", "more than " + std::to_string(kMaxSceneStrokeVertices) + " stroke points or " +
-                                           std::to_string(kMaxSceneStrokes) + " strokes in all");
-            for (std::size_t q = 0; q < st[i]["points"].size(); ++q)
-                s.points.push_back(ctx.vec3(st[i]["points"][q], k + ".points[" + std::to_string(q) + "]"));
-            if (st[i].contains("normals")) {
-                const json& n = st[i]["normals"];
-                if (!n.is_array() || n.size() != s.points.size()) ctx.bad(k + ".normals", "expected one [x, y, z] per point");
-                for (std::size_t q = 0; q < n.size(); ++q)
-                    s.normals.push_back(ctx.vec3(n[q], k + ".normals[" + std::to_string(q) + "]"));
-            }
-            s.light_dependent = hatching;
-            d.scene.strokes.push_back(std::move(s));
-        }
-    }
-
-    // Control mapping.
+// Control mapping.
+void read_control(const Ctx& ctx, const json& j, SceneDesc& d) {
     ControlLayout layout = ControlLayout::WC18;
     if (j.contains("control_layout")) {
         const std::string s = ctx.string(j["control_layout"], "control_layout");
@@ -848,6 +668,40 @@ SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
         }
         apply_control_rules(d.scene, rules, layout, ctx.where + " control");
     }
+}
+
+SceneDesc load_scene_file(const std::string& path, const LoadOptions& options) {
+    Ctx ctx{{"scene file '" + path + "'"}, fs::path(path).parent_path()};
+    json j = read_json_file(path, "scene file");
+    if (!options.edits.empty()) apply_edits(j, options.edits, ctx);
+    ctx.check_keys(j, "", {"description", "gltf", "procedural", "scale", "camera", "lights", "ambient", "control_layout", "control",
+                           "materials", "style", "width", "height", "fps", "paper", "substrate_color", "foliage", "strokes", "layers"});
+    if (j.contains("description")) ctx.string(j["description"], "description");
+
+    SceneDesc d;
+    // Output settings first: the automatic framing needs the aspect.
+    if (j.contains("width")) d.width = ctx.integer(j["width"], "width", 1, kMaxImageSide);
+    if (j.contains("height")) d.height = ctx.integer(j["height"], "height", 1, kMaxImageSide);
+    if (j.contains("fps")) d.fps = float(ctx.number(j["fps"], "fps", 1e-3, 1000.0));
+    if (j.contains("paper")) d.paper = ctx.file(j["paper"], "paper");
+    if (!d.paper.empty() && options.paper_known) options.paper_known(d.paper);
+    if (j.contains("substrate_color")) {
+        d.substrate_color = ctx.vec3(j["substrate_color"], "substrate_color", 0.0, 1.0);
+        d.substrate_color_set = true;
+    }
+    const float aspect = (d.width > 0 && d.height > 0) ? float(d.width) / float(d.height) : 16.0f / 9.0f;
+
+    const bool procedural = read_geometry(ctx, j, options, d);
+    read_scale(ctx, j, d.scene);
+    read_style(ctx, j, d);
+    read_lights(ctx, j, d.scene);
+    read_materials(ctx, j, d.scene);
+    // LD06 selections by name (scenes/scene_file_ld06.cpp), after the materials and before control.
+    const SceneNames names(d.scene);
+    read_foliage(ctx, j, names, d);
+    read_layers(ctx, j, names, d);
+    read_strokes(ctx, j, names, d);
+    read_control(ctx, j, d);
 
     // Camera last: the framing sees the final geometry.
     if (j.contains("camera")) d.camera = parse_camera(ctx, j["camera"], d.scene, aspect, d);
