@@ -11,7 +11,6 @@ namespace aq::raster {
 
 namespace {
 constexpr float kMinDiluteArea = 0.01f;  // WC17: dA in (0, 1]
-inline float clamp1(float v) { return std::min(std::max(v, -1.0f), 1.0f); }
 
 inline glm::vec4 texel(const ImageF& img, int x, int y) {
     const float* p = img.data() + (std::size_t(y) * img.width() + x) * img.channels();

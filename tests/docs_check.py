@@ -13,6 +13,9 @@ Usage: python3 tests/docs_check.py SOURCE_DIR
    (*.h, *.cpp, *.py, *.js, *.html) under core/ scenes/ raster/ stylize/ app/ python/: the docs say
    what is true now; history belongs in git.
 
+3. The example of docs/stylize.md "Writing a stage" (its first ```cpp block) is the code between
+   the BEGIN and END lines of tests/stylize/writing_a_stage_test.cpp, which builds and tests it.
+
 Exit 0 when everything holds, 1 with one line per problem otherwise (standard library only).
 """
 
@@ -89,6 +92,30 @@ def check_session(root, files):
     return problems
 
 
+def check_stage_example(root):
+    """The doc's example and the test's copy are the same text."""
+    doc_path = os.path.join(root, "docs", "stylize.md")
+    test_path = os.path.join(root, "tests", "stylize", "writing_a_stage_test.cpp")
+    marker = '// %s docs/stylize.md "Writing a stage"\n'
+    try:
+        with open(doc_path, encoding="utf-8") as f:
+            doc = f.read()
+        with open(test_path, encoding="utf-8") as f:
+            test = f.read()
+    except OSError as e:
+        return ["stage example: cannot read (%s)" % e]
+    section = doc.find("## Writing a stage")
+    block = re.search(r"```cpp\n(.*?)```", doc[section:], re.S) if section >= 0 else None
+    begin, end = test.find(marker % "BEGIN"), test.find(marker % "END")
+    if not block or begin < 0 or end < begin:
+        return ["stage example: no ```cpp block under \"## Writing a stage\" in docs/stylize.md or no "
+                "BEGIN/END lines in tests/stylize/writing_a_stage_test.cpp"]
+    if block.group(1) != test[begin + len(marker % "BEGIN"):end]:
+        return ["docs/stylize.md \"Writing a stage\": the example differs from the one "
+                "tests/stylize/writing_a_stage_test.cpp builds"]
+    return []
+
+
 def main(argv):
     if len(argv) != 2:
         print("usage: docs_check.py SOURCE_DIR", file=sys.stderr)
@@ -107,7 +134,7 @@ def main(argv):
                 if name.endswith(SOURCE_EXTS):
                     sources.append(os.path.relpath(os.path.join(dirpath, name), root))
 
-    problems = check_paths(root, md_files) + check_session(root, md_files + sources)
+    problems = check_paths(root, md_files) + check_session(root, md_files + sources) + check_stage_example(root)
     for p in problems:
         print(p)
     if problems:
