@@ -452,7 +452,8 @@ int cmd_stages(Args& a) {
         std::string arg = a.next();
         if (arg == "--help" || arg == "-h") {
             std::cout << "usage: aquarelle stages\n\nLists every registered stage variant and raster pass: ports "
-                         "(port -> default target, channels), parameters (default, range).\n";
+                         "(port -> default target, channels), parameters (default, range, or the names a\n"
+                         "parameter with named values takes: --set STEP.border=mirror or the number 1).\n";
             return 0;
         }
         throw UsageError("stages: unexpected argument '" + arg + "'");
@@ -470,6 +471,14 @@ int cmd_stages(Args& a) {
                 for (auto& p : v->outputs)
                     std::cout << "      out " << p.name << " -> " << p.default_target << " (" << p.channels << " ch)\n";
                 for (auto& p : v->params) {
+                    if (!p.names.empty()) {  // named values: "default mirror  one of clamp|mirror"
+                        std::string names;
+                        for (const std::string& n : p.names) names += (names.empty() ? "" : "|") + n;
+                        std::printf("      %-22s %-5s default %-8s one of %s  %s\n", p.name.c_str(), "name",
+                                    p.names[std::size_t(p.def)].c_str(), names.c_str(), p.doc.c_str());
+                        std::fflush(stdout);
+                        continue;
+                    }
                     std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), kind_name(p.kind),
                                 p.def, p.lo, p.hi, p.doc.c_str());
                     std::fflush(stdout);

@@ -234,7 +234,7 @@ json live_schema(const RenderJob& job, const json& knobs) {
                 params.push_back({{"name", d.name},
                                   {"kind", d.kind == stylize::ParamKind::Int ? "int" : d.kind == stylize::ParamKind::Bool ? "bool" : "float"},
                                   {"default", d.def}, {"min", d.lo}, {"max", d.hi}, {"doc", d.doc},
-                                  {"value", s.params.count(d.name) ? s.params.at(d.name) : d.def}});
+                                  {"value", s.params.count(d.name) ? s.params.at(d.name) : d.def}, {"names", d.names}});
             steps.push_back({{"id", p.steps[i].id.empty() ? p.steps[i].stage : p.steps[i].id},
                              {"stage", s.variant->stage}, {"variant", s.variant->variant}, {"pass", s.pass},
                              {"doc", s.variant->doc}, {"variants", variants}, {"params", params}});

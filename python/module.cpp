@@ -16,6 +16,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "app/coherence.h"
@@ -500,7 +501,8 @@ py::list stages() {
             for (const stylize::ParamDesc& d : v->params)
                 params.append(py::dict(py::arg("name") = d.name,
                                        py::arg("kind") = d.kind == stylize::ParamKind::Int ? "int" : d.kind == stylize::ParamKind::Bool ? "bool" : "float",
-                                       py::arg("default") = d.def, py::arg("min") = d.lo, py::arg("max") = d.hi, py::arg("doc") = d.doc));
+                                       py::arg("default") = d.def, py::arg("min") = d.lo, py::arg("max") = d.hi, py::arg("doc") = d.doc,
+                                       py::arg("names") = d.names));
             py::list ins, outs;
             for (const auto& p : v->inputs) ins.append(p.name);
             for (const auto& p : v->outputs) outs.append(p.name);
@@ -698,18 +700,21 @@ target's channel count (H x W allowed for one channel). The values are copied.)"
             for (const auto& a : s.variants) d[py::str(a.substr(0, a.find('=')))] = a.substr(a.find('=') + 1);
             return d;
         })
-        .def("with_params", [](const Style& s, const std::map<std::string, double>& values) {
+        .def("with_params", [](const Style& s, const std::map<std::string, std::variant<double, std::string>>& values) {
             Style t = s;
             for (const auto& kv : values) {
                 const std::string& k = kv.first;  // not a structured binding: clang 14 captures none
-                const std::string a = k + "=" + number_text(kv.second, k);
+                // A number, or a parameter's named value ("mirror"), as --set takes them.
+                const std::string a = k + "=" + (std::holds_alternative<std::string>(kv.second)
+                                                     ? std::get<std::string>(kv.second)
+                                                     : number_text(std::get<double>(kv.second), k));
                 t.sets.erase(std::remove_if(t.sets.begin(), t.sets.end(), [&](const std::string& x) { return x.substr(0, x.find('=')) == k; }),
                              t.sets.end());
                 t.sets.push_back(a);
             }
             (void)pipeline_of(t);
             return t;
-        }, py::arg("values"), "A copy with these {'step.param': value} set (checked against the registry's ranges now).")
+        }, py::arg("values"), "A copy with these {'step.param': value} set (a number, or a parameter's named value such as 'mirror'; checked against the registry's ranges now).")
         .def("with_variant", [](const Style& s, const std::string& step, const std::string& variant) {
             Style t = s;
             t.variants.erase(std::remove_if(t.variants.begin(), t.variants.end(), [&](const std::string& x) { return x.substr(0, x.find('=')) == step; }),

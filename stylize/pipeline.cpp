@@ -62,8 +62,10 @@ const Registry& registry_of(const PipelineStep& s) {
     return builtin_registry();
 }
 
-//! Checks one step against the registry; `key` is "steps[i]".
-void check_step(const PipelineStep& s, const std::string& src, const std::string& key) {
+//! Checks one step against the registry; `key` is "steps[i]". `named`: parameters the file gives
+//! by a name of their value ("border": "mirror"), set into s.params once the variant is known.
+void check_step(PipelineStep& s, const std::map<std::string, std::string>& named, const std::string& src,
+                const std::string& key) {
     const Registry& reg = registry_of(s);
     const StageVariant* v = nullptr;
     try {
@@ -71,6 +73,8 @@ void check_step(const PipelineStep& s, const std::string& src, const std::string
     } catch (const Error& e) {
         fail(src, key + (s.variant.empty() || reg.variants(s.stage).empty() ? (s.pass ? ".pass" : ".stage") : ".variant"), e.what());
     }
+    for (const auto& [name, text] : named)
+        s.params[name] = Registry::param_value(*v, name, text, src + ": " + key + ".params." + name);
     for (auto& [name, value] : s.params) {
         Registry::resolve_params(*v, {{name, value}}, src + ": " + key + ".params." + name);
     }
@@ -217,10 +221,12 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
         s.stage = get_string(sj[kind], src, key + "." + kind);
         if (sj.contains("variant")) s.variant = get_string(sj["variant"], src, key + ".variant");
         s.id = sj.contains("id") ? get_string(sj["id"], src, key + ".id") : s.stage;
+        std::map<std::string, std::string> named;
         if (sj.contains("params")) {
             if (!sj["params"].is_object()) fail(src, key + ".params", "expected an object");
             for (auto it = sj["params"].begin(); it != sj["params"].end(); ++it)
-                s.params[it.key()] = get_number(it.value(), src, key + ".params." + it.key());
+                if (it.value().is_string()) named[it.key()] = it.value().get<std::string>();
+                else s.params[it.key()] = get_number(it.value(), src, key + ".params." + it.key());
         }
         for (const char* dir : {"in", "out"}) {
             if (!sj.contains(dir)) continue;
@@ -229,7 +235,7 @@ Pipeline parse_pipeline(const std::string& text, const std::string& src, const s
                 (dir[0] == 'i' ? s.in : s.out)[it.key()] =
                     get_string(it.value(), src, key + "." + dir + "." + it.key());
         }
-        check_step(s, src, key);
+        check_step(s, named, src, key);
         p.steps.push_back(std::move(s));
     }
     if (p.steps.empty()) fail(src, "steps", "a pipeline needs at least one step");
@@ -296,16 +302,9 @@ void set_param(Pipeline& p, const std::string& a) {
     if (eq == std::string::npos || a.substr(0, eq).find('.') == std::string::npos)
         throw Error("--set '" + a + "': expected stage.param=value");
     const auto [step, param] = split_step_param(a.substr(0, eq));
-    const std::string val = a.substr(eq + 1);
-    double v = 0;
-    if (val == "true") v = 1;
-    else if (val == "false") v = 0;
-    else {
-        char* end = nullptr;
-        v = std::strtod(val.c_str(), &end);
-        if (val.empty() || end != val.c_str() + val.size()) throw Error("--set '" + a + "': '" + val + "' is not a number");
-    }
-    set_param_value(p, step, param, v, "--set '" + a + "'");
+    const std::string where = "--set '" + a + "'";
+    const double v = Registry::param_value(variant_of(p.steps[find_one_step(p, step, where)]), param, a.substr(eq + 1), where);
+    set_param_value(p, step, param, v, where);
 }
 
 void set_param_value(Pipeline& p, const std::string& step, const std::string& param, double v, const std::string& source) {

@@ -129,6 +129,25 @@ std::vector<const StageVariant*> Registry::all() const {
     return out;
 }
 
+double Registry::param_value(const StageVariant& v, const std::string& name, const std::string& text,
+                             const std::string& where) {
+    const ParamDesc* d = nullptr;
+    for (const ParamDesc& p : v.params)
+        if (p.name == name) d = &p;
+    if (d)
+        for (std::size_t k = 0; k < d->names.size(); ++k)
+            if (d->names[k] == text) return double(k);
+    if (text == "true") return 1;
+    if (text == "false") return 0;
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (!text.empty() && end == text.c_str() + text.size()) return x;
+    std::string names;
+    if (d)
+        for (const std::string& n : d->names) names += (names.empty() ? "" : ", ") + n;
+    throw Error(where + ": '" + text + "' is not a number" + (names.empty() ? "" : " or one of " + names));
+}
+
 ParamValues Registry::resolve_params(const StageVariant& v, const std::map<std::string, double>& overrides,
                                      const std::string& where) {
     ParamValues out;

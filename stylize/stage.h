@@ -33,6 +33,9 @@ struct ParamDesc {
     ParamKind kind = ParamKind::Float;
     double def = 0, lo = 0, hi = 1;
     std::string doc;
+    //! An Int parameter with named values (value k is names[k], range 0..n-1): pipeline files,
+    //! --set and the Python module take the name or the number. Empty: a plain number.
+    std::vector<std::string> names = {};
 };
 
 //! Complete, validated parameter values of one stage instance (every declared name present).
@@ -49,6 +52,12 @@ public:
     }
     ParamTable& i(const char* name, int P::*m, int lo, int hi, const char* doc) {
         add({name, ParamKind::Int, double(P{}.*m), double(lo), double(hi), doc},
+            [m](P& p, double v) { p.*m = int(v); });
+        return *this;
+    }
+    //! An enum-like integer: value k is names[k].
+    ParamTable& e(const char* name, int P::*m, std::vector<std::string> names, const char* doc) {
+        add({name, ParamKind::Int, double(P{}.*m), 0.0, double(names.size()) - 1.0, doc, std::move(names)},
             [m](P& p, double v) { p.*m = int(v); });
         return *this;
     }
@@ -201,6 +210,11 @@ public:
 
     //! Defaults overlaid with `overrides`; throws aq::Error for unknown names, non-finite or
     //! out-of-range values, non-integers for Int and non-0/1 for Bool. `where` prefixes messages.
+    //! The value `text` gives parameter `name` of v: a number, true/false, or one of the
+    //! parameter's named values (ParamDesc::names). Throws aq::Error prefixed with `where`
+    //! (listing the names where the parameter has some); the range is checked by resolve_params.
+    static double param_value(const StageVariant& v, const std::string& name, const std::string& text,
+                              const std::string& where);
     static ParamValues resolve_params(const StageVariant& v, const std::map<std::string, double>& overrides,
                                       const std::string& where);
 

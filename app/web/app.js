@@ -78,13 +78,15 @@ function buildPanel(schema) {
     for (const p of step.params) {
       const key = `${step.id}.${p.name}`;
       const obj = { [p.name]: p.kind === 'bool' ? p.value !== 0 : p.value };
-      const c = p.kind === 'bool'
-        ? folder.add(obj, p.name)
+      // Named values ("border": clamp / mirror) are a list; the value sent stays the number.
+      const named = p.names && p.names.length ? Object.fromEntries(p.names.map((n, i) => [n, i])) : null;
+      const c = p.kind === 'bool' ? folder.add(obj, p.name)
+        : named ? folder.add(obj, p.name, named)
         : folder.add(obj, p.name, p.min, p.max, p.kind === 'int' ? 1 : (p.max - p.min) / 1000);
       c.domElement.title = `${p.doc} (default ${p.default}, range [${p.min}, ${p.max}])`;
       c.domElement.dataset.param = key;
       const value = (val) => (typeof val === 'boolean' ? (val ? 1 : 0) : val);
-      if (p.kind === 'bool') c.onChange((val) => { state.params[key] = value(val); render(); });
+      if (p.kind === 'bool' || named) c.onChange((val) => { state.params[key] = value(val); render(); });
       else {
         c.onChange((val) => { state.params[key] = value(val); renderMoving(); });
         c.onFinishChange((val) => { state.params[key] = value(val); render(); });

@@ -37,7 +37,7 @@ void register_particle_pass(Registry& r) {
         .f("t1", &Table::t1, -1, 1, "eq. 11 medium/bright threshold on n.l (LD06: 0.1)")
         .f("size_scale", &Table::size_scale, 0, 1000, "ω_scale of eq. 10, pixels at 720 px (LD06: 200; ours 20, docs/ld06.md)")
         .f("size_bias", &Table::size_bias, 0, 200, "ω_bias of eq. 10, pixels at 720 px (LD06: 5; ours 4)")
-        .i("shape", &Table::shape, 0, 1, "0 = round blotch, 1 = square sprite")
+        .e("shape", &Table::shape, {"round", "square"}, "round blotch or square sprite")
         .f("scale", &Table::scale, passes::kMinScale, passes::kMaxScale, passes::kScaleDoc)
         .f("delta", &Table::delta, 0, 1, "δ of eq. 2 (ours: 0.05; unused by binary)")
         .f("beta", &Table::beta, -1, 1, "β of eq. 2 (LD06: β = δ)")

@@ -23,8 +23,8 @@ inline constexpr DepthTestVariant kDepthTests[] = {
     {"binary", raster::DepthTest::Binary, "the binary depth test (LD06 Fig. 2, red; Fig. 9a for particles)"},
 };
 
-inline constexpr const char* kViewDoc = "0 = camera, 1 = the light's orthographic view fitted to the scene";
-inline constexpr const char* kDrawDoc = "0 = all, 1 = foliage only, 2 = everything but foliage (docs/ld06.md \"Foliage\")";
+inline constexpr const char* kViewDoc = "camera, or light: the light's orthographic view fitted to the scene";
+inline constexpr const char* kDrawDoc = "all, foliage only, or not_foliage: everything but foliage (docs/ld06.md \"Foliage\")";
 inline constexpr const char* kScaleDoc = "raster size as a scale of the output size (LD06: 520/720 = 0.722)";
 inline constexpr double kMinScale = 0.05, kMaxScale = 4;
 

@@ -42,7 +42,7 @@ struct LightingTable {
 //! The parameters of the camera passes that only choose what to draw and at which size.
 const ParamTable<LightingTable>& draw_scale_table() {
     static const ParamTable<LightingTable> t = ParamTable<LightingTable>()
-        .i("draw", &LightingTable::draw, 0, 2, kDrawDoc)
+        .e("draw", &LightingTable::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
         .f("scale", &LightingTable::scale, kMinScale, kMaxScale, kScaleDoc);
     return t;
 }
@@ -72,8 +72,8 @@ struct IntensityTable {
 void register_triangle_passes(Registry& r) {
     {
         static const ParamTable<DepthTable> t = ParamTable<DepthTable>()
-            .i("view", &DepthTable::view, 0, 1, kViewDoc)
-            .i("draw", &DepthTable::draw, 0, 2, kDrawDoc)
+            .e("view", &DepthTable::view, {"camera", "light"}, kViewDoc)
+            .e("draw", &DepthTable::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
             .f("scale", &DepthTable::scale, kMinScale, kMaxScale, kScaleDoc);
         StageVariant v;
         v.stage = "depth";
@@ -100,7 +100,7 @@ void register_triangle_passes(Registry& r) {
             float scale = 1.0f, background = 0.0f;
         };
         static const ParamTable<Table> t = ParamTable<Table>()
-            .i("draw", &Table::draw, 0, 2, kDrawDoc)
+            .e("draw", &Table::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
             .f("scale", &Table::scale, kMinScale, kMaxScale, kScaleDoc)
             .f("background", &Table::background, 0, 1,
                "value where nothing is drawn (0; the ld06 preset uses 0.5, so particles beyond the surface's silhouette take a middle tone)");
@@ -125,7 +125,7 @@ void register_triangle_passes(Registry& r) {
     // The shadow pass: blurred is its default (LD06 §3.3), so it is registered first.
     for (const DepthTestVariant& tv : kDepthTests) {
         static const ParamTable<ShadowTable> t = ParamTable<ShadowTable>()
-            .i("draw", &ShadowTable::draw, 0, 2, kDrawDoc)
+            .e("draw", &ShadowTable::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
             .f("scale", &ShadowTable::scale, kMinScale, kMaxScale, kScaleDoc)
             .f("delta", &ShadowTable::delta, 0, 1, "δ of LD06 eq. 5: shadow softness (ours; unused by binary)")
             .f("beta", &ShadowTable::beta, -1, 1, "β of LD06 eq. 5: shift against self-shadowing (ours)");
@@ -156,12 +156,12 @@ void register_triangle_passes(Registry& r) {
     for (int k : {2, 0, 1}) {
         const DepthTestVariant& tv = kDepthTests[k];
         static const ParamTable<IntensityTable> t = ParamTable<IntensityTable>()
-            .i("view", &IntensityTable::view, 0, 1, kViewDoc)
-            .i("draw", &IntensityTable::draw, 0, 2, kDrawDoc)
+            .e("view", &IntensityTable::view, {"camera", "light"}, kViewDoc)
+            .e("draw", &IntensityTable::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
             .f("scale", &IntensityTable::scale, kMinScale, kMaxScale, kScaleDoc)
             .f("delta", &IntensityTable::delta, 0, 1, "δ of LD06 eq. 2 (blurred tests; ours)")
             .f("beta", &IntensityTable::beta, -1, 1, "β of LD06 eq. 2 (blurred tests; β = δ keeps near objects visible)")
-            .i("blend", &IntensityTable::blend, 0, 2, "0 = replace, 1 = add with clamp (LD06 eq. 12), 2 = alpha over")
+            .e("blend", &IntensityTable::blend, {"replace", "add", "over"}, "replace, add with clamp (LD06 eq. 12), or alpha over")
             .f("alpha", &IntensityTable::alpha, 0, 1, "fragment alpha for blend 2 (times f_v)");
         StageVariant v;
         v.stage = "intensity";
@@ -214,7 +214,7 @@ void register_triangle_passes(Registry& r) {
     // LD06 §3.1 ID image: the layer (default) or the object of the front-most surface.
     for (bool layer : {true, false}) {
         static const ParamTable<LayerIdTable> t = ParamTable<LayerIdTable>()
-            .i("draw", &LayerIdTable::draw, 0, 2, kDrawDoc)
+            .e("draw", &LayerIdTable::draw, {"all", "foliage", "not_foliage"}, kDrawDoc)
             .f("scale", &LayerIdTable::scale, kMinScale, kMaxScale, kScaleDoc)
             .i("foliage", &LayerIdTable::foliage, 0, 1,
                "1 = foliage writes its layer; 0 = foliage (the implicit surface, or the modelled leaves under the texture "

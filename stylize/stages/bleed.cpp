@@ -476,7 +476,7 @@ void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_defau
     if (rule != BleedRule::Naive)
         t->f("depth_threshold", &BleedTableParams::depth_threshold, 0, 1, "T on normalised depth (MNPR 0.0002)");
     t->b("half_res", &BleedTableParams::half_res, "run at half resolution (WC17 as published)");
-    t->i("border", &BleedTableParams::border, 0, 1, "0 = clamp (GL clamp-to-edge), 1 = mirror");
+    t->e("border", &BleedTableParams::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge (GL clamp-to-edge) or mirror");
     StageVariant v;
     v.stage = "bleed";
     v.variant = variant;

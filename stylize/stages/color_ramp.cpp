@@ -64,8 +64,8 @@ namespace {
 using T = ColorRampTable;
 const ParamTable<T>& table() {
     static const ParamTable<T> t = ParamTable<T>()
-        .i("source", &T::source, 0, 2, "where the render job fills the layer colours from: 0 = as given, 1 = scene layers first..first+3, 2 = the foliage layer (particles)")
-        .i("first", &T::first, 0, 1 << 24, "scene layer of layer0 for source 1 (as id_layers.first)")
+        .e("source", &T::source, {"given", "layers", "foliage"}, "where the layer colours come from: as given, the scene's layers first..first+3, or the foliage layer (particles)")
+        .i("first", &T::first, 0, 1 << 24, "scene layer of layer0 for source layers (as id_layers.first)")
         .f("cool_r", &T::cool_r, 0, 1, "hue ramp, cool end k_blue (r) (Gooch: (0, 0, b), b = 0.4; ours b = 0.1)")
         .f("cool_g", &T::cool_g, 0, 1, "hue ramp, cool end (g)")
         .f("cool_b", &T::cool_b, 0, 1, "hue ramp, cool end (b)")

@@ -290,7 +290,7 @@ void register_edge_blur(Registry& r) {
             .i("radius", &Wc17Table::radius, 1, 16, "kernel radius (WC17: 2, a 5x5 kernel)")
             .f("sigma", &Wc17Table::sigma, 0.1, 16, "Gaussian sigma (WC17: 1)")
             .b("half_res", &Wc17Table::half_res, "blur at half resolution (WC17 as published)")
-            .i("border", &Wc17Table::border, 0, 1, "0 = clamp, 1 = mirror");
+            .e("border", &Wc17Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
         StageVariant v;
         v.stage = "edge_blur";
         v.variant = "wc17";
@@ -313,7 +313,7 @@ void register_edge_blur(Registry& r) {
     {
         static const ParamTable<Wc18Table> t = ParamTable<Wc18Table>()
             .i("width", &Wc18Table::width, 1, 16, "W, global edge width (MNPR 3); K = max(1, int(W + 3W ctrl.edge.g))")
-            .i("border", &Wc18Table::border, 0, 1, "0 = clamp, 1 = mirror");
+            .e("border", &Wc18Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
         StageVariant v;
         v.stage = "edge_blur";
         v.variant = "wc18";

@@ -231,7 +231,7 @@ struct EdgeDetectTableParams {
 void register_edge_detect(Registry& r) {
     static const ParamTable<EdgeDetectTableParams> t = ParamTable<EdgeDetectTableParams>()
         .f("depth_weight", &EdgeDetectTableParams::depth_weight, 0, 1000, "wD, depth gradient weight (MNPR 5)")
-        .i("border", &EdgeDetectTableParams::border, 0, 1, "0 = clamp, 1 = mirror");
+        .e("border", &EdgeDetectTableParams::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
     StageVariant v;
     v.stage = "edge_detect";
     v.variant = "rgbd_sobel";

@@ -95,7 +95,7 @@ struct Table {
 void register_extend_edges(Registry& r) {
     static const ParamTable<Table> t = ParamTable<Table>()
         .i("width", &Table::width, 1, 32, "W, linear kernel width (MNPR 3; WC18 paper m = 5)")
-        .i("border", &Table::border, 0, 1, "0 = clamp, 1 = mirror");
+        .e("border", &Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
     StageVariant v;
     v.stage = "extend_edges";
     v.variant = "mnpr";

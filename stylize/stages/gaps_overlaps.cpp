@@ -344,7 +344,7 @@ void register_gaps_overlaps(Registry& r) {
         .f("edge_threshold", &P::edge_threshold, 0, 1, "only pixels with extended edge above (MNPR 0.1, WC18 0.2)")
         .f("mix_brightness", &P::mix_brightness, 0, 2, "brightness scale of the RYB mix (1 preserves; MNPR 0.9)")
         .b("transparent_gaps", &P::transparent_gaps, "gaps zero alpha instead of painting the substrate colour")
-        .i("border", &P::border, 0, 1, "taps outside the image: 0 clamp, 1 mirror");
+        .e("border", &P::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
     StageVariant v;
     v.stage = "gaps_overlaps";
     v.variant = "wc18";

@@ -47,7 +47,7 @@ void register_gaussian_blur(Registry& r) {
     static const ParamTable<Table> t = ParamTable<Table>()
         .i("radius", &Table::radius, 1, 64, "kernel radius in pixels of the map (ours: 8)")
         .f("sigma", &Table::sigma, 0.1, 64, "Gaussian sigma in pixels (ours: 4)")
-        .i("border", &Table::border, 0, 1, "0 = clamp, 1 = mirror")
+        .e("border", &Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror")
         .i("downsample", &Table::downsample, 1, 8, "k: mean of k x k blocks first, output ceil(size / k); radius and sigma in those pixels");
     StageVariant v;
     v.stage = "gaussian_blur";

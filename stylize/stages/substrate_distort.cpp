@@ -305,7 +305,7 @@ void register_substrate_distort(Registry& r) {
         .f("distortion", &D::distortion, 0, 10, "global paper distortion: 5 px per unit at full control (MNPR 1)")
         .f("depth_threshold", &D::depth_threshold, 0, 1, "no sampling across this normalised depth step (MNPR 0.01)")
         .b("both_sides", &D::both_sides, "also refuse destinations behind the pixel (MNPR: only in front)")
-        .i("border", &D::border, 0, 1, "taps outside the image: 0 clamp, 1 mirror");
+        .e("border", &D::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
     {
         StageVariant v;
         v.stage = "substrate_distort";

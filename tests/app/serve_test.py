@@ -261,6 +261,22 @@ try:
     check(d.execute_script("return window.aq.lastError") == "", "no error after the slider")
     check(cli_equal(d, "slider"), "the shown image has the pixels of `aquarelle render` of the printed command line")
 
+    # A parameter with named values is a list: edge_detect.border, clamp -> mirror.
+    folder = [e for e in d.find_elements(By.CSS_SELECTOR, ".lil-gui .lil-title") if "edge_detect —" in e.text][0]
+    folder.click()
+    shown = d.find_element(By.CSS_SELECTOR, "[data-param='edge_detect.border'] .lil-display")
+    WebDriverWait(d, 10).until(lambda d: shown.is_displayed())  # lil-gui draws the list over a clear <select>
+    select = d.find_element(By.CSS_SELECTOR, "[data-param='edge_detect.border'] select")
+    options = [o.get_attribute("textContent") for o in select.find_elements(By.TAG_NAME, "option")]
+    check(options == ["clamp", "mirror"], "edge_detect.border lists its names (%s)" % options)
+    seq = d.execute_script("return window.aq.seq")
+    # What choosing an entry does: the <select>'s value and its change event.
+    d.execute_script("const s = arguments[0]; s.selectedIndex = 1; s.dispatchEvent(new Event('change'));", select)
+    wait_image(d, seq)
+    border = d.execute_script("return window.aq.state.params")["edge_detect.border"]
+    check(border == 1, "choosing mirror sets edge_detect.border to 1 (%s)" % border)
+    check(cli_equal(d, "named"), "the image of a named value has the pixels of the printed command line")
+
     # Switch a variant: bleed to its other registered variant.
     bleed = [s for s in schema["steps"] if s["id"] == "bleed"][0]
     other = [v["name"] for v in bleed["variants"] if v["name"] != bleed["variant"]][0]

@@ -182,6 +182,16 @@ def test_huge_arrays_are_refused_before_copying():
         aq.GBuffer.from_arrays({"color": huge})
 
 
+def test_named_parameter_values_are_the_numbers_they_name(gb):
+    named = aq.style("wc18").with_params({"edge_detect.border": "mirror"})
+    numbered = aq.style("wc18").with_params({"edge_detect.border": 1})
+    assert np.array_equal(named.run(gb)["final"], numbered.run(gb)["final"])
+    with pytest.raises(aq.Error, match="clamp, mirror"):
+        aq.style("wc18").with_params({"edge_detect.border": "wrap"})
+    border = next(p for s in aq.stages() if s["stage"] == "edge_detect" for p in s["params"] if p["name"] == "border")
+    assert border["names"] == ["clamp", "mirror"] and border["kind"] == "int"
+
+
 # --- errors ----------------------------------------------------------------------------------
 
 def test_errors_carry_the_librarys_messages(gb):

@@ -166,6 +166,35 @@ TEST(Pipeline, SetParamAndSetVariant) {
     EXPECT_ERROR_MENTIONS(set_variant(p, "bleed"), "bleed");
 }
 
+// Enum-like parameters have named values (ParamDesc::names): --set and pipeline files take the name
+// or the number, the value is the index, an unknown name lists the names.
+TEST(Pipeline, NamedParameterValuesAreTheirIndex) {
+    Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
+    set_param(p, "extend_edges.border=mirror");
+    EXPECT_EQ(p.steps[6].params["border"], 1.0);
+    set_param(p, "extend_edges.border=clamp");
+    EXPECT_EQ(p.steps[6].params["border"], 0.0);
+    set_param(p, "extend_edges.border=1");
+    EXPECT_EQ(p.steps[6].params["border"], 1.0);
+    EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.border=wrap"), "wrap", "clamp, mirror");
+    EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.border=2"), "border", "2");
+    EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.width=mirror"), "mirror", "not a number");
+    const Pipeline named = parse_pipeline(R"({"steps": [{"stage": "extend_edges", "params": {"border": "mirror"}}]})", "n.json");
+    EXPECT_EQ(named.steps[0].params.at("border"), 1.0);
+    EXPECT_ERROR_MENTIONS(parse_pipeline(R"({"steps": [{"stage": "extend_edges", "params": {"border": "wrap"}}]})", "n.json"),
+                          "n.json", "steps[0].params.border", "clamp, mirror");
+    // Every named parameter is an integer from 0 to the last name, its default one of them.
+    for (const Registry* reg : {&builtin_registry(), &builtin_pass_registry()})
+        for (const StageVariant* v : reg->all())
+            for (const ParamDesc& d : v->params)
+                if (!d.names.empty()) {
+                    EXPECT_EQ(d.kind, ParamKind::Int) << v->key() << "." << d.name;
+                    EXPECT_EQ(d.lo, 0.0) << v->key() << "." << d.name;
+                    EXPECT_EQ(d.hi, double(d.names.size() - 1)) << v->key() << "." << d.name;
+                    EXPECT_LT(d.def, double(d.names.size())) << v->key() << "." << d.name;
+                }
+}
+
 // --bypass: the bypassed step's readers (and the pipeline output) get its input of the same port.
 TEST(Pipeline, BypassHandsTheStepsInputToItsReaders) {
     const Pipeline full = load_pipeline("wc18");
