@@ -74,6 +74,150 @@ scene::Camera frame_camera(const RenderJob& job, int frame) {
     return cam;
 }
 
+namespace {
+
+//! The style as the job runs it: the preset or file (the bare model's early one), the Python
+//! edit, the scene's values (stylize::apply_scene_inputs), the scene file's style values and
+//! variants, --variant, --set, --bypass, the scene file's paper and substrate colour.
+stylize::Pipeline configure_style(const RenderOptions& o, const scene::SceneDesc& desc, const std::string& style,
+                                  std::optional<stylize::Pipeline>& early_pipeline, const std::string& early_style) {
+    // A bare model has no scene file to name another style: the one prepare_render loaded early.
+    stylize::Pipeline pipeline =
+        early_pipeline && style == early_style ? std::move(*early_pipeline) : stylize::load_pipeline(style);
+    if (o.edit_style) o.edit_style(pipeline);
+    std::optional<std::pair<float, float>> framed_depth_range;
+    if (desc.camera_auto) framed_depth_range = std::make_pair(desc.camera.znear, desc.camera.zfar);
+    stylize::apply_scene_inputs(pipeline, stylize::SceneInputs(desc.scene, framed_depth_range));
+    if (!o.style_given || o.style == desc.style) {
+        for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);
+        for (auto& [k, v] : desc.style_set) {
+            const auto [step, param] = split_step_param(k);
+            stylize::set_param_value(pipeline, step, param, v,
+                                     "scene file '" + o.scene + "' style value '" + k + "'");
+        }
+    }
+    for (auto& v : o.variants) stylize::set_variant(pipeline, v);
+    for (auto& s : o.sets) stylize::set_param(pipeline, s);
+    for (auto& b : o.bypass) stylize::bypass_step(pipeline, b);
+    if (!desc.paper.empty()) {
+        pipeline.paper.file = desc.paper;
+        pipeline.has_paper = true;
+    }
+    if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
+    return pipeline;
+}
+
+//! job.styles: the style once, or one per --sweep value or grid combination (every value checked
+//! before rendering), with their labels.
+void expand_styles(RenderJob& job, const RenderOptions& o, const stylize::Pipeline& pipeline) {
+    // A sweep renders the G-buffer once and reruns the style for each value of one parameter.
+    job.styles = {pipeline};
+    job.sweep_labels = {""};
+    if (!o.sweep.empty()) {
+        if (!job.stylize) throw cli::UsageError("render: --sweep needs a style (not --style none)");
+        job.styles.clear();
+        job.sweep_labels.clear();
+        const auto [step, param] = split_step_param(o.sweep);
+        for (int i = 0; i < o.sweep_count; ++i) {
+            const double t = double(i) / double(o.sweep_count - 1);
+            const double v = o.sweep_from + (o.sweep_to - o.sweep_from) * t;
+            stylize::Pipeline p = pipeline;
+            stylize::set_param_value(p, step, param, v, "--sweep");  // every value checked before rendering
+            char label[256];
+            std::snprintf(label, sizeof label, "%s=%.9g", o.sweep.c_str(), v);
+            job.styles.push_back(std::move(p));
+            job.sweep_labels.push_back(label);
+        }
+    }
+    if (!o.combinations.empty()) {
+        if (!job.stylize) throw cli::UsageError("grid: combinations need a style (not --style none)");
+        if (!o.sweep.empty()) throw cli::UsageError("grid: combinations and --sweep cannot be combined");
+        job.styles.clear();
+        job.sweep_labels.clear();
+        for (const RenderOptions::Combination& c : o.combinations) {
+            stylize::Pipeline p = pipeline;  // every assignment checked before rendering
+            for (const std::string& v : c.variants) stylize::set_variant(p, v);
+            for (const std::string& a : c.sets) stylize::set_param(p, a);
+            job.styles.push_back(std::move(p));
+            job.sweep_labels.push_back(c.label);
+        }
+    }
+}
+
+//! The scene the raster passes draw, per compiled style: built once (the implicit surface is
+//! view-independent), through the content cache and, for the live server's preloaded scene, its
+//! memo; its warnings and what the foliage became are reported.
+void prepare_pass_scenes(RenderJob& job, const RenderOptions& o, cache::Store* store, const std::string& scene_key,
+                         const std::string& default_control_applied, const Reporter& report) {
+    for (const stylize::CompiledPipeline& c : job.compiled) {
+        if (!c.has_passes) {
+            job.pass_scenes.emplace_back();
+            job.pass_layers.emplace_back();
+            job.pass_contours.emplace_back();
+            continue;
+        }
+        raster::FoliageParams fp = c.foliage;
+        fp.abstract = c.has_foliage && c.foliage.abstract;
+        const scene::SceneDesc& d = job.desc;  // the scene file's values win over the style's
+        if (d.foliage_threshold) fp.threshold = *d.foliage_threshold, fp.fit = false;  // a chosen T is used as is
+        if (d.foliage_radius) fp.radius = *d.foliage_radius;
+        if (d.foliage_relative) fp.relative = *d.foliage_relative;
+        if (d.foliage_cells_per_radius) fp.cells_per_radius = *d.foliage_cells_per_radius;
+        if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::string> warnings;
+        // A live render of the server's preloaded scene: the memo (the scene file's edits, the
+        // default control and the parameters name the entry; the server drops the memo when the
+        // files change).
+        const std::string memo_key = o.pass_memo && o.preloaded
+                                         ? "edits " + scene::edits_key(o.scene_edits) + "default control " + default_control_applied +
+                                               "\n" + raster::foliage_params_key(fp)
+                                         : std::string();
+        std::shared_ptr<const RenderOptions::PassSceneMemo::Entry> memo;
+        if (!memo_key.empty()) {
+            std::lock_guard<std::mutex> lock(o.pass_memo->m);
+            if (auto it = o.pass_memo->entries.find(memo_key); it != o.pass_memo->entries.end()) memo = it->second;
+        }
+        if (!memo) {
+            auto e = std::make_shared<RenderOptions::PassSceneMemo::Entry>();
+            std::vector<std::string> notes;
+            e->scene = raster::abstract_foliage_cached(job.desc.scene, fp, job.settings.exec, &e->warnings,
+                                                       store, scene_key, &notes);
+            for (auto& n : notes) report.progress("cache: " + n);
+            e->layers = raster::abstracted_layer_table(job.desc.scene, *e->scene);
+            e->contours = raster::build_contour_cache(e->scene->scene);
+            memo = e;
+            if (!memo_key.empty()) {
+                std::lock_guard<std::mutex> lock(o.pass_memo->m);
+                o.pass_memo->put(memo_key, memo);
+            }
+        }
+        warnings = memo->warnings;
+        job.pass_scenes.push_back(memo->scene);
+        job.pass_layers.push_back(memo->layers);
+        job.pass_contours.push_back(memo->contours);
+        for (auto& w : warnings) report.warning(w);
+        if (const auto& a = job.pass_scenes.back(); a->abstracted) {
+            char fit[160];
+            std::snprintf(fit, sizeof fit, " (T = %.4g, r = %.4g, %.0f %% of the leaves' vertices inside, silhouette %.2f x the leaves')",
+                          double(a->threshold), double(a->radius), 100.0 * double(a->surface.inside_fraction), double(a->crown_ratio));
+            report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
+                            std::to_string(a->surface.indices.size() / 3) + fit + " in " + std::to_string(int(ms_since(t0))) + " ms");
+        } else if (a->texture_technique) {
+            char why[160];
+            if (a->crown_ratio > 0)
+                std::snprintf(why, sizeof why, "a sparse crown: the implicit surface's silhouette is %.2f x the leaves'", double(a->crown_ratio));
+            else
+                std::snprintf(why, sizeof why, "median leaf %.1f %% of the plant height, %zu foliage triangles", 100.0 * double(a->leaf_share),
+                              a->foliage_triangles);
+            report.progress("foliage: " + std::to_string(a->foliage_triangles) +
+                            " triangles painted as modelled with intensity-texture detail (LD06 §4.3; " + why + ")");
+        }
+    }
+}
+
+}  // namespace
+
 RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     const auto t0 = std::chrono::steady_clock::now();
     RenderJob job;
@@ -147,28 +291,7 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
     job.stylize = style != "none";
     stylize::Pipeline pipeline;  // configured after the camera: depth range may follow it
     if (job.stylize) {
-        // A bare model has no scene file to name another style: the one loaded above.
-        pipeline = early_pipeline && style == early_style ? std::move(*early_pipeline) : stylize::load_pipeline(style);
-        if (o.edit_style) o.edit_style(pipeline);
-        std::optional<std::pair<float, float>> framed_depth_range;
-        if (desc.camera_auto) framed_depth_range = std::make_pair(desc.camera.znear, desc.camera.zfar);
-        stylize::apply_scene_inputs(pipeline, stylize::SceneInputs(desc.scene, framed_depth_range));
-        if (!o.style_given || o.style == desc.style) {
-            for (auto& [k, v] : desc.style_variant) stylize::set_variant(pipeline, k + "=" + v);
-            for (auto& [k, v] : desc.style_set) {
-                const auto [step, param] = split_step_param(k);
-                stylize::set_param_value(pipeline, step, param, v,
-                                         "scene file '" + o.scene + "' style value '" + k + "'");
-            }
-        }
-        for (auto& v : o.variants) stylize::set_variant(pipeline, v);
-        for (auto& s : o.sets) stylize::set_param(pipeline, s);
-        for (auto& b : o.bypass) stylize::bypass_step(pipeline, b);
-        if (!desc.paper.empty()) {
-            pipeline.paper.file = desc.paper;
-            pipeline.has_paper = true;
-        }
-        if (desc.substrate_color_set) pipeline.substrate_color = desc.substrate_color;
+        pipeline = configure_style(o, desc, style, early_pipeline, early_style);
     } else if (!o.sets.empty() || !o.variants.empty() || !o.bypass.empty()) {
         throw cli::UsageError("render: --set/--variant/--bypass need a style (not --style none)");
     }
@@ -196,108 +319,12 @@ RenderJob prepare_render(const RenderOptions& o, const Reporter& report) {
         }
     }
 
-    // A sweep renders the G-buffer once and reruns the style for each value of one parameter.
-    job.styles = {pipeline};
-    job.sweep_labels = {""};
-    if (!o.sweep.empty()) {
-        if (!job.stylize) throw cli::UsageError("render: --sweep needs a style (not --style none)");
-        job.styles.clear();
-        job.sweep_labels.clear();
-        const auto [step, param] = split_step_param(o.sweep);
-        for (int i = 0; i < o.sweep_count; ++i) {
-            const double t = double(i) / double(o.sweep_count - 1);
-            const double v = o.sweep_from + (o.sweep_to - o.sweep_from) * t;
-            stylize::Pipeline p = pipeline;
-            stylize::set_param_value(p, step, param, v, "--sweep");  // every value checked before rendering
-            char label[256];
-            std::snprintf(label, sizeof label, "%s=%.9g", o.sweep.c_str(), v);
-            job.styles.push_back(std::move(p));
-            job.sweep_labels.push_back(label);
-        }
-    }
-    if (!o.combinations.empty()) {
-        if (!job.stylize) throw cli::UsageError("grid: combinations need a style (not --style none)");
-        if (!o.sweep.empty()) throw cli::UsageError("grid: combinations and --sweep cannot be combined");
-        job.styles.clear();
-        job.sweep_labels.clear();
-        for (const RenderOptions::Combination& c : o.combinations) {
-            stylize::Pipeline p = pipeline;  // every assignment checked before rendering
-            for (const std::string& v : c.variants) stylize::set_variant(p, v);
-            for (const std::string& a : c.sets) stylize::set_param(p, a);
-            job.styles.push_back(std::move(p));
-            job.sweep_labels.push_back(c.label);
-        }
-    }
+    expand_styles(job, o, pipeline);
     // Compiled once per run (every name, value and binding resolved and checked); each frame then
     // only checks the G-buffer it is given.
     for (const stylize::Pipeline& p : job.styles)
         if (job.stylize) job.compiled.push_back(stylize::compile_pipeline(p));
-    // The scene the raster passes draw: built once (the implicit surface is view-independent).
-    for (const stylize::CompiledPipeline& c : job.compiled) {
-        if (!c.has_passes) {
-            job.pass_scenes.emplace_back();
-            job.pass_layers.emplace_back();
-            job.pass_contours.emplace_back();
-            continue;
-        }
-        raster::FoliageParams fp = c.foliage;
-        fp.abstract = c.has_foliage && c.foliage.abstract;
-        const scene::SceneDesc& d = job.desc;  // the scene file's values win over the style's
-        if (d.foliage_threshold) fp.threshold = *d.foliage_threshold, fp.fit = false;  // a chosen T is used as is
-        if (d.foliage_radius) fp.radius = *d.foliage_radius;
-        if (d.foliage_relative) fp.relative = *d.foliage_relative;
-        if (d.foliage_cells_per_radius) fp.cells_per_radius = *d.foliage_cells_per_radius;
-        if (d.foliage_technique) fp.technique = raster::parse_technique(*d.foliage_technique);
-        const auto t0 = std::chrono::steady_clock::now();
-        std::vector<std::string> warnings;
-        // A live render of the server's preloaded scene: the memo (the scene file's edits, the
-        // default control and the parameters name the entry; the server drops the memo when the
-        // files change).
-        const std::string memo_key = o.pass_memo && o.preloaded
-                                         ? "edits " + scene::edits_key(o.scene_edits) + "default control " + default_control_applied +
-                                               "\n" + raster::foliage_params_key(fp)
-                                         : std::string();
-        std::shared_ptr<const RenderOptions::PassSceneMemo::Entry> memo;
-        if (!memo_key.empty()) {
-            std::lock_guard<std::mutex> lock(o.pass_memo->m);
-            if (auto it = o.pass_memo->entries.find(memo_key); it != o.pass_memo->entries.end()) memo = it->second;
-        }
-        if (!memo) {
-            auto e = std::make_shared<RenderOptions::PassSceneMemo::Entry>();
-            std::vector<std::string> notes;
-            e->scene = raster::abstract_foliage_cached(job.desc.scene, fp, job.settings.exec, &e->warnings,
-                                                       store ? &*store : nullptr, scene_key, &notes);
-            for (auto& n : notes) report.progress("cache: " + n);
-            e->layers = raster::abstracted_layer_table(job.desc.scene, *e->scene);
-            e->contours = raster::build_contour_cache(e->scene->scene);
-            memo = e;
-            if (!memo_key.empty()) {
-                std::lock_guard<std::mutex> lock(o.pass_memo->m);
-                o.pass_memo->put(memo_key, memo);
-            }
-        }
-        warnings = memo->warnings;
-        job.pass_scenes.push_back(memo->scene);
-        job.pass_layers.push_back(memo->layers);
-        job.pass_contours.push_back(memo->contours);
-        for (auto& w : warnings) report.warning(w);
-        if (const auto& a = job.pass_scenes.back(); a->abstracted) {
-            char fit[160];
-            std::snprintf(fit, sizeof fit, " (T = %.4g, r = %.4g, %.0f %% of the leaves' vertices inside, silhouette %.2f x the leaves')",
-                          double(a->threshold), double(a->radius), 100.0 * double(a->surface.inside_fraction), double(a->crown_ratio));
-            report.progress("foliage: " + std::to_string(a->foliage_triangles) + " triangles abstracted to an implicit surface of " +
-                            std::to_string(a->surface.indices.size() / 3) + fit + " in " + std::to_string(int(ms_since(t0))) + " ms");
-        } else if (a->texture_technique) {
-            char why[160];
-            if (a->crown_ratio > 0)
-                std::snprintf(why, sizeof why, "a sparse crown: the implicit surface's silhouette is %.2f x the leaves'", double(a->crown_ratio));
-            else
-                std::snprintf(why, sizeof why, "median leaf %.1f %% of the plant height, %zu foliage triangles", 100.0 * double(a->leaf_share),
-                              a->foliage_triangles);
-            report.progress("foliage: " + std::to_string(a->foliage_triangles) +
-                            " triangles painted as modelled with intensity-texture detail (LD06 §4.3; " + why + ")");
-        }
-    }
+    prepare_pass_scenes(job, o, store ? &*store : nullptr, scene_key, default_control_applied, report);
     job.world_bounds = job.desc.scene.world_bounds();
     job.prepare_phases.emplace_back("prepare", ms_since(t_prepare));
     return job;
