@@ -170,12 +170,10 @@ TEST(Pipeline, SetParamAndSetVariant) {
 // or the number, the value is the index, an unknown name lists the names.
 TEST(Pipeline, NamedParameterValuesAreTheirIndex) {
     Pipeline p = parse_pipeline(kBleedPipeline, "bleed_chain.json");
-    set_param(p, "extend_edges.border=mirror");
-    EXPECT_EQ(p.steps[6].params["border"], 1.0);
-    set_param(p, "extend_edges.border=clamp");
-    EXPECT_EQ(p.steps[6].params["border"], 0.0);
-    set_param(p, "extend_edges.border=1");
-    EXPECT_EQ(p.steps[6].params["border"], 1.0);
+    for (const auto& [text, value] : {std::pair{"mirror", 1.0}, {"clamp", 0.0}, {"1", 1.0}}) {
+        set_param(p, std::string("extend_edges.border=") + text);
+        EXPECT_EQ(p.steps[6].params["border"], value) << text;
+    }
     EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.border=wrap"), "wrap", "clamp, mirror");
     EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.border=2"), "border", "2");
     EXPECT_ERROR_MENTIONS(set_param(p, "extend_edges.width=mirror"), "mirror", "not a number");
