@@ -354,16 +354,10 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
         }
         if (!fast) {
             std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());
-            for (const Chunk& ch : fr.chunks)
-                for (const TriSetup& t : ch.tris)
-                    for (int y = t.y0; y <= t.y1; ++y)
-                        for (int x = t.x0; x <= t.x1; ++x) {
-                            std::int64_t e[3];
-                            edge_values(t, x, y, e);
-                            if (!inside(t, e)) continue;
-                            const std::size_t i = std::size_t(y) * W + x;
-                            fragment(cx, fr, ch, t, e, x, y, img + i, &zbuf[i]);
-                        }
+            for_each_reference_fragment(fr, [&](const Chunk& ch, const TriSetup& t, int x, int y, const std::int64_t* e) {
+                const std::size_t i = std::size_t(y) * W + x;
+                fragment(cx, fr, ch, t, e, x, y, img + i, &zbuf[i]);
+            });
             return;
         }
         tbb::parallel_for(0, fr.tiles_x * fr.tiles_y, [&](int tile) {

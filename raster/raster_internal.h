@@ -108,6 +108,24 @@ struct Frame {
     float background_depth = 0;
 };
 
+//! The reference traversal's loop, shared by the G-buffer and the LD06 triangle passes
+//! (docs/raster.md "Reference traversal"): every triangle of the frame in submission order, every
+//! pixel of its bounding box on the whole image, its edge values computed at the pixel
+//! (edge_values: independent of the tiled traversal's stepping); f(chunk, triangle, x, y, e) for
+//! each pixel whose centre is inside. Subpixel triangles (kept for the coverage pass only, which
+//! covers no pixel centre) are skipped.
+template <class F>
+void for_each_reference_fragment(const Frame& fr, F&& f) {
+    for (const Chunk& ch : fr.chunks)
+        for (const TriSetup& t : ch.tris)
+            for (int y = t.y0; y <= t.y1 && !t.subpixel(); ++y)
+                for (int x = t.x0; x <= t.x1; ++x) {
+                    std::int64_t e[3];
+                    edge_values(t, x, y, e);
+                    if (inside(t, e)) f(ch, t, x, y, static_cast<const std::int64_t*>(e));
+                }
+}
+
 //! Whether any triangle was binned to `tile` (fast path); a tile without one shows only background.
 inline bool tile_binned(const Frame& fr, int tile) {
     bool binned = false;

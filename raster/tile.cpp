@@ -86,24 +86,18 @@ void shade_and_write(const Frame& fr, const Chunk& ch, const TriSetup& t, const 
 
 void raster_reference(const Frame& fr, const TargetPtrs& tp, int W, int H, float* count) {
     std::vector<float> zbuf(count ? 0 : std::size_t(W) * H, std::numeric_limits<float>::infinity());
-    for (const Chunk& ch : fr.chunks)
-        for (const TriSetup& t : ch.tris)
-            for (int y = t.y0; y <= t.y1 && !t.subpixel(); ++y)  // subpixel: for the coverage pass only
-                for (int x = t.x0; x <= t.x1; ++x) {
-                    std::int64_t e[3];
-                    edge_values(t, x, y, e);
-                    if (!inside(t, e)) continue;
-                    if (count) {
-                        count[std::size_t(y) * W + x] += 1.0f;
-                        continue;
-                    }
-                    const Bary b = perspective_bary(t, e);
-                    float& z = zbuf[std::size_t(y) * W + x];
-                    if (!(b.depth < z)) continue;
-                    if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) continue;
-                    z = b.depth;
-                    shade_and_write(fr, ch, t, b, tp, x, y);
-                }
+    for_each_reference_fragment(fr, [&](const Chunk& ch, const TriSetup& t, int x, int y, const std::int64_t* e) {
+        if (count) {
+            count[std::size_t(y) * W + x] += 1.0f;
+            return;
+        }
+        const Bary b = perspective_bary(t, e);
+        float& z = zbuf[std::size_t(y) * W + x];
+        if (!(b.depth < z)) return;
+        if (needs_alpha_test(fr, t) && !alpha_pass(fr, ch, t, b)) return;
+        z = b.depth;
+        shade_and_write(fr, ch, t, b, tp, x, y);
+    });
 }
 
 // ---- Tiled traversal: one task per tile, visibility then deferred shading ---------------------
