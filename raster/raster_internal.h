@@ -109,7 +109,7 @@ struct Frame {
 };
 
 //! The reference traversal's loop, shared by the G-buffer and the LD06 triangle passes
-//! (docs/raster.md "Reference traversal"): every triangle of the frame in submission order, every
+//! (docs/raster.md "Tiles, traversal, determinism"): every triangle of the frame in submission order, every
 //! pixel of its bounding box on the whole image, its edge values computed at the pixel
 //! (edge_values: independent of the tiled traversal's stepping); f(chunk, triangle, x, y, e) for
 //! each pixel whose centre is inside. Subpixel triangles (kept for the coverage pass only, which
