@@ -439,14 +439,6 @@ int cmd_render(Args& a) {
     return 0;
 }
 
-const char* kind_name(aq::stylize::ParamKind k) {
-    switch (k) {
-        case aq::stylize::ParamKind::Int: return "int";
-        case aq::stylize::ParamKind::Bool: return "bool";
-        default: return "float";
-    }
-}
-
 int cmd_stages(Args& a) {
     if (!a.done()) {
         std::string arg = a.next();
@@ -479,7 +471,7 @@ int cmd_stages(Args& a) {
                         std::fflush(stdout);
                         continue;
                     }
-                    std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), kind_name(p.kind),
+                    std::printf("      %-22s %-5s default %-8g range [%g, %g]  %s\n", p.name.c_str(), aq::stylize::param_kind_name(p.kind),
                                 p.def, p.lo, p.hi, p.doc.c_str());
                     std::fflush(stdout);
                 }

@@ -232,7 +232,7 @@ json live_schema(const RenderJob& job, const json& knobs) {
             json params = json::array();
             for (const stylize::ParamDesc& d : s.variant->params)
                 params.push_back({{"name", d.name},
-                                  {"kind", d.kind == stylize::ParamKind::Int ? "int" : d.kind == stylize::ParamKind::Bool ? "bool" : "float"},
+                                  {"kind", stylize::param_kind_name(d.kind)},
                                   {"default", d.def}, {"min", d.lo}, {"max", d.hi}, {"doc", d.doc},
                                   {"value", s.params.count(d.name) ? s.params.at(d.name) : d.def}, {"names", d.names}});
             steps.push_back({{"id", p.steps[i].id.empty() ? p.steps[i].stage : p.steps[i].id},

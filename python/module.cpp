@@ -500,7 +500,7 @@ py::list stages() {
             py::list params;
             for (const stylize::ParamDesc& d : v->params)
                 params.append(py::dict(py::arg("name") = d.name,
-                                       py::arg("kind") = d.kind == stylize::ParamKind::Int ? "int" : d.kind == stylize::ParamKind::Bool ? "bool" : "float",
+                                       py::arg("kind") = stylize::param_kind_name(d.kind),
                                        py::arg("default") = d.def, py::arg("min") = d.lo, py::arg("max") = d.hi, py::arg("doc") = d.doc,
                                        py::arg("names") = d.names));
             py::list ins, outs;

@@ -18,8 +18,6 @@
 #include <limits>
 #include <tuple>
 
-#include <tbb/parallel_for.h>
-
 #include "raster/vertex.h"
 #include "core/maths.h"
 #include "core/simd.h"

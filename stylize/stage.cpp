@@ -12,6 +12,9 @@ namespace aq::stylize {
 void Registry::add(StageVariant v) {
     if (has(v.stage, v.variant)) throw Error("stage variant '" + v.key() + "' registered twice");
     if (!v.run) throw Error("stage variant '" + v.key() + "' has no run function");
+    for (std::size_t k = 0; k < v.params.size(); ++k)
+        if (find_param(v.params, v.params[k].name) != &v.params[k])
+            throw Error("stage variant '" + v.key() + "' declares parameter '" + v.params[k].name + "' twice");
     if (!v.in_place_input.empty() || !v.in_place_output.empty()) {
         const Port* in = find_port(v.inputs, v.in_place_input);
         const Port* out = find_port(v.outputs, v.in_place_output);
@@ -43,6 +46,20 @@ void Registry::add(StageVariant v) {
         inner(io, params, ex);
     };
     variants_.push_back(std::move(v));
+}
+
+const ParamDesc* find_param(const std::vector<ParamDesc>& params, const std::string& name) {
+    for (const ParamDesc& p : params)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+const char* param_kind_name(ParamKind k) {
+    switch (k) {
+        case ParamKind::Int: return "int";
+        case ParamKind::Bool: return "bool";
+        default: return "float";
+    }
 }
 
 const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
@@ -131,9 +148,7 @@ std::vector<const StageVariant*> Registry::all() const {
 
 double Registry::param_value(const StageVariant& v, const std::string& name, const std::string& text,
                              const std::string& where) {
-    const ParamDesc* d = nullptr;
-    for (const ParamDesc& p : v.params)
-        if (p.name == name) d = &p;
+    const ParamDesc* d = find_param(v.params, name);
     if (d)
         for (std::size_t k = 0; k < d->names.size(); ++k)
             if (d->names[k] == text) return double(k);
@@ -153,9 +168,7 @@ ParamValues Registry::resolve_params(const StageVariant& v, const std::map<std::
     ParamValues out;
     for (auto& d : v.params) out[d.name] = d.def;
     for (auto& [name, value] : overrides) {
-        const ParamDesc* d = nullptr;
-        for (auto& p : v.params)
-            if (p.name == name) d = &p;
+        const ParamDesc* d = find_param(v.params, name);
         if (!d) {
             std::string have;
             for (auto& p : v.params) have += (have.empty() ? "" : ", ") + p.name;

@@ -38,6 +38,11 @@ struct ParamDesc {
     std::vector<std::string> names = {};
 };
 
+//! The parameter called `name` in `params`, or null (names are unique within a variant).
+const ParamDesc* find_param(const std::vector<ParamDesc>& params, const std::string& name);
+//! "float", "int" or "bool": the kind's name in listings, the live page's schema and Python.
+const char* param_kind_name(ParamKind k);
+
 //! Complete, validated parameter values of one stage instance (every declared name present).
 using ParamValues = std::map<std::string, double>;
 

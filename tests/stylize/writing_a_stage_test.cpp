@@ -112,6 +112,11 @@ TEST(WritingAStage, TheDeclarationGivesTheRegistryEntryAndTheParameterChecks) {
     // Inputs are checked against the declaration: a 3-channel image is refused.
     const ImageF rgb = random_image(4, 4, 3, 1);
     EXPECT_THROW(run(v, rgb, Registry::resolve_params(v, {}, "t"), {}), Error);
+    // A parameter declared twice is refused when the variant is registered.
+    StageVariant twice = v;
+    twice.params.push_back(twice.params[0]);
+    Registry r;
+    EXPECT_THROW(r.add(twice), Error);
     // A declaration that disagrees with its kernel is refused when it is made.
     EXPECT_THROW(schedule::pointwise_variant<example::Desaturate>("d", "x", "", {{"color", "c", 3, false}}, {"color", "o", 4, false}),
                  Error);
