@@ -93,8 +93,7 @@ void fragment_row_avx2(const Sprite& s, bool round, float delta, float beta, int
 
 }  // namespace
 
-std::vector<Particle> place_particles(const ImplicitSurface& s, float plant_height, glm::vec3 light_dir,
-                                      const ParticleParams& p) {
+void check_particle_params(const ParticleParams& p) {
     if (!(std::isfinite(p.quantity) && p.quantity >= 0.0f) || !(std::isfinite(p.height) && p.height > 0.0f) ||
         !(std::isfinite(p.spread) && p.spread >= 0.0f))
         throw Error("particles: quantity, spread and height must be finite (height > 0)");
@@ -103,6 +102,12 @@ std::vector<Particle> place_particles(const ImplicitSurface& s, float plant_heig
     if (!(n <= double(kMaxParticles)))
         throw Error("particles: quantity x height² = " + std::to_string(std::llround(std::min(n, 1e18))) +
                     " particles exceeds the limit of " + std::to_string(kMaxParticles));
+}
+
+std::vector<Particle> place_particles(const ImplicitSurface& s, float plant_height, glm::vec3 light_dir,
+                                      const ParticleParams& p) {
+    check_particle_params(p);
+    const double n = double(p.quantity) * double(p.height) * double(p.height);  // eq. 8
     std::vector<Particle> out;
     if (s.positions.empty()) return out;
     const std::size_t N = std::size_t(std::llround(n));

@@ -53,6 +53,11 @@ struct ParticleParams {
     const ImageF* depth_map = nullptr; //!< the camera's (blurred) depth of the abstracted scene
 };
 
+//! The rules between the placement parameters (throws aq::Error): quantity, spread and height
+//! finite (height > 0), t0 <= t1, and quantity·height² within kMaxParticles. place_particles checks
+//! them; the particle pass's validate too, when a pipeline compiles.
+void check_particle_params(const ParticleParams& p);
+
 //! Eq. 8-9, 11: N = quantity·height² particles; particle i sits at surface vertex v(i) (a seeded
 //! hash of i) plus a seeded random unit vector times spread·√height·(plant height / height),
 //! with v's normal and its class by n·l. Pure function of (surface, params, light, plant height).

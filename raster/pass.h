@@ -132,13 +132,22 @@ struct LightSample {
 };
 LightSample light_space(const PassViewSetup& light, glm::vec3 world, int map_w, int map_h);
 
+// Ours: LD06 gives no values for δ and β. δ = 0.05 of the fitted depth range keeps the band of
+// semi-visible fragments narrow; β = δ keeps an object just in front fully visible (LD06 §2).
+inline constexpr float kPassDelta = 0.05f;
+// Ours: LD06 §3.3 gives no values. A lit surface tested against its own (blurred) light depth
+// has D - f_d near 0, so it is fully lit only when β >= δ; β a little above δ absorbs the blur of
+// foliage depth (on the dense oak, β = 0.01 left most lit leaves in shadow; 0.05 does not).
+inline constexpr float kShadowDelta = 0.04f;
+inline constexpr float kShadowBeta = 0.05f;
+
 struct TrianglePass {
     PassView view = PassView::Camera;
     float scale = 1.0f;             //!< raster size as a scale of the output size, [0.05, 4]
     DrawSet draw = DrawSet::All;
     PassValue value = PassValue::Coverage;
     DepthTest test = DepthTest::Binary;
-    float delta = 0.05f;            //!< δ of eq. 2 (blurred tests), [0, 1]
+    float delta = kPassDelta;       //!< δ of eq. 2 (blurred tests), [0, 1]
     float beta = 0.0f;              //!< β of eq. 2, [-1, 1]
     Blend blend = Blend::Replace;
     float alpha = 1.0f;             //!< fragment alpha for Blend::Over, [0, 1]
@@ -152,7 +161,7 @@ struct TrianglePass {
     //! Shadow value: the blurred light-view depth map (1 channel) and its test.
     const ImageF* shadow_map = nullptr;
     DepthTest shadow_test = DepthTest::Blurred;
-    float shadow_delta = 0.04f, shadow_beta = 0.05f;  //!< β >= δ keeps lit surfaces fully lit
+    float shadow_delta = kShadowDelta, shadow_beta = kShadowBeta;  //!< β >= δ keeps lit surfaces fully lit
 };
 
 //! Renders `p` into `out` (1 channel at the pass view's size; background 1 for Depth,

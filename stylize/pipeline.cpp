@@ -387,6 +387,14 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
         throw Error(key + ": " + e.what());
     }
     r.params = Registry::resolve_params(*r.variant, s.params, key + ".params");
+    if (r.variant->validate) {
+        try {
+            r.variant->validate(r.params);
+        } catch (const Error& e) {
+            throw Error(key + ".params (" + r.variant->key() + "): " + e.what());
+        }
+    }
+    r.step = r.variant->bound(r.params);
     for (auto& [port, t] : s.in)
         if (!find_port(r.variant->inputs, port)) throw Error(key + ".in." + port + ": unknown input port of " + r.variant->key());
     for (auto& [port, t] : s.out)
@@ -671,7 +679,7 @@ void run_row_group(const CompiledPipeline& c, const RowGroup& gr, Targets& targe
     auto run = [&](std::size_t j, int y0, int y1) {
         const CompiledStep& r = c.steps[gr.first + j];
         try {
-            r.variant->run(io[j], r.params, opt.exec.rows(y0, y1));
+            r.step(io[j], opt.exec.rows(y0, y1));
         } catch (const Error& e) {
             throw Error(r.where + ": " + e.what());
         }
@@ -863,7 +871,7 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                     io.in[std::size_t(port_index(r.variant->inputs, link.second))] = nullptr;
                 fused->run(pio, pr.params, io, r.params, opt.exec);
             } else {
-                r.variant->run(io, r.params, opt.exec);
+                r.step(io, opt.exec);
             }
         } catch (const Error& e) {
             throw Error(r.where + ": " + e.what());

@@ -145,6 +145,8 @@ struct CompiledStep {
     const StageVariant* variant = nullptr;
     bool pass = false;  //!< a raster pass (needs RunOptions::scene)
     ParamValues params;
+    //! The variant's run with `params` bound (StageVariant::bound): what the pipeline runs.
+    StepFn step;
     std::vector<std::string> inputs;   //!< per variant input port
     std::vector<std::string> outputs;  //!< per variant output port
     std::string label;                 //!< "id (stage/variant)", for progress

@@ -9,6 +9,25 @@
 
 namespace aq::stylize {
 
+void check_io(const std::string& key, const std::vector<Port>& inputs, const std::vector<Port>& outputs,
+              const StageIO& io) {
+    if (io.in.size() != inputs.size() || io.out.size() != outputs.size())
+        throw Error(key + ": called with " + std::to_string(io.in.size()) + " inputs and " + std::to_string(io.out.size()) +
+                    " outputs, expected " + std::to_string(inputs.size()) + " and " + std::to_string(outputs.size()));
+    for (std::size_t k = 0; k < inputs.size(); ++k) {
+        const ImageF* img = io.in[k];
+        if (!img || img->empty()) {
+            if (inputs[k].optional) continue;
+            throw Error(key + ": required input '" + inputs[k].name + "' is missing or empty");
+        }
+        if (img->channels() != inputs[k].channels)
+            throw Error(key + ": input '" + inputs[k].name + "' has " + std::to_string(img->channels()) + " channels, expected " +
+                        std::to_string(inputs[k].channels));
+    }
+    for (std::size_t k = 0; k < outputs.size(); ++k)
+        if (!io.out[k]) throw Error(key + ": output '" + outputs[k].name + "' has no destination");
+}
+
 void Registry::add(StageVariant v) {
     if (has(v.stage, v.variant)) throw Error("stage variant '" + v.key() + "' registered twice");
     if (!v.run) throw Error("stage variant '" + v.key() + "' has no run function");
@@ -22,29 +41,20 @@ void Registry::add(StageVariant v) {
             throw Error("stage variant '" + v.key() + "': in place from input '" + v.in_place_input + "' to output '" +
                         v.in_place_output + "' needs both ports, with the same channel count");
     }
-    // Framework entry check, shared by every stage: the number of inputs/outputs, required inputs
-    // present and non-empty, and every input's channel count as declared by its port. Stages still
-    // check what only they know (sizes, resolutions), once, at their own entry.
+    // Framework entry check, shared by every stage (check_io), on both ways in: run and the
+    // bound step a compiled pipeline keeps.
     v.run = [inner = std::move(v.run), key = v.key(), inputs = v.inputs, outputs = v.outputs](
                 StageIO& io, const ParamValues& params, const Exec& ex) {
-        if (io.in.size() != inputs.size() || io.out.size() != outputs.size())
-            throw Error(key + ": called with " + std::to_string(io.in.size()) + " inputs and " +
-                        std::to_string(io.out.size()) + " outputs, expected " + std::to_string(inputs.size()) +
-                        " and " + std::to_string(outputs.size()));
-        for (std::size_t k = 0; k < inputs.size(); ++k) {
-            const ImageF* img = io.in[k];
-            if (!img || img->empty()) {
-                if (inputs[k].optional) continue;
-                throw Error(key + ": required input '" + inputs[k].name + "' is missing or empty");
-            }
-            if (img->channels() != inputs[k].channels)
-                throw Error(key + ": input '" + inputs[k].name + "' has " + std::to_string(img->channels()) +
-                            " channels, expected " + std::to_string(inputs[k].channels));
-        }
-        for (std::size_t k = 0; k < outputs.size(); ++k)
-            if (!io.out[k]) throw Error(key + ": output '" + outputs[k].name + "' has no destination");
+        check_io(key, inputs, outputs, io);
         inner(io, params, ex);
     };
+    if (v.bind)
+        v.bind = [inner = std::move(v.bind), key = v.key(), inputs = v.inputs, outputs = v.outputs](const ParamValues& params) {
+            return StepFn([step = inner(params), key, inputs, outputs](StageIO& io, const Exec& ex) {
+                check_io(key, inputs, outputs, io);
+                step(io, ex);
+            });
+        };
     variants_.push_back(std::move(v));
 }
 
@@ -52,6 +62,11 @@ const ParamDesc* find_param(const std::vector<ParamDesc>& params, const std::str
     for (const ParamDesc& p : params)
         if (p.name == name) return &p;
     return nullptr;
+}
+
+StepFn StageVariant::bound(const ParamValues& params) const {
+    if (bind) return bind(params);
+    return [run = run, params](StageIO& io, const Exec& ex) { run(io, params, ex); };
 }
 
 const char* param_kind_name(ParamKind k) {

@@ -9,6 +9,8 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -46,30 +48,73 @@ const char* param_kind_name(ParamKind k);
 //! Complete, validated parameter values of one stage instance (every declared name present).
 using ParamValues = std::map<std::string, double>;
 
-//! Binds the fields of a parameter struct P to names and ranges.
+//! A field inside nested members and arrays of a parameter struct: each step a member pointer or
+//! an index. field_path(&ShadowLayerParams::wash, &LayerWashParams::shape, &WashShape::kappa) names
+//! p.wash.shape.kappa; field_path(&ColorRampParams::layer, 2, &ColorRampLayer::color, 0) names
+//! p.layer[2].color[0].
+template <class... M>
+struct FieldPath {
+    std::tuple<M...> steps;
+};
+template <class... M>
+FieldPath<M...> field_path(M... steps) {
+    return {{steps...}};
+}
+namespace detail {
+template <class X, class M, class... Rest>
+decltype(auto) walk_field(X& x, M m, Rest... rest) {
+    auto& next = [&]() -> auto& {
+        if constexpr (std::is_member_object_pointer_v<M>)
+            return x.*m;
+        else
+            return x[m];
+    }();
+    if constexpr (sizeof...(Rest) == 0)
+        return (next);
+    else
+        return walk_field(next, rest...);
+}
+}  // namespace detail
+//! The field `m` of p: a member pointer or a FieldPath.
+template <class P, class M>
+decltype(auto) field_of(P& p, M m) {
+    if constexpr (std::is_member_object_pointer_v<M>)
+        return (p.*m);
+    else
+        return std::apply([&p](auto... ms) -> decltype(auto) { return detail::walk_field(p, ms...); }, m.steps);
+}
+
+//! Binds the fields of a parameter struct P (each a member pointer or a FieldPath) to names and
+//! ranges; the struct's own default is the parameter's.
 template <class P>
 class ParamTable {
 public:
-    ParamTable& f(const char* name, float P::*m, double lo, double hi, const char* doc) {
-        add({name, ParamKind::Float, double(P{}.*m), lo, hi, doc},
-            [m](P& p, double v) { p.*m = float(v); });
-        return *this;
+    template <class M>
+    ParamTable& f(std::string name, M m, double lo, double hi, std::string doc) {
+        return field<float, M>({std::move(name), ParamKind::Float, 0, lo, hi, std::move(doc)}, m);
     }
-    ParamTable& i(const char* name, int P::*m, int lo, int hi, const char* doc) {
-        add({name, ParamKind::Int, double(P{}.*m), double(lo), double(hi), doc},
-            [m](P& p, double v) { p.*m = int(v); });
-        return *this;
+    template <class M>
+    ParamTable& i(std::string name, M m, int lo, int hi, std::string doc) {
+        using T = std::remove_cvref_t<decltype(field_of(std::declval<P&>(), m))>;
+        static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an int parameter is an integer field");
+        return field<T, M>({std::move(name), ParamKind::Int, 0, double(lo), double(hi), std::move(doc)}, m);
     }
-    //! An enum-like integer: value k is names[k].
-    ParamTable& e(const char* name, int P::*m, std::vector<std::string> names, const char* doc) {
-        add({name, ParamKind::Int, double(P{}.*m), 0.0, double(names.size()) - 1.0, doc, std::move(names)},
-            [m](P& p, double v) { p.*m = int(v); });
-        return *this;
+    //! An enum-like field (an int, or an enum with values 0..n-1): value k is names[k].
+    template <class M>
+    ParamTable& e(std::string name, M m, std::vector<std::string> names, std::string doc) {
+        const double hi = double(names.size()) - 1.0;
+        using T = std::remove_cvref_t<decltype(field_of(std::declval<P&>(), m))>;
+        static_assert(std::is_enum_v<T> || std::is_same_v<T, int>, "an enum parameter is an int or an enum");
+        return field<T, M>({std::move(name), ParamKind::Int, 0, 0.0, hi, std::move(doc), std::move(names)}, m);
     }
-    ParamTable& b(const char* name, bool P::*m, const char* doc) {
-        add({name, ParamKind::Bool, (P{}.*m) ? 1.0 : 0.0, 0.0, 1.0, doc},
-            [m](P& p, double v) { p.*m = v != 0.0; });
-        return *this;
+    //! The rule for taps outside the image (core/image.h Border), named `border` in every stage.
+    template <class M>
+    ParamTable& border(M m) {
+        return e("border", m, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
+    }
+    template <class M>
+    ParamTable& b(std::string name, M m, std::string doc) {
+        return field<bool, M>({std::move(name), ParamKind::Bool, 0, 0.0, 1.0, std::move(doc)}, m);
     }
     const std::vector<ParamDesc>& descs() const { return descs_; }
     //! Values must already be validated (see Registry::resolve_params).
@@ -83,9 +128,26 @@ public:
     }
 
 private:
-    void add(ParamDesc d, std::function<void(P&, double)> s) {
+    //! Field m of type T (checked), its default read from P{}.
+    template <class T, class M>
+    ParamTable& field(ParamDesc d, M m) {
+        static_assert(std::is_same_v<std::remove_cvref_t<decltype(field_of(std::declval<P&>(), m))>, T>,
+                      "the field's type does not match the parameter kind");
+        P defaults{};
+        if constexpr (std::is_enum_v<T>)
+            d.def = double(int(field_of(defaults, m)));
+        else
+            d.def = double(field_of(defaults, m));
         descs_.push_back(std::move(d));
-        setters_.push_back(std::move(s));
+        setters_.push_back([m](P& p, double v) {
+            if constexpr (std::is_same_v<T, bool>)
+                field_of(p, m) = v != 0.0;
+            else if constexpr (std::is_enum_v<T>)
+                field_of(p, m) = T(int(v));
+            else
+                field_of(p, m) = T(v);
+        });
+        return *this;
     }
     std::vector<ParamDesc> descs_;
     std::vector<std::function<void(P&, double)>> setters_;
@@ -131,6 +193,8 @@ struct StageIO {
 };
 
 using RunFn = std::function<void(StageIO& io, const ParamValues& params, const Exec& ex)>;
+//! A run with its parameter values bound (converted to the stage's typed struct once).
+using StepFn = std::function<void(StageIO& io, const Exec& ex)>;
 
 class SceneInputs;  // stylize/scene_inputs.h
 //! A parameter value a step takes from the scene being rendered, and where it came from (named
@@ -144,13 +208,13 @@ struct SceneValue {
 using SceneParamsFn = std::function<std::vector<SceneValue>(const ParamValues& params, const SceneInputs& scene)>;
 
 struct StageVariant {
-    std::string stage;    //!< e.g. "bleed"
-    std::string variant;  //!< e.g. "joint_bilateral"
-    std::string doc;      //!< one line, with the paper and equation it implements
-    std::vector<Port> inputs;
-    std::vector<Port> outputs;
-    std::vector<ParamDesc> params;
-    RunFn run;
+    std::string stage = {};    //!< e.g. "bleed"
+    std::string variant = {};  //!< e.g. "joint_bilateral"
+    std::string doc = {};      //!< one line, with the paper and equation it implements
+    std::vector<Port> inputs = {};
+    std::vector<Port> outputs = {};
+    std::vector<ParamDesc> params = {};
+    RunFn run = {};
     //! What Traversal::Reference runs (docs/stylize.md "Algorithm and schedule"). The fast
     //! schedule equals it bit for bit in every case (tests/stylize/registry_traversal_test.cpp).
     enum class Reference {
@@ -162,20 +226,30 @@ struct StageVariant {
     //! Input and output ports (names) the stage can compute in place (docs/stylize.md "In-place
     //! steps"): handed one image as both, it writes only the pixels that change, with the bytes of
     //! the run on separate images. Empty: never in place.
-    std::string in_place_input, in_place_output;
+    std::string in_place_input = {}, in_place_output = {};
     //! Row windows (docs/stylize.md "Row groups"): when set, the Fast traversal run with a window
     //! (Exec::rows) computes exactly the output rows [y0, y1), reads its inputs only in the rows
     //! [y0 - halo, y1 + halo) (halo = row_halo(params); image borders resolved within them), writes
     //! outputs of its full-size input's size, and with an empty window only checks and allocates.
     //! Such steps in a row run band by band (CompiledPipeline::row_groups). Null: never windowed.
-    std::function<int(const ParamValues&)> row_halo;
+    std::function<int(const ParamValues&)> row_halo = {};
     //! Parameter values the variant takes from the scene being rendered (docs/stylize.md "Scene
     //! inputs"; stylize::apply_scene_inputs): set before the scene file's style values and --set,
     //! which override them. Null: none.
-    SceneParamsFn scene_params;
+    SceneParamsFn scene_params = {};
     //! The step applies WC17 eq. 6's pigment turbulence in image space: without such a step in the
     //! pipeline the material applies it in object space (WC17 §3.2; raster::RenderSettings::turbulence).
     bool image_space_turbulence = false;
+    //! The rules between parameters that ranges cannot state (smooth_high > smooth_low, ...):
+    //! throws aq::Error naming the rule. Run when a pipeline compiles the step (resolve_step), so
+    //! every single value may pass through a transient state while --set and a scene file apply
+    //! theirs in turn. Null: none.
+    std::function<void(const ParamValues&)> validate = {};
+    //! The run with parameter values bound once, typed (declare sets it): what a compiled
+    //! pipeline keeps per step (CompiledStep::step). Null: bound() keeps the values for `run`.
+    std::function<StepFn(const ParamValues&)> bind = {};
+    //! bind(params), or run with `params` kept.
+    StepFn bound(const ParamValues& params) const;
     std::string key() const { return stage + "/" + variant; }
 };
 
@@ -201,9 +275,17 @@ struct Fusion {
         run;
 };
 
+//! The framework's entry check of every variant (Registry::add puts it before run and the bound
+//! step): as many inputs and outputs as declared, required inputs present and non-empty, every
+//! input's channel count as its port declares, every output bound. Stages still check what only
+//! they know (sizes, resolutions), once, at their own entry. Throws aq::Error naming `key`.
+void check_io(const std::string& key, const std::vector<Port>& inputs, const std::vector<Port>& outputs,
+              const StageIO& io);
+
 class Registry {
 public:
-    //! Adds a variant; throws aq::Error on duplicate stage/variant.
+    //! Adds a variant, its run and bound steps behind check_io; throws aq::Error on a duplicate
+    //! stage/variant, no run, a parameter declared twice or a bad in-place pair.
     void add(StageVariant v);
     //! Throws aq::Error naming the stage and listing what exists.
     const StageVariant& get(const std::string& stage, const std::string& variant) const;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "raster/pass.h"
+#include "stylize/declare.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize::passes {

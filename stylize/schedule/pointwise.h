@@ -16,6 +16,7 @@
 
 #include "core/image.h"
 #include "core/lanes.h"
+#include "stylize/declare.h"
 #include "stylize/stage.h"
 #include "stylize/stages/toolkit.h"
 
@@ -35,12 +36,6 @@ using Pixel = std::array<F, 4>;
 //   static void pixel(const Pixel<F>* in, Pixel<F>& out, const Params& p);   // the maths, once
 
 namespace detail {
-template <class K>
-const ParamTable<typename K::Params>& table_of() {
-    static const ParamTable<typename K::Params> t = K::params();
-    return t;
-}
-
 //! Pixel i of every input, one value per channel.
 template <class K>
 inline void load_one(const std::vector<const ImageF*>& in, std::size_t i, Pixel<float>* px) {
@@ -100,31 +95,30 @@ void run_pointwise(ImageF& out, const std::vector<const ImageF*>& in, const type
 template <class K>
 StageVariant pointwise_variant(std::string stage, std::string variant, std::string doc, std::vector<Port> inputs,
                                Port output) {
-    StageVariant v;
-    v.stage = std::move(stage);
-    v.variant = std::move(variant);
-    v.doc = std::move(doc);
-    if (inputs.size() != K::kInputs.size()) throw Error(v.key() + ": the kernel reads " + std::to_string(K::kInputs.size()) + " inputs");
+    const std::string key = stage + "/" + variant;
+    if (inputs.size() != K::kInputs.size()) throw Error(key + ": the kernel reads " + std::to_string(K::kInputs.size()) + " inputs");
     for (std::size_t k = 0; k < inputs.size(); ++k) {
         if (inputs[k].channels != K::kInputs[k] || inputs[k].optional)
-            throw Error(v.key() + ": input '" + inputs[k].name + "' must be required with " +
-                        std::to_string(K::kInputs[k]) + " channels, as the kernel reads");
+            throw Error(key + ": input '" + inputs[k].name + "' must be required with " + std::to_string(K::kInputs[k]) +
+                        " channels, as the kernel reads");
     }
     if (output.channels != K::kOutput)
-        throw Error(v.key() + ": output '" + output.name + "' must have " + std::to_string(K::kOutput) + " channels");
-    v.inputs = std::move(inputs);
-    v.outputs = {std::move(output)};
-    v.params = detail::table_of<K>().descs();
-    v.run = toolkit::with_port_check(v, [key = v.key(), ports = v.inputs](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        for (std::size_t k = 0; k < io.in.size(); ++k) {
-            toolkit::check_same_size(*io.in[k], *io.in[0], key, ports[k].name, ports[0].name);
-            toolkit::check_not_alias(*io.out[0], io.in[k], key, ports[k].name);
-        }
-        run_pointwise<K>(*io.out[0], io.in, detail::table_of<K>().from(pv), ex);
-    });
-    v.reference = StageVariant::Reference::SharedMaths;
-    v.row_halo = pointwise_rows;
-    return v;
+        throw Error(key + ": output '" + output.name + "' must have " + std::to_string(K::kOutput) + " channels");
+    using P = typename K::Params;
+    return declare({.stage = std::move(stage),
+                    .variant = std::move(variant),
+                    .doc = std::move(doc),
+                    .inputs = inputs,
+                    .outputs = {std::move(output)},
+                    .reference = StageVariant::Reference::SharedMaths,
+                    .row_halo = pointwise_rows},
+                   K::params(), [key, inputs](StageIO& io, const P& p, const Exec& ex) {
+                       for (std::size_t k = 0; k < io.in.size(); ++k) {
+                           toolkit::check_same_size(*io.in[k], *io.in[0], key, inputs[k].name, inputs[0].name);
+                           toolkit::check_not_alias(*io.out[0], io.in[k], key, inputs[k].name);
+                       }
+                       run_pointwise<K>(*io.out[0], io.in, p, ex);
+                   });
 }
 
 }  // namespace aq::stylize::schedule

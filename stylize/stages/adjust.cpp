@@ -132,14 +132,17 @@ void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, cons
 
 }  // namespace
 
+void check_adjust_params(const AdjustParams& p) {
+    if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
+    if (p.atmosphere && p.atmosphere_end == p.atmosphere_start) throw Error("adjust: atmosphere_start == atmosphere_end");
+}
+
 void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
             glm::vec3 substrate, const AdjustParams& p, const Exec& ex) {
     toolkit::check_input(&color, 4, toolkit::Channels::Exactly, "adjust", "color");
     toolkit::check_input(&depth_linear, 1, toolkit::Channels::Exactly, "adjust", "depth");
     toolkit::check_same_size(depth_linear, color, "adjust", "depth", "color");
-    if (p.depth_far == p.depth_near) throw Error("adjust: depth_near == depth_far");
-    if (p.atmosphere && p.atmosphere_end == p.atmosphere_start)
-        throw Error("adjust: atmosphere_start == atmosphere_end");
+    check_adjust_params(p);
     toolkit::ensure_output(color_out, color.width(), color.height(), 4);
     toolkit::ensure_output(depth_out, color.width(), color.height(), 1);
     if (p.atmosphere)
@@ -149,31 +152,32 @@ void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const Ima
 }
 
 void register_adjust(Registry& r) {
-    static const ParamTable<AdjustParams> t = ParamTable<AdjustParams>()
-        .f("depth_near", &AdjustParams::depth_near, 0, kMaxDepthRange, "linear depth mapped to 0 (MNPR 8)")
-        .f("depth_far", &AdjustParams::depth_far, 0, kMaxDepthRange, "linear depth mapped to 1 (MNPR 50)")
-        .f("saturation", &AdjustParams::saturation, 0, 5, "saturation, 1 = unchanged")
-        .f("contrast", &AdjustParams::contrast, 0, 5, "contrast, 1 = unchanged")
-        .f("brightness", &AdjustParams::brightness, 0, 5, "brightness, 1 = unchanged")
-        .b("atmosphere", &AdjustParams::atmosphere, "tint towards the atmosphere colour with depth")
-        .f("atmosphere_start", &AdjustParams::atmosphere_start, 0, 1e6, "depth where the tint starts")
-        .f("atmosphere_end", &AdjustParams::atmosphere_end, 0, 1e6, "depth where the tint is full")
-        .f("tint_r", &AdjustParams::tint_r, 0, 1, "atmosphere tint red")
-        .f("tint_g", &AdjustParams::tint_g, 0, 1, "atmosphere tint green")
-        .f("tint_b", &AdjustParams::tint_b, 0, 1, "atmosphere tint blue");
-    StageVariant v;
-    v.stage = "adjust";
-    v.variant = "mnpr";
-    v.doc = "MNPR adjust-load: normalised depth (near..far -> 0..1), saturation/contrast/brightness, "
-            "atmosphere, background = substrate colour (spec 4.1)";
-    v.inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false}};
-    v.outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}};
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
-    v.row_halo = pointwise_rows;
+    using P = AdjustParams;
+    StageVariant v = declare(
+        {.stage = "adjust",
+         .variant = "mnpr",
+         .doc = "MNPR adjust-load: normalised depth (near..far -> 0..1), saturation/contrast/brightness, "
+                "atmosphere, background = substrate colour (spec 4.1)",
+         .inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false}},
+         .outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}},
+         .reference = StageVariant::Reference::PlainLoop,
+         .row_halo = pointwise_rows},
+        ParamTable<P>()
+            .f("depth_near", &P::depth_near, 0, kMaxDepthRange, "linear depth mapped to 0 (MNPR 8)")
+            .f("depth_far", &P::depth_far, 0, kMaxDepthRange, "linear depth mapped to 1 (MNPR 50)")
+            .f("saturation", &P::saturation, 0, 5, "saturation, 1 = unchanged")
+            .f("contrast", &P::contrast, 0, 5, "contrast, 1 = unchanged")
+            .f("brightness", &P::brightness, 0, 5, "brightness, 1 = unchanged")
+            .b("atmosphere", &P::atmosphere, "tint towards the atmosphere colour with depth")
+            .f("atmosphere_start", &P::atmosphere_start, 0, 1e6, "depth where the tint starts")
+            .f("atmosphere_end", &P::atmosphere_end, 0, 1e6, "depth where the tint is full")
+            .f("tint_r", &P::tint_r, 0, 1, "atmosphere tint red")
+            .f("tint_g", &P::tint_g, 0, 1, "atmosphere tint green")
+            .f("tint_b", &P::tint_b, 0, 1, "atmosphere tint blue"),
+        [](StageIO& io, const P& p, const Exec& ex) {
+            adjust(*io.out[0], *io.out[1], *io.in[0], *io.in[1], globals_of(io).substrate_color, p, ex);
+        },
+        check_adjust_params);
     // MNPR normalises depth over 8..50 scene units (a Maya scene in cm). An automatically framed
     // camera hugs the scene's bounding sphere, so its clip range is the scene's depth range
     // whatever the model's units: normalise over it instead.

@@ -30,6 +30,11 @@ struct AdjustParams {
 //! MNPR's zBuffer == 1 case); rgb = mix(substrate, sat(contrast(saturation(c)) + b - 1) [tinted],
 //! alpha) (MNPR: lerp(substrate, result, alpha) -> the substrate where alpha = 0); alpha kept.
 //! color: 4 channels; depth_linear: 1 channel, same size. Outputs are (re)allocated.
+//! The rules between adjust's parameters (throws aq::Error): depth_near and depth_far differ, and
+//! so do the atmosphere's start and end when it is on. adjust checks them; the registry entry's
+//! validate too, when a pipeline compiles.
+void check_adjust_params(const AdjustParams& p);
+
 void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
             glm::vec3 substrate, const AdjustParams& p, const Exec& ex = {});
 

@@ -461,46 +461,31 @@ void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& 
 }
 
 namespace {
-struct BleedTableParams {
-    int radius = kBleedRadius;
-    float sigma = kBleedSigma;
-    float depth_threshold = kBleedDepthThreshold;
-    bool half_res = false;
-    int border = 0;
-};
-
 void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_default, bool sigma_param, const char* doc) {
-    auto t = std::make_shared<ParamTable<BleedTableParams>>();
-    t->i("radius", &BleedTableParams::radius, 1, 40, "kernel radius r, taps = 2r + 1 (WC17: 21 taps)");
-    if (sigma_param) t->f("sigma", &BleedTableParams::sigma, 0.1, 100, "Gaussian sigma (WC17: 20)");
-    if (rule != BleedRule::Naive)
-        t->f("depth_threshold", &BleedTableParams::depth_threshold, 0, 1, "T on normalised depth (MNPR 0.0002)");
-    t->b("half_res", &BleedTableParams::half_res, "run at half resolution (WC17 as published)");
-    t->e("border", &BleedTableParams::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge (GL clamp-to-edge) or mirror");
-    StageVariant v;
-    v.stage = "bleed";
-    v.variant = variant;
-    v.doc = doc;
-    v.inputs = {{"color", "color.density", 4, false}};
-    if (rule != BleedRule::Naive) v.inputs.push_back({"depth", "depth", 1, false});
-    v.inputs.push_back({"ctrl_abstraction", target::kCtrlAbstraction, 4, false});
-    v.outputs = {{"bleed", "bleed", 4, false}};
-    v.params = t->descs();
+    using P = BleedParams;
+    ParamTable<P> t;
+    t.i("radius", &P::radius, 1, 40, "kernel radius r, taps = 2r + 1 (WC17: 21 taps)");
+    if (sigma_param) t.f("sigma", &P::sigma, 0.1, 100, "Gaussian sigma (WC17: 20)");
+    if (rule != BleedRule::Naive) t.f("depth_threshold", &P::depth_threshold, 0, 1, "T on normalised depth (MNPR 0.0002)");
+    t.b("half_res", &P::half_res, "run at half resolution (WC17 as published)");
+    t.border(&P::border);
+    std::vector<Port> inputs = {{"color", "color.density", 4, false}};
+    if (rule != BleedRule::Naive) inputs.push_back({"depth", "depth", 1, false});
+    inputs.push_back({"ctrl_abstraction", target::kCtrlAbstraction, 4, false});
+    StageVariant v = declare({.stage = "bleed",
+                              .variant = variant,
+                              .doc = doc,
+                              .inputs = inputs,
+                              .outputs = {{"bleed", "bleed", 4, false}},
+                              .reference = StageVariant::Reference::PlainLoop},
+                             t, [rule, sigma_param](StageIO& io, P p, const Exec& ex) {
+                                 if (!sigma_param) p.sigma = 2.0f * float(p.radius);  // MNPR: sigma = 2r
+                                 static const ImageF kNoDepth;
+                                 const bool naive = rule == BleedRule::Naive;
+                                 bleed(*io.out[0], *io.in[0], naive ? kNoDepth : *io.in[1], *io.in[naive ? 1 : 2], rule, p, ex);
+                             });
     for (auto& d : v.params)
         if (d.name == "half_res") d.def = half_default ? 1.0 : 0.0;
-    v.run = [t, rule, sigma_param](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const auto tp = t->from(pv);
-        BleedParams p;
-        p.radius = tp.radius;
-        p.sigma = sigma_param ? tp.sigma : 2.0f * float(tp.radius);  // MNPR: sigma = 2r
-        p.depth_threshold = tp.depth_threshold;
-        p.half_res = tp.half_res;
-        p.border = tp.border ? Border::Mirror : Border::Clamp;
-        static const ImageF kNoDepth;
-        const bool naive = rule == BleedRule::Naive;
-        bleed(*io.out[0], *io.in[0], naive ? kNoDepth : *io.in[1], *io.in[naive ? 1 : 2], rule, p, ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
     r.add(std::move(v));
 }
 }  // namespace

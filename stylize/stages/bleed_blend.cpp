@@ -133,23 +133,18 @@ void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const Bl
 }
 
 void register_bleed_blend(Registry& r) {
-    static const ParamTable<BleedBlendParams> t = ParamTable<BleedBlendParams>().f(
-        "gain", &BleedBlendParams::gain, 0, 100, "k = sat(gain * bleed.a): 1 = WC17 eq. 7, 5 = MNPR");
-    StageVariant v;
-    v.stage = "bleed_blend";
-    v.variant = "eq7";
-    v.doc = "WC17 eq. 7: I_cb = k (B - I) + I, k = sat(gain * mask); half-res bleeds upsampled bilinearly";
-    v.inputs = {{"color", "color.density", 4, false}, {"bleed", "bleed", 4, false}};
-    v.outputs = {{"color", "color.bled", 4, false}};
-    v.in_place_input = "color";  // pointwise in the colour (the bleed is another image)
-    v.in_place_output = "color";
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        bleed_blend(*io.out[0], *io.in[0], *io.in[1], t.from(pv), ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
-    v.row_halo = pointwise_rows;
-    r.add(std::move(v));
+    using P = BleedBlendParams;
+    r.add(declare({.stage = "bleed_blend",
+                   .variant = "eq7",
+                   .doc = "WC17 eq. 7: I_cb = k (B - I) + I, k = sat(gain * mask); half-res bleeds upsampled bilinearly",
+                   .inputs = {{"color", "color.density", 4, false}, {"bleed", "bleed", 4, false}},
+                   .outputs = {{"color", "color.bled", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .in_place_input = "color",  // pointwise in the colour (the bleed is another image)
+                   .in_place_output = "color",
+                   .row_halo = pointwise_rows},
+                  ParamTable<P>().f("gain", &P::gain, 0, 100, "k = sat(gain * bleed.a): 1 = WC17 eq. 7, 5 = MNPR"),
+                  [](StageIO& io, const P& p, const Exec& ex) { bleed_blend(*io.out[0], *io.in[0], *io.in[1], p, ex); }));
 }
 
 }  // namespace aq::stylize

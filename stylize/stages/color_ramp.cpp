@@ -61,70 +61,48 @@ void color_ramp_row(const float* t, int n, const ColorRampLayer& l, const RampCo
 }
 
 namespace {
-using T = ColorRampTable;
-const ParamTable<T>& table() {
-    static const ParamTable<T> t = ParamTable<T>()
-        .e("source", &T::source, {"given", "layers", "foliage"}, "where the layer colours come from: as given, the scene's layers first..first+3, or the foliage layer (particles)")
-        .i("first", &T::first, 0, 1 << 24, "scene layer of layer0 for source layers (as id_layers.first)")
-        .f("cool_r", &T::cool_r, 0, 1, "hue ramp, cool end k_blue (r) (Gooch: (0, 0, b), b = 0.4; ours b = 0.1)")
-        .f("cool_g", &T::cool_g, 0, 1, "hue ramp, cool end (g)")
-        .f("cool_b", &T::cool_b, 0, 1, "hue ramp, cool end (b)")
-        .f("warm_r", &T::warm_r, 0, 1, "hue ramp, warm end k_yellow (r) (Gooch: (y, y, 0), y = 0.4; ours y = 0.1)")
-        .f("warm_g", &T::warm_g, 0, 1, "hue ramp, warm end (g)")
-        .f("warm_b", &T::warm_b, 0, 1, "hue ramp, warm end (b)")
-        .f("cool_mix", &T::cool_mix, 0, 2, "Gooch α: object colour in the cool end (Gooch 0.2; ours 0.8)")
-        .f("warm_mix", &T::warm_mix, 0, 2, "Gooch β: object colour in the warm end (Gooch 0.6; ours 1.0)")
-        .f("keep_hue", &T::keep_hue, 0, 1, "how much a saturated colour keeps its hue: the cool/warm shift is weighted by 1 - keep_hue x saturation (0 = Gooch's shift on every colour; ours 1)")
-        .f("color0_r", &T::color0_r, 0, 1, "layer0 object ramp, lit end (r; display value)")
-        .f("color0_g", &T::color0_g, 0, 1, "layer0 object ramp, lit end (g; display value)")
-        .f("color0_b", &T::color0_b, 0, 1, "layer0 object ramp, lit end (b; display value)")
-        .f("dark0_r", &T::dark0_r, 0, 1, "layer0 object ramp, unlit end (r; ours: 0.55 x colour)")
-        .f("dark0_g", &T::dark0_g, 0, 1, "layer0 object ramp, unlit end (g; ours: 0.55 x colour)")
-        .f("dark0_b", &T::dark0_b, 0, 1, "layer0 object ramp, unlit end (b; ours: 0.55 x colour)")
-        .f("alpha0", &T::alpha0, 0, 1, "layer0 ramp alpha: the wash's opacity (ours: 0.85)")
-        .f("tone0", &T::tone0, 0, 4, "layer0 factor on its object ramp (particle layers: darker / brighter tones)")
-        .f("color1_r", &T::color1_r, 0, 1, "layer1 object ramp, lit end (r; display value)")
-        .f("color1_g", &T::color1_g, 0, 1, "layer1 object ramp, lit end (g; display value)")
-        .f("color1_b", &T::color1_b, 0, 1, "layer1 object ramp, lit end (b; display value)")
-        .f("dark1_r", &T::dark1_r, 0, 1, "layer1 object ramp, unlit end (r; ours: 0.55 x colour)")
-        .f("dark1_g", &T::dark1_g, 0, 1, "layer1 object ramp, unlit end (g; ours: 0.55 x colour)")
-        .f("dark1_b", &T::dark1_b, 0, 1, "layer1 object ramp, unlit end (b; ours: 0.55 x colour)")
-        .f("alpha1", &T::alpha1, 0, 1, "layer1 ramp alpha: the wash's opacity (ours: 0.85)")
-        .f("tone1", &T::tone1, 0, 4, "layer1 factor on its object ramp (particle layers: darker / brighter tones)")
-        .f("color2_r", &T::color2_r, 0, 1, "layer2 object ramp, lit end (r; display value)")
-        .f("color2_g", &T::color2_g, 0, 1, "layer2 object ramp, lit end (g; display value)")
-        .f("color2_b", &T::color2_b, 0, 1, "layer2 object ramp, lit end (b; display value)")
-        .f("dark2_r", &T::dark2_r, 0, 1, "layer2 object ramp, unlit end (r; ours: 0.55 x colour)")
-        .f("dark2_g", &T::dark2_g, 0, 1, "layer2 object ramp, unlit end (g; ours: 0.55 x colour)")
-        .f("dark2_b", &T::dark2_b, 0, 1, "layer2 object ramp, unlit end (b; ours: 0.55 x colour)")
-        .f("alpha2", &T::alpha2, 0, 1, "layer2 ramp alpha: the wash's opacity (ours: 0.85)")
-        .f("tone2", &T::tone2, 0, 4, "layer2 factor on its object ramp (particle layers: darker / brighter tones)")
-        .f("color3_r", &T::color3_r, 0, 1, "layer3 object ramp, lit end (r; display value)")
-        .f("color3_g", &T::color3_g, 0, 1, "layer3 object ramp, lit end (g; display value)")
-        .f("color3_b", &T::color3_b, 0, 1, "layer3 object ramp, lit end (b; display value)")
-        .f("dark3_r", &T::dark3_r, 0, 1, "layer3 object ramp, unlit end (r; ours: 0.55 x colour)")
-        .f("dark3_g", &T::dark3_g, 0, 1, "layer3 object ramp, unlit end (g; ours: 0.55 x colour)")
-        .f("dark3_b", &T::dark3_b, 0, 1, "layer3 object ramp, unlit end (b; ours: 0.55 x colour)")
-        .f("alpha3", &T::alpha3, 0, 1, "layer3 ramp alpha: the wash's opacity (ours: 0.85)")
-        .f("tone3", &T::tone3, 0, 4, "layer3 factor on its object ramp (particle layers: darker / brighter tones)");
+using P = ColorRampParams;
+
+const ParamTable<P>& table() {
+    static const ParamTable<P> t = [] {
+        ParamTable<P> t;
+        t.e("source", &P::source, {"given", "layers", "foliage"},
+            "where the layer colours come from: as given, the scene's layers first..first+3, or the foliage layer (particles)")
+            .i("first", &P::first, 0, 1 << 24, "scene layer of layer0 for source layers (as id_layers.first)");
+        const char* const rgb[3] = {"r", "g", "b"};
+        for (int c = 0; c < 3; ++c)
+            t.f(std::string("cool_") + rgb[c], field_path(&P::hue, &RampColors::cool, c), 0, 1,
+                c == 0 ? "hue ramp, cool end k_blue (r) (Gooch: (0, 0, b), b = 0.4; ours b = 0.1)"
+                       : std::string("hue ramp, cool end (") + rgb[c] + ")");
+        for (int c = 0; c < 3; ++c)
+            t.f(std::string("warm_") + rgb[c], field_path(&P::hue, &RampColors::warm, c), 0, 1,
+                c == 0 ? "hue ramp, warm end k_yellow (r) (Gooch: (y, y, 0), y = 0.4; ours y = 0.1)"
+                       : std::string("hue ramp, warm end (") + rgb[c] + ")");
+        t.f("cool_mix", field_path(&P::hue, &RampColors::cool_mix), 0, 2, "Gooch α: object colour in the cool end (Gooch 0.2; ours 0.8)")
+            .f("warm_mix", field_path(&P::hue, &RampColors::warm_mix), 0, 2, "Gooch β: object colour in the warm end (Gooch 0.6; ours 1.0)")
+            .f("keep_hue", field_path(&P::hue, &RampColors::keep_hue), 0, 1,
+               "how much a saturated colour keeps its hue: the cool/warm shift is weighted by 1 - keep_hue x saturation "
+               "(0 = Gooch's shift on every colour; ours 1)");
+        for (int k = 0; k < 4; ++k) {
+            const std::string n = std::to_string(k), layer = "layer" + n;
+            for (int c = 0; c < 3; ++c)
+                t.f("color" + n + "_" + rgb[c], field_path(&P::layer, k, &ColorRampLayer::color, c), 0, 1,
+                    layer + " object ramp, lit end (" + rgb[c] + "; display value)");
+            for (int c = 0; c < 3; ++c)
+                t.f("dark" + n + "_" + rgb[c], field_path(&P::layer, k, &ColorRampLayer::dark, c), 0, 1,
+                    layer + " object ramp, unlit end (" + rgb[c] + "; ours: 0.55 x colour)");
+            t.f("alpha" + n, field_path(&P::layer, k, &ColorRampLayer::alpha), 0, 1,
+                layer + " ramp alpha: the wash's opacity (ours: 0.85)");
+            t.f("tone" + n, field_path(&P::layer, k, &ColorRampLayer::tone), 0, 4,
+                layer + " factor on its object ramp (particle layers: darker / brighter tones)");
+        }
+        return t;
+    }();
     return t;
 }
 }  // namespace
 
-ColorRampParams color_ramp_params(const ParamValues& pv) {
-    const T tp = table().from(pv);
-    ColorRampParams p;
-    p.hue.cool = {tp.cool_r, tp.cool_g, tp.cool_b};
-    p.hue.warm = {tp.warm_r, tp.warm_g, tp.warm_b};
-    p.hue.cool_mix = tp.cool_mix;
-    p.hue.warm_mix = tp.warm_mix;
-    p.hue.keep_hue = tp.keep_hue;
-    p.layer[0] = {{tp.color0_r, tp.color0_g, tp.color0_b}, {tp.dark0_r, tp.dark0_g, tp.dark0_b}, tp.alpha0, tp.tone0};
-    p.layer[1] = {{tp.color1_r, tp.color1_g, tp.color1_b}, {tp.dark1_r, tp.dark1_g, tp.dark1_b}, tp.alpha1, tp.tone1};
-    p.layer[2] = {{tp.color2_r, tp.color2_g, tp.color2_b}, {tp.dark2_r, tp.dark2_g, tp.dark2_b}, tp.alpha2, tp.tone2};
-    p.layer[3] = {{tp.color3_r, tp.color3_g, tp.color3_b}, {tp.dark3_r, tp.dark3_g, tp.dark3_b}, tp.alpha3, tp.tone3};
-    return p;
-}
+ColorRampParams color_ramp_params(const ParamValues& pv) { return table().from(pv); }
 
 namespace {
 //! LD06 layer colours (docs/ld06.md "Layers"): with `source` 1 or 2 the step takes the colours of
@@ -153,23 +131,21 @@ std::vector<SceneValue> layer_colors(const ParamValues& pv, const SceneInputs& s
 }  // namespace
 
 void register_color_ramp(Registry& r) {
-    StageVariant v;
-    v.stage = "color_ramp";
-    v.variant = "gooch";
-    v.doc = "LD06 §3.2: hue-shifting ramp (Gooch cool-to-warm) with per-layer object ramps and alpha, indexed by the lighting map; RGBA per layer";
-    v.inputs = {{"lighting", "ld06.lighting", 1, false}};
-    v.outputs = {{"ramp0", "ld06.ramp.0", 4, false},
-                 {"ramp1", "ld06.ramp.1", 4, false},
-                 {"ramp2", "ld06.ramp.2", 4, false},
-                 {"ramp3", "ld06.ramp.3", 4, false}};
-    v.params = table().descs();
-    v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        ImageF* const out[4] = {io.out[0], io.out[1], io.out[2], io.out[3]};
-        color_ramp(out, *io.in[0], color_ramp_params(pv), ex);
-    });
-    v.reference = StageVariant::Reference::SharedMaths;
-    v.scene_params = layer_colors;
-    r.add(std::move(v));
+    r.add(declare({.stage = "color_ramp",
+                   .variant = "gooch",
+                   .doc = "LD06 §3.2: hue-shifting ramp (Gooch cool-to-warm) with per-layer object ramps and alpha, indexed by "
+                          "the lighting map; RGBA per layer",
+                   .inputs = {{"lighting", "ld06.lighting", 1, false}},
+                   .outputs = {{"ramp0", "ld06.ramp.0", 4, false},
+                               {"ramp1", "ld06.ramp.1", 4, false},
+                               {"ramp2", "ld06.ramp.2", 4, false},
+                               {"ramp3", "ld06.ramp.3", 4, false}},
+                   .reference = StageVariant::Reference::SharedMaths,
+                   .scene_params = layer_colors},
+                  table(), [](StageIO& io, const P& p, const Exec& ex) {
+                      ImageF* const out[4] = {io.out[0], io.out[1], io.out[2], io.out[3]};
+                      color_ramp(out, *io.in[0], p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -27,9 +27,28 @@ struct ColorRampLayer {
     float alpha = kRampAlpha, tone = 1.0f;
 };
 
+//! Ours: the four layers' object ramps until the scene's layers fill them (RampColorSource::Layers):
+//! earth, leaf green, sand and sky, each unlit end 0.55 x its lit colour.
+inline constexpr ColorRampLayer kDefaultRampLayers[4] = {
+    {{0.45f, 0.35f, 0.25f}, {0.2475f, 0.1925f, 0.1375f}, kRampAlpha, 1.0f},
+    {{0.35f, 0.55f, 0.25f}, {0.1925f, 0.3025f, 0.1375f}, kRampAlpha, 1.0f},
+    {{0.55f, 0.5f, 0.35f}, {0.3025f, 0.275f, 0.1925f}, kRampAlpha, 1.0f},
+    {{0.45f, 0.5f, 0.6f}, {0.2475f, 0.275f, 0.33f}, kRampAlpha, 1.0f},
+};
+
+//! Where the render job takes the layer colours from before a pipeline's, a scene file's and
+//! --set's values (StageVariant::scene_params; docs/ld06.md "Layers").
+enum class RampColorSource {
+    Given,    //!< the parameters as given
+    Layers,   //!< the scene's layers first..first+3
+    Foliage,  //!< the foliage layer in all four (particle layers, told apart by their tone)
+};
+
 struct ColorRampParams {
+    RampColorSource source = RampColorSource::Layers;
+    int first = 0;  //!< the scene layer of layer[0] with RampColorSource::Layers
     RampColors hue;
-    ColorRampLayer layer[4];
+    ColorRampLayer layer[4] = {kDefaultRampLayers[0], kDefaultRampLayers[1], kDefaultRampLayers[2], kDefaultRampLayers[3]};
 };
 
 //! dst[k]: 4 channels of lighting's size (layer k's RGB, alpha); lighting: one channel in [0, 1].
@@ -42,45 +61,6 @@ void color_ramp_row(const float* t, int n, const ColorRampLayer& layer, const Ra
 
 //! The ramps a compiled color_ramp step's parameter values describe (what the stage runs with).
 ColorRampParams color_ramp_params(const ParamValues& pv);
-
-//! The parameter table's fields (names: docs via `aquarelle stages color_ramp`).
-struct ColorRampTable {
-    int source = 1, first = 0;
-    float cool_r = 0.0f, cool_g = 0.0f, cool_b = kRampCoolWarm, warm_r = kRampCoolWarm, warm_g = kRampCoolWarm, warm_b = 0.0f;
-    float cool_mix = 0.8f, warm_mix = 1.0f, keep_hue = 1.0f;
-    float color0_r = 0.45f;
-    float color0_g = 0.35f;
-    float color0_b = 0.25f;
-    float dark0_r = 0.2475f;
-    float dark0_g = 0.1925f;
-    float dark0_b = 0.1375f;
-    float alpha0 = kRampAlpha;
-    float tone0 = 1.0f;
-    float color1_r = 0.35f;
-    float color1_g = 0.55f;
-    float color1_b = 0.25f;
-    float dark1_r = 0.1925f;
-    float dark1_g = 0.3025f;
-    float dark1_b = 0.1375f;
-    float alpha1 = kRampAlpha;
-    float tone1 = 1.0f;
-    float color2_r = 0.55f;
-    float color2_g = 0.5f;
-    float color2_b = 0.35f;
-    float dark2_r = 0.3025f;
-    float dark2_g = 0.275f;
-    float dark2_b = 0.1925f;
-    float alpha2 = kRampAlpha;
-    float tone2 = 1.0f;
-    float color3_r = 0.45f;
-    float color3_g = 0.5f;
-    float color3_b = 0.6f;
-    float dark3_r = 0.2475f;
-    float dark3_g = 0.275f;
-    float dark3_b = 0.33f;
-    float alpha3 = kRampAlpha;
-    float tone3 = 1.0f;
-};
 
 void register_color_ramp(Registry& r);
 

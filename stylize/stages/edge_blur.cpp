@@ -271,66 +271,33 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl, const 
     }
 }
 
-namespace {
-struct Wc17Table {
-    int radius = kEdgeBlurWc17Radius;
-    float sigma = kEdgeBlurWc17Sigma;
-    bool half_res = true;
-    int border = 0;
-};
-struct Wc18Table {
-    int width = kEdgeBlurWidth;
-    int border = 0;
-};
-}  // namespace
-
 void register_edge_blur(Registry& r) {
-    {
-        static const ParamTable<Wc17Table> t = ParamTable<Wc17Table>()
-            .i("radius", &Wc17Table::radius, 1, 16, "kernel radius (WC17: 2, a 5x5 kernel)")
-            .f("sigma", &Wc17Table::sigma, 0.1, 16, "Gaussian sigma (WC17: 1)")
-            .b("half_res", &Wc17Table::half_res, "blur at half resolution (WC17 as published)")
-            .e("border", &Wc17Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-        StageVariant v;
-        v.stage = "edge_blur";
-        v.variant = "wc17";
-        v.doc = "WC17 3.3: 5x5 Gaussian (sigma 1) of the colour image at half resolution, for DoG edge darkening";
-        v.inputs = {{"color", "color.bled", 4, false}};
-        v.outputs = {{"blurred", "color.blurred", 4, false}};
-        v.params = t.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            const auto tp = t.from(pv);
-            EdgeBlurWc17Params p;
-            p.radius = tp.radius;
-            p.sigma = tp.sigma;
-            p.half_res = tp.half_res;
-            p.border = tp.border ? Border::Mirror : Border::Clamp;
-            edge_blur_wc17(*io.out[0], *io.in[0], p, ex);
-        };
-        v.reference = StageVariant::Reference::PlainLoop;
-        r.add(std::move(v));
-    }
-    {
-        static const ParamTable<Wc18Table> t = ParamTable<Wc18Table>()
-            .i("width", &Wc18Table::width, 1, 16, "W, global edge width (MNPR 3); K = max(1, int(W + 3W ctrl.edge.g))")
-            .e("border", &Wc18Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-        StageVariant v;
-        v.stage = "edge_blur";
-        v.variant = "wc18";
-        v.doc = "WC18 3.1: Gaussian blur of the Sobel edges, per-pixel width from ctrl.edge.g, sigma = K/2, |o| < K";
-        v.inputs = {{"edges", "edges", 1, false}, {"ctrl_edge", target::kCtrlEdge, 4, false}};
-        v.outputs = {{"blurred", "edges.blurred", 1, false}};
-        v.params = t.descs();
-        v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            const auto tp = t.from(pv);
-            EdgeBlurWc18Params p;
-            p.width = tp.width;
-            p.border = tp.border ? Border::Mirror : Border::Clamp;
-            edge_blur_wc18(*io.out[0], *io.in[0], *io.in[1], p, ex);
-        };
-        v.reference = StageVariant::Reference::PlainLoop;
-        r.add(std::move(v));
-    }
+    using P17 = EdgeBlurWc17Params;
+    using P18 = EdgeBlurWc18Params;
+    r.add(declare({.stage = "edge_blur",
+                   .variant = "wc17",
+                   .doc = "WC17 3.3: 5x5 Gaussian (sigma 1) of the colour image at half resolution, for DoG edge darkening",
+                   .inputs = {{"color", "color.bled", 4, false}},
+                   .outputs = {{"blurred", "color.blurred", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop},
+                  ParamTable<P17>()
+                      .i("radius", &P17::radius, 1, 16, "kernel radius (WC17: 2, a 5x5 kernel)")
+                      .f("sigma", &P17::sigma, 0.1, 16, "Gaussian sigma (WC17: 1)")
+                      .b("half_res", &P17::half_res, "blur at half resolution (WC17 as published)")
+                      .border(&P17::border),
+                  [](StageIO& io, const P17& p, const Exec& ex) { edge_blur_wc17(*io.out[0], *io.in[0], p, ex); }));
+    r.add(declare({.stage = "edge_blur",
+                   .variant = "wc18",
+                   .doc = "WC18 3.1: Gaussian blur of the Sobel edges, per-pixel width from ctrl.edge.g, sigma = K/2, |o| < K",
+                   .inputs = {{"edges", "edges", 1, false}, {"ctrl_edge", target::kCtrlEdge, 4, false}},
+                   .outputs = {{"blurred", "edges.blurred", 1, false}},
+                   .reference = StageVariant::Reference::PlainLoop},
+                  ParamTable<P18>()
+                      .i("width", &P18::width, 1, 16, "W, global edge width (MNPR 3); K = max(1, int(W + 3W ctrl.edge.g))")
+                      .border(&P18::border),
+                  [](StageIO& io, const P18& p, const Exec& ex) {
+                      edge_blur_wc18(*io.out[0], *io.in[0], *io.in[1], p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

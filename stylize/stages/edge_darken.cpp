@@ -15,6 +15,10 @@ namespace aq::stylize {
 
 using namespace toolkit;
 
+void check_edge_darken_dog_params(const EdgeDarkenDogParams& p) {
+    if (!(p.smooth_high > p.smooth_low)) throw Error("edge_darken/dog: smooth_high must exceed smooth_low");
+}
+
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
                      const EdgeDarkenDogParams& p,  const Exec& ex) {
     const std::string st = "edge_darken/dog";
@@ -26,7 +30,7 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     check_not_alias(dst, &color, st, "color");
     check_not_alias(dst, &blurred, st, "blurred");
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
-    if (!(p.smooth_high > p.smooth_low)) throw Error(st + ": smooth_high must exceed smooth_low");
+    check_edge_darken_dog_params(p);
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
     // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
@@ -182,53 +186,45 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
 void register_edge_darken(Registry& r) {
     using D = EdgeDarkenDogParams;
     using R = EdgeDarkenRgbdParams;
-    static const ParamTable<D> td = ParamTable<D>()
-        .f("intensity", &D::intensity, 0, 50, "global multiplier of Ctrl * max(I_b - I)")
-        .f("ctrl_bias", &D::ctrl_bias, 0, 1, "Ctrl = ctrl_bias + ctrl.edge.r (0: eq. 8 literal, unpainted = none)")
-        .f("smooth_low", &D::smooth_low, 0, 1, "smoothstep lower edge on the DoG edge (ours)")
-        .f("smooth_high", &D::smooth_high, 0, 1, "smoothstep upper edge on the DoG edge (ours)");
-    static const ParamTable<R> tr = ParamTable<R>()
-        .f("intensity", &R::intensity, 0, 50, "global edge darkening intensity (MNPR default 1)")
-        .f("crowding", &R::crowding, 0, 50, "ours: E_d / (1 + crowding * crowd), crowd = local mean of the edges (0 = WC18)");
-    {
-        StageVariant v;
-        v.stage = "edge_darken";
-        v.variant = "dog";
-        v.doc = "WC17 eq. 8: I_cb^(1 + Ctrl*max(I_b - I)) with smoothstep-modulated DoG edges";
-        v.inputs = {{"color", target::kColor, 4, false},
-                    {"blurred", "color.blurred", 4, false},
-                    {"ctrl_edge", target::kCtrlEdge, 4, false}};
-        v.outputs = {{"color", "color.darkened", 4, false}};
-        v.params = td.descs();
-        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], td.from(pv), ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        v.row_halo = pointwise_rows;
-        r.add(std::move(v));
-    }
-    {
-        StageVariant v;
-        v.stage = "edge_darken";
-        v.variant = "rgbd";
-        v.doc = "WC18 3.1 (MNPR): C^(1 + E_d), E_d = edges*intensity*(1+ci)*sat(5|C-Cs|)*sat(1-3 bleed)";
-        v.inputs = {{"color", target::kColor, 4, false},
-                    {"edges", "edges.blurred", 1, false},
-                    {"ctrl_edge", target::kCtrlEdge, 4, false},
-                    {"bleed", "bleed", 4, true},
-                    {"crowd", "edges.crowd", 1, true}};
-        v.outputs = {{"color", "color.darkened", 4, false}};
-        v.in_place_input = "color";  // the background (no edges) is left as it is
-        v.in_place_output = "color";
-        v.params = tr.descs();
-        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
-                             io.in.size() > 4 ? io.in[4] : nullptr, globals_of(io).substrate_color, tr.from(pv), ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        v.row_halo = pointwise_rows;
-        r.add(std::move(v));
-    }
+    r.add(declare({.stage = "edge_darken",
+                   .variant = "dog",
+                   .doc = "WC17 eq. 8: I_cb^(1 + Ctrl*max(I_b - I)) with smoothstep-modulated DoG edges",
+                   .inputs = {{"color", target::kColor, 4, false},
+                              {"blurred", "color.blurred", 4, false},
+                              {"ctrl_edge", target::kCtrlEdge, 4, false}},
+                   .outputs = {{"color", "color.darkened", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .row_halo = pointwise_rows},
+                  ParamTable<D>()
+                      .f("intensity", &D::intensity, 0, 50, "global multiplier of Ctrl * max(I_b - I)")
+                      .f("ctrl_bias", &D::ctrl_bias, 0, 1, "Ctrl = ctrl_bias + ctrl.edge.r (0: eq. 8 literal, unpainted = none)")
+                      .f("smooth_low", &D::smooth_low, 0, 1, "smoothstep lower edge on the DoG edge (ours)")
+                      .f("smooth_high", &D::smooth_high, 0, 1, "smoothstep upper edge on the DoG edge (ours)"),
+                  [](StageIO& io, const D& p, const Exec& ex) {
+                      edge_darken_dog(*io.out[0], *io.in[0], *io.in[1], *io.in[2], p, ex);
+                  },
+                  check_edge_darken_dog_params));
+    r.add(declare({.stage = "edge_darken",
+                   .variant = "rgbd",
+                   .doc = "WC18 3.1 (MNPR): C^(1 + E_d), E_d = edges*intensity*(1+ci)*sat(5|C-Cs|)*sat(1-3 bleed)",
+                   .inputs = {{"color", target::kColor, 4, false},
+                              {"edges", "edges.blurred", 1, false},
+                              {"ctrl_edge", target::kCtrlEdge, 4, false},
+                              {"bleed", "bleed", 4, true},
+                              {"crowd", "edges.crowd", 1, true}},
+                   .outputs = {{"color", "color.darkened", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .in_place_input = "color",  // the background (no edges) is left as it is
+                   .in_place_output = "color",
+                   .row_halo = pointwise_rows},
+                  ParamTable<R>()
+                      .f("intensity", &R::intensity, 0, 50, "global edge darkening intensity (MNPR default 1)")
+                      .f("crowding", &R::crowding, 0, 50,
+                         "ours: E_d / (1 + crowding * crowd), crowd = local mean of the edges (0 = WC18)"),
+                  [](StageIO& io, const R& p, const Exec& ex) {
+                      edge_darken_rgbd(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
+                                       io.in.size() > 4 ? io.in[4] : nullptr, globals_of(io).substrate_color, p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -94,6 +94,9 @@ inline glm::vec4 edge_darken_rgbd_px(glm::vec4 c, float edge, float ci, float bl
 //! WC17 DoG edge darkening. color: 4 ch (I_cb, also the I of the DoG); blurred: >= 3 ch, full or half size
 //! (upsampled to color's size by resample convention, clamp to edge); ctrl_edge: >= 1 ch (R used),
 //! same size as color. dst: (re)allocated to color's size, 4 ch.
+//! The rule between the DoG variant's parameters (throws aq::Error): smooth_high > smooth_low.
+void check_edge_darken_dog_params(const EdgeDarkenDogParams& p);
+
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
                      const EdgeDarkenDogParams& p,  const Exec& ex = {});
 

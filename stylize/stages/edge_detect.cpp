@@ -221,32 +221,20 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
     });
 }
 
-namespace {
-struct EdgeDetectTableParams {
-    float depth_weight = kSobelDepthWeight;
-    int border = 0;
-};
-}  // namespace
-
 void register_edge_detect(Registry& r) {
-    static const ParamTable<EdgeDetectTableParams> t = ParamTable<EdgeDetectTableParams>()
-        .f("depth_weight", &EdgeDetectTableParams::depth_weight, 0, 1000, "wD, depth gradient weight (MNPR 5)")
-        .e("border", &EdgeDetectTableParams::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-    StageVariant v;
-    v.stage = "edge_detect";
-    v.variant = "rgbd_sobel";
-    v.doc = "WC18 3: 3x3 Sobel on (r, g, b, depth*wD), magnitude clamped to 1";
-    v.inputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}};
-    v.outputs = {{"edges", "edges", 1, false}};
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const auto tp = t.from(pv);
-        EdgeDetectParams p;
-        p.depth_weight = tp.depth_weight;
-        p.border = tp.border ? Border::Mirror : Border::Clamp;
-        edge_detect_rgbd_sobel(*io.out[0], *io.in[0], *io.in[1], p, ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
+    using P = EdgeDetectParams;
+    StageVariant v = declare({.stage = "edge_detect",
+                              .variant = "rgbd_sobel",
+                              .doc = "WC18 3: 3x3 Sobel on (r, g, b, depth*wD), magnitude clamped to 1",
+                              .inputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}},
+                              .outputs = {{"edges", "edges", 1, false}},
+                              .reference = StageVariant::Reference::PlainLoop},
+                             ParamTable<P>()
+                                 .f("depth_weight", &P::depth_weight, 0, 1000, "wD, depth gradient weight (MNPR 5)")
+                                 .border(&P::border),
+                             [](StageIO& io, const P& p, const Exec& ex) {
+                                 edge_detect_rgbd_sobel(*io.out[0], *io.in[0], *io.in[1], p, ex);
+                             });
     v.row_halo = [](const ParamValues&) { return 1; };  // the 3 x 3 Sobel taps
     r.add(std::move(v));
 }

@@ -85,33 +85,18 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
     });
 }
 
-namespace {
-struct Table {
-    int width = kGapsOverlapsWidthMnpr;
-    int border = 0;
-};
-}  // namespace
-
 void register_extend_edges(Registry& r) {
-    static const ParamTable<Table> t = ParamTable<Table>()
-        .i("width", &Table::width, 1, 32, "W, linear kernel width (MNPR 3; WC18 paper m = 5)")
-        .e("border", &Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-    StageVariant v;
-    v.stage = "extend_edges";
-    v.variant = "mnpr";
-    v.doc = "WC18 3.2 / MNPR: linear kernel (1 - |l|/W, normalised) over the edges, b = b^(1/b), b = b^(2/W)";
-    v.inputs = {{"edges", "edges", 1, false}};
-    v.outputs = {{"extended", "edges.extended", 1, false}};
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const auto tp = t.from(pv);
-        ExtendEdgesParams p;
-        p.width = tp.width;
-        p.border = tp.border ? Border::Mirror : Border::Clamp;
-        extend_edges(*io.out[0], *io.in[0], p, ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
-    r.add(std::move(v));
+    using P = ExtendEdgesParams;
+    r.add(declare({.stage = "extend_edges",
+                   .variant = "mnpr",
+                   .doc = "WC18 3.2 / MNPR: linear kernel (1 - |l|/W, normalised) over the edges, b = b^(1/b), b = b^(2/W)",
+                   .inputs = {{"edges", "edges", 1, false}},
+                   .outputs = {{"extended", "edges.extended", 1, false}},
+                   .reference = StageVariant::Reference::PlainLoop},
+                  ParamTable<P>()
+                      .i("width", &P::width, 1, 32, "W, linear kernel width (MNPR 3; WC18 paper m = 5)")
+                      .border(&P::border),
+                  [](StageIO& io, const P& p, const Exec& ex) { extend_edges(*io.out[0], *io.in[0], p, ex); }));
 }
 
 }  // namespace aq::stylize

@@ -230,7 +230,7 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
                      h,
                      substrate,
                      p,
-                     border_from(p.border)};
+                     p.border};
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the kernel pixel by pixel
         if (in_place) {  // on a copy of the colour: every pixel reads the unchanged image
@@ -344,26 +344,23 @@ void register_gaps_overlaps(Registry& r) {
         .f("edge_threshold", &P::edge_threshold, 0, 1, "only pixels with extended edge above (MNPR 0.1, WC18 0.2)")
         .f("mix_brightness", &P::mix_brightness, 0, 2, "brightness scale of the RYB mix (1 preserves; MNPR 0.9)")
         .b("transparent_gaps", &P::transparent_gaps, "gaps zero alpha instead of painting the substrate colour")
-        .e("border", &P::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-    StageVariant v;
-    v.stage = "gaps_overlaps";
-    v.variant = "wc18";
-    v.doc = "WC18 Algorithm 1: march along the extended-edge gradient; overlaps mix in RYB, gaps show the substrate";
-    v.inputs = {{"color", target::kColor, 4, false},
-                {"edges", "edges.extended", 1, false},
-                {"ctrl_edge", target::kCtrlEdge, 4, false},
-                {"bleed", "bleed", 4, true}};
-    v.outputs = {{"color", "color.gaps_overlaps", 4, false}};
-    v.in_place_input = "color";  // pixels without an edge are left as they are
-    v.in_place_output = "color";
-    v.params = t.descs();
-    v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
-                      globals_of(io).substrate_color, t.from(pv), ex);
-    });
-    v.reference = StageVariant::Reference::SharedMaths;
-    v.row_halo = [](const ParamValues& pv) { return gaps_overlaps_reach(t.from(pv)); };
-    r.add(std::move(v));
+        .border(&P::border);
+    r.add(declare({.stage = "gaps_overlaps",
+                   .variant = "wc18",
+                   .doc = "WC18 Algorithm 1: march along the extended-edge gradient; overlaps mix in RYB, gaps show the substrate",
+                   .inputs = {{"color", target::kColor, 4, false},
+                              {"edges", "edges.extended", 1, false},
+                              {"ctrl_edge", target::kCtrlEdge, 4, false},
+                              {"bleed", "bleed", 4, true}},
+                   .outputs = {{"color", "color.gaps_overlaps", 4, false}},
+                   .reference = StageVariant::Reference::SharedMaths,
+                   .in_place_input = "color",  // pixels without an edge are left as they are
+                   .in_place_output = "color",
+                   .row_halo = [](const ParamValues& pv) { return gaps_overlaps_reach(t.from(pv)); }},
+                  t, [](StageIO& io, const P& p, const Exec& ex) {
+                      gaps_overlaps(*io.out[0], *io.in[0], *io.in[1], *io.in[2], io.in.size() > 3 ? io.in[3] : nullptr,
+                                    globals_of(io).substrate_color, p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -40,7 +40,7 @@ struct GapsOverlapsParams {
     float edge_threshold = kGoEdgeThreshold;         //!< [0, 1]
     float mix_brightness = 1.0f;                     //!< brightness scale of the RYB mix (MNPR 0.9) [0, 2]
     bool transparent_gaps = false;                   //!< gaps zero alpha instead of painting the substrate
-    int border = 0;                                  //!< taps outside the image: 0 clamp, 1 mirror
+    Border border = Border::Clamp;                   //!< taps outside the image
 };
 
 //! color: 4 ch; edges_ext: >= 1 ch (channel 0 = extended edges E_e), same size; ctrl_edge: >= 3 ch

@@ -34,39 +34,21 @@ void gaussian_blur(ImageF& dst, const ImageF& src, const GaussianBlurParams& p, 
     separable_blur(dst, small, gaussian_weights(p.radius, p.sigma), p.border, ex);
 }
 
-namespace {
-struct Table {
-    int radius = kGaussianBlurRadius;
-    float sigma = kGaussianBlurSigma;
-    int border = 0;
-    int downsample = 1;
-};
-}  // namespace
-
 void register_gaussian_blur(Registry& r) {
-    static const ParamTable<Table> t = ParamTable<Table>()
-        .i("radius", &Table::radius, 1, 64, "kernel radius in pixels of the map (ours: 8)")
-        .f("sigma", &Table::sigma, 0.1, 64, "Gaussian sigma in pixels (ours: 4)")
-        .e("border", &Table::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror")
-        .i("downsample", &Table::downsample, 1, 8, "k: mean of k x k blocks first, output ceil(size / k); radius and sigma in those pixels");
-    StageVariant v;
-    v.stage = "gaussian_blur";
-    v.variant = "separable";
-    v.doc = "LD06 §2, §3.3: separable Gaussian low-pass of a one-channel map (depth, shadow or intensity map)";
-    v.inputs = {{"image", "ld06.depth", 1, false}};
-    v.outputs = {{"blurred", "ld06.depth.blurred", 1, false}};
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const auto tp = t.from(pv);
-        GaussianBlurParams p;
-        p.radius = tp.radius;
-        p.sigma = tp.sigma;
-        p.border = tp.border ? Border::Mirror : Border::Clamp;
-        p.downsample = tp.downsample;
-        gaussian_blur(*io.out[0], *io.in[0], p, ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
-    r.add(std::move(v));
+    using P = GaussianBlurParams;
+    r.add(declare({.stage = "gaussian_blur",
+                   .variant = "separable",
+                   .doc = "LD06 §2, §3.3: separable Gaussian low-pass of a one-channel map (depth, shadow or intensity map)",
+                   .inputs = {{"image", "ld06.depth", 1, false}},
+                   .outputs = {{"blurred", "ld06.depth.blurred", 1, false}},
+                   .reference = StageVariant::Reference::PlainLoop},
+                  ParamTable<P>()
+                      .i("radius", &P::radius, 1, 64, "kernel radius in pixels of the map (ours: 8)")
+                      .f("sigma", &P::sigma, 0.1, 64, "Gaussian sigma in pixels (ours: 4)")
+                      .border(&P::border)
+                      .i("downsample", &P::downsample, 1, 8,
+                         "k: mean of k x k blocks first, output ceil(size / k); radius and sigma in those pixels"),
+                  [](StageIO& io, const P& p, const Exec& ex) { gaussian_blur(*io.out[0], *io.in[0], p, ex); }));
 }
 
 }  // namespace aq::stylize

@@ -225,21 +225,21 @@ void glaze_impl(ImageF& dst, const ImageF* base, const ImageF& wash, const RampS
 
 void register_glaze(Registry& r) {
     for (bool mul : {true, false}) {
-        StageVariant v;
-        v.stage = "glaze";
-        v.variant = mul ? "multiplicative" : "over";
-        v.doc = mul ? "LD06 §4.2 glazing, subtractive-like: dst·(1 - k·(1 - c)) per layer, back to front, over the picture or the paper colour"
-                    : "LD06 §4.2 glazing as plain alpha blending: mix(dst, c, k) per layer, back to front";
-        v.inputs = {{"color", "color.ld06", 4, true},     {"wash", "ld06.wash", 4, false},
-                    {"ramp0", "ld06.ramp.0", 4, false},   {"ramp1", "ld06.ramp.1", 4, false},
-                    {"ramp2", "ld06.ramp.2", 4, false},   {"ramp3", "ld06.ramp.3", 4, false}};
-        v.outputs = {{"color", "color.glazed", 4, false}};
-        v.run = with_port_check(v, [mul](StageIO& io, const ParamValues&, const Exec& ex) {
-            const ImageF* const ramp[4] = {io.in[2], io.in[3], io.in[4], io.in[5]};
-            glaze(*io.out[0], io.in[0], *io.in[1], ramp, globals_of(io).substrate_color, mul, ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        r.add(std::move(v));
+        r.add(declare(
+            {.stage = "glaze",
+             .variant = mul ? "multiplicative" : "over",
+             .doc = mul ? "LD06 §4.2 glazing, subtractive-like: dst·(1 - k·(1 - c)) per layer, back to front, over the "
+                          "picture or the paper colour"
+                        : "LD06 §4.2 glazing as plain alpha blending: mix(dst, c, k) per layer, back to front",
+             .inputs = {{"color", "color.ld06", 4, true},     {"wash", "ld06.wash", 4, false},
+                        {"ramp0", "ld06.ramp.0", 4, false},   {"ramp1", "ld06.ramp.1", 4, false},
+                        {"ramp2", "ld06.ramp.2", 4, false},   {"ramp3", "ld06.ramp.3", 4, false}},
+             .outputs = {{"color", "color.glazed", 4, false}},
+             .reference = StageVariant::Reference::PlainLoop},
+            ParamTable<NoParams>(), [mul](StageIO& io, const NoParams&, const Exec& ex) {
+                const ImageF* const ramp[4] = {io.in[2], io.in[3], io.in[4], io.in[5]};
+                glaze(*io.out[0], io.in[0], *io.in[1], ramp, globals_of(io).substrate_color, mul, ex);
+            }));
         // color_ramp -> glaze: the ramp rows computed where glaze reads them (ComputedRamps).
         Fusion f;
         f.producer = "color_ramp/gooch";

@@ -28,25 +28,24 @@ void id_layers(ImageF* const out[4], const ImageF& ids, const IdLayersParams& p,
 
 void register_id_layers(Registry& r) {
     using P = IdLayersParams;
-    static const ParamTable<P> t = ParamTable<P>()
-        .i("first", &P::first, 0, 1 << 24, "layer (ID - 1) written to output layer0; layer1..3 follow")
-        .b("fold", &P::fold, "IDs beyond first + 3 go into layer3 (more layers than one ID image holds are packed, not dropped)");
-    StageVariant v;
-    v.stage = "id_layers";
-    v.variant = "split";
-    v.doc = "LD06 §3.1: an ID map (1 + layer or object ID, 0 = background) split into four layer intensity maps (RGBA ID image)";
-    v.inputs = {{"ids", "ld06.layer_id", 1, false}};
-    v.outputs = {{"layer0", "ld06.layer.0", 1, false},
-                 {"layer1", "ld06.layer.1", 1, false},
-                 {"layer2", "ld06.layer.2", 1, false},
-                 {"layer3", "ld06.layer.3", 1, false}};
-    v.params = t.descs();
-    v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        ImageF* const out[4] = {io.out[0], io.out[1], io.out[2], io.out[3]};
-        id_layers(out, *io.in[0], t.from(pv), ex);
-    });
-    v.reference = StageVariant::Reference::SharedMaths;
-    r.add(std::move(v));
+    r.add(declare({.stage = "id_layers",
+                   .variant = "split",
+                   .doc = "LD06 §3.1: an ID map (1 + layer or object ID, 0 = background) split into four layer intensity maps "
+                          "(RGBA ID image)",
+                   .inputs = {{"ids", "ld06.layer_id", 1, false}},
+                   .outputs = {{"layer0", "ld06.layer.0", 1, false},
+                               {"layer1", "ld06.layer.1", 1, false},
+                               {"layer2", "ld06.layer.2", 1, false},
+                               {"layer3", "ld06.layer.3", 1, false}},
+                   .reference = StageVariant::Reference::SharedMaths},
+                  ParamTable<P>()
+                      .i("first", &P::first, 0, 1 << 24, "layer (ID - 1) written to output layer0; layer1..3 follow")
+                      .b("fold", &P::fold,
+                         "IDs beyond first + 3 go into layer3 (more layers than one ID image holds are packed, not dropped)"),
+                  [](StageIO& io, const P& p, const Exec& ex) {
+                      ImageF* const out[4] = {io.out[0], io.out[1], io.out[2], io.out[3]};
+                      id_layers(out, *io.in[0], p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

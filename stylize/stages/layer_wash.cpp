@@ -168,50 +168,40 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
     });
 }
 
-namespace {
-struct Table {
-    int radius = kGaussianBlurRadius;
-    float sigma = kGaussianBlurSigma;
-    float kappa = kWashKappa, width = kWashWidth, edge = kWashEdge, border = kWashBorder, granulation = kWashGranulation;
-    bool paper_before = true;
-};
-}  // namespace
-
 void register_layer_wash(Registry& r) {
-    static const ParamTable<Table> t = ParamTable<Table>()
-        .i("radius", &Table::radius, 0, 64, "Gaussian blur radius in pixels of the intensity maps (ours: 8 at 520 px; 0 = none)")
-        .f("sigma", &Table::sigma, 0.1, 64, "Gaussian sigma in pixels of the intensity maps (ours: 4)")
-        .f("kappa", &Table::kappa, 0, 1, "κ: the blurred intensity where the wash's border lies (ours: 0.5)")
-        .f("width", &Table::width, 0.001, 1, "w: half width of the smoothstep, narrow = wet-on-dry, wide = wet-on-wet (ours: 0.2)")
-        .f("edge", &Table::edge, 0, 8, "edge-darkening gain on max(I - ρ, 0) (ours: 1)")
-        .f("border", &Table::border, 0, 2, "paper height's perturbation of the border (ours: 0.3)")
-        .f("granulation", &Table::granulation, 0, 1, "paper height's modulation of the pigment, more in valleys (ours: 0.35)")
-        .b("paper_before", &Table::paper_before, "perturb ρ by the paper before the smoothstep (ragged borders); off: perturb the shaped border band after it");
+    using P = LayerWashParams;
+    const auto shape = [](auto m) { return field_path(&P::shape, m); };
+    const ParamTable<P> t = ParamTable<P>()
+        .i("radius", &P::radius, 0, 64, "Gaussian blur radius in pixels of the intensity maps (ours: 8 at 520 px; 0 = none)")
+        .f("sigma", &P::sigma, 0.1, 64, "Gaussian sigma in pixels of the intensity maps (ours: 4)")
+        .f("kappa", shape(&WashShape::kappa), 0, 1, "κ: the blurred intensity where the wash's border lies (ours: 0.5)")
+        .f("width", shape(&WashShape::width), 0.001, 1,
+           "w: half width of the smoothstep, narrow = wet-on-dry, wide = wet-on-wet (ours: 0.2)")
+        .f("edge", shape(&WashShape::edge), 0, 8, "edge-darkening gain on max(I - ρ, 0) (ours: 1)")
+        .f("border", shape(&WashShape::border), 0, 2, "paper height's perturbation of the border (ours: 0.3)")
+        .f("granulation", shape(&WashShape::granulation), 0, 1,
+           "paper height's modulation of the pigment, more in valleys (ours: 0.35)")
+        .b("paper_before", shape(&WashShape::paper_before),
+           "perturb ρ by the paper before the smoothstep (ragged borders); off: perturb the shaped border band after it");
     for (bool additive : {false, true}) {
-        StageVariant v;
-        v.stage = "layer_wash";
-        v.variant = additive ? "additive" : "multiplicative";
-        v.doc = std::string("LD06 §3.1 (reconstructed): blur, smoothstep shape, edge darkening (") +
-                (additive ? "p = a + e" : "p = a·(1 + e)") + "), paper border and granulation, per layer; output at the paper's size";
-        v.inputs = {{"layer0", "ld06.layer.0", 1, false},
-                    {"layer1", "ld06.layer.1", 1, true},
-                    {"layer2", "ld06.layer.2", 1, true},
-                    {"layer3", "ld06.layer.3", 1, true}};
-        v.outputs = {{"wash", "ld06.wash", 4, false}};
-        v.params = t.descs();
-        v.run = with_port_check(v, [additive](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            const auto tp = t.from(pv);
-            LayerWashParams p;
-            p.radius = tp.radius;
-            p.sigma = tp.sigma;
-            p.shape = {tp.kappa, tp.width, tp.edge, tp.border, tp.granulation, tp.paper_before, additive};
-            const ImageF* paper = globals_of(io).paper;
-            const ImageF* layers[4] = {io.in[0], io.in[1], io.in[2], io.in[3]};
-            const int w = paper ? paper->width() : io.in[0]->width(), h = paper ? paper->height() : io.in[0]->height();
-            layer_wash(*io.out[0], layers, paper, w, h, p, ex, paper_spread_of(globals_of(io), ex));
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        r.add(std::move(v));
+        r.add(declare({.stage = "layer_wash",
+                       .variant = additive ? "additive" : "multiplicative",
+                       .doc = std::string("LD06 §3.1 (reconstructed): blur, smoothstep shape, edge darkening (") +
+                              (additive ? "p = a + e" : "p = a·(1 + e)") +
+                              "), paper border and granulation, per layer; output at the paper's size",
+                       .inputs = {{"layer0", "ld06.layer.0", 1, false},
+                                  {"layer1", "ld06.layer.1", 1, true},
+                                  {"layer2", "ld06.layer.2", 1, true},
+                                  {"layer3", "ld06.layer.3", 1, true}},
+                       .outputs = {{"wash", "ld06.wash", 4, false}},
+                       .reference = StageVariant::Reference::PlainLoop},
+                      t, [additive](StageIO& io, P p, const Exec& ex) {
+                          p.shape.additive_edge = additive;
+                          const Globals& g = globals_of(io);
+                          const ImageF* layers[4] = {io.in[0], io.in[1], io.in[2], io.in[3]};
+                          const ImageF& size = g.paper ? *g.paper : *io.in[0];
+                          layer_wash(*io.out[0], layers, g.paper, size.width(), size.height(), p, ex, paper_spread_of(g, ex));
+                      }));
     }
 }
 

@@ -171,51 +171,42 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
 void register_pigment_apply(Registry& r) {
     using P17 = PigmentApplyWc17Params;
     using P18 = PigmentApplyWc18Params;
-    static const ParamTable<P17> t17 = ParamTable<P17>()
-        .f("density", &P17::density, 0, 10, "d: pigment density at the paper's valleys (eq. 9)")
-        .f("roughness", &P17::roughness, 0, 5, "r: paper height (H - 0.5) r + 0.5")
-        .b("literal", &P17::literal, "subtract P_iv as printed in eq. 9 (darkens even at Ctrl = 0)")
-        .f("paper_texture", &P17::paper_texture, 0, 1,
-           "t: eq. 9's uncontrolled term at strength t, k + t P_iv, also on the bare paper (0 = off)");
-    static const ParamTable<P18> t18 = ParamTable<P18>()
-        .f("density", &P18::density, 0, 20, "D: global pigment density (eq. 4, MNPR 5)")
-        .f("dry_brush_threshold", &P18::dry_brush_threshold, 0, 100, "t_dry: dry-brush edge sharpness (eq. 2, MNPR 5)")
-        .f("roughness", &P18::roughness, 0, 5, "r: (H - 0.5) r + 0.5 (eq. 1)")
-        .f("granulation_min", &P18::granulation_min, 0, 1, "d_min: default granulation (WC18 0.2)");
-    {
-        StageVariant v;
-        v.stage = "pigment_apply";
-        v.variant = "wc18";
-        v.doc = "WC18 eq. 1-4: dry-brush where the paper is below -ctrl.pigment.g, else granulation C^(d_a)";
-        v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
-        v.outputs = {{"color", "color.pigment", 4, false}};
-        v.in_place_input = "color";  // uncovered pixels (the background) are left as they are
-        v.in_place_output = "color";
-        v.params = t18.descs();
-        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            const Globals& g = globals_of(io);
-            pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, t18.from(pv),
-                               ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        v.row_halo = pointwise_rows;
-        r.add(std::move(v));
-    }
-    {
-        StageVariant v;
-        v.stage = "pigment_apply";
-        v.variant = "wc17";
-        v.doc = "WC17 eq. 9: I(I - k - t P_iv) + (1 - I) I^(1 + k), k = Ctrl d P_iv (split granulation model)";
-        v.inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
-        v.outputs = {{"color", "color.pigment", 4, false}};
-        v.params = t17.descs();
-        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, t17.from(pv), ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        v.row_halo = pointwise_rows;
-        r.add(std::move(v));
-    }
+    const std::vector<Port> inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
+    const std::vector<Port> outputs = {{"color", "color.pigment", 4, false}};
+    r.add(declare({.stage = "pigment_apply",
+                   .variant = "wc18",
+                   .doc = "WC18 eq. 1-4: dry-brush where the paper is below -ctrl.pigment.g, else granulation C^(d_a)",
+                   .inputs = inputs,
+                   .outputs = outputs,
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .in_place_input = "color",  // uncovered pixels (the background) are left as they are
+                   .in_place_output = "color",
+                   .row_halo = pointwise_rows},
+                  ParamTable<P18>()
+                      .f("density", &P18::density, 0, 20, "D: global pigment density (eq. 4, MNPR 5)")
+                      .f("dry_brush_threshold", &P18::dry_brush_threshold, 0, 100, "t_dry: dry-brush edge sharpness (eq. 2, MNPR 5)")
+                      .f("roughness", &P18::roughness, 0, 5, "r: (H - 0.5) r + 0.5 (eq. 1)")
+                      .f("granulation_min", &P18::granulation_min, 0, 1, "d_min: default granulation (WC18 0.2)"),
+                  [](StageIO& io, const P18& p, const Exec& ex) {
+                      const Globals& g = globals_of(io);
+                      pigment_apply_wc18(*io.out[0], *io.in[0], *io.in[1], g.paper, g.substrate_color, p, ex);
+                  }));
+    r.add(declare({.stage = "pigment_apply",
+                   .variant = "wc17",
+                   .doc = "WC17 eq. 9: I(I - k - t P_iv) + (1 - I) I^(1 + k), k = Ctrl d P_iv (split granulation model)",
+                   .inputs = inputs,
+                   .outputs = outputs,
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .row_halo = pointwise_rows},
+                  ParamTable<P17>()
+                      .f("density", &P17::density, 0, 10, "d: pigment density at the paper's valleys (eq. 9)")
+                      .f("roughness", &P17::roughness, 0, 5, "r: paper height (H - 0.5) r + 0.5")
+                      .b("literal", &P17::literal, "subtract P_iv as printed in eq. 9 (darkens even at Ctrl = 0)")
+                      .f("paper_texture", &P17::paper_texture, 0, 1,
+                         "t: eq. 9's uncontrolled term at strength t, k + t P_iv, also on the bare paper (0 = off)"),
+                  [](StageIO& io, const P17& p, const Exec& ex) {
+                      pigment_apply_wc17(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -123,24 +123,21 @@ void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::
 }
 
 void register_pigment_density(Registry& r) {
-    static const ParamTable<PigmentDensityParams> t = ParamTable<PigmentDensityParams>().f(
-        "strength", &PigmentDensityParams::strength, 0, 5, "multiplies ctrl.pigment.b (MNPR 1)");
-    StageVariant v;
-    v.stage = "pigment_density";
-    v.variant = "mnpr";
-    v.doc = "WC18/MNPR image-space turbulence: d = 1 + ctrl.pigment.b, c' = |c|^d, mix(substrate, c', sat(d))";
-    v.inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
-    v.outputs = {{"color", "color.density", 4, false}};
-    v.in_place_input = "color";  // pointwise: each chunk's colour is read before it is written
-    v.in_place_output = "color";
-    v.params = t.descs();
-    v.run = [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        pigment_density(*io.out[0], *io.in[0], *io.in[1], toolkit::globals_of(io).substrate_color, t.from(pv), ex);
-    };
-    v.reference = StageVariant::Reference::PlainLoop;
-    v.row_halo = pointwise_rows;
-    v.image_space_turbulence = true;
-    r.add(std::move(v));
+    using P = PigmentDensityParams;
+    r.add(declare({.stage = "pigment_density",
+                   .variant = "mnpr",
+                   .doc = "WC18/MNPR image-space turbulence: d = 1 + ctrl.pigment.b, c' = |c|^d, mix(substrate, c', sat(d))",
+                   .inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}},
+                   .outputs = {{"color", "color.density", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .in_place_input = "color",  // pointwise: each chunk's colour is read before it is written
+                   .in_place_output = "color",
+                   .row_halo = pointwise_rows,
+                   .image_space_turbulence = true},
+                  ParamTable<P>().f("strength", &P::strength, 0, 5, "multiplies ctrl.pigment.b (MNPR 1)"),
+                  [](StageIO& io, const P& p, const Exec& ex) {
+                      pigment_density(*io.out[0], *io.in[0], *io.in[1], globals_of(io).substrate_color, p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -30,49 +30,34 @@ void shadow_layer(ImageF& dst, const ImageF& color, const ImageF& shadow, const 
     });
 }
 
-namespace {
-struct Table {
-    int radius = kGaussianBlurRadius;
-    float sigma = kGaussianBlurSigma;
-    float kappa = kWashKappa, width = 0.3f, edge = 0.5f, border = kWashBorder, granulation = kWashGranulation;
-    float color_r = kShadowColor.r, color_g = kShadowColor.g, color_b = kShadowColor.b, alpha = kShadowAlpha;
-};
-}  // namespace
-
 void register_shadow_layer(Registry& r) {
-    static const ParamTable<Table> t = ParamTable<Table>()
-        .i("radius", &Table::radius, 0, 64, "Gaussian blur radius in pixels of the shadow map (ours: 8; 0 = none)")
-        .f("sigma", &Table::sigma, 0.1, 64, "Gaussian sigma (ours: 4)")
-        .f("kappa", &Table::kappa, 0, 1, "κ of the wash's smoothstep (ours: 0.5)")
-        .f("width", &Table::width, 0.001, 1, "w of the wash's smoothstep (ours: 0.3, a soft wet-on-wet shadow)")
-        .f("edge", &Table::edge, 0, 8, "edge-darkening gain (ours: 0.5)")
-        .f("border", &Table::border, 0, 2, "paper perturbation of the border (ours: 0.3)")
-        .f("granulation", &Table::granulation, 0, 1, "paper modulation of the pigment (ours: 0.35)")
-        .f("color_r", &Table::color_r, 0, 1, "shadow colour (r; display value; ours: a cool blue-grey)")
-        .f("color_g", &Table::color_g, 0, 1, "shadow colour (g)")
-        .f("color_b", &Table::color_b, 0, 1, "shadow colour (b)")
-        .f("alpha", &Table::alpha, 0, 1, "shadow wash opacity (ours: 0.5, 'semi-transparently painted')");
+    using P = ShadowLayerParams;
+    const auto shape = [](auto m) { return field_path(&P::wash, &LayerWashParams::shape, m); };
+    const ParamTable<P> t = ParamTable<P>()
+        .i("radius", field_path(&P::wash, &LayerWashParams::radius), 0, 64,
+           "Gaussian blur radius in pixels of the shadow map (ours: 8; 0 = none)")
+        .f("sigma", field_path(&P::wash, &LayerWashParams::sigma), 0.1, 64, "Gaussian sigma (ours: 4)")
+        .f("kappa", shape(&WashShape::kappa), 0, 1, "κ of the wash's smoothstep (ours: 0.5)")
+        .f("width", shape(&WashShape::width), 0.001, 1, "w of the wash's smoothstep (ours: 0.3, a soft wet-on-wet shadow)")
+        .f("edge", shape(&WashShape::edge), 0, 8, "edge-darkening gain (ours: 0.5)")
+        .f("border", shape(&WashShape::border), 0, 2, "paper perturbation of the border (ours: 0.3)")
+        .f("granulation", shape(&WashShape::granulation), 0, 1, "paper modulation of the pigment (ours: 0.35)")
+        .f("color_r", field_path(&P::color, &glm::vec3::r), 0, 1, "shadow colour (r; display value; ours: a cool blue-grey)")
+        .f("color_g", field_path(&P::color, &glm::vec3::g), 0, 1, "shadow colour (g)")
+        .f("color_b", field_path(&P::color, &glm::vec3::b), 0, 1, "shadow colour (b)")
+        .f("alpha", &P::alpha, 0, 1, "shadow wash opacity (ours: 0.5, 'semi-transparently painted')");
     for (bool mul : {true, false}) {
-        StageVariant v;
-        v.stage = "shadow_layer";
-        v.variant = mul ? "multiplicative" : "over";
-        v.doc = std::string("LD06 §3.3: the shadow intensity map as one more wash (blur, shape, edge, paper), glazed ") +
-                (mul ? "multiplicatively" : "with alpha over") + " onto the picture";
-        v.inputs = {{"color", "color.glazed", 4, false}, {"shadow", "ld06.shadow", 1, false}};
-        v.outputs = {{"color", "color.shadowed", 4, false}};
-        v.params = t.descs();
-        v.run = with_port_check(v, [mul](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            const auto tp = t.from(pv);
-            ShadowLayerParams p;
-            p.wash.radius = tp.radius;
-            p.wash.sigma = tp.sigma;
-            p.wash.shape = {tp.kappa, tp.width, tp.edge, tp.border, tp.granulation, true, false};
-            p.color = {tp.color_r, tp.color_g, tp.color_b};
-            p.alpha = tp.alpha;
-            shadow_layer(*io.out[0], *io.in[0], *io.in[1], globals_of(io).paper, p, mul, ex, paper_spread_of(globals_of(io), ex));
-        });
-        v.reference = StageVariant::Reference::SharedMaths;
-        r.add(std::move(v));
+        r.add(declare({.stage = "shadow_layer",
+                       .variant = mul ? "multiplicative" : "over",
+                       .doc = std::string("LD06 §3.3: the shadow intensity map as one more wash (blur, shape, edge, paper), "
+                                          "glazed ") + (mul ? "multiplicatively" : "with alpha over") + " onto the picture",
+                       .inputs = {{"color", "color.glazed", 4, false}, {"shadow", "ld06.shadow", 1, false}},
+                       .outputs = {{"color", "color.shadowed", 4, false}},
+                       .reference = StageVariant::Reference::SharedMaths},
+                      t, [mul](StageIO& io, const P& p, const Exec& ex) {
+                          const Globals& g = globals_of(io);
+                          shadow_layer(*io.out[0], *io.in[0], *io.in[1], g.paper, p, mul, ex, paper_spread_of(g, ex));
+                      }));
     }
 }
 

@@ -15,8 +15,14 @@ namespace aq::stylize {
 inline constexpr glm::vec3 kShadowColor{0.45f, 0.5f, 0.68f};
 inline constexpr float kShadowAlpha = 0.5f;
 
+//! The shadow's wash is softer than a layer's (ours): a wider smoothstep (a wet-on-wet shadow) and
+//! half the edge darkening.
+inline constexpr float kShadowWashWidth = 0.3f;
+inline constexpr float kShadowWashEdge = 0.5f;
+
 struct ShadowLayerParams {
-    LayerWashParams wash;
+    LayerWashParams wash = {kGaussianBlurRadius, kGaussianBlurSigma,
+                            {kWashKappa, kShadowWashWidth, kShadowWashEdge, kWashBorder, kWashGranulation, true, false}};
     glm::vec3 color = kShadowColor;
     float alpha = kShadowAlpha;
 };

@@ -73,33 +73,22 @@ void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const Strok
     });
 }
 
-namespace {
-struct Table {
-    float color_r = kInkColor.r, color_g = kInkColor.g, color_b = kInkColor.b, alpha = kInkAlpha;
-};
-}  // namespace
-
 void register_stroke_ink(Registry& r) {
-    static const ParamTable<Table> t = ParamTable<Table>()
-        .f("color_r", &Table::color_r, 0, 1, "ink colour (r; display value; ours: dark sepia)")
-        .f("color_g", &Table::color_g, 0, 1, "ink colour (g)")
-        .f("color_b", &Table::color_b, 0, 1, "ink colour (b)")
-        .f("alpha", &Table::alpha, 0, 1, "ink opacity at full coverage (ours: 0.85)");
-    StageVariant v;
-    v.stage = "stroke_ink";
-    v.variant = "over";
-    v.doc = "LD06 §4.4: the strokes' ink coverage painted last, over the washes, in one ink colour";
-    v.inputs = {{"color", "color.shadowed", 4, false}, {"ink", "ld06.strokes", 1, false}};
-    v.outputs = {{"color", "color.inked", 4, false}};
-    v.in_place_input = "color";  // strokes cover a few per cent of the image
-    v.in_place_output = "color";
-    v.params = t.descs();
-    v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        const auto tp = t.from(pv);
-        stroke_ink(*io.out[0], *io.in[0], *io.in[1], {{tp.color_r, tp.color_g, tp.color_b}, tp.alpha}, ex);
-    });
-    v.reference = StageVariant::Reference::PlainLoop;
-    r.add(std::move(v));
+    using P = StrokeInkParams;
+    r.add(declare({.stage = "stroke_ink",
+                   .variant = "over",
+                   .doc = "LD06 §4.4: the strokes' ink coverage painted last, over the washes, in one ink colour",
+                   .inputs = {{"color", "color.shadowed", 4, false}, {"ink", "ld06.strokes", 1, false}},
+                   .outputs = {{"color", "color.inked", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .in_place_input = "color",  // strokes cover a few per cent of the image
+                   .in_place_output = "color"},
+                  ParamTable<P>()
+                      .f("color_r", field_path(&P::color, &glm::vec3::r), 0, 1, "ink colour (r; display value; ours: dark sepia)")
+                      .f("color_g", field_path(&P::color, &glm::vec3::g), 0, 1, "ink colour (g)")
+                      .f("color_b", field_path(&P::color, &glm::vec3::b), 0, 1, "ink colour (b)")
+                      .f("alpha", &P::alpha, 0, 1, "ink opacity at full coverage (ours: 0.85)"),
+                  [](StageIO& io, const P& p, const Exec& ex) { stroke_ink(*io.out[0], *io.in[0], *io.in[1], p, ex); }));
 }
 
 }  // namespace aq::stylize

@@ -144,7 +144,7 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
     const Plane z = plane(depth, 0), ctrl = plane(ctrl_substrate, control::kSubstrateDistortion.channel);
     const Plane nr = paper ? plane(*paper, 0) : constant_plane(&kFlatPaperNormal, w, h);
     const Plane ng = paper ? plane(*paper, 1) : constant_plane(&kFlatPaperNormal, w, h);
-    const Border b = border_from(p.border);
+    const Border b = p.border;
     const View<glm::vec4> o = dst.view<glm::vec4>();
     if (ex.traversal == Traversal::Reference) {  // the plain reference: WC17 §3.3 pixel by pixel
         plain_loop(w, h, [&](int x, int y) {
@@ -301,28 +301,23 @@ void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, co
 
 void register_substrate_distort(Registry& r) {
     using D = SubstrateDistortParams;
-    static const ParamTable<D> td = ParamTable<D>()
+    static const ParamTable<D> t = ParamTable<D>()
         .f("distortion", &D::distortion, 0, 10, "global paper distortion: 5 px per unit at full control (MNPR 1)")
         .f("depth_threshold", &D::depth_threshold, 0, 1, "no sampling across this normalised depth step (MNPR 0.01)")
         .b("both_sides", &D::both_sides, "also refuse destinations behind the pixel (MNPR: only in front)")
-        .e("border", &D::border, {"clamp", "mirror"}, "taps outside the image: clamp to the edge or mirror");
-    {
-        StageVariant v;
-        v.stage = "substrate_distort";
-        v.variant = "mnpr";
-        v.doc = "WC17 3.3 / MNPR: sample colour at +n*distortion*5*sat(ctrl.substrate.r+0.2) px, depth-guarded";
-        v.inputs = {{"color", target::kColor, 4, false},
-                    {"depth", "depth", 1, false},
-                    {"ctrl_substrate", target::kCtrlSubstrate, 4, false}};
-        v.outputs = {{"color", "color.distorted", 4, false}};
-        v.params = td.descs();
-        v.run = with_port_check(v, [](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, td.from(pv), ex);
-        });
-        v.reference = StageVariant::Reference::PlainLoop;
-        v.row_halo = [](const ParamValues& pv) { return distort_reach(td.from(pv)); };
-        r.add(std::move(v));
-    }
+        .border(&D::border);
+    r.add(declare({.stage = "substrate_distort",
+                   .variant = "mnpr",
+                   .doc = "WC17 3.3 / MNPR: sample colour at +n*distortion*5*sat(ctrl.substrate.r+0.2) px, depth-guarded",
+                   .inputs = {{"color", target::kColor, 4, false},
+                              {"depth", "depth", 1, false},
+                              {"ctrl_substrate", target::kCtrlSubstrate, 4, false}},
+                   .outputs = {{"color", "color.distorted", 4, false}},
+                   .reference = StageVariant::Reference::PlainLoop,
+                   .row_halo = [](const ParamValues& pv) { return distort_reach(t.from(pv)); }},
+                  t, [](StageIO& io, const D& p, const Exec& ex) {
+                      substrate_distort(*io.out[0], *io.in[0], *io.in[1], *io.in[2], globals_of(io).paper, p, ex);
+                  }));
 }
 
 }  // namespace aq::stylize

@@ -31,7 +31,7 @@ struct SubstrateDistortParams {
     float distortion = 1.0f;                          //!< global distortion (MNPR gSubstrateDistortion) [0, 10]
     float depth_threshold = kDistortDepthThreshold;   //!< normalised depth [0, 1]
     bool both_sides = false;                          //!< refuse destinations behind as well as in front
-    int border = 0;                                   //!< taps outside the image: 0 clamp, 1 mirror
+    Border border = Border::Clamp;                    //!< taps outside the image
 };
 
 //! Offset in pixels for one pixel (0 for the flat paper exactly; never NaN, |offset| <= 5*distortion).

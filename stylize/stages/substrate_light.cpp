@@ -59,29 +59,26 @@ void substrate_light(ImageF& dst, const ImageF& color, const ImageF* paper, cons
 
 void register_substrate_light(Registry& r) {
     using L = SubstrateLightParams;
-    static const ParamTable<L> tl = ParamTable<L>()
+    const ParamTable<L> t = ParamTable<L>()
         .f("direction", &L::direction, 0, 360, "light direction in degrees (MNPR 180)")
         .f("tilt", &L::tilt, 0, 89, "light tilt in degrees, L.z = tilt/89 (MNPR 45)")
         .f("shading", &L::shading, 0, 1, "diffuse shading contribution ds (MNPR 0.5)")
         .f("roughness", &L::roughness, 0, 5, "r: relief scale of the paper normal")
         .b("normalize", &L::normalize, "divide by the flat paper's Id: flat paper keeps the substrate colour (0 = eq. 5 as printed)");
     for (bool squared : {false, true}) {
-        StageVariant v;
-        v.stage = "substrate_light";
-        v.variant = squared ? "mnpr" : "wc18";
-        v.doc = squared ? "MNPR substrate lighting: C * (1 - (1 - N.L)^2 ds)"
-                        : "WC18 eq. 5: C * (1 - (1 - L.(rN)) ds), MNPR light (180 deg, tilt 45, ds 0.5)";
-        v.inputs = {{"color", target::kColor, 4, false}};
-        v.outputs = {{"color", "color.lit", 4, false}};
-        v.in_place_input = "color";  // pointwise: no second full-frame image (and its first touch)
-        v.in_place_output = "color";
-        v.params = tl.descs();
-        v.run = with_port_check(v, [squared](StageIO& io, const ParamValues& pv, const Exec& ex) {
-            substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, tl.from(pv), squared, ex);
-        });
-        v.reference = StageVariant::Reference::SharedMaths;
-        v.row_halo = pointwise_rows;
-        r.add(std::move(v));
+        r.add(declare({.stage = "substrate_light",
+                       .variant = squared ? "mnpr" : "wc18",
+                       .doc = squared ? "MNPR substrate lighting: C * (1 - (1 - N.L)^2 ds)"
+                                      : "WC18 eq. 5: C * (1 - (1 - L.(rN)) ds), MNPR light (180 deg, tilt 45, ds 0.5)",
+                       .inputs = {{"color", target::kColor, 4, false}},
+                       .outputs = {{"color", "color.lit", 4, false}},
+                       .reference = StageVariant::Reference::SharedMaths,
+                       .in_place_input = "color",  // pointwise: no second full-frame image (and its first touch)
+                       .in_place_output = "color",
+                       .row_halo = pointwise_rows},
+                      t, [squared](StageIO& io, const L& p, const Exec& ex) {
+                          substrate_light(*io.out[0], *io.in[0], globals_of(io).paper, p, squared, ex);
+                      }));
     }
 }
 

@@ -23,6 +23,7 @@
 #include "core/simd.h"
 #include "stylize/kernels.h"
 #include "stylize/paper.h"
+#include "stylize/declare.h"
 #include "stylize/stage.h"
 
 namespace aq::stylize::toolkit {
@@ -30,7 +31,7 @@ namespace aq::stylize::toolkit {
 // ---- entry checks: every error names the stage and the port ----------------------------------
 
 //! The channel rule of an input check. Through the registry every port has an exact count
-//! (with_port_check); a typed stage function states which rule it accepts: Exactly where it
+//! (check_io, stylize/stage.h); a typed stage function states which rule it accepts: Exactly where it
 //! addresses pixels with the declared stride, AtLeast where it reads channels through a Plane
 //! (any stride), so a 4-channel control target can feed a 1-channel port's function directly.
 enum class Channels { Exactly, AtLeast };
@@ -92,23 +93,6 @@ inline void check_not_alias(const ImageF& dst, const ImageF* in, const std::stri
     if (in && &dst == in) throw Error(stage + ": output aliases input '" + port + "'");
 }
 
-//! Wraps a registry run function with the exact channel check of every declared input port and
-//! the presence of the output.
-inline RunFn with_port_check(const StageVariant& v, RunFn fn) {
-    return [ins = v.inputs, key = v.key(), fn = std::move(fn)](StageIO& io, const ParamValues& pv, const Exec& ex) {
-        for (std::size_t k = 0; k < ins.size(); ++k) {
-            const ImageF* img = k < io.in.size() ? io.in[k] : nullptr;
-            if (!img) {
-                if (!ins[k].optional) throw Error(key + ": input '" + ins[k].name + "' is missing");
-                continue;
-            }
-            check_input(img, ins[k].channels, Channels::Exactly, key, ins[k].name);
-        }
-        if (io.out.empty() || !io.out[0]) throw Error(key + ": no output bound");
-        fn(io, pv, ex);
-    };
-}
-
 //! The pipeline-wide values of a stage call (defaults when a caller passed none).
 inline const Globals& globals_of(const StageIO& io) {
     static const Globals kDefault{};
@@ -130,9 +114,6 @@ inline float paper_spread_of(const Globals& g, const Exec& ex) {
 using aq::ensure_output;
 
 // ---- borders ---------------------------------------------------------------------------------
-
-//! Border parameter value: 0 = clamp, 1 = mirror.
-inline Border border_from(double v) { return v != 0.0 ? Border::Mirror : Border::Clamp; }
 
 //! The source index of every padded position -pad..n-1+pad under border rule b.
 inline std::vector<int> border_table(int n, int pad, Border b) {
@@ -713,3 +694,9 @@ inline ImageF resample_channel(const ImageF& src, int c, int w, int h, const Exe
 }
 
 }  // namespace aq::stylize::toolkit
+
+namespace aq::stylize {
+// What the registration functions of stage files (stylize/stages/*.cpp register_*) read.
+using toolkit::globals_of;
+using toolkit::paper_spread_of;
+}  // namespace aq::stylize

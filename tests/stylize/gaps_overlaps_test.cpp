@@ -193,7 +193,7 @@ TEST(GapsOverlaps, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     const ImageF ctrl = testb::poison(noise(w, h, 4, -1.0f, 1.0f, 73), 11);
     GapsOverlapsParams p;
     p.steps = 16;
-    p.border = 1;
+    p.border = Border::Mirror;
     ImageF a, b;
     gaps_overlaps(a, color, edges, ctrl, nullptr, kPaper, p, Exec::reference());
     gaps_overlaps(b, color, edges, ctrl, nullptr, kPaper, p, Exec::fast(2));
@@ -275,16 +275,16 @@ TEST(GapsOverlaps, TraversalsAgreeWhereGapMarchesLeaveTheImage) {
     GapsOverlapsParams p;
     p.steps = 16;
     p.edge_threshold = 0.05f;
-    for (const int border : {0, 1}) {
+    for (const Border border : {Border::Clamp, Border::Mirror}) {
         p.border = border;
         ImageF ref, fast;
         gaps_overlaps(ref, color, edges, ctrl_b(-1.0f, w, h), nullptr, kPaper, p, Exec::reference());
         gaps_overlaps(fast, color, edges, ctrl_b(-1.0f, w, h), nullptr, kPaper, p, Exec::fast(2));
-        EXPECT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "border " << border;
+        EXPECT_EQ(0, std::memcmp(ref.data(), fast.data(), ref.num_values() * sizeof(float))) << "border " << int(border);
         int inner_gaps = 0;
         for (int y = 4; y < h - 4; ++y)
             for (int x = 4; x < w - 4; ++x) inner_gaps += std::memcmp(&ref.data()[(std::size_t(y) * w + x) * 4], &color.data()[(std::size_t(y) * w + x) * 4], 16) != 0;
-        EXPECT_GT(inner_gaps, 0) << "border " << border;
+        EXPECT_GT(inner_gaps, 0) << "border " << int(border);
     }
 }
 

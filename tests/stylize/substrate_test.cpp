@@ -174,7 +174,7 @@ TEST(Substrate, TraversalsAgreeAndNonFiniteInputsDoNotCrash) {
     const ImageF ctrl = testb::poison(noise(w, h, 4, -1.0f, 1.0f, 64), 5);
     SubstrateDistortParams p;
     p.distortion = 10.0f;
-    p.border = 1;
+    p.border = Border::Mirror;
     ImageF a, b, c, d;
     substrate_distort(a, color, depth, ctrl, &paper, p, Exec::reference());
     substrate_distort(b, color, depth, ctrl, &paper, p, Exec::fast(2));
@@ -214,7 +214,7 @@ TEST(SubstrateDistort, FastEqualsReferenceAroundAModelOnAFlatBackground) {
             for (int x = 0; x < 60; ++x) color.at(x, y, 0) = std::numeric_limits<float>::infinity();
         for (int pc = 0; pc < 3; ++pc)
         for (const float dist : {1.0f, 10.0f})
-            for (const int border : {0, 1})
+            for (const Border border : {Border::Clamp, Border::Mirror})
                 for (const bool both : {false, true}) {
                     SubstrateDistortParams p;
                     p.distortion = dist;
@@ -226,7 +226,7 @@ TEST(SubstrateDistort, FastEqualsReferenceAroundAModelOnAFlatBackground) {
                     substrate_distort(f1, color, depth, ctrls[pc], &papers[pc], p, Exec::fast(1));
                     substrate_distort(f2, color, depth, ctrls[pc], &papers[pc], p, Exec::fast(2));
                     SCOPED_TRACE(::testing::Message() << "paper " << pc << " bg " << bg.x << "," << bg.y << " distortion " << dist
-                                                      << " border " << border << " both " << both);
+                                                      << " border " << int(border) << " both " << both);
                     ASSERT_EQ(0, std::memcmp(ref.data(), f1.data(), ref.num_values() * sizeof(float)));
                     ASSERT_EQ(0, std::memcmp(ref.data(), f2.data(), ref.num_values() * sizeof(float)));
                 }

@@ -109,9 +109,12 @@ TEST(WritingAStage, TheDeclarationGivesTheRegistryEntryAndTheParameterChecks) {
     EXPECT_EQ(Registry::resolve_params(v, {}, "t").at("amount"), 0.5);
     EXPECT_THROW(Registry::resolve_params(v, {{"amount", 2.0}}, "t"), Error);
     EXPECT_THROW(Registry::resolve_params(v, {{"amonut", 0.5}}, "t"), Error);
-    // Inputs are checked against the declaration: a 3-channel image is refused.
+    // Once registered, inputs are checked against the declaration: a 3-channel image is refused.
+    Registry registered;
+    registered.add(v);
+    const StageVariant& entry = registered.get("desaturate", "luma");
     const ImageF rgb = random_image(4, 4, 3, 1);
-    EXPECT_THROW(run(v, rgb, Registry::resolve_params(v, {}, "t"), {}), Error);
+    EXPECT_THROW(run(entry, rgb, Registry::resolve_params(v, {}, "t"), {}), Error);
     // A parameter declared twice is refused when the variant is registered.
     StageVariant twice = v;
     twice.params.push_back(twice.params[0]);
