@@ -222,112 +222,81 @@ ImageF contact_sheet(const std::vector<ImageF>& cells, const std::vector<std::st
     return sheet;
 }
 
-void run_grid(const GridOptions& g, const Reporter& report) {
-    int rows = 0, columns = 0;
-    const std::vector<GridCell> cells = grid_cells(g, &rows, &columns);
-    const bool with_report = !g.report_dir.empty();
-    if (with_report && (g.baseline < 0 || g.baseline >= int(cells.size())))
-        throw cli::UsageError("grid: --baseline " + std::to_string(g.baseline) + " is not a combination (0.." +
-                              std::to_string(cells.size() - 1) + ")");
-    auto cell_path = [&](std::size_t k) {
-        char name[32];
-        std::snprintf(name, sizeof name, "/cell_%04zu.exr", k);
-        return g.cells_dir + name;
-    };
-    // Every output checked before anything is written (docs/grid.md "Writing"): the sheet is not one
-    // of the report's own files; the report folder is made once every job is prepared.
-    if (with_report) {
-        std::error_code ec;
-        const fs::path rdir = fs::weakly_canonical(g.report_dir, ec);
-        const fs::path out = fs::weakly_canonical(g.out, ec);
-        const fs::path rel = out.lexically_relative(rdir);
-        const std::string first = rel.empty() ? "" : rel.begin()->string();
-        if (!rel.empty() && first != ".." && (rel == "index.html" || first == "img" || first.rfind("img.", 0) == 0))
-            throw cli::UsageError("grid: --out '" + g.out + "' is one of the report's own files (index.html, img*/); put the "
-                                  "sheet elsewhere");
-    }
-    std::vector<CellResult> results(cells.size());
-    if (g.from_cells) {
-        // Assemble the sheet from the cells a (sharded) run wrote; nothing is rendered.
-        for (std::size_t k = 0; k < cells.size(); ++k) results[k].image = read_cell(cell_path(k), cell_identity(g, cells, k));
-    } else {
-        // Every style's job prepared (names, values and ranges of every combination checked)
-        // before any rendering starts; a shard keeps only its combinations (k mod N == I).
-        std::vector<RenderJob> jobs;
-        std::vector<std::vector<std::size_t>> cell_of;  // per job: style index -> combination k
-        for (std::size_t k = 0; k < cells.size();) {
-            RenderOptions o = g.base;
-            o.style = cells[k].style;
-            o.style_given = !o.style.empty();
-            o.keep_intermediates = with_report;
-            std::vector<std::size_t> mine;
-            std::size_t e = k;
-            for (; e < cells.size() && cells[e].style == cells[k].style; ++e)
-                if (int(e) % g.shard_count == g.shard_index) {
-                    o.combinations.push_back(cells[e].assignments);
-                    mine.push_back(e);
-                }
-            k = e;
-            if (mine.empty()) continue;
-            jobs.push_back(prepare_render(o, report));
-            cell_of.push_back(std::move(mine));
-        }
-        if (!g.cells_dir.empty()) ensure_directory(g.cells_dir);
-        if (with_report) ensure_directory(g.report_dir);
-        for (std::size_t j = 0; j < jobs.size(); ++j) {
-            RenderJob& job = jobs[j];
-            run_render(job, [&](RenderedImage& img) {
-                const std::size_t k = cell_of[j][img.style_index];
-                CellResult& r = results[k];
-                r.image = img.final_image();
-                r.step_ms = img.step_ms;
-                if (!g.cells_dir.empty())
-                    write_cell_sidecar(cell_path(k), cell_identity(g, cells, k), write_image(cell_path(k), r.image));
-                report.progress("[grid " + std::to_string(k + 1) + "/" + std::to_string(cells.size()) + "] " +
-                                cells[k].assignments.label);
-                if (!with_report) return;
-                const stylize::CompiledPipeline& c = job.compiled[img.style_index];
-                for (const stylize::CompiledStep& s : c.steps) {
-                    r.step_labels.push_back(s.label);
-                    const std::string id = s.label.substr(0, s.label.find(' '));
-                    for (const auto& [p, v] : s.params) r.params[id + "." + p] = fmt("%.9g", v);
-                    r.step_thumbs.push_back(s.outputs.empty() || !img.targets.has(s.outputs[0])
-                                                ? ImageF()
-                                                : thumbnail(visualize_target(s.outputs[0], img.targets.get(s.outputs[0]))));
-                }
-            }, report);
-        }
-        if (g.shard_count > 1) return;  // a shard writes its cells only (docs/grid.md "Sharding")
-    }
-    std::vector<ImageF> images;
-    std::vector<std::string> labels;
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-        images.push_back(results[k].image);
-        labels.push_back(cells[k].assignments.label);
-    }
-    const ImageF sheet = contact_sheet(images, labels, rows, columns);
-    if (!with_report) {
-        write_image(g.out, sheet);
-        report.progress("wrote " + g.out + " (" + std::to_string(rows) + " x " + std::to_string(columns) + ")");
-        return;
-    }
+namespace {
 
-    // The report: DIR/index.html and its images in DIR/img.TAG/ (relative links: the folder is
-    // self-contained), TAG from the sheet's pixels. Written as a set: the new images first, in a
-    // folder no old index.html names, then the sheet, then index.html (atomically: readers see the
-    // old report or the new one), then the image folders of older reports are removed.
-    const std::string img_dir = "img." + sha256_hex(sheet).substr(0, 12);
-    ensure_directory(g.report_dir + "/" + img_dir);
-    const std::size_t n = cells.size(), b = std::size_t(g.baseline);
-    std::size_t max_steps = 0;
-    for (const CellResult& r : results) max_steps = std::max(max_steps, r.step_labels.size());
-    std::string h = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Aquarelle grid</title>\n<style>"
-                    "body{font-family:sans-serif;font-size:13px}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
-                    "padding:4px;vertical-align:top;text-align:left}img{display:block;width:200px}.b{background:#eef}"
-                    "</style></head><body>\n<h1>Aquarelle grid</h1>\n<p>Scene <code>" + html_escape(g.base.scene) + "</code>, " +
-                    std::to_string(n) + " combination(s), baseline: column " + std::to_string(g.baseline) + ". Contact sheet: <code>" +
-                    html_escape(g.out) + "</code>. Timings are wall times of each step in this run (one run; not a benchmark).</p>\n";
-    // Parameters that differ between columns.
+//! The path of combination k's cell file in --cells DIR.
+std::string cell_path(const GridOptions& g, std::size_t k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/cell_%04zu.exr", k);
+    return g.cells_dir + name;
+}
+
+//! Throws cli::UsageError when the sheet (--out) is one of the report's own files.
+void check_sheet_outside_report(const GridOptions& g) {
+    std::error_code ec;
+    const fs::path rdir = fs::weakly_canonical(g.report_dir, ec);
+    const fs::path out = fs::weakly_canonical(g.out, ec);
+    const fs::path rel = out.lexically_relative(rdir);
+    const std::string first = rel.empty() ? "" : rel.begin()->string();
+    if (!rel.empty() && first != ".." && (rel == "index.html" || first == "img" || first.rfind("img.", 0) == 0))
+        throw cli::UsageError("grid: --out '" + g.out + "' is one of the report's own files (index.html, img*/); put the "
+                              "sheet elsewhere");
+}
+
+//! Renders this shard's combinations into results (and their cells with --cells): every style's
+//! job prepared (names, values and ranges of every combination checked) before any rendering
+//! starts; a shard keeps only its combinations (k mod N == I).
+void render_cells(const GridOptions& g, const std::vector<GridCell>& cells, std::vector<CellResult>& results,
+                  const Reporter& report) {
+    const bool with_report = !g.report_dir.empty();
+    std::vector<RenderJob> jobs;
+    std::vector<std::vector<std::size_t>> cell_of;  // per job: style index -> combination k
+    for (std::size_t k = 0; k < cells.size();) {
+        RenderOptions o = g.base;
+        o.style = cells[k].style;
+        o.style_given = !o.style.empty();
+        o.keep_intermediates = with_report;
+        std::vector<std::size_t> mine;
+        std::size_t e = k;
+        for (; e < cells.size() && cells[e].style == cells[k].style; ++e)
+            if (int(e) % g.shard_count == g.shard_index) {
+                o.combinations.push_back(cells[e].assignments);
+                mine.push_back(e);
+            }
+        k = e;
+        if (mine.empty()) continue;
+        jobs.push_back(prepare_render(o, report));
+        cell_of.push_back(std::move(mine));
+    }
+    if (!g.cells_dir.empty()) ensure_directory(g.cells_dir);
+    if (with_report) ensure_directory(g.report_dir);
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+        RenderJob& job = jobs[j];
+        run_render(job, [&](RenderedImage& img) {
+            const std::size_t k = cell_of[j][img.style_index];
+            CellResult& r = results[k];
+            r.image = img.final_image();
+            r.step_ms = img.step_ms;
+            if (!g.cells_dir.empty())
+                write_cell_sidecar(cell_path(g, k), cell_identity(g, cells, k), write_image(cell_path(g, k), r.image));
+            report.progress("[grid " + std::to_string(k + 1) + "/" + std::to_string(cells.size()) + "] " +
+                            cells[k].assignments.label);
+            if (!with_report) return;
+            const stylize::CompiledPipeline& c = job.compiled[img.style_index];
+            for (const stylize::CompiledStep& s : c.steps) {
+                r.step_labels.push_back(s.label);
+                const std::string id = s.label.substr(0, s.label.find(' '));
+                for (const auto& [p, v] : s.params) r.params[id + "." + p] = fmt("%.9g", v);
+                r.step_thumbs.push_back(s.outputs.empty() || !img.targets.has(s.outputs[0])
+                                            ? ImageF()
+                                            : thumbnail(visualize_target(s.outputs[0], img.targets.get(s.outputs[0]))));
+            }
+        }, report);
+    }
+}
+
+//! The "Parameters that differ between columns" rows of the report.
+std::string differing_params(const std::vector<CellResult>& results) {
     std::set<std::string> keys;
     for (const CellResult& r : results)
         for (const auto& [k, v] : r.params) keys.insert(k);
@@ -340,6 +309,27 @@ void run_grid(const GridOptions& g, const Reporter& report) {
         for (const CellResult& r : results) diff_rows += "<td>" + html_escape(r.params.count(key) ? r.params.at(key) : "-") + "</td>";
         diff_rows += "</tr>\n";
     }
+    return diff_rows;
+}
+
+//! DIR/index.html and its images in DIR/img.TAG/ (relative links: the folder is self-contained),
+//! TAG from the sheet's pixels. Written as a set: the new images first, in a folder no old
+//! index.html names, then the sheet, then index.html (atomically: readers see the old report or
+//! the new one), then the image folders of older reports are removed.
+void write_report(const GridOptions& g, const std::vector<GridCell>& cells, const std::vector<CellResult>& results,
+                  const ImageF& sheet, int rows, int columns, const Reporter& report) {
+    const std::string img_dir = "img." + sha256_hex(sheet).substr(0, 12);
+    ensure_directory(g.report_dir + "/" + img_dir);
+    const std::size_t n = cells.size(), b = std::size_t(g.baseline);
+    std::size_t max_steps = 0;
+    for (const CellResult& r : results) max_steps = std::max(max_steps, r.step_labels.size());
+    std::string h = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Aquarelle grid</title>\n<style>"
+                    "body{font-family:sans-serif;font-size:13px}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
+                    "padding:4px;vertical-align:top;text-align:left}img{display:block;width:200px}.b{background:#eef}"
+                    "</style></head><body>\n<h1>Aquarelle grid</h1>\n<p>Scene <code>" + html_escape(g.base.scene) + "</code>, " +
+                    std::to_string(n) + " combination(s), baseline: column " + std::to_string(g.baseline) + ". Contact sheet: <code>" +
+                    html_escape(g.out) + "</code>. Timings are wall times of each step in this run (one run; not a benchmark).</p>\n";
+    const std::string diff_rows = differing_params(results);
     h += "<table>\n<tr><th></th>";
     for (std::size_t k = 0; k < n; ++k)
         h += std::string("<th") + (k == b ? " class=\"b\"" : "") + ">" + std::to_string(k) + ": " + html_escape(cells[k].assignments.label) +
@@ -402,6 +392,41 @@ void run_grid(const GridOptions& g, const Reporter& report) {
         }
     }
     report.progress("wrote " + g.report_dir + "/index.html");
+}
+
+}  // namespace
+
+void run_grid(const GridOptions& g, const Reporter& report) {
+    int rows = 0, columns = 0;
+    const std::vector<GridCell> cells = grid_cells(g, &rows, &columns);
+    const bool with_report = !g.report_dir.empty();
+    if (with_report && (g.baseline < 0 || g.baseline >= int(cells.size())))
+        throw cli::UsageError("grid: --baseline " + std::to_string(g.baseline) + " is not a combination (0.." +
+                              std::to_string(cells.size() - 1) + ")");
+    // Every output checked before anything is written (docs/grid.md "Writing"); the report folder
+    // is made once every job is prepared.
+    if (with_report) check_sheet_outside_report(g);
+    std::vector<CellResult> results(cells.size());
+    if (g.from_cells) {
+        // Assemble the sheet from the cells a (sharded) run wrote; nothing is rendered.
+        for (std::size_t k = 0; k < cells.size(); ++k) results[k].image = read_cell(cell_path(g, k), cell_identity(g, cells, k));
+    } else {
+        render_cells(g, cells, results, report);
+        if (g.shard_count > 1) return;  // a shard writes its cells only (docs/grid.md "Sharding")
+    }
+    std::vector<ImageF> images;
+    std::vector<std::string> labels;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+        images.push_back(results[k].image);
+        labels.push_back(cells[k].assignments.label);
+    }
+    const ImageF sheet = contact_sheet(images, labels, rows, columns);
+    if (!with_report) {
+        write_image(g.out, sheet);
+        report.progress("wrote " + g.out + " (" + std::to_string(rows) + " x " + std::to_string(columns) + ")");
+        return;
+    }
+    write_report(g, cells, results, sheet, rows, columns, report);
 }
 
 }  // namespace aq::app

@@ -457,18 +457,11 @@ std::string first_difference(const json& a, const json& b) {
 
 }  // namespace
 
-ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
-    const std::string where = "manifest '" + ro.manifest + "'";
-    const json m = read_json_file(ro.manifest, "manifest");
-    forget_input_record(ro.manifest);  // read about the render, not for it
-    if (!m.is_object() || !m.contains("aquarelle_manifest"))
-        throw Error(where + ": not an Aquarelle manifest (no 'aquarelle_manifest' key)");
-    if (!m.at("aquarelle_manifest").is_number_integer() || m.at("aquarelle_manifest").get<long long>() != kManifestFormat)
-        throw Error(where + ": manifest format " + m.at("aquarelle_manifest").dump() + "; this build reads format " +
-                    std::to_string(kManifestFormat));
-    ReproduceResult res;
+namespace {
 
-    // 1. The build: the same bytes are only promised by the same build.
+//! Step 1 of reproduce: the same bytes are only promised by the same build. A difference is an
+//! error unless --any-version, then a line of the result.
+void check_build(const json& m, const std::string& where, const ReproduceOptions& ro, ReproduceResult& res) {
     const json build = need(m, "build", where);
     const json mine = build_json();
     std::vector<std::string> differs;
@@ -485,9 +478,10 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         res.status = kReproduceDiffers;
     }
 
-    // 2. Every input listed (bounded, each once) and present, before anything is rendered; their
-    //    bytes are compared with what the render reads again (step 5).
-    const std::map<std::string, std::string> inputs = listed_inputs(m, where);
+}
+
+//! Step 2: every listed input present before anything is rendered.
+void check_inputs_present(const std::map<std::string, std::string>& inputs, const std::string& where) {
     std::vector<std::string> missing;
     for (const auto& [path, sha] : inputs) {
         std::error_code ec;
@@ -499,10 +493,10 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         throw Error(where + ": " + std::to_string(missing.size()) + " input file(s) missing: " + s);
     }
 
-    // 3. Every output the manifest names is beside it with the SHA-256 it records: "identical" is a
-    //    statement about those files. Hashing them also protects them from being written over.
-    const std::vector<ListedOutput> outs = listed_outputs(m, where);
-    const fs::path mdir = fs::path(absolute_path(ro.manifest)).parent_path();
+}
+
+//! Step 3: every output the manifest names is beside it (in mdir) with the SHA-256 it records.
+void check_outputs_beside(const std::vector<ListedOutput>& outs, const fs::path& mdir, ReproduceResult& res) {
     for (const ListedOutput& f : outs) {
         const fs::path original = mdir / f.file;
         std::error_code ec;
@@ -521,10 +515,10 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         }
     }
 
-    // 4. Render again into a folder of our own: a new or empty --keep folder (never the originals'),
-    //    else a temporary one, removed on every exit (signals included, app/manifest.h).
-    remove_stale_reproduce_folders();
-    TempDir dir;
+}
+
+//! Step 4's folder: a new or empty --keep folder (never the originals'), else a temporary one.
+void reproduction_folder(const ReproduceOptions& ro, const fs::path& mdir, TempDir& dir) {
     if (!ro.keep_dir.empty()) {
         std::error_code ec;
         if (fs::exists(ro.keep_dir, ec)) {
@@ -542,17 +536,11 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
     } else {
         dir.path = make_reproduce_folder();
     }
-    RenderOptions o = options_from(m, where, dir.path, ro);
-    RenderJob job = prepare_render(o, report);
-    if (!o.targets_dir.empty()) ensure_directory(o.targets_dir);
-    if (!o.targets_png_dir.empty()) ensure_directory(o.targets_png_dir);
-    render_to_files(job, report);
-    const int index = o.sweep.empty() ? o.frame_first : o.shard_index;
-    const json again = read_json_file(manifest_path(frame_path(o.out, index)), "manifest of the reproduction");
+}
 
-    // 5. Compare: the files read (the same set, the same bytes), the pipeline, then every output in
-    //    the manifest's order (pipeline order), and nothing produced that the manifest leaves out.
-    const std::map<std::string, std::string> read_again = listed_inputs(again, "the reproduction's manifest");
+//! Step 5, the files read: the same set, the same bytes.
+void compare_inputs(const std::map<std::string, std::string>& inputs, const std::map<std::string, std::string>& read_again,
+                    ReproduceResult& res) {
     for (const auto& [path, sha] : inputs) {
         const auto it = read_again.find(path);
         if (it == read_again.end()) {
@@ -569,13 +557,43 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
             res.lines.push_back("input not in the manifest: " + path);
             res.status = kReproduceDiffers;
         }
-    if (m.value("pipeline", json()) != again.value("pipeline", json())) {
-        res.lines.push_back("pipeline differs: " + first_difference(m.value("pipeline", json()), again.value("pipeline", json())));
-        res.status = kReproduceDiffers;
+}
+
+//! The line describing the first differing output f (original beside the manifest in mdir, the
+//! reproduction's file again_file in ndir): hashes, then size or pixel statistics.
+std::string first_difference_line(const ListedOutput& f, const ListedOutput& again_file, const fs::path& mdir,
+                                  const fs::path& ndir) {
+    const std::string name = f.name();
+    std::string line = "first differing output: " + name + ": sha256 " + short_sha(f.sha256) + "... -> " +
+                       short_sha(again_file.sha256) + "...";
+    const fs::path original = mdir / f.file;
+    std::error_code ec;
+    if (fs::is_regular_file(original, ec)) {
+        const ImageF a = read_image(original.string());
+        const ImageF b = read_image((ndir / again_file.file).string());
+        if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) {
+            line += "; size " + std::to_string(a.width()) + "x" + std::to_string(a.height()) + "x" +
+                    std::to_string(a.channels()) + " -> " + std::to_string(b.width()) + "x" + std::to_string(b.height()) +
+                    "x" + std::to_string(b.channels());
+        } else {
+            const CompareStats s = compare_images(a, b, 1.0 / 255.0);
+            line += "; mean_abs " + std::to_string(s.mean_abs) + ", max_abs " + std::to_string(s.max_abs) + " at (" +
+                    std::to_string(s.max_x) + ", " + std::to_string(s.max_y) + ") channel " + std::to_string(s.max_c) +
+                    ", over 1/255 " + std::to_string(100.0 * s.frac_over) + " %, psnr " + std::to_string(s.psnr) + " dB" +
+                    (s.max_abs == 0.0 ? " (same pixels; the file bytes differ, e.g. in the embedded manifest)" : "");
+        }
+    } else {
+        line += "; the original file is not beside the manifest, so pixels are not compared";
     }
+    return line;
+}
+
+//! Step 5, the outputs: every one in the manifest's order (pipeline order), and nothing produced that
+//! the manifest leaves out.
+void compare_outputs(const std::vector<ListedOutput>& outs, const json& again, const fs::path& mdir, const fs::path& ndir,
+                     ReproduceResult& res) {
     std::map<std::pair<std::string, std::string>, ListedOutput> by_key;
     for (ListedOutput& f : listed_outputs(again, "the reproduction's manifest")) by_key[{f.kind, f.target}] = std::move(f);
-    const fs::path ndir = fs::path(absolute_path(manifest_path(frame_path(o.out, index)))).parent_path();
     int differing = 0;
     for (const ListedOutput& f : outs) {
         const std::string name = f.name();
@@ -591,34 +609,62 @@ ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
         if (again_file.sha256 == f.sha256) continue;
         res.status = kReproduceDiffers;
         if (differing++ > 0) continue;  // details for the first one only
-        std::string line = "first differing output: " + name + ": sha256 " + short_sha(f.sha256) + "... -> " +
-                           short_sha(again_file.sha256) + "...";
-        const fs::path original = mdir / f.file;
-        std::error_code ec;
-        if (fs::is_regular_file(original, ec)) {
-            const ImageF a = read_image(original.string());
-            const ImageF b = read_image((ndir / again_file.file).string());
-            if (a.width() != b.width() || a.height() != b.height() || a.channels() != b.channels()) {
-                line += "; size " + std::to_string(a.width()) + "x" + std::to_string(a.height()) + "x" +
-                        std::to_string(a.channels()) + " -> " + std::to_string(b.width()) + "x" + std::to_string(b.height()) +
-                        "x" + std::to_string(b.channels());
-            } else {
-                const CompareStats s = compare_images(a, b, 1.0 / 255.0);
-                line += "; mean_abs " + std::to_string(s.mean_abs) + ", max_abs " + std::to_string(s.max_abs) + " at (" +
-                        std::to_string(s.max_x) + ", " + std::to_string(s.max_y) + ") channel " + std::to_string(s.max_c) +
-                        ", over 1/255 " + std::to_string(100.0 * s.frac_over) + " %, psnr " + std::to_string(s.psnr) + " dB" +
-                        (s.max_abs == 0.0 ? " (same pixels; the file bytes differ, e.g. in the embedded manifest)" : "");
-            }
-        } else {
-            line += "; the original file is not beside the manifest, so pixels are not compared";
-        }
-        res.lines.push_back(line);
+        res.lines.push_back(first_difference_line(f, again_file, mdir, ndir));
     }
     for (const auto& [key, f] : by_key) {
         res.lines.push_back("produced again but not in the manifest: " + f.name());
         res.status = kReproduceDiffers;
     }
     if (differing > 1) res.lines.push_back(std::to_string(differing) + " of " + std::to_string(outs.size()) + " outputs differ");
+}
+
+}  // namespace
+
+ReproduceResult reproduce(const ReproduceOptions& ro, const Reporter& report) {
+    const std::string where = "manifest '" + ro.manifest + "'";
+    const json m = read_json_file(ro.manifest, "manifest");
+    forget_input_record(ro.manifest);  // read about the render, not for it
+    if (!m.is_object() || !m.contains("aquarelle_manifest"))
+        throw Error(where + ": not an Aquarelle manifest (no 'aquarelle_manifest' key)");
+    if (!m.at("aquarelle_manifest").is_number_integer() || m.at("aquarelle_manifest").get<long long>() != kManifestFormat)
+        throw Error(where + ": manifest format " + m.at("aquarelle_manifest").dump() + "; this build reads format " +
+                    std::to_string(kManifestFormat));
+    ReproduceResult res;
+
+    // 1. The build: the same bytes are only promised by the same build.
+    check_build(m, where, ro, res);
+    // 2. Every input listed (bounded, each once) and present, before anything is rendered; their
+    //    bytes are compared with what the render reads again (step 5).
+    const std::map<std::string, std::string> inputs = listed_inputs(m, where);
+    check_inputs_present(inputs, where);
+    // 3. Every output the manifest names is beside it with the SHA-256 it records: "identical" is a
+    //    statement about those files. Hashing them also protects them from being written over.
+    const std::vector<ListedOutput> outs = listed_outputs(m, where);
+    const fs::path mdir = fs::path(absolute_path(ro.manifest)).parent_path();
+    check_outputs_beside(outs, mdir, res);
+    // 4. Render again into a folder of our own: a new or empty --keep folder (never the originals'),
+    //    else a temporary one, removed on every exit (signals included, app/manifest.h).
+    remove_stale_reproduce_folders();
+    TempDir dir;
+    reproduction_folder(ro, mdir, dir);
+    RenderOptions o = options_from(m, where, dir.path, ro);
+    RenderJob job = prepare_render(o, report);
+    if (!o.targets_dir.empty()) ensure_directory(o.targets_dir);
+    if (!o.targets_png_dir.empty()) ensure_directory(o.targets_png_dir);
+    render_to_files(job, report);
+    const int index = o.sweep.empty() ? o.frame_first : o.shard_index;
+    const json again = read_json_file(manifest_path(frame_path(o.out, index)), "manifest of the reproduction");
+
+    // 5. Compare: the files read (the same set, the same bytes), the pipeline, then every output in
+    //    the manifest's order (pipeline order), and nothing produced that the manifest leaves out.
+    const std::map<std::string, std::string> read_again = listed_inputs(again, "the reproduction's manifest");
+    compare_inputs(inputs, read_again, res);
+    if (m.value("pipeline", json()) != again.value("pipeline", json())) {
+        res.lines.push_back("pipeline differs: " + first_difference(m.value("pipeline", json()), again.value("pipeline", json())));
+        res.status = kReproduceDiffers;
+    }
+    const fs::path ndir = fs::path(absolute_path(manifest_path(frame_path(o.out, index)))).parent_path();
+    compare_outputs(outs, again, mdir, ndir, res);
     if (res.status == 0)
         res.lines.push_back("identical: " + std::to_string(outs.size()) + " output file(s), same SHA-256, beside the manifest and rendered again");
     if (dir.keep) res.lines.push_back("reproduction kept in " + dir.path);

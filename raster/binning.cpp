@@ -5,6 +5,8 @@
 
 #include <tbb/task_arena.h>
 
+#include "raster/tiles.h"
+
 namespace aq::raster::detail {
 
 const scene::Material& default_material() {
@@ -12,84 +14,92 @@ const scene::Material& default_material() {
     return m;
 }
 
-// Vertex stage and chunked setup (+ binning on the fast path).
-void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
-             std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter) {
-    const glm::mat4 view = cam.view;
-    std::size_t bad_material = 0, bad_mesh = 0, missing_tangents = 0;
-    // fr.draws / fr.chunks may hold the previous frame's scratch (FrameScratch): their buffers
-    // are reused (every element is rewritten before it is read), only the objects are reset.
-    std::vector<DrawVertices> old_draws = std::move(fr.draws);
-    std::vector<Chunk> old_chunks = std::move(fr.chunks);
-    fr.draws.clear();
-    fr.chunks.clear();
-    std::size_t next_draw = 0, next_chunk = 0;
+namespace {
+
+// Calls f(inst, prim) for every primitive prepare draws, in submission order (instances, then
+// their mesh's primitives), counting instances whose mesh is missing.
+template <class F>
+void for_each_drawn(const scene::Scene& sc, const DrawFilter* filter, std::size_t* bad_mesh, F&& f) {
     for (const scene::Instance& inst : sc.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) {
-            ++bad_mesh;
+            if (bad_mesh) ++*bad_mesh;
             continue;
         }
         for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
             if (p.positions.empty() || p.indices.size() < 3) continue;
             if (filter && !(*filter)(inst, p)) continue;
-            DrawVertices dv = next_draw < old_draws.size() ? std::move(old_draws[next_draw++]) : DrawVertices{};
-            dv.prim = &p;
-            if (p.material >= 0 && p.material < int(sc.materials.size())) {
-                dv.mat = &sc.materials[p.material];
-            } else {
-                dv.mat = &default_material();
-                ++bad_material;
-            }
-            dv.object_id = inst.object_id;
-            const std::size_t n = p.positions.size();
-            // The base colour is the draw's constant when interpolate() gives every fragment
-            // COLOR_0 = 1 and no texture colour: computed here once, from such a fragment.
-            dv.const_base = p.colors.size() != n && (p.uv0.size() != n || !texture_of(fr.ctx, dv.mat->base_color_texture));
-            if (dv.const_base) dv.base = base_color_working(fr.ctx, *dv.mat, FragmentInput{});
-            dv.clip.resize(n);
-            dv.view.resize(n);
-            dv.snap.resize(n);
-            dv.view_tangent.clear();
-            if (p.tangents.size() == n) dv.view_tangent.resize(n);
-            else if (dv.mat->normal_texture.texture >= 0) ++missing_tangents;
-            fr.draws.push_back(std::move(dv));
+            f(inst, p);
         }
     }
+}
+
+// fr.draws: one per drawn primitive, its buffers sized (reusing the previous frame's: every
+// element is rewritten before it is read), material resolved, constant base colour computed.
+void collect_draws(Frame& fr, const scene::Scene& sc, const DrawFilter* filter, std::vector<std::string>* warnings) {
+    std::vector<DrawVertices> old_draws = std::move(fr.draws);
+    fr.draws.clear();
+    std::size_t next_draw = 0, bad_material = 0, bad_mesh = 0, missing_tangents = 0;
+    for_each_drawn(sc, filter, &bad_mesh, [&](const scene::Instance& inst, const scene::Primitive& p) {
+        DrawVertices dv = next_draw < old_draws.size() ? std::move(old_draws[next_draw++]) : DrawVertices{};
+        dv.prim = &p;
+        if (p.material >= 0 && p.material < int(sc.materials.size())) {
+            dv.mat = &sc.materials[p.material];
+        } else {
+            dv.mat = &default_material();
+            ++bad_material;
+        }
+        dv.object_id = inst.object_id;
+        const std::size_t n = p.positions.size();
+        // The base colour is the draw's constant when interpolate() gives every fragment
+        // COLOR_0 = 1 and no texture colour: computed here once, from such a fragment.
+        dv.const_base = p.colors.size() != n && (p.uv0.size() != n || !texture_of(fr.ctx, dv.mat->base_color_texture));
+        if (dv.const_base) dv.base = base_color_working(fr.ctx, *dv.mat, FragmentInput{});
+        dv.clip.resize(n);
+        dv.view.resize(n);
+        dv.snap.resize(n);
+        dv.view_tangent.clear();
+        if (p.tangents.size() == n) dv.view_tangent.resize(n);
+        else if (dv.mat->normal_texture.texture >= 0) ++missing_tangents;
+        fr.draws.push_back(std::move(dv));
+    });
     if (bad_mesh) warnings->push_back(std::to_string(bad_mesh) + " instance(s) reference a missing mesh: skipped");
     if (bad_material)
         warnings->push_back(std::to_string(bad_material) + " primitive(s) reference a missing material: default material used");
     if (missing_tangents)
         warnings->push_back(std::to_string(missing_tangents) + " primitive(s) with a normal map have no tangents: normal map ignored");
+}
 
-    // Per-draw matrices (float, computed once; docs/raster.md).
-    struct Job { std::uint32_t draw; std::size_t begin, end; };
+// The vertex stage: per-draw matrices (float, computed once; docs/raster.md), vertices in jobs of
+// kVertexGrain.
+void transform_draws(Frame& fr, const scene::Scene& sc, const glm::mat4& view, const DrawFilter* filter, bool parallel) {
+    struct Job {
+        std::uint32_t draw;
+        std::size_t begin, end;
+    };
     std::vector<Job> jobs;
     std::vector<glm::mat4> mv(fr.draws.size());
     std::vector<glm::mat3> nm(fr.draws.size());
-    {
-        std::size_t d = 0;
-        for (const scene::Instance& inst : sc.instances) {
-            if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
-            for (const scene::Primitive& p : sc.meshes[inst.mesh].primitives) {
-                if (p.positions.empty() || p.indices.size() < 3) continue;
-                if (filter && !(*filter)(inst, p)) continue;
-                mv[d] = view * inst.world;
-                nm[d] = glm::transpose(glm::inverse(glm::mat3(mv[d])));
-                for (std::size_t b = 0; b < p.positions.size(); b += kVertexGrain)
-                    jobs.push_back({std::uint32_t(d), b, std::min(p.positions.size(), b + kVertexGrain)});
-                ++d;
-            }
-        }
-    }
+    std::size_t d = 0;
+    for_each_drawn(sc, filter, nullptr, [&](const scene::Instance& inst, const scene::Primitive& p) {
+        mv[d] = view * inst.world;
+        nm[d] = glm::transpose(glm::inverse(glm::mat3(mv[d])));
+        for (std::size_t b = 0; b < p.positions.size(); b += kVertexGrain)
+            jobs.push_back({std::uint32_t(d), b, std::min(p.positions.size(), b + kVertexGrain)});
+        ++d;
+    });
     run_for(parallel, jobs.size(), [&](std::size_t j) {
         const Job& jb = jobs[j];
         transform_vertices(fr.fp, mv[jb.draw], nm[jb.draw], fr.draws[jb.draw], jb.begin, jb.end);
     });
-    timer.lap("vertex");
+}
 
-    // Chunk size (schedule only: a tile visits its triangles in submission order however they are
-    // chunked): large frames in kChunkTris chunks, small ones in about kChunksPerThread per thread.
-    std::size_t total_tris = 0;
+// fr.chunks: consecutive triangles of the submission sequence (schedule only: a tile visits its
+// triangles in submission order however they are chunked): large frames in kChunkTris chunks,
+// small ones in about kChunksPerThread per thread. The previous frame's chunks are reused, emptied.
+void make_chunks(Frame& fr, bool parallel) {
+    std::vector<Chunk> old_chunks = std::move(fr.chunks);
+    fr.chunks.clear();
+    std::size_t next_chunk = 0, total_tris = 0;
     for (const DrawVertices& dv : fr.draws) total_tris += dv.prim->indices.size() / 3;
     const std::size_t workers = parallel ? std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())) : 1;
     const std::uint32_t chunk_tris = std::uint32_t(
@@ -124,94 +134,77 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
             b = e;
         }
     }
+}
+
+// One chunk's setup and binning in one pass: (tile, setup index) pairs, then the counting sort by
+// tile (raster/tiles.h add_to_bins, sort_bins: each tile's list stays in submission order). The
+// 104-byte setups are written once and not re-read here.
+void setup_and_bin(Frame& fr, Chunk& c) {
     const int ntiles = fr.tiles_x * fr.tiles_y;
-    run_for(parallel, fr.chunks.size(), [&](std::size_t ci) {
-        Chunk& c = fr.chunks[ci];
-        c.tris.reserve(c.size);
-        if (!bin) {
-            for (const Chunk::Segment& sg : c.segments)
-                for (std::uint32_t t = sg.begin; t < sg.end; ++t)
-                    setup_triangle(fr.draws[sg.draw], sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+    std::vector<std::uint64_t>& pairs = c.pairs;
+    std::vector<std::uint64_t>& fine = c.fine_pairs;  // the sub-pixel setups (coverage pass only)
+    pairs.clear();
+    fine.clear();
+    pairs.reserve(c.size);
+    c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
+    c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
+    // An item into the tiles of r: the traversal's bins, or the sub-pixel ones.
+    auto bin_item = [&](const PixelRect& r, bool sub, std::uint32_t item) {
+        add_to_bins(fr.tiles_x, {r.x0, r.y0, r.x1, r.y1}, item, (sub ? c.fine_offsets : c.bin_offsets).data(),
+                    sub ? fine : pairs);
+    };
+    for (const Chunk::Segment& sg : c.segments) {
+        const DrawVertices& dv = fr.draws[sg.draw];
+        for (std::uint32_t t = sg.begin; t < sg.end;) {
+            const std::uint32_t te = std::min(sg.end, t + kSetupBatch);
+            std::size_t k = c.tris.size(), km = c.micro.size();
+            setup_triangles(dv, sg.draw, t, te, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters,
+                            fr.sopt.keep_subpixel ? &c.micro : nullptr);
+            t = te;
+            // Compact sub-pixel records: fine bins by their coverage bounds (tagged items).
+            for (; km < c.micro.size(); ++km) {
+                const SubpixelTri& m = c.micro[km];
+                bin_item({m.x0, m.y0, m.x1, m.y1}, true, std::uint32_t(km) | Chunk::kMicroItem);
+            }
+            for (; k < c.tris.size(); ++k) {
+                const TriSetup& st = c.tris[k];
+                // The tiles of the pixel-centre bounds (the traversal's), or with keep_subpixel
+                // of the pixels whose samples it may cover (the coverage pass's; they hold the
+                // pixel-centre bounds, setup.h). A sub-pixel triangle that can cover no sample
+                // is not binned.
+                PixelRect r{st.x0, st.y0, st.x1, st.y1};
+                if (fr.sopt.keep_subpixel) {
+                    r = coverage_bounds(st, fr.fp.vp.width, fr.fp.vp.height);
+                    c.bounds.push_back({std::int16_t(r.x0), std::int16_t(r.y0), std::int16_t(r.x1), std::int16_t(r.y1)});
+                }
+                bin_item(r, st.subpixel(), std::uint32_t(k));
+            }
+        }
+    }
+    // With keep_subpixel each entry's bounds go beside it (read in setup order here, so that the
+    // coverage pass reads them in bin order instead of one scattered load per entry).
+    auto sort = [&](std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
+                    std::vector<Chunk::Bounds>& bounds, const std::vector<std::uint64_t>& ps) {
+        if (!fr.sopt.keep_subpixel) {
+            sort_bins(ntiles, offsets, items, ps, [](std::uint32_t, std::uint32_t) {});
             return;
         }
-        // Setup and binning in one pass: (tile, setup index) pairs, then a counting sort by tile
-        // (stable, so each tile's list stays in submission order). The 104-byte setups are
-        // written once and not re-read here.
-        std::vector<std::uint64_t>& pairs = c.pairs;
-        std::vector<std::uint64_t>& fine = c.fine_pairs;  // the sub-pixel setups (coverage pass only)
-        pairs.clear();
-        fine.clear();
-        pairs.reserve(c.size);
-        c.bin_offsets.assign(std::size_t(ntiles) + 1, 0);
-        c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
-        // An item into the tiles of r (none when r is empty): the traversal's bins, or the
-        // sub-pixel ones.
-        auto bin_item = [&](const PixelRect& r, bool sub, std::uint32_t item) {
-            if (r.x0 > r.x1 || r.y0 > r.y1) return;
-            std::vector<std::uint32_t>& offsets = sub ? c.fine_offsets : c.bin_offsets;
-            std::vector<std::uint64_t>& to = sub ? fine : pairs;
-            for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty)
-                for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
-                    const std::uint32_t tile = std::uint32_t(ty * fr.tiles_x + tx);
-                    ++offsets[tile + 1];
-                    to.push_back(std::uint64_t(tile) << 32 | item);
-                }
-        };
-        for (const Chunk::Segment& sg : c.segments) {
-            const DrawVertices& dv = fr.draws[sg.draw];
-            for (std::uint32_t t = sg.begin; t < sg.end;) {
-                const std::uint32_t te = std::min(sg.end, t + kSetupBatch);
-                std::size_t k = c.tris.size(), km = c.micro.size();
-                setup_triangles(dv, sg.draw, t, te, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters,
-                                fr.sopt.keep_subpixel ? &c.micro : nullptr);
-                t = te;
-                // Compact sub-pixel records: fine bins by their coverage bounds (tagged items).
-                for (; km < c.micro.size(); ++km) {
-                    const SubpixelTri& m = c.micro[km];
-                    bin_item({m.x0, m.y0, m.x1, m.y1}, true, std::uint32_t(km) | Chunk::kMicroItem);
-                }
-                for (; k < c.tris.size(); ++k) {
-                    const TriSetup& st = c.tris[k];
-                    // The tiles of the pixel-centre bounds (the traversal's), or with keep_subpixel
-                    // of the pixels whose samples it may cover (the coverage pass's; they hold the
-                    // pixel-centre bounds, setup.h). A sub-pixel triangle that can cover no sample
-                    // is not binned.
-                    PixelRect r{st.x0, st.y0, st.x1, st.y1};
-                    if (fr.sopt.keep_subpixel) {
-                        r = coverage_bounds(st, fr.fp.vp.width, fr.fp.vp.height);
-                        c.bounds.push_back({std::int16_t(r.x0), std::int16_t(r.y0), std::int16_t(r.x1), std::int16_t(r.y1)});
-                    }
-                    bin_item(r, st.subpixel(), std::uint32_t(k));
-                }
+        bounds.resize(ps.size());
+        sort_bins(ntiles, offsets, items, ps, [&](std::uint32_t at, std::uint32_t item) {
+            if (item & Chunk::kMicroItem) {
+                const SubpixelTri& m = c.micro[item & ~Chunk::kMicroItem];
+                bounds[at] = {m.x0, m.y0, m.x1, m.y1};
+            } else {
+                bounds[at] = c.bounds[item];
             }
-        }
-        // With keep_subpixel each entry's bounds go beside it (read in setup order here, so that
-        // the coverage pass reads them in bin order instead of one scattered load per entry).
-        const bool with_bounds = fr.sopt.keep_subpixel;
-        auto sort = [ntiles, with_bounds, &c](std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
-                                              std::vector<Chunk::Bounds>& bounds, const std::vector<std::uint64_t>& ps) {
-            for (int i = 0; i < ntiles; ++i) offsets[i + 1] += offsets[i];
-            items.resize(ps.size());
-            std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
-            if (!with_bounds) {
-                for (const std::uint64_t p : ps) items[fill[p >> 32]++] = std::uint32_t(p);
-                return;
-            }
-            bounds.resize(ps.size());
-            for (const std::uint64_t p : ps) {
-                const std::uint32_t at = fill[p >> 32]++, item = std::uint32_t(p);
-                items[at] = item;
-                if (item & Chunk::kMicroItem) {
-                    const SubpixelTri& m = c.micro[item & ~Chunk::kMicroItem];
-                    bounds[at] = {m.x0, m.y0, m.x1, m.y1};
-                } else {
-                    bounds[at] = c.bounds[item];
-                }
-            }
-        };
-        sort(c.bin_offsets, c.bin_items, c.bin_bounds, pairs);
-        if (!c.fine_offsets.empty()) sort(c.fine_offsets, c.fine_items, c.fine_bounds, fine);
-    });
+        });
+    };
+    sort(c.bin_offsets, c.bin_items, c.bin_bounds, pairs);
+    if (!c.fine_offsets.empty()) sort(c.fine_offsets, c.fine_items, c.fine_bounds, fine);
+}
+
+// What setup dropped, as warnings; the counts on stderr when profiling.
+void report_setup(const Frame& fr, const PhaseTimer& timer, std::vector<std::string>* warnings) {
     SetupCounters total;
     std::size_t nsetup = 0, nbinned = 0;
     for (const Chunk& c : fr.chunks) {
@@ -225,7 +218,31 @@ void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool p
     if (total.bad_index)
         warnings->push_back(std::to_string(total.bad_index) + " triangle(s) with out-of-range indices dropped");
     if (total.clip_unstable)
-        warnings->push_back(std::to_string(total.clip_unstable) + " triangle(s) dropped: clipping produced non-finite or out-of-range vertices");
+        warnings->push_back(std::to_string(total.clip_unstable) +
+                            " triangle(s) dropped: clipping produced non-finite or out-of-range vertices");
+}
+
+}  // namespace
+
+// Vertex stage and chunked setup (+ binning on the fast path).
+void prepare(Frame& fr, const scene::Scene& sc, const scene::Camera& cam, bool parallel, bool bin,
+             std::vector<std::string>* warnings, PhaseTimer& timer, const DrawFilter* filter) {
+    collect_draws(fr, sc, filter, warnings);
+    transform_draws(fr, sc, cam.view, filter, parallel);
+    timer.lap("vertex");
+    make_chunks(fr, parallel);
+    run_for(parallel, fr.chunks.size(), [&](std::size_t ci) {
+        Chunk& c = fr.chunks[ci];
+        c.tris.reserve(c.size);
+        if (bin) {
+            setup_and_bin(fr, c);
+            return;
+        }
+        for (const Chunk::Segment& sg : c.segments)
+            for (std::uint32_t t = sg.begin; t < sg.end; ++t)
+                setup_triangle(fr.draws[sg.draw], sg.draw, t, fr.fp.vp, fr.sopt, c.tris, c.clips, c.counters);
+    });
+    report_setup(fr, timer, warnings);
 }
 
 }  // namespace aq::raster::detail

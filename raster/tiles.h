@@ -1,8 +1,9 @@
 // raster/tiles.h — the screen tiles every tiled drawing in raster shares: the grid of kTile-pixel
 // tiles over an image, binning of bounding-boxed primitives into them in submission order, and the
 // parallel traversal that gives each tile one writer. Sprites (particles.cpp) and strokes
-// (strokes.cpp) bin through bin_boxes; the triangle passes and the G-buffer bin their chunked
-// triangles in binning.cpp and walk the same grid (tile_rect).
+// (strokes.cpp) bin through bin_boxes; the G-buffer and the triangle passes bin their chunked
+// triangles with the same two halves (add_to_bins, sort_bins; binning.cpp) and walk the same grid
+// (tile_rect).
 #pragma once
 
 #include <algorithm>
@@ -46,25 +47,46 @@ struct TileBins {
     }
 };
 
+//! The first half of every binning in raster: item goes to each tile the pixel rect r touches, as
+//! a (tile, item) pair, counted in counts[tile + 1] (the bins' offsets before sort_bins). An
+//! empty rect (x0 > x1 or y0 > y1) adds nothing.
+inline void add_to_bins(int tiles_x, const TileRect& r, std::uint32_t item, std::uint32_t* counts,
+                        std::vector<std::uint64_t>& pairs) {
+    if (r.x0 > r.x1 || r.y0 > r.y1) return;
+    for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty)
+        for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
+            const std::uint32_t tile = std::uint32_t(ty * tiles_x + tx);
+            ++counts[tile + 1];
+            pairs.push_back(std::uint64_t(tile) << 32 | item);
+        }
+}
+
+//! The second half: a counting sort of the pairs (stable, so each tile keeps its items in the order
+//! they were added) into offsets (counted by add_to_bins, ntiles + 1 of them) and items;
+//! placed(at, item) for every item placed, in pair order (what a caller keeps beside the item).
+template <class Placed>
+void sort_bins(int ntiles, std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& items,
+               const std::vector<std::uint64_t>& pairs, Placed&& placed) {
+    for (int i = 0; i < ntiles; ++i) offsets[std::size_t(i) + 1] += offsets[std::size_t(i)];
+    items.resize(pairs.size());
+    std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+    for (const std::uint64_t p : pairs) {
+        const std::uint32_t at = fill[p >> 32]++, item = std::uint32_t(p);
+        items[at] = item;
+        placed(at, item);
+    }
+}
+
 //! Bins primitives 0..n-1 by their pixel boxes: box(k) gives an inclusive TileRect within the image
-//! (callers drop primitives with empty boxes before).
+//! (an empty one: the primitive is not binned).
 template <class BoxOf>
 TileBins bin_boxes(const TileGrid& g, std::size_t n, BoxOf&& box) {
     TileBins b;
     b.offsets.assign(std::size_t(g.count()) + 1, 0);
-    for (std::size_t k = 0; k < n; ++k) {
-        const TileRect r = box(k);
-        for (int j = r.y0 / kTile; j <= r.y1 / kTile; ++j)
-            for (int i = r.x0 / kTile; i <= r.x1 / kTile; ++i) ++b.offsets[std::size_t(j * g.tiles_x + i) + 1];
-    }
-    for (int t = 0; t < g.count(); ++t) b.offsets[std::size_t(t) + 1] += b.offsets[std::size_t(t)];
-    b.items.resize(b.offsets.back());
-    std::vector<std::uint32_t> fill(b.offsets.begin(), b.offsets.end() - 1);
-    for (std::size_t k = 0; k < n; ++k) {
-        const TileRect r = box(k);
-        for (int j = r.y0 / kTile; j <= r.y1 / kTile; ++j)
-            for (int i = r.x0 / kTile; i <= r.x1 / kTile; ++i) b.items[fill[std::size_t(j * g.tiles_x + i)]++] = std::uint32_t(k);
-    }
+    std::vector<std::uint64_t> pairs;
+    pairs.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) add_to_bins(g.tiles_x, box(k), std::uint32_t(k), b.offsets.data(), pairs);
+    sort_bins(g.count(), b.offsets, b.items, pairs, [](std::uint32_t, std::uint32_t) {});
     return b;
 }
 
