@@ -108,9 +108,9 @@ bool write_coverage(const TargetPtrs& tp, const CoverageBits& cov, int x, int y,
         // itself is covered even where a sliver holds none of the 16 samples).
         if (n == kCoverageSamples) return false;
         const float a = float(std::max(n, 1)) / float(kCoverageSamples);
-        tp.color[4 * i + 3] = a;
-        for (float* c : tp.ctrl)
-            if (c) c[4 * i + 3] = a;
+        tp.color()[4 * i + 3] = a;
+        for (int t = 0; t < scene::kNumControlTargets; ++t)
+            if (float* c = tp.ctrl(t)) c[4 * i + 3] = a;
         return true;
     }
     if (n == 0) return false;
@@ -124,37 +124,37 @@ bool write_coverage(const TargetPtrs& tp, const CoverageBits& cov, int x, int y,
             const int u = x + dx, v = y + dy;
             if ((dx == 0 && dy == 0) || u < 0 || v < 0 || u >= cov.W || v >= cov.H || !cov.at(u, v)) continue;
             const std::size_t j = std::size_t(v) * tp.width + u;
-            for (int c = 0; c < 3; ++c) rgb[c] += tp.color[4 * j + c];
+            for (int c = 0; c < 3; ++c) rgb[c] += tp.color()[4 * j + c];
             for (int t = 0; t < scene::kNumControlTargets; ++t)
-                if (tp.ctrl[t])
-                    for (int c = 0; c < 3; ++c) ctrl[t][c] += tp.ctrl[t][4 * j + c];
-            depth = std::min(depth, tp.depth[j]);
-            if (tp.normal)
-                for (int c = 0; c < 3; ++c) nn[c] += tp.normal[3 * j + c];
-            if (tp.diffuse) diffuse += tp.diffuse[j];
-            if (tp.specular) specular += tp.specular[j];
-            if (k == 0 && tp.id) id = tp.id[j];
+                if (tp.ctrl(t))
+                    for (int c = 0; c < 3; ++c) ctrl[t][c] += tp.ctrl(t)[4 * j + c];
+            depth = std::min(depth, tp.depth()[j]);
+            if (tp.normal())
+                for (int c = 0; c < 3; ++c) nn[c] += tp.normal()[3 * j + c];
+            if (tp.diffuse()) diffuse += tp.diffuse()[j];
+            if (tp.specular()) specular += tp.specular()[j];
+            if (k == 0 && tp.id()) id = tp.id()[j];
             ++k;
         }
     if (k == 0) return false;  // samples of a sliver between pixel centres: left as background
     const float a = float(n) / float(kCoverageSamples), inv = 1.0f / float(k);
-    for (int c = 0; c < 3; ++c) tp.color[4 * i + c] = rgb[c] * inv;
-    tp.color[4 * i + 3] = a;
+    for (int c = 0; c < 3; ++c) tp.color()[4 * i + c] = rgb[c] * inv;
+    tp.color()[4 * i + 3] = a;
     for (int t = 0; t < scene::kNumControlTargets; ++t)
-        if (tp.ctrl[t]) {
-            for (int c = 0; c < 3; ++c) tp.ctrl[t][4 * i + c] = ctrl[t][c] * inv;
-            tp.ctrl[t][4 * i + 3] = a;
+        if (tp.ctrl(t)) {
+            for (int c = 0; c < 3; ++c) tp.ctrl(t)[4 * i + c] = ctrl[t][c] * inv;
+            tp.ctrl(t)[4 * i + 3] = a;
         }
-    tp.depth[i] = depth;
-    if (tp.normal) {
+    tp.depth()[i] = depth;
+    if (tp.normal()) {
         const glm::vec3 v = normalize3(glm::vec3(nn[0], nn[1], nn[2]) * inv);
-        tp.normal[3 * i] = v.x, tp.normal[3 * i + 1] = v.y, tp.normal[3 * i + 2] = v.z;
+        tp.normal()[3 * i] = v.x, tp.normal()[3 * i + 1] = v.y, tp.normal()[3 * i + 2] = v.z;
     }
-    if (tp.diffuse) tp.diffuse[i] = diffuse * inv;
-    if (tp.specular) tp.specular[i] = specular * inv;
+    if (tp.diffuse()) tp.diffuse()[i] = diffuse * inv;
+    if (tp.specular()) tp.specular()[i] = specular * inv;
     // object_id: the majority of the samples (as the SSAA resolve): the object's where it covers
     // more than half of them.
-    if (tp.id) tp.id[i] = 2 * n > kCoverageSamples ? id : 0.0f;
+    if (tp.id()) tp.id()[i] = 2 * n > kCoverageSamples ? id : 0.0f;
     return true;
 }
 
@@ -169,7 +169,7 @@ void CoverageBits::reset(int w, int h) {
 void CoverageBits::from_alpha(const TargetPtrs& tp) {
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
-            if (tp.color[4 * (std::size_t(y) * tp.width + x) + 3] > 0.0f) word(x / kTile, y) |= std::uint64_t(1) << (x % kTile);
+            if (tp.color()[4 * (std::size_t(y) * tp.width + x) + 3] > 0.0f) word(x / kTile, y) |= std::uint64_t(1) << (x % kTile);
 }
 
 // Plain reference: flags from each pixel's 3x3 neighbourhood, then every triangle over every

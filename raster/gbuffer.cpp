@@ -19,22 +19,25 @@ Targets allocate_targets_unfilled(int W, int H, std::uint32_t mask) {
     return tg;
 }
 
-TargetPtrs pointers(Targets& tg) {
-    auto ptr = [&](const char* name) { return tg.has(name) ? tg.get_mut(name).data() : nullptr; };
-    TargetPtrs p;
-    p.color = ptr(target::kColor);
-    p.ctrl[0] = ptr(target::kCtrlPigment);
-    p.ctrl[1] = ptr(target::kCtrlSubstrate);
-    p.ctrl[2] = ptr(target::kCtrlEdge);
-    p.ctrl[3] = ptr(target::kCtrlAbstraction);
-    p.depth = ptr(target::kDepthLinear);
-    p.normal = ptr(target::kNormal);
-    p.id = ptr(target::kObjectId);
-    p.diffuse = ptr(target::kDiffuse);
-    p.specular = ptr(target::kSpecular);
+namespace {
+template <class T, class Tg>
+TargetPtrsOf<T> pointers_of(Tg& tg) {
+    TargetPtrsOf<T> p;
+    for (std::size_t i = 0; i < gbuffer_slot::kCount; ++i) {
+        const char* name = target::kGBufferLayout[i].name;
+        if (!tg.has(name)) continue;
+        if constexpr (std::is_const_v<T>)
+            p.at[i] = tg.get(name).data();
+        else
+            p.at[i] = tg.get_mut(name).data();
+    }
     p.width = tg.get(target::kColor).width();
     return p;
 }
+}  // namespace
+
+TargetPtrs pointers(Targets& tg) { return pointers_of<float>(tg); }
+TargetPtrsOf<const float> pointers(const Targets& tg) { return pointers_of<const float>(tg); }
 
 bool reusable(const Targets& t, int W, int H, std::uint32_t mask) {
     std::size_t want = 0;

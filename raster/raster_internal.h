@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -87,16 +89,37 @@ struct Chunk {
     SetupCounters counters;
 };
 
-struct TargetPtrs {
-    float* color;
-    float* ctrl[scene::kNumControlTargets];
-    float* depth;
-    float* normal;
-    float* id;
-    float* diffuse;
-    float* specular;
-    int width;
+//! Where each G-buffer target sits in target::kGBufferLayout: the order of TargetPtrs::at, the
+//! row buffers and every loop over the targets.
+namespace gbuffer_slot {
+inline constexpr std::size_t kCount = std::size(target::kGBufferLayout);
+constexpr std::size_t of(const char* name) {
+    for (std::size_t i = 0; i < kCount; ++i)
+        if (std::string_view(target::kGBufferLayout[i].name) == name) return i;
+    return kCount;
+}
+inline constexpr std::size_t kColor = of(target::kColor), kCtrl = of(target::kCtrlPigment), kDepth = of(target::kDepthLinear),
+                             kNormal = of(target::kNormal), kId = of(target::kObjectId), kDiffuse = of(target::kDiffuse),
+                             kSpecular = of(target::kSpecular);
+static_assert(of(target::kCtrlSubstrate) == kCtrl + 1 && of(target::kCtrlEdge) == kCtrl + 2 &&
+                  of(target::kCtrlAbstraction) == kCtrl + 3 && scene::kNumControlTargets == 4,
+              "the control targets follow each other in the layout, in control::kTargets order");
+}  // namespace gbuffer_slot
+
+//! The G-buffer targets' values (row-major, channels interleaved), by layout slot.
+template <class T>
+struct TargetPtrsOf {
+    std::array<T*, gbuffer_slot::kCount> at{};  //!< kGBufferLayout[i]'s values; null: not in the set
+    int width = 0;                              //!< pixels per row
+    T* color() const { return at[gbuffer_slot::kColor]; }
+    T* ctrl(int k) const { return at[gbuffer_slot::kCtrl + std::size_t(k)]; }
+    T* depth() const { return at[gbuffer_slot::kDepth]; }
+    T* normal() const { return at[gbuffer_slot::kNormal]; }
+    T* id() const { return at[gbuffer_slot::kId]; }
+    T* diffuse() const { return at[gbuffer_slot::kDiffuse]; }
+    T* specular() const { return at[gbuffer_slot::kSpecular]; }
 };
+using TargetPtrs = TargetPtrsOf<float>;
 
 struct Frame {
     FrameParams fp;
@@ -224,6 +247,7 @@ Targets allocate_targets_unfilled(int W, int H, std::uint32_t mask);
 //! Pointers to the targets of tg; null for a G-buffer target tg does not hold (only the fast
 //! traversal's row streaming skips null targets: the other writers need all ten).
 TargetPtrs pointers(Targets& tg);
+TargetPtrsOf<const float> pointers(const Targets& tg);
 //! `t` holds exactly the G-buffer targets of `mask` at W x H (its storage can be reused for a new
 //! frame).
 bool reusable(const Targets& t, int W, int H, std::uint32_t mask = target::kAllGBufferTargets);

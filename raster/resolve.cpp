@@ -9,16 +9,10 @@ Targets resolve(const Targets& hi, int K, int W, int H, float bg_depth, const Ex
     Targets lo = allocate_targets(W, H, bg_depth);
     const int HW = W * K;
     const float inv_total = 1.0f / float(K * K);
-    const float* hc = hi.get(target::kColor).data();
-    const float* hd = hi.get(target::kDepthLinear).data();
-    const float* hn = hi.get(target::kNormal).data();
-    const float* hid = hi.get(target::kObjectId).data();
-    const float* hdf = hi.get(target::kDiffuse).data();
-    const float* hsp = hi.get(target::kSpecular).data();
-    const char* ctrl_names[4] = {target::kCtrlPigment, target::kCtrlSubstrate, target::kCtrlEdge,
-                                 target::kCtrlAbstraction};
-    const float* hctrl[4];
-    for (int k = 0; k < 4; ++k) hctrl[k] = hi.get(ctrl_names[k]).data();
+    const TargetPtrsOf<const float> hp = pointers(hi);
+    const float *hc = hp.color(), *hd = hp.depth(), *hn = hp.normal(), *hid = hp.id(), *hdf = hp.diffuse(),
+                *hsp = hp.specular();
+    const float* hctrl[4] = {hp.ctrl(0), hp.ctrl(1), hp.ctrl(2), hp.ctrl(3)};
     TargetPtrs lp = pointers(lo);
     Exec e = ex;
     for_each_tile(e, Roi{0, 0, W, H}, [&](Roi r) {
@@ -47,7 +41,7 @@ Targets resolve(const Targets& hi, int K, int W, int H, float bg_depth, const Ex
                         best = ids[a];
                     }
                 }
-                lp.id[i] = best;
+                lp.id()[i] = best;
                 if (cov.empty()) continue;  // background values already in place
                 const float n = float(cov.size());
                 const float alpha = float(cov.size()) * inv_total;
@@ -64,18 +58,18 @@ Targets resolve(const Targets& hi, int K, int W, int H, float bg_depth, const Ex
                     sp = sp + hsp[j];
                 }
                 c = c / n;
-                lp.color[4 * i] = c.x; lp.color[4 * i + 1] = c.y; lp.color[4 * i + 2] = c.z;
-                lp.color[4 * i + 3] = alpha;
+                lp.color()[4 * i] = c.x; lp.color()[4 * i + 1] = c.y; lp.color()[4 * i + 2] = c.z;
+                lp.color()[4 * i + 3] = alpha;
                 for (int k = 0; k < 4; ++k) {
                     const glm::vec3 v = cc[k] / n;
-                    float* q = lp.ctrl[k] + 4 * i;
+                    float* q = lp.ctrl(k) + 4 * i;
                     q[0] = v.x; q[1] = v.y; q[2] = v.z; q[3] = alpha;
                 }
                 nn = normalize3(nn / n);
-                lp.normal[3 * i] = nn.x; lp.normal[3 * i + 1] = nn.y; lp.normal[3 * i + 2] = nn.z;
-                lp.depth[i] = dmin;
-                lp.diffuse[i] = df / n;
-                lp.specular[i] = sp / n;
+                lp.normal()[3 * i] = nn.x; lp.normal()[3 * i + 1] = nn.y; lp.normal()[3 * i + 2] = nn.z;
+                lp.depth()[i] = dmin;
+                lp.diffuse()[i] = df / n;
+                lp.specular()[i] = sp / n;
             }
     });
     return lo;

@@ -60,18 +60,18 @@ bool alpha_pass(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary&
 // Writes lane i of shaded fragments (depth, object id) at pixel (x, y) of every target.
 void write_lane(const FragmentLanes& o, int i, float depth, float object_id, const TargetPtrs& tp, int x, int y) {
     const std::size_t p = std::size_t(y) * tp.width + x;
-    float* c = tp.color + 4 * p;
+    float* c = tp.color() + 4 * p;
     c[0] = o.color[0][i]; c[1] = o.color[1][i]; c[2] = o.color[2][i]; c[3] = 1.0f;
     for (int k = 0; k < scene::kNumControlTargets; ++k) {
-        float* q = tp.ctrl[k] + 4 * p;
+        float* q = tp.ctrl(k) + 4 * p;
         q[0] = o.ctrl[k][0][i]; q[1] = o.ctrl[k][1][i]; q[2] = o.ctrl[k][2][i]; q[3] = 1.0f;
     }
-    tp.depth[p] = depth;
-    float* n = tp.normal + 3 * p;
+    tp.depth()[p] = depth;
+    float* n = tp.normal() + 3 * p;
     n[0] = o.normal[0][i]; n[1] = o.normal[1][i]; n[2] = o.normal[2][i];
-    tp.id[p] = object_id;
-    tp.diffuse[p] = o.diffuse[i];
-    tp.specular[p] = o.specular[i];
+    tp.id()[p] = object_id;
+    tp.diffuse()[p] = o.diffuse[i];
+    tp.specular()[p] = o.specular[i];
 }
 
 void shade_and_write(const Frame& fr, const Chunk& ch, const TriSetup& t, const Bary& b,
@@ -125,56 +125,45 @@ struct Batch {
     }
 };
 
-// One tile row of all ten targets (kTile pixels), written by write_lane at (x, 0).
+// One tile row of every G-buffer target (kTile pixels, the layout's order), written by write_lane
+// at (x, 0).
 struct RowBuffer {
-    float color[4 * kTile], ctrl[scene::kNumControlTargets][4 * kTile], depth[kTile],
-        normal[3 * kTile], id[kTile], diffuse[kTile], specular[kTile];
+    //! Where target i's row starts in `values`.
+    static constexpr std::array<std::size_t, gbuffer_slot::kCount + 1> kOffsets = [] {
+        std::array<std::size_t, gbuffer_slot::kCount + 1> o{};
+        for (std::size_t i = 0; i < gbuffer_slot::kCount; ++i)
+            o[i + 1] = o[i] + std::size_t(target::kGBufferLayout[i].channels) * kTile;
+        return o;
+    }();
+    float values[kOffsets.back()];
     TargetPtrs pointers() {
         TargetPtrs p;
-        p.color = color;
-        for (int k = 0; k < scene::kNumControlTargets; ++k) p.ctrl[k] = ctrl[k];
-        p.depth = depth;
-        p.normal = normal;
-        p.id = id;
-        p.diffuse = diffuse;
-        p.specular = specular;
+        for (std::size_t t = 0; t < gbuffer_slot::kCount; ++t) p.at[t] = values + kOffsets[t];
         p.width = kTile;
         return p;
     }
     void background(int n, float bg_depth) {  // the values write_background stores
-        std::fill_n(color, 4 * n, 0.0f);
-        for (auto& c : ctrl) std::fill_n(c, 4 * n, 0.0f);
-        std::fill_n(depth, n, bg_depth);
-        std::fill_n(normal, 3 * n, 0.0f);
-        std::fill_n(id, n, 0.0f);
-        std::fill_n(diffuse, n, 0.0f);
-        std::fill_n(specular, n, 0.0f);
+        for (std::size_t t = 0; t < gbuffer_slot::kCount; ++t) {
+            const target::GBufferTarget& g = target::kGBufferLayout[t];
+            std::fill_n(values + kOffsets[t], std::size_t(g.channels) * std::size_t(n), g.far_background ? bg_depth : 0.0f);
+        }
     }
     void stream_row(const TargetPtrs& tp, int x0, int y, int n) const {
         const std::size_t i = std::size_t(y) * tp.width + x0;
         // Targets the caller did not ask for are null (RenderSettings::targets): not written.
-        auto put = [&](float* dst, const float* src, std::size_t m) {
-            if (dst) stream_copy(dst + m * i, src, m * std::size_t(n));
-        };
-        put(tp.color, color, 4);
-        for (int k = 0; k < scene::kNumControlTargets; ++k) put(tp.ctrl[k], ctrl[k], 4);
-        put(tp.depth, depth, 1);
-        put(tp.normal, normal, 3);
-        put(tp.id, id, 1);
-        put(tp.diffuse, diffuse, 1);
-        put(tp.specular, specular, 1);
+        for (std::size_t t = 0; t < gbuffer_slot::kCount; ++t) {
+            const std::size_t m = std::size_t(target::kGBufferLayout[t].channels);
+            if (tp.at[t]) stream_copy(tp.at[t] + m * i, values + kOffsets[t], m * std::size_t(n));
+        }
     }
 };
 
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth) {
-    for (int c = 0; c < 4; ++c) tp.color[4 * i + c] = 0.0f;
-    for (int k = 0; k < scene::kNumControlTargets; ++k)
-        for (int c = 0; c < 4; ++c) tp.ctrl[k][4 * i + c] = 0.0f;
-    tp.depth[i] = bg_depth;
-    for (int c = 0; c < 3; ++c) tp.normal[3 * i + c] = 0.0f;
-    tp.id[i] = 0.0f;
-    tp.diffuse[i] = 0.0f;
-    tp.specular[i] = 0.0f;
+    for (std::size_t t = 0; t < gbuffer_slot::kCount; ++t) {
+        const target::GBufferTarget& g = target::kGBufferLayout[t];
+        const std::size_t m = std::size_t(g.channels);
+        std::fill_n(tp.at[t] + m * i, m, g.far_background ? bg_depth : 0.0f);
+    }
 }
 
 // Prefetch hints for every cache line of a setup record (no effect on results): 104 bytes at a
