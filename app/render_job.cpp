@@ -447,6 +447,83 @@ Targets render_gbuffer(const RenderJob& job, int frame, std::vector<std::string>
     return t;
 }
 
+namespace {
+
+//! Where a live render (RenderOptions::LiveFrame) continues the previous image: from the first
+//! step whose parameters changed, on the previous image's targets (moved into frame_targets), when
+//! the pipeline's structure is the same. {0, false}: from the start.
+struct LiveStart {
+    int first_step = 0;
+    bool continued = false;
+};
+LiveStart live_start(const RenderJob& job, RenderOptions::LiveFrame* live, Targets& frame_targets) {
+    LiveStart st;
+    if (!(live && live->valid && job.stylize && job.compiled.size() == 1 && !job.sweeping() && live->key == live->key_next &&
+          live->steps.size() == job.compiled[0].steps.size()))
+        return st;
+    const auto& now = job.compiled[0].steps;
+    std::size_t k = 0;
+    bool same_structure = true;
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        const stylize::CompiledStep &a = live->steps[i], &b = now[i];
+        same_structure = same_structure && a.variant == b.variant && a.inputs == b.inputs && a.outputs == b.outputs;
+        if (a.params == b.params && k == i) ++k;
+    }
+    if (same_structure) {
+        st = {int(k), true};
+        frame_targets = std::move(live->targets);
+    }
+    return st;
+}
+
+//! The frame's G-buffer into `gbuffer`; a one-shot job then releases its scene (its memory goes
+//! to the stylization) unless a style draws raster passes.
+void render_frame_gbuffer(RenderJob& job, Targets& gbuffer, const scene::Camera& camera, bool one_shot_memory,
+                          const std::string& prefix, std::chrono::steady_clock::time_point frame_start, PhaseTimes& phases,
+                          const Reporter& report) {
+    const raster::RenderSettings& rs = job.settings;
+    std::vector<std::string> warnings;
+    const auto tg = std::chrono::steady_clock::now();
+    raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
+    for (auto& w : warnings) report.warning(w);
+    bool passes = false;
+    for (const stylize::CompiledPipeline& c : job.compiled) passes = passes || c.has_passes;
+    if (one_shot_memory && !passes) {
+        job.desc.scene = scene::Scene{};
+        job.consumed = true;
+#ifdef __GLIBC__
+        malloc_trim(0);  // give the freed heap back: the peak is 9 MB lower (docs/performance.md)
+#endif
+    }
+    phases.emplace_back("gbuffer", ms_since(tg));
+    report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
+                    std::to_string(int(ms_since(frame_start))) + " ms");
+}
+
+//! How a style runs in this job: intermediates released, fused, in place and in row groups unless
+//! they are kept (or a live render continues from first_step); progress per stage for one image.
+stylize::RunOptions style_run_options(const RenderOptions& o, RenderOptions::LiveFrame* live, int first_step, bool sweeping,
+                                      bool one_shot_memory, const Reporter& report) {
+    stylize::RunOptions ro;
+    ro.reuse_outputs = !sweeping;
+    ro.release_dead = !o.keep_intermediates;
+    ro.fuse = !o.keep_intermediates;  // fused steps write no intermediate (stage.h Fusion)
+    ro.in_place = ro.fuse;            // nor do in-place steps keep their input (StageVariant::in_place_input)
+    ro.row_groups = o.row_groups;
+    ro.release_inputs = one_shot_memory;
+    if (live) {
+        ro.first_step = first_step;
+        ro.fuse = ro.in_place = ro.row_groups = ro.release_dead = false;
+    }
+    if (!o.quiet && !o.animation && !sweeping)
+        ro.progress = [&report](int i, int n, const std::string& step) {
+            report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
+        };
+    return ro;
+}
+
+}  // namespace
+
 void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink, const Reporter& report) {
     const RenderOptions& o = job.options;
     raster::RenderSettings& rs = job.settings;
@@ -475,24 +552,9 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
     ImageF converted;
     // A live render continuing the previous image (RenderOptions::LiveFrame): from which step.
     RenderOptions::LiveFrame* live = o.live_frame;
-    int first_step = 0;
-    bool continued = false;  // the previous live image's targets are this one's start
-    if (live && live->valid && job.stylize && job.compiled.size() == 1 && !sweeping && live->key == live->key_next &&
-        live->steps.size() == job.compiled[0].steps.size()) {
-        const auto& now = job.compiled[0].steps;
-        std::size_t k = 0;
-        bool same_structure = true;
-        for (std::size_t i = 0; i < now.size(); ++i) {
-            const stylize::CompiledStep &a = live->steps[i], &b = now[i];
-            same_structure = same_structure && a.variant == b.variant && a.inputs == b.inputs && a.outputs == b.outputs;
-            if (a.params == b.params && k == i) ++k;
-        }
-        if (same_structure) {
-            first_step = int(k);
-            continued = true;
-            frame_targets = std::move(live->targets);
-        }
-    }
+    const LiveStart start = live_start(job, live, frame_targets);
+    const int first_step = start.first_step;
+    const bool continued = start.continued;
     if (live) {
         live->valid = false;  // until this render completes
         live->first_step = first_step;
@@ -504,7 +566,6 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             o.animation ? "[frame " + std::to_string(f - o.frame_first + 1) + "/" + std::to_string(nframes) + "] " : "";
         rs.frame = f;
         const scene::Camera camera = frame_camera(job, f);
-        std::vector<std::string> warnings;
         PhaseTimes phases;
         if (!continued && one_shot_memory && job.stylize && job.compiled[0].has_paper && !job.compiled[0].has_passes && job.needs_gbuffer()) {
             // One-shot: the paper first, while nothing else large is alive; the decoded file is
@@ -514,25 +575,8 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             image_pool_release();  // the decoded file's buffer: no later image has its size
             phases.emplace_back("paper", ms_since(tf));
         }
-        if (job.needs_gbuffer() && !continued) {
-            const auto tg = std::chrono::steady_clock::now();
-            raster::render_gbuffer_into(gbuffer, job.desc.scene, camera, rs, &warnings);
-            for (auto& w : warnings) report.warning(w);
-            // One-shot: the geometry is not drawn again (styles with raster passes draw their own
-            // scene); its memory goes to the stylization.
-            bool passes = false;
-            for (const stylize::CompiledPipeline& c : job.compiled) passes = passes || c.has_passes;
-            if (one_shot_memory && !passes) {
-                job.desc.scene = scene::Scene{};
-                job.consumed = true;
-#ifdef __GLIBC__
-                malloc_trim(0);  // give the freed heap back: the peak is 9 MB lower (docs/performance.md)
-#endif
-            }
-            phases.emplace_back("gbuffer", ms_since(tg));
-            report.progress(prefix + "G-buffer " + std::to_string(rs.width) + "x" + std::to_string(rs.height) + " in " +
-                std::to_string(int(ms_since(tf))) + " ms");
-        }
+        if (job.needs_gbuffer() && !continued)
+            render_frame_gbuffer(job, gbuffer, camera, one_shot_memory, prefix, tf, phases, report);
 
         for (std::size_t si = 0; si < job.styles.size(); ++si) {
             if (sweeping && !o.in_shard(int(si))) continue;  // another shard's sweep value
@@ -550,24 +594,10 @@ void run_render(RenderJob& job, const std::function<void(RenderedImage&)>& sink,
             std::vector<double> step_ms;
             if (job.stylize) {
                 const auto ts = std::chrono::steady_clock::now();
-                stylize::RunOptions ro;
                 std::vector<std::string> step_warnings;
+                stylize::RunOptions ro = style_run_options(o, live, first_step, sweeping, one_shot_memory, report);
                 ro.warnings = &step_warnings;
                 ro.step_ms = &step_ms;
-                ro.reuse_outputs = !sweeping;
-                ro.release_dead = !o.keep_intermediates;
-                ro.fuse = !o.keep_intermediates;  // fused steps write no intermediate (stage.h Fusion)
-                ro.in_place = ro.fuse;            // nor do in-place steps keep their input (StageVariant::in_place_input)
-                ro.row_groups = o.row_groups;
-                ro.release_inputs = one_shot_memory;
-                if (live) {
-                    ro.first_step = first_step;
-                    ro.fuse = ro.in_place = ro.row_groups = ro.release_dead = false;
-                }
-                if (!o.quiet && !o.animation && !sweeping)
-                    ro.progress = [&](int i, int n, const std::string& step) {
-                        report.progress("  stage " + std::to_string(i + 1) + "/" + std::to_string(n) + ": " + step);
-                    };
                 run_style(job, si, camera, targets, ro);
                 for (auto& w : step_warnings) report.warning(w);
                 final_name = style.output;
