@@ -17,6 +17,7 @@
 #include "core/image.h"
 #include "core/lanes.h"
 #include "stylize/declare.h"
+#include "stylize/schedule/rows.h"
 #include "stylize/stage.h"
 #include "stylize/stages/toolkit.h"
 
@@ -74,7 +75,7 @@ void run_pointwise(ImageF& out, const std::vector<const ImageF*>& in, const type
         K::pixel(px, o, p);
         for (int ch = 0; ch < Co; ++ch) dst[i * Co + std::size_t(ch)] = o[std::size_t(ch)];
     };
-    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
+    for_each_row_block(ex, h, [&](int y0, int y1) {
         const std::size_t i0 = std::size_t(y0) * std::size_t(w), i1 = std::size_t(y1) * std::size_t(w);
         std::size_t i = i0;
         if (ex.traversal != Traversal::Reference)
