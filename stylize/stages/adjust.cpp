@@ -1,134 +1,69 @@
 // stylize/stages/adjust.cpp — spec §4.1 "Adjust / load" (MNPR quadAdjustLoad.ogsfx adjustLoadFrag).
-// Pointwise: the reference runs adjust_pixel on every pixel; the fast schedule without atmosphere
-// restates it with AVX2, two RGBA pixels per register (same IEEE operations, bit-exact; checked
-// against the reference by tests/stylize/registry_traversal_test.cpp).
+// Pointwise: one kernel over lanes (AdjustKernel) run by the shared pointwise schedule — the plain
+// loop for the reference, eight pixels per step for the fast traversal (the same IEEE operations
+// per lane, bit-exact; tests/stylize/registry_traversal_test.cpp).
 #include "stylize/stages/adjust.h"
 
 #include "stylize/scene_inputs.h"
 
 #include <cmath>
 
-#include <immintrin.h>
-
+#include "core/lanes.h"
 #include "stylize/kernels.h"
+#include "stylize/schedule/pointwise.h"
 #include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
 namespace {
 
+using namespace aq::lanes;
+
 //! Linear depth is in scene units, whatever the model's units: a model in large units (a box
 //! scaled by 1e6) has an automatic depth range in the millions. Any finite float range is valid.
 constexpr double kMaxDepthRange = 1e30;
 
-// One pixel. Branch-free apart from the compile-time atmosphere switch, so the row loop
-// vectorises; the reference and the fast traversal both call exactly this.
-template <bool kAtmosphere>
-inline void adjust_pixel(const float* c, float z, float* o, float& zo, const AdjustParams& p, glm::vec3 substrate,
-                         float inv_range, float inv_atm) {
-    const bool finite = std::fabs(z) <= 3.402823466e38f;  // false for +-inf and NaN
-    const float zn = (z - p.depth_near) * inv_range;
-    zo = finite ? zn : 1.0f;  // no geometry -> far (MNPR: zBuffer == 1 -> depth 1)
-    const float luma = luminance(c[0], c[1], c[2]);
-    const float k = p.contrast * 0.5f + 0.5f;
-    const float b = p.brightness - 1.0f;
-    float atm = 0.0f;
-    if constexpr (kAtmosphere) {
-        const float zz = finite ? z : 1.0e9f;  // MNPR: no geometry = 1e9 units
-        atm = sat((zz - p.atmosphere_start) * inv_atm);
-    }
-    const float tint[3] = {p.tint_r, p.tint_g, p.tint_b};
-    const float a = c[3];
-    for (int i = 0; i < 3; ++i) {
-        const float s = lerp(luma, c[i], p.saturation);
-        const float ct = lerp(0.5f, s, k);
-        float v = sat(ct + b);
-        if constexpr (kAtmosphere) v = lerp(v, tint[i], atm);
-        o[i] = mix(substrate[i], v, a);
-    }
-    o[3] = a;
-}
-
-template <bool kAtmosphere>
-void adjust_rows(ImageF& color_out, ImageF& depth_out, const ImageF& color, const ImageF& depth_linear,
-                 glm::vec3 substrate, const AdjustParams& p, const Exec& ex) {
-    const int w = color.width(), h = color.height();
-    const float inv_range = 1.0f / (p.depth_far - p.depth_near);
-    const float inv_atm = kAtmosphere ? 1.0f / (p.atmosphere_end - p.atmosphere_start) : 0.0f;
-    const float* cin = color.data();
-    const float* zin = depth_linear.data();
-    float* cout = color_out.data();
-    float* zout = depth_out.data();
-#ifdef __AVX2__
-    constexpr bool kVector = true;
-#else
-    constexpr bool kVector = false;  // the AQ_NATIVE_SIMD=OFF build: the plain loop
-#endif
-    if (kAtmosphere || ex.traversal == Traversal::Reference || !kVector) {
-        toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
-            for (std::size_t i = std::size_t(y0) * w; i < std::size_t(y1) * w; ++i)
-                adjust_pixel<kAtmosphere>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
-        });
-        return;
-    }
-#ifdef __AVX2__
-    // Fast, no atmosphere: adjust_pixel two pixels per AVX register (RGBA RGBA), the same IEEE
-    // operations in the same order per value (GCC does not vectorise the interleaved scalar loop).
-    const float k = p.contrast * 0.5f + 0.5f;
-    const float b = p.brightness - 1.0f;
-    const __m256 vsat = _mm256_set1_ps(p.saturation), vk = _mm256_set1_ps(k), vb = _mm256_set1_ps(b);
-    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
-    const __m256 lr = _mm256_set1_ps(kLumaR), lg = _mm256_set1_ps(kLumaG), lb = _mm256_set1_ps(kLumaB);
-    const __m256 sub = _mm256_setr_ps(substrate[0], substrate[1], substrate[2], 0.0f, substrate[0], substrate[1],
-                                      substrate[2], 0.0f);
-    const __m256 vnear = _mm256_set1_ps(p.depth_near), vinv = _mm256_set1_ps(inv_range);
-    const __m256 fmax = _mm256_set1_ps(3.402823466e38f);
-    const __m256 absmask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
-    // Outputs written with non-temporal stores where aligned (the usual case: large images are
-    // 2 MiB-aligned): the next stages read them from memory anyway, and the stores need not
-    // read the outputs' lines first.
-    auto store = [](float* d, __m256 v, bool nt) {
-        if (nt) _mm256_stream_ps(d, v);
-        else _mm256_storeu_ps(d, v);
+// The maths of one pixel, written once over a lane type F (one pixel, or eight in simd::v8f): the
+// reference runs it pixel by pixel, the fast schedule eight pixels at a time
+// (stylize/schedule/pointwise.h). Inputs: colour (RGBA), linear depth; outputs: colour, normalised
+// depth.
+struct AdjustKernel {
+    struct Params {
+        AdjustParams p;
+        glm::vec3 substrate{1.0f};
+        float inv_range = 0, inv_atm = 0;  //!< 1 / (far - near), 1 / (atmosphere end - start)
     };
-    toolkit::for_each_row_block(ex, h, [&](int y0, int y1) {
-        const std::size_t i1 = std::size_t(y1) * w;
-        std::size_t i = std::size_t(y0) * w;
-        const bool cnt = (reinterpret_cast<std::uintptr_t>(cout + 4 * i) & 31) == 0;
-        const bool znt = (reinterpret_cast<std::uintptr_t>(zout + i) & 31) == 0;
-        for (; i + 2 <= i1; i += 2) {
-            const __m256 c = _mm256_loadu_ps(cin + 4 * i);
-            const __m256 r = _mm256_permute_ps(c, 0x00), g = _mm256_permute_ps(c, 0x55);
-            const __m256 bl = _mm256_permute_ps(c, 0xAA), a = _mm256_permute_ps(c, 0xFF);
-            const __m256 luma = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(lr, r), _mm256_mul_ps(lg, g)),
-                                              _mm256_mul_ps(lb, bl));
-            const __m256 s = _mm256_add_ps(luma, _mm256_mul_ps(_mm256_sub_ps(c, luma), vsat));
-            const __m256 ct = _mm256_add_ps(half, _mm256_mul_ps(_mm256_sub_ps(s, half), vk));
-            const __m256 x = _mm256_add_ps(ct, vb);
-            const __m256 v = sat8(x);  // kernels.h: NaN stays NaN
-            // mix(substrate, v, a) = substrate * (1 - a) + v * a
-            const __m256 m = _mm256_add_ps(_mm256_mul_ps(sub, _mm256_sub_ps(one, a)), _mm256_mul_ps(v, a));
-            store(cout + 4 * i, _mm256_blend_ps(m, c, 0x88), cnt);  // alpha copied
+    static constexpr std::array<int, 2> kInputs = {4, 1};
+    static constexpr std::array<int, 2> kOutputs = {4, 1};
+
+    template <class F>
+    static void pixel(const schedule::Pixel<F>* in, schedule::Pixel<F>* out, const Params& q) {
+        const AdjustParams& p = q.p;
+        const schedule::Pixel<F>& c = in[0];
+        const F z = in[1][0];
+        constexpr float kFloatMax = 3.402823466e38f;
+        const auto finite = (z <= splat<F>(kFloatMax)) & (z >= splat<F>(-kFloatMax));  // false for +-inf and NaN
+        out[1][0] = select(finite, (z - p.depth_near) * q.inv_range, splat<F>(1.0f));  // no geometry -> far (MNPR)
+        const F luma = (kLumaR * c[0] + kLumaG * c[1]) + kLumaB * c[2];
+        const float k = p.contrast * 0.5f + 0.5f;
+        const float b = p.brightness - 1.0f;
+        F atm = splat<F>(0.0f);
+        if (p.atmosphere) {
+            const F zz = select(finite, z, splat<F>(1.0e9f));  // MNPR: no geometry = 1e9 units
+            atm = lanes::sat((zz - p.atmosphere_start) * q.inv_atm);
         }
-        for (; i < i1; ++i)
-            adjust_pixel<false>(cin + 4 * i, zin[i], cout + 4 * i, zout[i], p, substrate, inv_range, inv_atm);
-        std::size_t j = std::size_t(y0) * w;
-        for (; j + 8 <= i1; j += 8) {
-            const __m256 z = _mm256_loadu_ps(zin + j);
-            const __m256 finite = _mm256_cmp_ps(_mm256_and_ps(z, absmask), fmax, _CMP_LE_OQ);
-            const __m256 zn = _mm256_mul_ps(_mm256_sub_ps(z, vnear), vinv);
-            store(zout + j, _mm256_blendv_ps(one, zn, finite), znt);
+        const float tint[3] = {p.tint_r, p.tint_g, p.tint_b};
+        const F a = c[3];
+        for (int i = 0; i < 3; ++i) {
+            const F s = luma + (c[i] - luma) * p.saturation;  // lerp(luma, c, saturation)
+            const F ct = 0.5f + (s - 0.5f) * k;                // lerp(0.5, s, k)
+            F v = lanes::sat(ct + b);
+            if (p.atmosphere) v = v + (tint[i] - v) * atm;     // lerp(v, tint, atm)
+            out[0][i] = q.substrate[i] * (1.0f - a) + v * a;  // mix(substrate, v, a)
         }
-        for (; j < i1; ++j) {
-            const float z = zin[j];
-            const bool finite = std::fabs(z) <= 3.402823466e38f;
-            const float zn = (z - p.depth_near) * inv_range;
-            zout[j] = finite ? zn : 1.0f;
-        }
-        stream_fence();
-    });
-#endif
-}
+        out[0][3] = a;
+    }
+};
 
 }  // namespace
 
@@ -143,12 +78,10 @@ void adjust(ImageF& color_out, ImageF& depth_out, const ImageF& color, const Ima
     toolkit::check_input(&depth_linear, 1, toolkit::Channels::Exactly, "adjust", "depth");
     toolkit::check_same_size(depth_linear, color, "adjust", "depth", "color");
     check_adjust_params(p);
-    toolkit::ensure_output(color_out, color.width(), color.height(), 4);
-    toolkit::ensure_output(depth_out, color.width(), color.height(), 1);
-    if (p.atmosphere)
-        adjust_rows<true>(color_out, depth_out, color, depth_linear, substrate, p, ex);
-    else
-        adjust_rows<false>(color_out, depth_out, color, depth_linear, substrate, p, ex);
+    AdjustKernel::Params q{p, substrate, 1.0f / (p.depth_far - p.depth_near),
+                           p.atmosphere ? 1.0f / (p.atmosphere_end - p.atmosphere_start) : 0.0f};
+    ImageF* const outs[2] = {&color_out, &depth_out};
+    schedule::run_pointwise<AdjustKernel>(outs, {&color, &depth_linear}, q, ex);
 }
 
 void register_adjust(Registry& r) {
@@ -160,7 +93,7 @@ void register_adjust(Registry& r) {
                 "atmosphere, background = substrate colour (spec 4.1)",
          .inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false}},
          .outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}},
-         .reference = StageVariant::Reference::PlainLoop,
+         .reference = StageVariant::Reference::SharedMaths,
          .row_halo = pointwise_rows},
         ParamTable<P>()
             .f("depth_near", &P::depth_near, 0, kMaxDepthRange, "linear depth mapped to 0 (MNPR 8)")
