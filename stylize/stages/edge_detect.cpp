@@ -10,10 +10,10 @@
 #include <cstring>
 #include <memory>
 #ifdef __AVX__
-#include <immintrin.h>
 #endif
 #include <vector>
 
+#include "core/lanes.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
 
@@ -24,14 +24,17 @@ namespace {
 //! Columns per flat-region test of the fast traversal (a multiple of the 8-wide sqrt loop).
 constexpr int kFlatChunk = 64;
 
-//! n[0..8] = TL, TM, TR, ML, M, MR, BL, BM, BR; each {r, g, b, depth}.
-inline float sobel_pixel(const float (*n)[4], float wd) {
-    float hs = 0.0f, vs = 0.0f;
+//! The Sobel maths of one pixel, once: the squared horizontal and vertical responses summed over
+//! (r, g, b, depth * wd). tap(row, col, c) is channel c of the neighbour at row 0..2 (top to
+//! bottom), column 0..2 (left to right). Differences of opposite taps, so a flat neighbourhood
+//! gives exactly 0 (MNPR sums the six weighted taps left to right, which leaves rounding residue
+//! ~1e-8 on flat colour).
+template <class Tap>
+inline void sobel_squares(Tap&& tap, float wd, float& hs, float& vs) {
+    hs = 0.0f, vs = 0.0f;
     for (int c = 0; c < 4; ++c) {
-        // Sobel as differences of opposite taps, so a flat neighbourhood gives exactly 0 (MNPR sums the
-        // six weighted taps left to right, which leaves rounding residue ~1e-8 on flat colour).
-        float hk = (n[0][c] - n[6][c]) + 2.0f * (n[1][c] - n[7][c]) + (n[2][c] - n[8][c]);
-        float vk = (n[0][c] - n[2][c]) + 2.0f * (n[3][c] - n[5][c]) + (n[6][c] - n[8][c]);
+        float hk = (tap(0, 0, c) - tap(2, 0, c)) + 2.0f * (tap(0, 1, c) - tap(2, 1, c)) + (tap(0, 2, c) - tap(2, 2, c));
+        float vk = (tap(0, 0, c) - tap(0, 2, c)) + 2.0f * (tap(1, 0, c) - tap(1, 2, c)) + (tap(2, 0, c) - tap(2, 2, c));
         if (c == 3) {
             hk *= wd;
             vk *= wd;
@@ -39,33 +42,32 @@ inline float sobel_pixel(const float (*n)[4], float wd) {
         hs += hk * hk;
         vs += vk * vk;
     }
-    const float lh = std::sqrt(hs), lv = std::sqrt(vs);
-    const float m = std::sqrt(lh * lh + lv * lv);
-    return m > 1.0f ? 1.0f : m;  // NaN stays NaN
+}
+
+//! The edge value from the squared sums, over lanes (one value, or eight in simd::v8f):
+//! min(1, |(|H|, |V|)|), NaN staying NaN.
+template <class F>
+inline F sobel_magnitude(F hs, F vs) {
+    const F lh = lanes::root(hs), lv = lanes::root(vs);
+    const F m = lanes::root(lh * lh + lv * lv);
+    return lanes::min_of(m, lanes::splat<F>(1.0f));
+}
+
+//! n[0..8] = TL, TM, TR, ML, M, MR, BL, BM, BR; each {r, g, b, depth}.
+inline float sobel_pixel(const float (*n)[4], float wd) {
+    float hs, vs;
+    sobel_squares([n](int r, int col, int c) { return n[3 * r + col][c]; }, wd, hs, vs);
+    return sobel_magnitude(hs, vs);
 }
 
 //! The fast traversal's squared Sobel sums of padded row planes (r, g, b, depth) for pixels
-//! [x0, x1): sobel_pixel's expressions with x innermost (a function of its own, so GCC vectorises
-//! the loop: inline in the row loop it did not once the flat-chunk test surrounded it).
+//! [x0, x1): sobel_squares with x innermost (a function of its own, so GCC vectorises the loop:
+//! inline in the row loop it did not once the flat-chunk test surrounded it).
 void sobel_sums(const float* const* T, const float* const* M, const float* const* B, float wd, int x0, int x1,
                 float* __restrict hsr, float* __restrict vsr) {
     for (int x = x0; x < x1; ++x) {
-        float hs = 0.0f, vs = 0.0f;
-        for (int c = 0; c < 4; ++c) {
-            const float* t = T[c];
-            const float* m = M[c];
-            const float* bt = B[c];
-            float hk = (t[x] - bt[x]) + 2.0f * (t[x + 1] - bt[x + 1]) + (t[x + 2] - bt[x + 2]);
-            float vk = (t[x] - t[x + 2]) + 2.0f * (m[x] - m[x + 2]) + (bt[x] - bt[x + 2]);
-            if (c == 3) {
-                hk *= wd;
-                vk *= wd;
-            }
-            hs += hk * hk;
-            vs += vk * vk;
-        }
-        hsr[x] = hs;
-        vsr[x] = vs;
+        const float* const* rows[3] = {T, M, B};
+        sobel_squares([&rows, x](int r, int col, int c) { return rows[r][c][x + col]; }, wd, hsr[x], vsr[x]);
     }
 }
 
@@ -175,26 +177,13 @@ void edge_detect_rgbd_sobel(ImageF& edges, const ImageF& color, const ImageF& de
             auto compute = [&](int xa, int xb) {
                 if (xa >= xb) return;
                 sobel_sums(T, M, B, wd, xa, xb, hsr, vsr);
-                // sqrt through the vector unit: IEEE-exact like sqrtss, so the same values as the
-                // scalar tail. Kept by measurement (issue 9): with -fno-math-errno (global) the plain
-                // scalar loop is still 1.3-1.45x slower for the whole stage at 1080p, 1 thread
-                // (36 -> 47-52 ms); the registry test checks it against the plain reference loop.
+                // The magnitudes eight at a time (sqrt through the vector unit, IEEE-exact like
+                // sqrtss: the tail's values). Kept by measurement (issue 9): the plain scalar loop
+                // was 1.3-1.45x slower for the whole stage at 1080p, 1 thread (36 -> 47-52 ms).
                 int x = xa;
-#ifdef __AVX__
-                const __m256 one = _mm256_set1_ps(1.0f);
-                for (; x + 8 <= xb; x += 8) {
-                    const __m256 lh = _mm256_sqrt_ps(_mm256_loadu_ps(hsr + x));
-                    const __m256 lv = _mm256_sqrt_ps(_mm256_loadu_ps(vsr + x));
-                    const __m256 mag = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(lh, lh), _mm256_mul_ps(lv, lv)));
-                    // mag > 1 ? 1 : mag (NaN stays NaN)
-                    _mm256_storeu_ps(orow + x, _mm256_blendv_ps(mag, one, _mm256_cmp_ps(mag, one, _CMP_GT_OQ)));
-                }
-#endif
-                for (; x < xb; ++x) {
-                    const float lh = std::sqrt(hsr[x]), lv = std::sqrt(vsr[x]);
-                    const float mag = std::sqrt(lh * lh + lv * lv);
-                    orow[x] = mag > 1.0f ? 1.0f : mag;
-                }
+                for (; x + 8 <= xb; x += 8)
+                    simd::store8(orow + x, sobel_magnitude(simd::load8(hsr + x), simd::load8(vsr + x)));
+                for (; x < xb; ++x) orow[x] = sobel_magnitude(hsr[x], vsr[x]);
             };
             // Column chunks whose neighbourhood is flat are written +0; the runs between them are
             // computed in one call each (a row without a flat chunk is one run, as before).
