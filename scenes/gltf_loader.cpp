@@ -251,6 +251,18 @@ private:
     void decode_textures();
     void convert_meshes();
     bool convert_primitive(const tinygltf::Primitive& gp, const std::string& where, Primitive& out);
+    //! The primitive's triangle list from its indices (or 0..n-1), every index checked against n.
+    void primitive_indices(const tinygltf::Primitive& gp, const std::string& where, int mode, std::size_t n, Primitive& out);
+    //! Attribute `name` of the primitive when present (count n, one of `types`; integer colours
+    //! normalised), else an empty view.
+    AccessorView primitive_attribute(const tinygltf::Primitive& gp, const std::string& where, const std::string& name,
+                                     std::initializer_list<int> types, bool colour, std::size_t n);
+    //! NORMAL (else computed), TEXCOORD_0, COLOR_0 and the further attributes the scene file's
+    //! control mapping may read (COLOR_n, TEXCOORD_n, _CUSTOM).
+    void primitive_attributes(const tinygltf::Primitive& gp, const std::string& where, std::size_t n, Primitive& out);
+    //! The primitive's material (the default one appended when it has none) and, where its
+    //! material needs them, tangents (TANGENT, else computed).
+    void primitive_material(const tinygltf::Primitive& gp, const std::string& where, std::size_t n, Primitive& out);
     void traverse(int node, const glm::mat4& parent, int depth);
     void add_camera(const tinygltf::Camera& gc, const glm::mat4& world, const std::string& node_name);
 
@@ -550,6 +562,21 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
         fail(where + " POSITION: expected VEC3");
     const std::size_t n = pos.count;
 
+    primitive_indices(gp, where, mode, n, out);
+    out.positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        out.positions[i] = {pos.component(i, 0), pos.component(i, 1), pos.component(i, 2)};
+        if (!std::isfinite(out.positions[i].x) || !std::isfinite(out.positions[i].y) ||
+            !std::isfinite(out.positions[i].z))
+            ++nonfinite_positions_;
+    }
+
+    primitive_attributes(gp, where, n, out);
+    primitive_material(gp, where, n, out);
+    return true;
+}
+
+void Loader::primitive_indices(const tinygltf::Primitive& gp, const std::string& where, int mode, std::size_t n, Primitive& out) {
     // Index count and triangle count are known before anything is allocated.
     std::size_t nidx = n;
     AccessorView iv;
@@ -586,29 +613,26 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
     idx.clear();
     idx.shrink_to_fit();
 
-    out.positions.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        out.positions[i] = {pos.component(i, 0), pos.component(i, 1), pos.component(i, 2)};
-        if (!std::isfinite(out.positions[i].x) || !std::isfinite(out.positions[i].y) ||
-            !std::isfinite(out.positions[i].z))
-            ++nonfinite_positions_;
-    }
+}
 
-    auto read_attr = [&](const std::string& name, std::initializer_list<int> types, bool colour) -> AccessorView {
-        auto it = gp.attributes.find(name);
-        if (it == gp.attributes.end()) return {};
-        AccessorView v = accessor(it->second, where + " " + name);
-        const int t = m_.accessors[std::size_t(it->second)].type;
-        if (std::find(types.begin(), types.end(), t) == types.end())
-            fail(where + " " + name + ": unexpected type " + type_name(t));
-        if (v.count != n)
-            fail(where + " " + name + ": count " + std::to_string(v.count) + " differs from POSITION count " +
-                 std::to_string(n));
-        // Integer colours are normalised by definition (glTF 2.0 §3.7.2.1), whatever the flag says.
-        if (colour && v.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT) v.normalized = true;
-        return v;
+AccessorView Loader::primitive_attribute(const tinygltf::Primitive& gp, const std::string& where, const std::string& name,
+                                         std::initializer_list<int> types, bool colour, std::size_t n) {
+    auto it = gp.attributes.find(name);
+    if (it == gp.attributes.end()) return {};
+    AccessorView v = accessor(it->second, where + " " + name);
+    const int t = m_.accessors[std::size_t(it->second)].type;
+    if (std::find(types.begin(), types.end(), t) == types.end()) fail(where + " " + name + ": unexpected type " + type_name(t));
+    if (v.count != n)
+        fail(where + " " + name + ": count " + std::to_string(v.count) + " differs from POSITION count " + std::to_string(n));
+    // Integer colours are normalised by definition (glTF 2.0 §3.7.2.1), whatever the flag says.
+    if (colour && v.comp_type != TINYGLTF_COMPONENT_TYPE_FLOAT) v.normalized = true;
+    return v;
+}
+
+void Loader::primitive_attributes(const tinygltf::Primitive& gp, const std::string& where, std::size_t n, Primitive& out) {
+    auto read_attr = [&](const std::string& name, std::initializer_list<int> types, bool colour) {
+        return primitive_attribute(gp, where, name, types, colour, n);
     };
-
     if (AccessorView v = read_attr("NORMAL", {TINYGLTF_TYPE_VEC3}, false); v.count) {
         out.normals.resize(n);
         for (std::size_t i = 0; i < n; ++i) out.normals[i] = {v.component(i, 0), v.component(i, 1), v.component(i, 2)};
@@ -641,6 +665,9 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
         }
     }
 
+}
+
+void Loader::primitive_material(const tinygltf::Primitive& gp, const std::string& where, std::size_t n, Primitive& out) {
     if (gp.material >= 0) {
         if (std::size_t(gp.material) >= m_.materials.size())
             fail(where + ": material " + std::to_string(gp.material) + " does not exist (the file has " +
@@ -652,7 +679,7 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
         need_default_material_ = true;
     }
     if (out.material < int(material_needs_tangents_.size()) && material_needs_tangents_[std::size_t(out.material)]) {
-        if (AccessorView v = read_attr("TANGENT", {TINYGLTF_TYPE_VEC4}, false); v.count) {
+        if (AccessorView v = primitive_attribute(gp, where, "TANGENT", {TINYGLTF_TYPE_VEC4}, false, n); v.count) {
             out.tangents.resize(n);
             for (std::size_t i = 0; i < n; ++i)
                 out.tangents[i] = {v.component(i, 0), v.component(i, 1), v.component(i, 2), v.component(i, 3)};
@@ -662,7 +689,6 @@ bool Loader::convert_primitive(const tinygltf::Primitive& gp, const std::string&
             out.tangents = compute_tangents(out.positions, out.normals, out.uv0, out.indices);
         }
     }
-    return true;
 }
 
 void Loader::convert_meshes() {

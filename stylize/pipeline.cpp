@@ -746,10 +746,13 @@ void run_row_group(const CompiledPipeline& c, const RowGroup& gr, Targets& targe
 
 }  // namespace
 
-void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
+namespace {
+
+//! The outputs of the steps before opt.first_step: inputs of this run, which must be in targets
+//! (a live run continuing an earlier one, with fuse, in_place, row_groups and release_dead off).
+std::set<std::string> kept_outputs(const CompiledPipeline& c, const Targets& targets, const RunOptions& opt) {
     const int first = opt.first_step;
     if (first < 0 || first > int(c.steps.size())) throw Error(c.source + ": first step " + std::to_string(first) + " out of range");
-    // The outputs of the steps that do not run (first_step) are inputs of this run.
     std::set<std::string> kept;
     for (int i = 0; i < first; ++i)
         for (const std::string& t : c.steps[std::size_t(i)].outputs) kept.insert(t);
@@ -759,15 +762,13 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
         for (const std::string& t : kept)
             if (!targets.has(t)) throw Error(c.source + ": a run from step " + std::to_string(first) + " needs '" + t + "' from an earlier run");
     }
-    std::map<std::string, ImageF> recycled;
-    if (opt.reuse_outputs)
-        for (const std::string& t : c.produced)
-            if (targets.has(t) && !kept.count(t)) {
-                recycled[t] = std::move(targets.get_mut(t));
-                targets.erase(t);
-            }
-    check_gbuffer_except(c, targets, kept);
-    // Image size: the first G-buffer target read (check_gbuffer checked they agree).
+    return kept;
+}
+
+//! The image size of the run: the first G-buffer target read (check_gbuffer checked they agree),
+//! else the scene's; the paper prepared at that size; with release_inputs, the G-buffer targets no
+//! step reads released.
+void prepare_run_targets(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
     int w = 0, h = 0;
     for (const ExternalInput& x : c.external)
         if (!x.port.empty() && targets.has(x.target)) {
@@ -791,6 +792,90 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                 std::find(c.produced.begin(), c.produced.end(), t) == c.produced.end())
                 targets.erase(t);  // a G-buffer target no step reads
     }
+}
+
+//! Releases the intermediates and G-buffer targets whose last reader is step i (`fused`: i ran with
+//! i - 1, so what the producer read last dies here too).
+void release_after(const CompiledPipeline& c, Targets& targets, const RunOptions& opt, int i, const Fusion* fused) {
+    const CompiledStep& r = c.steps[std::size_t(i)];
+    auto read_last_here = [&](std::size_t at) { return at == std::size_t(i) || (fused && at + 1 == std::size_t(i)); };
+    for (const std::string& t : c.produced) {
+        if (t == c.output || !targets.has(t)) continue;
+        const auto last = c.last_read.find(t);
+        const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
+                                                    : read_last_here(last->second);
+        if (dead) targets.erase(t);
+    }
+    if (opt.release_inputs)
+        for (const ExternalInput& x : c.external)
+            if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target) && read_last_here(c.last_read.at(x.target)))
+                targets.erase(x.target);
+}
+
+std::vector<const ImageF*> inputs_of(const CompiledStep& r, const Targets& targets) {
+    std::vector<const ImageF*> in;
+    for (const std::string& t : r.inputs) in.push_back(targets.has(t) ? &targets.get(t) : nullptr);
+    return in;
+}
+
+//! Step i alone (or with its fused producer i - 1): outputs from `recycled` where kept from the
+//! previous frame, the dead input's image as the output of an in-place step.
+void run_step(const CompiledPipeline& c, int i, const Fusion* fused, Targets& targets, const Globals& g, const RunOptions& opt,
+              std::map<std::string, ImageF>& recycled, bool in_place) {
+    const CompiledStep& r = c.steps[std::size_t(i)];
+    StageIO io;
+    io.globals = &g;
+    io.in = inputs_of(r, targets);
+    std::vector<ImageF> outs(r.outputs.size());
+    for (std::size_t k = 0; k < outs.size(); ++k)
+        if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[k] = std::move(it->second);
+    for (auto& o : outs) io.out.push_back(&o);
+    if (const int k = in_place ? c.in_place[std::size_t(i)] : -1; k >= 0) {
+        // The dead input's image becomes the output; the stage writes what changes.
+        const std::string& t = r.inputs[std::size_t(k)];
+        ImageF& o = outs[std::size_t(port_index(r.variant->outputs, r.variant->in_place_output))];
+        o = std::move(targets.get_mut(t));
+        targets.erase(t);
+        io.in[std::size_t(k)] = &o;
+    }
+    try {
+        if (fused) {
+            const CompiledStep& pr = c.steps[std::size_t(i) - 1];
+            StageIO pio;
+            pio.globals = &g;
+            pio.in = inputs_of(pr, targets);
+            for (const auto& link : fused->links) io.in[std::size_t(port_index(r.variant->inputs, link.second))] = nullptr;
+            fused->run(pio, pr.params, io, r.params, opt.exec);
+        } else {
+            r.step(io, opt.exec);
+        }
+    } catch (const Error& e) {
+        throw Error(r.where + ": " + e.what());
+    }
+    for (std::size_t k = 0; k < outs.size(); ++k) {
+        check_output(r, k, outs[k]);
+        targets.set(r.outputs[k], std::move(outs[k]));
+    }
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions& opt) {
+    const int first = opt.first_step;
+    const std::set<std::string> kept = kept_outputs(c, targets, opt);
+    std::map<std::string, ImageF> recycled;
+    if (opt.reuse_outputs)
+        for (const std::string& t : c.produced)
+            if (targets.has(t) && !kept.count(t)) {
+                recycled[t] = std::move(targets.get_mut(t));
+                targets.erase(t);
+            }
+    check_gbuffer_except(c, targets, kept);
+    prepare_run_targets(c, targets, opt);
     Globals g;
     g.substrate_color = c.substrate_color;
     g.paper = &targets.get(kPaperTarget);
@@ -798,32 +883,8 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
     g.warnings = opt.warnings;
     const int n = int(c.steps.size());
     if (opt.step_ms) opt.step_ms->assign(std::size_t(n), 0.0);
-    auto inputs_of = [&](const CompiledStep& r) {
-        std::vector<const ImageF*> in;
-        for (const std::string& t : r.inputs) in.push_back(targets.has(t) ? &targets.get(t) : nullptr);
-        return in;
-    };
     const bool fuse = opt.fuse && c.fused_with_next.size() == c.steps.size();
     const bool in_place = opt.in_place && c.in_place.size() == c.steps.size();
-    // The intermediates and G-buffer targets whose last reader is step i (`fused`: i ran with i - 1).
-    auto release_after = [&](int i, const Fusion* fused) {
-        const CompiledStep& r = c.steps[std::size_t(i)];
-        for (const std::string& t : c.produced) {
-            if (t == c.output || !targets.has(t)) continue;
-            const auto last = c.last_read.find(t);
-            // A fused pair's producer did not run alone: what it read last dies here too.
-            auto read_last_here = [&](std::size_t at) { return at == std::size_t(i) || (fused && at + 1 == std::size_t(i)); };
-            const bool dead = last == c.last_read.end() ? std::find(r.outputs.begin(), r.outputs.end(), t) != r.outputs.end()
-                                                        : read_last_here(last->second);
-            if (dead) targets.erase(t);
-        }
-        if (opt.release_inputs)
-            for (const ExternalInput& x : c.external)
-                if (x.target != c.output && x.target != kPaperTarget && targets.has(x.target)) {
-                    const std::size_t at = c.last_read.at(x.target);
-                    if (at == std::size_t(i) || (fused && at + 1 == std::size_t(i))) targets.erase(x.target);
-                }
-    };
     std::map<int, const RowGroup*> group_at;  // first step -> its row group
     if (opt.row_groups && opt.exec.traversal == Traversal::Fast)
         for (const RowGroup& gr : c.row_groups) group_at[int(gr.first)] = &gr;
@@ -834,55 +895,19 @@ void run_pipeline(const CompiledPipeline& c, Targets& targets, const RunOptions&
                 if (opt.progress) opt.progress(int(s), n, c.steps[s].label);
             const auto t0 = std::chrono::steady_clock::now();
             run_row_group(c, gr, targets, g, opt, recycled, in_place);
-            if (opt.step_ms)  // the group's time is its last step's
-                (*opt.step_ms)[gr.last] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            if (opt.step_ms) (*opt.step_ms)[gr.last] = ms_since(t0);  // the group's time is its last step's
             if (opt.release_dead)
-                for (std::size_t s = gr.first; s <= gr.last; ++s) release_after(int(s), nullptr);
+                for (std::size_t s = gr.first; s <= gr.last; ++s) release_after(c, targets, opt, int(s), nullptr);
             i = int(gr.last);
             continue;
         }
-        const CompiledStep& r = c.steps[std::size_t(i)];
-        if (opt.progress) opt.progress(i, n, r.label);
+        if (opt.progress) opt.progress(i, n, c.steps[std::size_t(i)].label);
         if (fuse && c.fused_with_next[std::size_t(i)]) continue;  // runs with step i + 1
         const Fusion* fused = fuse && i > 0 ? c.fused_with_next[std::size_t(i) - 1] : nullptr;
         const auto t0 = std::chrono::steady_clock::now();
-        StageIO io;
-        io.globals = &g;
-        io.in = inputs_of(r);
-        std::vector<ImageF> outs(r.outputs.size());
-        for (std::size_t k = 0; k < outs.size(); ++k)
-            if (auto it = recycled.find(r.outputs[k]); it != recycled.end()) outs[k] = std::move(it->second);
-        for (auto& o : outs) io.out.push_back(&o);
-        if (const int k = in_place ? c.in_place[std::size_t(i)] : -1; k >= 0) {
-            // The dead input's image becomes the output; the stage writes what changes.
-            const std::string& t = r.inputs[std::size_t(k)];
-            ImageF& o = outs[std::size_t(port_index(r.variant->outputs, r.variant->in_place_output))];
-            o = std::move(targets.get_mut(t));
-            targets.erase(t);
-            io.in[std::size_t(k)] = &o;
-        }
-        try {
-            if (fused) {
-                const CompiledStep& pr = c.steps[std::size_t(i) - 1];
-                StageIO pio;
-                pio.globals = &g;
-                pio.in = inputs_of(pr);
-                for (const auto& link : fused->links)
-                    io.in[std::size_t(port_index(r.variant->inputs, link.second))] = nullptr;
-                fused->run(pio, pr.params, io, r.params, opt.exec);
-            } else {
-                r.step(io, opt.exec);
-            }
-        } catch (const Error& e) {
-            throw Error(r.where + ": " + e.what());
-        }
-        for (std::size_t k = 0; k < outs.size(); ++k) {
-            check_output(r, k, outs[k]);
-            targets.set(r.outputs[k], std::move(outs[k]));
-        }
-        if (opt.step_ms)
-            (*opt.step_ms)[std::size_t(i)] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-        if (opt.release_dead) release_after(i, fused);
+        run_step(c, i, fused, targets, g, opt, recycled, in_place);
+        if (opt.step_ms) (*opt.step_ms)[std::size_t(i)] = ms_since(t0);
+        if (opt.release_dead) release_after(c, targets, opt, i, fused);
     }
 }
 
