@@ -42,7 +42,7 @@ struct AdjustKernel {
         const schedule::Pixel<F>& c = in[0];
         const F z = in[1][0];
         constexpr float kFloatMax = 3.402823466e38f;
-        const auto finite = (z <= splat<F>(kFloatMax)) & (z >= splat<F>(-kFloatMax));  // false for +-inf and NaN
+        const auto finite = select(z < splat<F>(0.0f), -z, z) <= splat<F>(kFloatMax);  // |z|: false for +-inf and NaN
         out[1][0] = select(finite, (z - p.depth_near) * q.inv_range, splat<F>(1.0f));  // no geometry -> far (MNPR)
         const F luma = (kLumaR * c[0] + kLumaG * c[1]) + kLumaB * c[2];
         const float k = p.contrast * 0.5f + 0.5f;
