@@ -266,16 +266,13 @@ struct PassFrameCache::Entry {
 PassFrameCache::PassFrameCache() = default;
 PassFrameCache::~PassFrameCache() = default;
 
-void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& p, const Exec& ex,
-                          std::vector<std::string>* warnings) {
-    if (!ps.scene) throw Error("raster pass: no scene");
-    check_pass(p);
-    std::vector<std::string> local;
-    if (!warnings) warnings = &local;
-    PassContext cx;
+namespace {
+
+//! What every fragment of pass p reads: the view, light, maps, background and layer table
+//! (own_layers holds the drawn scene's own table when the job gave none).
+void init_context(PassContext& cx, const PassScene& ps, const TrianglePass& p, scene::LayerTable& own_layers) {
     cx.p = &p;
     cx.view = pass_view(ps, p.view, p.scale);
-    const int W = cx.view.width, H = cx.view.height;
     cx.light_view = glm::normalize(glm::mat3(cx.view.camera.view) * ps.light_dir);
     cx.view_to_world = glm::inverse(cx.view.camera.view);
     if (p.depth_map && !p.depth_map->empty() && p.depth_map->channels() == 1) cx.depth_map = p.depth_map->view<float>();
@@ -285,14 +282,129 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
     }
     cx.background = p.value == PassValue::Depth ? 1.0f : p.value == PassValue::Lighting ? p.lighting_background : 0.0f;
     // Without the job's table (tests, callers of the typed API): the drawn scene's own layers.
-    scene::LayerTable own_layers;
     cx.layers = ps.layers;
     if (p.value == PassValue::LayerId && !cx.layers) {
         own_layers = scene::build_layer_table(*ps.scene);
         cx.layers = &own_layers;
     }
+}
 
-    // Passes draw without tremor or bleeding displacement (LD06 has neither) and without culling.
+//! The prepared frame of pass p: this frame's shared one for the same view, size and draw set
+//! (ps.frames), or a new one — kept in the cache when there is one, else in `own`.
+PassFrameCache::Entry& pass_frame(const PassScene& ps, const TrianglePass& p, const PassContext& cx, const Exec& ex,
+                                  std::unique_ptr<PassFrameCache::Entry>& own) {
+    const bool fast = ex.traversal == Traversal::Fast;
+    const int W = cx.view.width, H = cx.view.height;
+    if (ps.frames)
+        for (auto& e : ps.frames->entries)
+            if (e->view == p.view && e->scale == p.scale && e->draw == p.draw && e->fast == fast && e->threads == ex.threads &&
+                e->camera_view == cx.view.camera.view && e->width == W && e->height == H)
+                return *e;
+    own = std::make_unique<PassFrameCache::Entry>();
+    own->view = p.view;
+    own->scale = p.scale;
+    own->draw = p.draw;
+    own->fast = fast;
+    own->threads = ex.threads;
+    own->camera_view = cx.view.camera.view;
+    own->width = W;
+    own->height = H;
+    own->rs = std::make_unique<RenderSettings>();
+    RenderSettings& rs = *own->rs;
+    rs.width = W;
+    rs.height = H;
+    rs.exec = ex;
+    rs.tremor.enabled = false;  // passes draw without tremor or bleeding displacement (LD06 has neither)
+    rs.bleed_displacement = false;
+    own->frame = make_frame(*ps.scene, cx.view.camera, rs, W, H);
+    PassFrameCache::Entry& e = *own;
+    if (ps.frames) ps.frames->entries.push_back(std::move(own));
+    return e;
+}
+
+//! LayerId and ObjectId with foliage_layer off: which draws of the frame are foliage (they write
+//! the background).
+void mark_foliage_background(PassContext& cx, const scene::Scene& sc, const Frame& fr) {
+    std::unordered_map<std::uint32_t, const scene::Instance*> by_id;
+    for (const scene::Instance& inst : sc.instances) by_id.emplace(inst.object_id, &inst);
+    cx.foliage_background.assign(fr.draws.size(), 0);
+    for (std::size_t d = 0; d < fr.draws.size(); ++d)
+        if (const auto it = by_id.find(fr.draws[d].object_id); it != by_id.end())
+            cx.foliage_background[d] = scene::is_foliage(sc, *it->second, *fr.draws[d].prim);
+}
+
+//! One tile of a deferred pass (binary test, replace): visibility first — resolved here, or read
+//! from the frame's shared winners when an earlier pass resolved it — then each pixel's winner
+//! computed once (the fragment the forward loop writes last: the first of the nearest).
+void deferred_tile(const PassContext& cx, const Frame& fr, PassFrameCache::Entry& entry, bool resolved, int tile,
+                   const TileRect& tr, float* img) {
+    const int W = cx.view.width;
+    const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1;
+    float zbuf[kTile * kTile];
+    std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
+    TileRef win[kTile * kTile];
+    if (resolved) {
+        for (int y = Y0; y <= Y1; ++y)
+            std::copy_n(entry.winners.data() + std::size_t(y) * W + X0, X1 - X0 + 1, win + (y - Y0) * kTile);
+    } else {
+        for (TileRef& r : win) r.chunk = kNoChunk;
+        resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, win);
+        if (!entry.winners.empty())
+            for (int y = Y0; y <= Y1; ++y)  // this tile's rows of the shared visibility
+                std::copy_n(win + (y - Y0) * kTile, X1 - X0 + 1, entry.winners.data() + std::size_t(y) * W + X0);
+    }
+    if (!resolved && cx.p->value == PassValue::Depth) {
+        // The value is the winner's depth, which the resolve just computed (the same
+        // perspective_bary): normalised straight from the tile's depth buffer.
+        for (int y = Y0; y <= Y1; ++y)
+            for (int x = X0; x <= X1; ++x) {
+                const int li = (y - Y0) * kTile + (x - X0);
+                if (win[li].chunk != kNoChunk) img[std::size_t(y) * W + x] = depth_value(cx, zbuf[li]);
+            }
+        return;
+    }
+    for (int y = Y0; y <= Y1; ++y)
+        for (int x = X0; x <= X1; ++x) {
+            const TileRef r = win[(y - Y0) * kTile + (x - X0)];
+            if (r.chunk == kNoChunk) continue;
+            const Chunk& ch = fr.chunks[r.chunk];
+            const TriSetup& t = ch.tris[r.tri];
+            std::int64_t e[3];
+            edge_values(t, x, y, e);
+            img[std::size_t(y) * W + x] = fragment_value(cx, fr, ch, t, perspective_bary(t, e));
+        }
+}
+
+//! One tile of a forward pass: its binned triangles in submission order, every fragment through
+//! `fragment` (test, value, blend).
+void forward_tile(const PassContext& cx, const Frame& fr, int tile, const TileRect& tr, float* img) {
+    const int W = cx.view.width;
+    const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1;
+    float zbuf[kTile * kTile];
+    std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
+    for (const Chunk& ch : fr.chunks)
+        for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
+            const TriSetup& t = ch.tris[ch.bin_items[k]];
+            for_each_inside(t, std::max<int>(t.x0, X0), std::min<int>(t.x1, X1), std::max<int>(t.y0, Y0), std::min<int>(t.y1, Y1),
+                            [&](int x, int y, const std::int64_t* e) {
+                                fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x, &zbuf[(y - Y0) * kTile + (x - X0)]);
+                            });
+        }
+}
+
+}  // namespace
+
+void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& p, const Exec& ex,
+                          std::vector<std::string>* warnings) {
+    if (!ps.scene) throw Error("raster pass: no scene");
+    check_pass(p);
+    std::vector<std::string> local;
+    if (!warnings) warnings = &local;
+    PassContext cx;
+    scene::LayerTable own_layers;
+    init_context(cx, ps, p, own_layers);
+    const int W = cx.view.width, H = cx.view.height;
+    // Passes draw without culling; `draw` chooses the instances.
     const scene::Scene& sc = *ps.scene;
     const DrawSet draw = p.draw;
     const DrawFilter filter = [&sc, draw](const scene::Instance& inst, const scene::Primitive& prim) {
@@ -300,36 +412,8 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
         return scene::is_foliage(sc, inst, prim) == (draw == DrawSet::Foliage);
     };
     const bool fast = ex.traversal == Traversal::Fast;
-    // The prepared frame: this frame's shared one for the same view, size and draw set, or a new
-    // one (kept in the cache when there is one).
-    PassFrameCache::Entry* entry = nullptr;
-    if (ps.frames)
-        for (auto& e : ps.frames->entries)
-            if (e->view == p.view && e->scale == p.scale && e->draw == p.draw && e->fast == fast && e->threads == ex.threads &&
-                e->camera_view == cx.view.camera.view && e->width == W && e->height == H)
-                entry = e.get();
     std::unique_ptr<PassFrameCache::Entry> own;
-    if (!entry) {
-        own = std::make_unique<PassFrameCache::Entry>();
-        own->view = p.view;
-        own->scale = p.scale;
-        own->draw = p.draw;
-        own->fast = fast;
-        own->threads = ex.threads;
-        own->camera_view = cx.view.camera.view;
-        own->width = W;
-        own->height = H;
-        own->rs = std::make_unique<RenderSettings>();
-        RenderSettings& rs = *own->rs;
-        rs.width = W;
-        rs.height = H;
-        rs.exec = ex;
-        rs.tremor.enabled = false;
-        rs.bleed_displacement = false;
-        own->frame = make_frame(sc, cx.view.camera, rs, W, H);
-        entry = own.get();
-        if (ps.frames) ps.frames->entries.push_back(std::move(own));
-    }
+    PassFrameCache::Entry* entry = &pass_frame(ps, p, cx, ex, own);
     Frame& fr = entry->frame;
     if (out.width() != W || out.height() != H || out.channels() != 1) out = ImageF(W, H, 1, cx.background);
     else std::fill(out.data(), out.data() + std::size_t(W) * H, cx.background);
@@ -344,14 +428,7 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             prepare(fr, sc, cx.view.camera, fast, fast, warnings, timer, &filter);
             entry->prepared = true;
         }
-        if (!p.foliage_layer && (p.value == PassValue::LayerId || p.value == PassValue::ObjectId)) {
-            std::unordered_map<std::uint32_t, const scene::Instance*> by_id;
-            for (const scene::Instance& inst : sc.instances) by_id.emplace(inst.object_id, &inst);
-            cx.foliage_background.assign(fr.draws.size(), 0);
-            for (std::size_t d = 0; d < fr.draws.size(); ++d)
-                if (const auto it = by_id.find(fr.draws[d].object_id); it != by_id.end())
-                    cx.foliage_background[d] = scene::is_foliage(sc, *it->second, *fr.draws[d].prim);
-        }
+        if (!p.foliage_layer && (p.value == PassValue::LayerId || p.value == PassValue::ObjectId)) mark_foliage_background(cx, sc, fr);
         if (!fast) {
             std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());
             for_each_reference_fragment(fr, [&](const Chunk& ch, const TriSetup& t, int x, int y, const std::int64_t* e) {
@@ -362,57 +439,8 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
         }
         tbb::parallel_for(0, fr.tiles_x * fr.tiles_y, [&](int tile) {
             const TileRect tr = TileGrid::tile_rect(tile, fr.tiles_x, W, H);
-            const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1;
-            float zbuf[kTile * kTile];
-            std::fill_n(zbuf, kTile * kTile, std::numeric_limits<float>::infinity());
-            if (deferred) {
-                // Binary test, replace: resolve visibility first, then compute each pixel's winner
-                // once — the fragment the forward loop writes last (the first of the nearest). The
-                // visibility of this prepared frame is resolved once (Entry::winners).
-                using Ref = TileRef;
-                Ref win[kTile * kTile];
-                if (resolved) {
-                    for (int y = Y0; y <= Y1; ++y)
-                        std::copy_n(entry->winners.data() + std::size_t(y) * W + X0, X1 - X0 + 1, win + (y - Y0) * kTile);
-                } else {
-                    for (Ref& r : win) r.chunk = kNoChunk;
-                    resolve_tile(fr, tile, X0, Y0, X1, Y1, zbuf, win);
-                    if (!entry->winners.empty())
-                        for (int y = Y0; y <= Y1; ++y)  // this tile's rows of the shared visibility
-                            std::copy_n(win + (y - Y0) * kTile, X1 - X0 + 1, entry->winners.data() + std::size_t(y) * W + X0);
-                }
-                if (!resolved && p.value == PassValue::Depth) {
-                    // The value is the winner's depth, which the resolve just computed (the same
-                    // perspective_bary): normalised straight from the tile's depth buffer.
-                    for (int y = Y0; y <= Y1; ++y)
-                        for (int x = X0; x <= X1; ++x) {
-                            const int li = (y - Y0) * kTile + (x - X0);
-                            if (win[li].chunk != kNoChunk)
-                                img[std::size_t(y) * W + x] = depth_value(cx, zbuf[li]);
-                        }
-                    return;
-                }
-                for (int y = Y0; y <= Y1; ++y)
-                    for (int x = X0; x <= X1; ++x) {
-                        const Ref r = win[(y - Y0) * kTile + (x - X0)];
-                        if (r.chunk == kNoChunk) continue;
-                        const Chunk& ch = fr.chunks[r.chunk];
-                        const TriSetup& t = ch.tris[r.tri];
-                        std::int64_t e[3];
-                        edge_values(t, x, y, e);
-                        img[std::size_t(y) * W + x] = fragment_value(cx, fr, ch, t, perspective_bary(t, e));
-                    }
-                return;
-            }
-            for (const Chunk& ch : fr.chunks)
-                for (std::uint32_t k = ch.bin_offsets[tile]; k < ch.bin_offsets[tile + 1]; ++k) {
-                    const TriSetup& t = ch.tris[ch.bin_items[k]];
-                    for_each_inside(t, std::max<int>(t.x0, X0), std::min<int>(t.x1, X1), std::max<int>(t.y0, Y0), std::min<int>(t.y1, Y1),
-                                    [&](int x, int y, const std::int64_t* e) {
-                                        fragment(cx, fr, ch, t, e, x, y, img + std::size_t(y) * W + x,
-                                                 &zbuf[(y - Y0) * kTile + (x - X0)]);
-                                    });
-                }
+            if (deferred) deferred_tile(cx, fr, *entry, resolved, tile, tr, img);
+            else forward_tile(cx, fr, tile, tr, img);
         });
     };
     if (fast) with_arena(ex, body);
