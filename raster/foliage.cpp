@@ -132,6 +132,129 @@ float crown_silhouette_ratio(const scene::Scene& source, const scene::Scene& abs
     return leaves > 0 ? float(double(crown) / double(leaves)) : 0.0f;
 }
 
+namespace {
+
+//! The foliage of sc (when p.abstract): its vertices in world space (the constraint points), the
+//! square roots of its triangles' areas (leaf sizes) and its materials; out's foliage counts, first
+//! object and material, and the leaf share of the plant's height.
+struct FoliageGather {
+    std::vector<glm::vec3> points;
+    std::vector<int> materials;
+};
+FoliageGather gather_foliage(const scene::Scene& sc, const FoliageParams& p, AbstractedScene& out) {
+    FoliageGather g;
+    std::vector<float> leaf;
+    for (const scene::Instance& inst : sc.instances) {
+        if (!p.abstract || inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
+        for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
+            if (!scene::is_foliage(sc, inst, prim)) continue;
+            const std::size_t first = g.points.size();
+            for (const glm::vec3& v : prim.positions) g.points.push_back(glm::vec3(inst.world * glm::vec4(v, 1.0f)));
+            for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+                const glm::vec3 a = g.points[first + prim.indices[t]], e1 = g.points[first + prim.indices[t + 1]] - a,
+                                e2 = g.points[first + prim.indices[t + 2]] - a;
+                const float area = 0.5f * glm::length(glm::cross(e1, e2));
+                if (std::isfinite(area)) leaf.push_back(std::sqrt(area));
+            }
+            out.foliage_triangles += prim.indices.size() / 3;
+            if (out.foliage_material < 0) {
+                out.foliage_object_id = inst.object_id;
+                out.foliage_material = prim.material;
+            }
+            if (std::find(g.materials.begin(), g.materials.end(), prim.material) == g.materials.end())
+                g.materials.push_back(prim.material);
+        }
+    }
+    out.foliage_points = g.points.size();
+    if (!leaf.empty() && out.height > 0.0f) {
+        std::nth_element(leaf.begin(), leaf.begin() + std::ptrdiff_t(leaf.size() / 2), leaf.end());
+        out.leaf_share = leaf[leaf.size() / 2] / out.height;
+    }
+    return g;
+}
+
+//! The implicit surface around the foliage points (LD06 §4.1) into out.surface. Returns false, with
+//! a warning, when it encloses too few of them (a plant never loses its foliage: the caller paints
+//! the modelled leaves instead).
+bool build_foliage_surface(const std::vector<glm::vec3>& points, const FoliageParams& p, const Exec& ex, AbstractedScene& out,
+                           std::vector<std::string>* warnings) {
+    if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("foliage abstraction: r must be finite and > 0");
+    out.radius = p.relative ? p.radius * out.height : p.radius;
+    if (!(out.radius > 0.0f && std::isfinite(out.radius)))
+        throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " + std::to_string(out.height) +
+                    " is not a usable radius");
+    ImplicitSurfaceParams ip;
+    ip.threshold = p.threshold;
+    ip.radius = out.radius;
+    ip.cells_per_radius = p.cells_per_radius;
+    ip.fit_inside = p.fit ? kFitInside : 0.0f;
+    out.surface = build_implicit_surface(points, ip, ex);
+    out.threshold = out.surface.threshold;
+    if (!out.surface.indices.empty() && out.surface.inside_fraction >= kMinSurfaceInside) return true;
+    if (warnings) {
+        char msg[320];
+        std::snprintf(msg, sizeof msg,
+                      "foliage abstraction: the implicit surface at T = %g, r = %g encloses %.0f %% of the %zu foliage "
+                      "vertices; painted from the modelled leaves instead (technique texture, docs/ld06.md)",
+                      double(out.threshold), double(out.radius), 100.0 * double(out.surface.inside_fraction), points.size());
+        warnings->push_back(msg);
+    }
+    out.surface = {};
+    return false;
+}
+
+//! The textures the kept materials still name (pass_material dropped the rest, e.g. bark maps),
+//! copied once each and renumbered: alpha tests and intensity textures need them.
+void copy_named_textures(const scene::Scene& sc, scene::Scene& dst) {
+    std::vector<int> index(sc.textures.size(), -1);
+    for (scene::Material& m : dst.materials) {
+        std::vector<scene::TextureRef*> refs = {&m.base_color_texture, &m.normal_texture, &m.intensity_texture};
+        for (scene::TextureRef& c : m.wc.control_texture) refs.push_back(&c);
+        for (scene::TextureRef* r : refs) {
+            if (r->texture < 0 || r->texture >= int(sc.textures.size())) continue;
+            int& k = index[std::size_t(r->texture)];
+            if (k < 0) {
+                k = int(dst.textures.size());
+                dst.textures.push_back(sc.textures[std::size_t(r->texture)]);
+            }
+            r->texture = k;
+        }
+    }
+}
+
+//! The implicit surface as one more mesh, material and instance of the abstracted scene (still
+//! foliage for the passes).
+void add_surface_instance(const scene::Scene& sc, std::uint32_t object_id, AbstractedScene& out) {
+    scene::Scene& dst = out.scene;
+    scene::Material m;
+    m.name = "foliage (implicit surface)";
+    if (out.foliage_material >= 0 && out.foliage_material < int(sc.materials.size()))
+        m.base_color = sc.materials[std::size_t(out.foliage_material)].base_color;
+    m.double_sided = true;
+    dst.materials.push_back(m);
+    scene::Primitive prim;
+    prim.positions = out.surface.positions;
+    prim.normals = out.surface.normals;
+    prim.indices = out.surface.indices;
+    prim.material = int(dst.materials.size()) - 1;
+    const int prim_material = prim.material;
+    scene::Mesh mesh;
+    mesh.name = "foliage (implicit surface)";
+    if (dst.foliage.set) scene::FoliageSelection::add(dst.foliage.meshes, mesh.name);  // still foliage for the passes
+    mesh.primitives.push_back(std::move(prim));
+    dst.meshes.push_back(std::move(mesh));
+    scene::Instance inst;
+    inst.mesh = int(dst.meshes.size()) - 1;
+    inst.object_id = object_id;
+    inst.name = "foliage (implicit surface)";
+    dst.instances.push_back(inst);
+    out.surface_object_id = inst.object_id;
+    out.surface_material = prim_material;
+    out.abstracted = true;
+}
+
+}  // namespace
+
 std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, const FoliageParams& p,
                                                         const Exec& ex, std::vector<std::string>* warnings) {
     auto out = std::make_shared<AbstractedScene>();
@@ -150,74 +273,19 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
     dst.source = sc.source;
     dst.foliage = sc.foliage;
     dst.strokes = sc.strokes;
-    // The foliage: its vertices (world space, the constraint points), its leaf sizes, its materials.
-    std::vector<glm::vec3> points;
-    std::vector<float> leaf;
-    std::vector<int> foliage_materials;
     std::uint32_t next_id = 1;
     for (const scene::Instance& inst : sc.instances) next_id = std::max(next_id, inst.object_id + 1);
-    for (const scene::Instance& inst : sc.instances) {
-        if (!p.abstract || inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
-        for (const scene::Primitive& prim : sc.meshes[std::size_t(inst.mesh)].primitives) {
-            if (!scene::is_foliage(sc, inst, prim)) continue;
-            const std::size_t first = points.size();
-            for (const glm::vec3& v : prim.positions) points.push_back(glm::vec3(inst.world * glm::vec4(v, 1.0f)));
-            for (std::size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
-                const glm::vec3 a = points[first + prim.indices[t]], e1 = points[first + prim.indices[t + 1]] - a,
-                                e2 = points[first + prim.indices[t + 2]] - a;
-                const float area = 0.5f * glm::length(glm::cross(e1, e2));
-                if (std::isfinite(area)) leaf.push_back(std::sqrt(area));
-            }
-            out->foliage_triangles += prim.indices.size() / 3;
-            if (out->foliage_material < 0) {
-                out->foliage_object_id = inst.object_id;
-                out->foliage_material = prim.material;
-            }
-            if (std::find(foliage_materials.begin(), foliage_materials.end(), prim.material) == foliage_materials.end())
-                foliage_materials.push_back(prim.material);
-        }
-    }
-    out->foliage_points = points.size();
-    if (!leaf.empty() && out->height > 0.0f) {
-        std::nth_element(leaf.begin(), leaf.begin() + std::ptrdiff_t(leaf.size() / 2), leaf.end());
-        out->leaf_share = leaf[leaf.size() / 2] / out->height;
-    }
-    if (p.abstract && points.empty() && warnings)
+    const FoliageGather g = gather_foliage(sc, p, *out);
+    if (p.abstract && g.points.empty() && warnings)
         warnings->push_back("foliage abstraction: no foliage in the scene (docs/ld06.md \"Foliage\"); drawn as modelled");
     // Which technique (docs/ld06.md "Choosing the technique").
     bool texture = p.technique == FoliageTechnique::Texture;
     if (p.technique == FoliageTechnique::Auto)
         texture = out->leaf_share >= kTextureLeafShare || out->foliage_triangles < kTextureMaxTriangles;
-    if (!points.empty() && !texture) {
-        if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("foliage abstraction: r must be finite and > 0");
-        out->radius = p.relative ? p.radius * out->height : p.radius;
-        if (!(out->radius > 0.0f && std::isfinite(out->radius)))
-            throw Error("foliage abstraction: r = " + std::to_string(p.radius) + " x plant height " +
-                        std::to_string(out->height) + " is not a usable radius");
-        ImplicitSurfaceParams ip;
-        ip.threshold = p.threshold;
-        ip.radius = out->radius;
-        ip.cells_per_radius = p.cells_per_radius;
-        ip.fit_inside = p.fit ? kFitInside : 0.0f;
-        out->surface = build_implicit_surface(points, ip, ex);
-        out->threshold = out->surface.threshold;
-        if (out->surface.indices.empty() || out->surface.inside_fraction < kMinSurfaceInside) {
-            // A plant never loses its foliage: paint the modelled leaves instead, and say so.
-            if (warnings) {
-                char msg[320];
-                std::snprintf(msg, sizeof msg,
-                              "foliage abstraction: the implicit surface at T = %g, r = %g encloses %.0f %% of the %zu foliage "
-                              "vertices; painted from the modelled leaves instead (technique texture, docs/ld06.md)",
-                              double(out->threshold), double(out->radius), 100.0 * double(out->surface.inside_fraction),
-                              points.size());
-                warnings->push_back(msg);
-            }
-            out->surface = {};
-            texture = true;
-        }
-    }
-    const bool surface = !points.empty() && !texture;
-    out->texture_technique = !points.empty() && texture;
+    if (!g.points.empty() && !texture && !build_foliage_surface(g.points, p, ex, *out, warnings)) texture = true;
+    const bool surface = !g.points.empty() && !texture;
+    out->texture_technique = !g.points.empty() && texture;
+    // Every instance, without its foliage where the surface replaces it.
     for (const scene::Instance& inst : sc.instances) {
         if (inst.mesh < 0 || inst.mesh >= int(sc.meshes.size())) continue;
         const scene::Mesh& mesh = sc.meshes[std::size_t(inst.mesh)];
@@ -231,26 +299,9 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         ki.mesh = int(dst.meshes.size()) - 1;
         dst.instances.push_back(ki);
     }
-    if (keeps_masked || out->texture_technique) {
-        // Alpha tests and intensity textures need them: the textures the kept materials still
-        // name (pass_material dropped the rest, e.g. bark maps), copied once each, renumbered.
-        std::vector<int> index(sc.textures.size(), -1);
-        for (scene::Material& m : dst.materials) {
-            std::vector<scene::TextureRef*> refs = {&m.base_color_texture, &m.normal_texture, &m.intensity_texture};
-            for (scene::TextureRef& c : m.wc.control_texture) refs.push_back(&c);
-            for (scene::TextureRef* r : refs) {
-                if (r->texture < 0 || r->texture >= int(sc.textures.size())) continue;
-                int& k = index[std::size_t(r->texture)];
-                if (k < 0) {
-                    k = int(dst.textures.size());
-                    dst.textures.push_back(sc.textures[std::size_t(r->texture)]);
-                }
-                r->texture = k;
-            }
-        }
-    }
+    if (keeps_masked || out->texture_technique) copy_named_textures(sc, dst);
     if (out->texture_technique) {
-        for (const int mi : foliage_materials) {
+        for (const int mi : g.materials) {
             if (mi < 0 || mi >= int(dst.materials.size()) || dst.materials[std::size_t(mi)].intensity_texture.texture >= 0) continue;
             scene::Material& m = dst.materials[std::size_t(mi)];
             dst.textures.push_back(derive_intensity_texture(sc, sc.materials[std::size_t(mi)]));
@@ -260,31 +311,7 @@ std::shared_ptr<const AbstractedScene> abstract_foliage(const scene::Scene& sc, 
         return out;
     }
     if (!surface) return out;
-    scene::Material m;
-    m.name = "foliage (implicit surface)";
-    if (out->foliage_material >= 0 && out->foliage_material < int(sc.materials.size()))
-        m.base_color = sc.materials[std::size_t(out->foliage_material)].base_color;
-    m.double_sided = true;
-    dst.materials.push_back(m);
-    scene::Primitive prim;
-    prim.positions = out->surface.positions;
-    prim.normals = out->surface.normals;
-    prim.indices = out->surface.indices;
-    prim.material = int(dst.materials.size()) - 1;
-    const int prim_material = prim.material;
-    scene::Mesh mesh;
-    mesh.name = "foliage (implicit surface)";
-    if (dst.foliage.set) scene::FoliageSelection::add(dst.foliage.meshes, mesh.name);  // still foliage for the passes
-    mesh.primitives.push_back(std::move(prim));
-    dst.meshes.push_back(std::move(mesh));
-    scene::Instance inst;
-    inst.mesh = int(dst.meshes.size()) - 1;
-    inst.object_id = next_id;
-    inst.name = "foliage (implicit surface)";
-    dst.instances.push_back(inst);
-    out->surface_object_id = inst.object_id;
-    out->surface_material = prim_material;
-    out->abstracted = true;
+    add_surface_instance(sc, next_id, *out);
     if (p.technique == FoliageTechnique::Auto) {
         // A sparse crown (light, conifer): the surface would paint its envelope, far more than the
         // leaves; the texture technique paints the leaves (docs/ld06.md "Choosing the technique").
