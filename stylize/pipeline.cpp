@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "stylize/kernels.h"
+#include "stylize/schedule/bands.h"
+#include "stylize/schedule/plan.h"
 #include "raster/pass.h"  // the scene's size when a pipeline starts with raster passes
 
 #ifndef AQ_PRESET_DIR
@@ -279,12 +281,6 @@ std::size_t find_one_step(const Pipeline& p, const std::string& name, const std:
     return hits.front();
 }
 
-//! The index of the port called `name` in `ports` (find_port), or -1.
-int port_index(const std::vector<Port>& ports, const std::string& name) {
-    const Port* p = find_port(ports, name);
-    return p ? int(p - ports.data()) : -1;
-}
-
 const StageVariant& variant_of(const PipelineStep& s) {
     const Registry& reg = registry_of(s);
     return s.variant.empty() ? reg.default_variant(s.stage) : reg.get(s.stage, s.variant);
@@ -413,105 +409,6 @@ ResolvedStep resolve_step(const Pipeline& p, std::size_t i) {
     return r;
 }
 
-namespace {
-
-// CompiledPipeline::fused_with_next: consecutive stage steps with a registered Fusion whose links
-// carry every output of the first to the second alone.
-void find_fusions(CompiledPipeline& c) {
-    c.fused_with_next.assign(c.steps.size(), nullptr);
-    for (std::size_t i = 0; i + 1 < c.steps.size(); ++i) {
-        const CompiledStep& a = c.steps[i];
-        const CompiledStep& b = c.steps[i + 1];
-        if (a.pass || b.pass || (i > 0 && c.fused_with_next[i - 1])) continue;
-        const Fusion* f = builtin_registry().fusion(a.variant->key(), b.variant->key());
-        if (!f) continue;
-        bool ok = true;
-        std::vector<bool> linked(b.inputs.size(), false);
-        for (const auto& [out, in] : f->links) {
-            const int o = port_index(a.variant->outputs, out), k = port_index(b.variant->inputs, in);
-            if (o < 0 || k < 0) {
-                ok = false;
-                break;
-            }
-            const std::string& t = a.outputs[std::size_t(o)];
-            const auto last = c.last_read.find(t);
-            ok = ok && b.inputs[std::size_t(k)] == t && t != c.output && last != c.last_read.end() && last->second == i + 1;
-            linked[std::size_t(k)] = true;
-        }
-        // The consumer reads the producer's outputs through the links only.
-        for (std::size_t k = 0; ok && k < b.inputs.size(); ++k)
-            ok = linked[k] || std::find(a.outputs.begin(), a.outputs.end(), b.inputs[k]) == a.outputs.end();
-        if (ok) c.fused_with_next[i] = f;
-    }
-}
-
-// CompiledPipeline::in_place (after find_fusions).
-void find_in_place(CompiledPipeline& c) {
-    c.in_place.assign(c.steps.size(), -1);
-    for (std::size_t i = 0; i < c.steps.size(); ++i) {
-        const CompiledStep& r = c.steps[i];
-        const StageVariant& v = *r.variant;
-        if (r.pass || v.in_place_input.empty() || c.fused_with_next[i] || (i > 0 && c.fused_with_next[i - 1])) continue;
-        const int k = port_index(v.inputs, v.in_place_input);  // both ports exist (Registry::add)
-        const std::string& t = r.inputs[std::size_t(k)];
-        const auto last = c.last_read.find(t);
-        const bool intermediate = std::find(c.produced.begin(), c.produced.end(), t) != c.produced.end();
-        if (!intermediate || t == c.output || last == c.last_read.end() || last->second != i ||
-            std::count(r.inputs.begin(), r.inputs.end(), t) != 1)
-            continue;
-        c.in_place[i] = k;
-    }
-}
-
-//! Halos above this many rows are not run in bands (a step reading that far is a whole-image step).
-constexpr int kMaxRowHalo = 256;
-
-// CompiledPipeline::row_groups (after find_in_place): maximal runs of two or more consecutive steps
-// whose variants declare a row halo, outside fused pairs and raster passes.
-void find_row_groups(CompiledPipeline& c) {
-    const std::size_t n = c.steps.size();
-    auto groupable = [&](std::size_t i) {
-        const CompiledStep& r = c.steps[i];
-        // A step in place that reads rows around its own (a positive halo) would read rows of the
-        // band above already written: it runs alone, on the whole image.
-        return !r.pass && r.variant->row_halo && !c.fused_with_next[i] && !(i > 0 && c.fused_with_next[i - 1]) &&
-               r.variant->row_halo(r.params) >= 0 && r.variant->row_halo(r.params) <= kMaxRowHalo &&
-               !(c.in_place[i] >= 0 && r.variant->row_halo(r.params) > 0);
-    };
-    for (std::size_t i = 0; i < n;) {
-        std::size_t j = i;
-        while (j < n && groupable(j)) ++j;
-        if (j - i >= 2) {
-            RowGroup g;
-            g.first = i, g.last = j - 1;
-            std::map<std::string, int> depth_of;  // in-group output -> depth of the step writing it
-            for (std::size_t s = i; s < j; ++s) {
-                const CompiledStep& r = c.steps[s];
-                const int halo = r.variant->row_halo(r.params);
-                int d = 0;
-                for (const std::string& t : r.inputs)
-                    if (auto it = depth_of.find(t); it != depth_of.end()) d = std::max(d, it->second + halo);
-                // A step computing over its input in place (CompiledPipeline::in_place) overwrites
-                // rows only after every earlier step of the group that reads that input has read
-                // them for the last time: it stays behind each such reader by the reader's halo.
-                if (const int k = c.in_place[s]; k >= 0)
-                    for (std::size_t q = i; q < s; ++q) {
-                        const CompiledStep& rq = c.steps[q];
-                        if (std::find(rq.inputs.begin(), rq.inputs.end(), r.inputs[std::size_t(k)]) != rq.inputs.end())
-                            d = std::max(d, g.depth[q - i] + rq.variant->row_halo(rq.params));
-                    }
-                for (const std::string& t : r.outputs) depth_of[t] = d;
-                g.depth.push_back(d);
-                g.max_depth = std::max(g.max_depth, d);
-            }
-            c.row_groups.push_back(std::move(g));
-        }
-        i = std::max(j, i + 1);
-    }
-}
-
-}  // namespace
-
 CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     CompiledPipeline c;
     c.name = p.name;
@@ -572,9 +469,7 @@ CompiledPipeline compile_pipeline(const Pipeline& p, const Targets* gbuffer) {
     }
     if (!produced.count(p.output) && !external_index.count(p.output))
         c.external.push_back({p.output, 0, false, p.source + ": output", ""});
-    find_fusions(c);
-    find_in_place(c);
-    find_row_groups(c);
+    schedule::plan(c);
     if (gbuffer) check_gbuffer(c, *gbuffer);
     return c;
 }
@@ -628,13 +523,6 @@ void check_output(const CompiledStep& r, std::size_t k, const ImageF& o) {
         throw Error(r.where + ": stage did not produce output '" + r.variant->outputs[k].name + "' with " +
                     std::to_string(r.variant->outputs[k].channels) + " channels");
 }
-
-//! Stripes of a row group: at least this many rows, and four times the group's depth (the seams'
-//! windows of neighbouring boundaries and their reads then never meet).
-constexpr int kMinStripeRows = 32;
-//! Stripes per thread: a stalled thread's stripe is taken over by the others (oneTBB stealing);
-//! 8 measured 1-3 % faster than 4 at 2 threads (the synthetic frame's rows differ in cost).
-constexpr int kStripesPerThread = 8;
 
 //! Runs the steps of a row group band by band (RowGroup); their outputs end in `targets` as if
 //! each step had run alone. `recycled`: the previous frame's outputs (RunOptions::reuse_outputs).
@@ -700,42 +588,7 @@ void run_row_group(const CompiledPipeline& c, const RowGroup& gr, Targets& targe
     if (!same_size) {  // outputs of several sizes (not from the built-in variants): step by step
         for (std::size_t j = 0; j < n; ++j) run(j, 0, INT_MAX);
     } else {
-        const Exec& ex = opt.exec;
-        const int threads = ex.threads > 0 ? ex.threads : tbb::this_task_arena::max_concurrency();
-        const int min_stripe = std::max(kMinStripeRows, 4 * gr.max_depth + 4);
-        const int S = std::max(1, std::min(kStripesPerThread * threads, H / min_stripe));
-        const int R = std::max(1, opt.band_rows);
-        auto edge = [&](int k) { return int(std::int64_t(H) * k / S); };
-        // Stripe k: each step computes its rows as soon as the rows it reads exist, staying
-        // depth rows inside the stripe's inner boundaries.
-        auto stripe = [&](int k) {
-            const int a = edge(k), b = edge(k + 1);
-            std::vector<int> done(n), end(n);
-            for (std::size_t j = 0; j < n; ++j) {
-                done[j] = a == 0 ? 0 : a + gr.depth[j];
-                end[j] = b == H ? H : b - gr.depth[j];
-            }
-            for (int t = a; t < b;) {
-                t = std::min(b, t + R);
-                for (std::size_t j = 0; j < n; ++j) {
-                    const int target = t == b ? end[j] : std::min(end[j], t - gr.depth[j]);
-                    if (target > done[j]) {
-                        run(j, done[j], target);
-                        done[j] = target;
-                    }
-                }
-            }
-        };
-        // The seam at boundary k: the rows each step left on both sides of it.
-        auto seam = [&](int k) {
-            const int b = edge(k);
-            for (std::size_t j = 0; j < n; ++j)
-                if (gr.depth[j] > 0) run(j, b - gr.depth[j], b + gr.depth[j]);
-        };
-        with_arena(ex, [&] {
-            tbb::parallel_for(0, S, stripe);
-            tbb::parallel_for(1, S, seam);
-        });
+        schedule::run_bands(H, gr.depth, gr.max_depth, opt.band_rows, opt.exec, run);
     }
     for (std::size_t j = 0; j < n; ++j) {
         const CompiledStep& r = c.steps[gr.first + j];

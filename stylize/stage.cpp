@@ -83,6 +83,11 @@ const Port* find_port(const std::vector<Port>& ports, const std::string& name) {
     return nullptr;
 }
 
+int port_index(const std::vector<Port>& ports, const std::string& name) {
+    const Port* p = find_port(ports, name);
+    return p ? int(p - ports.data()) : -1;
+}
+
 void Registry::add_fusion(Fusion f) {
     const StageVariant* pv = nullptr;
     const StageVariant* cv = nullptr;

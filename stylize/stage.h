@@ -183,6 +183,8 @@ struct Port {
 
 //! The port called `name` in `ports`, or null.
 const Port* find_port(const std::vector<Port>& ports, const std::string& name);
+//! The index of the port called `name` in `ports` (find_port), or -1.
+int port_index(const std::vector<Port>& ports, const std::string& name);
 
 //! What a stage sees when it runs: resolved inputs (nullptr for an absent optional input) and the
 //! outputs it must fill (it allocates them, choosing their size, e.g. half resolution).
