@@ -11,6 +11,7 @@
 //   (MNPR's one-sided test; `both_sides` also refuses destinations behind).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/glm.hpp>
@@ -44,10 +45,22 @@ inline glm::vec2 substrate_offset(float tex_r, float tex_g, float ctrl, const Su
     return {nx * s, ny * s};
 }
 
+//! Reach of the taps in pixels: |offset| <= 5 * distortion, the bilinear footprint one more, and
+//! one of margin for the float rounding of the sample position. Also the stage's row halo.
+inline int substrate_distort_reach(const SubstrateDistortParams& p) {
+    const float maxoff = std::max(0.0f, p.distortion) * kDistortPixelsPerUnit;
+    return int(std::min(std::ceil(maxoff), 1.0e6f)) + 2;
+}
+
 //! color: 4 ch; depth: 1 ch normalised (stage adjust's "depth"), same size; ctrl_substrate: >= 1 ch
 //! (R); paper: 3 ch same size or nullptr (flat: the identity). dst (re)allocated.
 void substrate_distort(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
                        const ImageF* paper, const SubstrateDistortParams& p,  const Exec& ex = {});
+
+//! The fast schedule (substrate_distort.schedule.cpp), which substrate_distort runs for
+//! Traversal::Fast after its checks, with dst allocated: the reference's bytes.
+void substrate_distort_fast(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_substrate,
+                            const ImageF* paper, const SubstrateDistortParams& p, const Exec& ex);
 
 void register_substrate_distort(Registry& r);
 
