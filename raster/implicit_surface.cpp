@@ -56,58 +56,74 @@ float implicit_density(const std::vector<glm::vec3>& points, float radius, glm::
     return s;
 }
 
-ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, const ImplicitSurfaceParams& p,
-                                       const Exec& ex) {
+namespace {
+
+void check_params(const ImplicitSurfaceParams& p) {
     if (!(std::isfinite(p.threshold) && p.threshold > 0.0f)) throw Error("implicit surface: T must be finite and > 0");
     if (!(p.fit_inside >= 0.0f && p.fit_inside < 1.0f)) throw Error("implicit surface: fit_inside must be in [0, 1)");
     if (!(std::isfinite(p.radius) && p.radius > 0.0f)) throw Error("implicit surface: r must be finite and > 0");
     if (p.cells_per_radius < 1 || p.cells_per_radius > 16)
         throw Error("implicit surface: cells_per_radius must be in [1, 16]");
+}
+
+//! The finite constraint points, in order, and their bounds.
+struct Points {
     std::vector<glm::vec3> pts;
-    pts.reserve(points_in.size());
-    glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+};
+
+Points finite_points(const std::vector<glm::vec3>& points_in) {
+    Points r;
+    r.pts.reserve(points_in.size());
     for (const glm::vec3& c : points_in)
         if (std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) {
-            pts.push_back(c);
-            lo = glm::min(lo, c);
-            hi = glm::max(hi, c);
+            r.pts.push_back(c);
+            r.lo = glm::min(r.lo, c);
+            r.hi = glm::max(r.hi, c);
         }
-    if (pts.empty()) throw Error("implicit surface: no finite constraint point");
+    if (r.pts.empty()) throw Error("implicit surface: no finite constraint point");
+    return r;
+}
+
+//! The field's grid around the points: one empty cell beyond every kernel's support on each side,
+//! so the surface is closed. Its node count and the field's work are bounded before anything is
+//! allocated (docs/limits.md "Work budgets").
+Grid make_grid(const Points& pt, const ImplicitSurfaceParams& p) {
     Grid g;
     g.cell = p.radius / float(p.cells_per_radius);
-    // One empty cell beyond every kernel's support on each side, so the surface is closed.
-    g.origin = lo - glm::vec3(p.radius + g.cell);
-    const glm::dvec3 extent = glm::dvec3(hi - lo) + 2.0 * double(p.radius + g.cell);
+    g.origin = pt.lo - glm::vec3(p.radius + g.cell);
+    const glm::dvec3 extent = glm::dvec3(pt.hi - pt.lo) + 2.0 * double(p.radius + g.cell);
     const double n[3] = {std::ceil(extent.x / g.cell) + 1, std::ceil(extent.y / g.cell) + 1, std::ceil(extent.z / g.cell) + 1};
     const double nodes = n[0] * n[1] * n[2];
     if (!(nodes <= double(kMaxImplicitGridNodes)))
         throw Error("implicit surface: the field grid would have " + std::to_string(std::llround(std::min(nodes, 1e18))) +
                     " nodes (limit " + std::to_string(kMaxImplicitGridNodes) +
                     "); raise r, lower cells_per_radius or abstract a smaller selection");
-    // The field's work, bounded before the grid is allocated (docs/limits.md "Work budgets"): every
-    // point adds its kernel at the nodes of its support's bounding box (at most 2c + 3 nodes a side,
-    // c = cells_per_radius), and every node is visited a few times more to polygonise.
+    // Every point adds its kernel at the nodes of its support's bounding box (at most 2c + 3 nodes
+    // a side, c = cells_per_radius), and every node is visited a few times more to polygonise.
     const double side = 2.0 * p.cells_per_radius + 3.0;
-    const double work = double(pts.size()) * side * side * side + kImplicitWorkPerNode * nodes;
+    const double work = double(pt.pts.size()) * side * side * side + kImplicitWorkPerNode * nodes;
     if (!(work <= double(kMaxImplicitWork)))
-        throw Error("implicit surface: " + std::to_string(pts.size()) + " points at cells_per_radius " +
+        throw Error("implicit surface: " + std::to_string(pt.pts.size()) + " points at cells_per_radius " +
                     std::to_string(p.cells_per_radius) + " would take " + std::to_string(std::llround(work / 1e6)) +
                     " million kernel evaluations, over the budget of " + std::to_string(kMaxImplicitWork / 1'000'000) +
                     " million (docs/limits.md \"Work budgets\"); lower cells_per_radius or raise r");
     g.nx = int(n[0]);
     g.ny = int(n[1]);
     g.nz = int(n[2]);
-    ImplicitSurface out;
-    out.grid_nodes = std::int64_t(nodes);
+    return g;
+}
 
-    // Field: per z-slab of nodes, the points whose support reaches it, in index order.
+//! Eq. 6-7 at every node: per z-slab of nodes (in parallel for Fast), the points whose support
+//! reaches it, added in index order (the same sums at any thread count).
+std::vector<float> sum_field(const Grid& g, const std::vector<glm::vec3>& pts, const ImplicitSurfaceParams& p, const Exec& ex) {
     const int reach = p.cells_per_radius + 1;
     std::vector<std::vector<std::uint32_t>> slab(std::size_t(g.nz));
     for (std::uint32_t idx = 0; idx < pts.size(); ++idx) {
         const int kc = int(std::floor((pts[idx].z - g.origin.z) / g.cell));
         for (int k = std::max(0, kc - reach); k <= std::min(g.nz - 1, kc + reach + 1); ++k) slab[std::size_t(k)].push_back(idx);
     }
-    std::vector<float> f(std::size_t(nodes), 0.0f);
+    std::vector<float> f(std::size_t(g.nx) * std::size_t(g.ny) * std::size_t(g.nz), 0.0f);
     const float inv_r2 = 1.0f / (p.radius * p.radius);
     auto fill_slab = [&](int k) {
         const float z = g.origin.z + float(k) * g.cell;
@@ -134,8 +150,14 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
     } else {
         with_arena(ex, [&] { tbb::parallel_for(0, g.nz, fill_slab); });
     }
-    for (const float v : f) out.field_max = std::max(out.field_max, v);
-    // The field at every point (trilinear between the grid nodes around it), in point order.
+    return f;
+}
+
+//! The threshold (T, or fitted so that fit_inside of the points are inside: just below the
+//! quantile of the field at the points, trilinear between the nodes around each) and the fraction
+//! of the points inside it, into out.
+void fit_threshold(const Grid& g, const std::vector<float>& f, const std::vector<glm::vec3>& pts, const ImplicitSurfaceParams& p,
+                   ImplicitSurface& out) {
     std::vector<float> at_point(pts.size());
     for (std::size_t idx = 0; idx < pts.size(); ++idx) {
         const glm::vec3 u = (pts[idx] - g.origin) / g.cell;
@@ -158,12 +180,14 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
     std::size_t inside = 0;
     for (const float v : at_point) inside += v > out.threshold;
     out.inside_fraction = float(double(inside) / double(pts.size()));
-    for (float& v : f) v -= out.threshold;  // inside: f > 0 (exactly where the sum exceeds T: IEEE subtraction keeps the sign)
+}
 
-    // Vertices: one per cell with corners on both sides, at the mean of its edge crossings.
+//! Surface nets' vertices (f > 0 inside): one per cell with corners on both sides, at the mean of
+//! its edge crossings, its normal from the trilinear gradient. Returns each cell's vertex (kNone
+//! for none), cells indexed (k * (ny - 1) + j) * (nx - 1) + i.
+std::vector<std::uint32_t> place_vertices(const Grid& g, const std::vector<float>& f, ImplicitSurface& out) {
     const int cx = g.nx - 1, cy = g.ny - 1, cz = g.nz - 1;
     std::vector<std::uint32_t> vid(std::size_t(cx) * cy * cz, kNone);
-    auto cell_at = [&](int i, int j, int k) { return (std::size_t(k) * cy + j) * cx + i; };
     for (int k = 0; k < cz; ++k)
         for (int j = 0; j < cy; ++j)
             for (int i = 0; i < cx; ++i) {
@@ -186,15 +210,20 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
                     ++m;
                 }
                 const glm::vec3 u = sum / float(m);
-                vid[cell_at(i, j, k)] = std::uint32_t(out.positions.size());
+                vid[(std::size_t(k) * cy + j) * cx + i] = std::uint32_t(out.positions.size());
                 out.positions.push_back(g.node(i, j, k) + u * g.cell);
                 const glm::vec3 grad = trilinear_gradient(c, u);
                 const float len = glm::length(grad);
                 out.normals.push_back(len > 0.0f ? -grad / len : glm::vec3(0, 1, 0));
             }
+    return vid;
+}
 
-    // Faces: one quad per grid edge with a sign change, joining the four cells around it, wound so
-    // that its normal points from the inside node to the outside one.
+//! Surface nets' faces: one quad per grid edge with a sign change, joining the four cells around
+//! it, wound so that its normal points from the inside node to the outside one.
+void connect_faces(const Grid& g, const std::vector<float>& f, const std::vector<std::uint32_t>& vid, ImplicitSurface& out) {
+    const int cx = g.nx - 1, cy = g.ny - 1;
+    auto cell_at = [&](int i, int j, int k) { return (std::size_t(k) * cy + j) * cx + i; };
     auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d, glm::vec3 outward) {
         if (a == kNone || b == kNone || c == kNone || d == kNone) return;
         const glm::vec3 n = glm::cross(out.positions[c] - out.positions[a], out.positions[d] - out.positions[b]);
@@ -215,6 +244,23 @@ ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, 
                     quad(vid[cell_at(i - 1, j - 1, k)], vid[cell_at(i, j - 1, k)], vid[cell_at(i, j, k)],
                          vid[cell_at(i - 1, j, k)], glm::vec3(0, 0, in0 ? 1.0f : -1.0f));
             }
+}
+
+}  // namespace
+
+ImplicitSurface build_implicit_surface(const std::vector<glm::vec3>& points_in, const ImplicitSurfaceParams& p,
+                                       const Exec& ex) {
+    check_params(p);
+    const Points pt = finite_points(points_in);
+    const Grid g = make_grid(pt, p);
+    ImplicitSurface out;
+    out.grid_nodes = std::int64_t(g.nx) * g.ny * g.nz;
+    std::vector<float> f = sum_field(g, pt.pts, p, ex);
+    for (const float v : f) out.field_max = std::max(out.field_max, v);
+    fit_threshold(g, f, pt.pts, p, out);
+    for (float& v : f) v -= out.threshold;  // inside: f > 0 (exactly where the sum exceeds T: IEEE subtraction keeps the sign)
+    const std::vector<std::uint32_t> vid = place_vertices(g, f, out);
+    connect_faces(g, f, vid, out);
     return out;
 }
 
