@@ -311,71 +311,68 @@ inline void load_indices8(const std::uint32_t* ix, __m256i (&i)[3]) {
     i[2] = _mm256_permutevar8x32_epi32(v2, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
 }
 
+// Eight triangles' vertices in lanes: indices (0 in lanes with an index out of range), snapped
+// x and y, and `ok` where every index is valid and every outcode 0 (setup_one's fast path).
+struct Tris8 {
+    __m256i i[3], x[3], y[3], ok;
+};
+
 // ix: the 24 indices of 8 consecutive triangles.
-std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* ix,
-                              const Viewport& vp, bool cull, bool keep_subpixel, bool double_sided, Lanes8& out) {
-    __m256i i[3];
-    load_indices8(ix, i);
+[[gnu::always_inline]] inline Tris8 load_tris8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* ix) {
+    Tris8 t;
+    load_indices8(ix, t.i);
     const __m256i vnv = _mm256_set1_epi32(nv), minus1 = _mm256_set1_epi32(-1), zero = _mm256_setzero_si256();
-    __m256i ok = minus1;
+    t.ok = minus1;
     for (int j = 0; j < 3; ++j) {  // 0 <= index < nv (an index >= 2^31 reads as negative)
-        __m256i& v = i[j];
+        __m256i& v = t.i[j];
         const __m256i in = _mm256_and_si256(_mm256_cmpgt_epi32(vnv, v), _mm256_cmpgt_epi32(v, minus1));
-        ok = _mm256_and_si256(ok, in);
+        t.ok = _mm256_and_si256(t.ok, in);
         v = _mm256_and_si256(v, in);  // a valid index (0 in the lanes dropped here)
     }
-    __m256i x[3], y[3], code = zero;
+    __m256i code = zero;
     for (int j = 0; j < 3; ++j) {
         __m256i c;
-        load_xy_code8(snap, i[j], x[j], y[j], c);
+        load_xy_code8(snap, t.i[j], t.x[j], t.y[j], c);
         code = _mm256_or_si256(code, c);
     }
-    ok = _mm256_and_si256(ok, _mm256_cmpeq_epi32(code, zero));
-    const __m256i xmin = _mm256_min_epi32(x[0], _mm256_min_epi32(x[1], x[2]));
-    const __m256i xmax = _mm256_max_epi32(x[0], _mm256_max_epi32(x[1], x[2]));
-    const __m256i ymin = _mm256_min_epi32(y[0], _mm256_min_epi32(y[1], y[2]));
-    const __m256i ymax = _mm256_max_epi32(y[0], _mm256_max_epi32(y[1], y[2]));
-    // The pixel bounds (bounds_hold_centre's, then build()'s clamped to the raster).
+    t.ok = _mm256_and_si256(t.ok, _mm256_cmpeq_epi32(code, zero));
+    return t;
+}
+
+// The snapped bounds, the pixel bounds of bounds_hold_centre (u*) and those clamped to the raster
+// as build() clamps them (p*).
+struct Bounds8 {
+    __m256i xmin, xmax, ymin, ymax, ux0, uy0, ux1, uy1, px0, py0, px1, py1;
+};
+
+[[gnu::always_inline]] inline Bounds8 bounds8(const Tris8& t, const Viewport& vp) {
+    Bounds8 b;
+    b.xmin = _mm256_min_epi32(t.x[0], _mm256_min_epi32(t.x[1], t.x[2]));
+    b.xmax = _mm256_max_epi32(t.x[0], _mm256_max_epi32(t.x[1], t.x[2]));
+    b.ymin = _mm256_min_epi32(t.y[0], _mm256_min_epi32(t.y[1], t.y[2]));
+    b.ymax = _mm256_max_epi32(t.y[0], _mm256_max_epi32(t.y[1], t.y[2]));
     const __m256i half_up = _mm256_set1_epi32(kSubpixelOne / 2 - 1), half = _mm256_set1_epi32(kSubpixelOne / 2);
-    const __m256i ux0 = _mm256_srai_epi32(_mm256_add_epi32(xmin, half_up), kSubpixelBits);
-    const __m256i uy0 = _mm256_srai_epi32(_mm256_add_epi32(ymin, half_up), kSubpixelBits);
-    const __m256i ux1 = _mm256_srai_epi32(_mm256_sub_epi32(xmax, half), kSubpixelBits);
-    const __m256i uy1 = _mm256_srai_epi32(_mm256_sub_epi32(ymax, half), kSubpixelBits);
-    // setup_one's quick reject (any extent): bounds that hold no pixel centre (with keep_subpixel:
-    // no centre within a pixel, build()'s test on the clamped bounds below does the rest).
-    const __m256i one = _mm256_set1_epi32(1);
-    const __m256i no_centre_in_bounds =
-        keep_subpixel ? _mm256_setzero_si256()
-                      : _mm256_and_si256(ok, _mm256_or_si256(_mm256_cmpgt_epi32(ux0, ux1), _mm256_cmpgt_epi32(uy0, uy1)));
-    const __m256i ext = _mm256_set1_epi32(kVectorExtent);
-    ok = _mm256_and_si256(ok, _mm256_and_si256(_mm256_cmpgt_epi32(ext, _mm256_sub_epi32(xmax, xmin)),
-                                               _mm256_cmpgt_epi32(ext, _mm256_sub_epi32(ymax, ymin))));
-    const __m256i px0 = _mm256_max_epi32(ux0, zero), py0 = _mm256_max_epi32(uy0, zero);
-    const __m256i px1 = _mm256_min_epi32(ux1, _mm256_set1_epi32(vp.width - 1));
-    const __m256i py1 = _mm256_min_epi32(uy1, _mm256_set1_epi32(vp.height - 1));
-    const __m256i empty = _mm256_or_si256(_mm256_cmpgt_epi32(px0, px1), _mm256_cmpgt_epi32(py0, py1));
-    // build(): empty clamped bounds drop the triangle, or with keep_subpixel keep it as sub-pixel
-    // when they are empty by at most one pixel.
-    const __m256i beyond = _mm256_or_si256(_mm256_cmpgt_epi32(px0, _mm256_add_epi32(px1, one)),
-                                           _mm256_cmpgt_epi32(py0, _mm256_add_epi32(py1, one)));
-    const __m256i area = _mm256_sub_epi32(
-        _mm256_mullo_epi32(_mm256_sub_epi32(x[1], x[0]), _mm256_sub_epi32(y[2], y[0])),
-        _mm256_mullo_epi32(_mm256_sub_epi32(y[1], y[0]), _mm256_sub_epi32(x[2], x[0])));
-    __m256i drop = _mm256_or_si256(keep_subpixel ? beyond : empty, _mm256_cmpeq_epi32(area, zero));
-    if (cull) drop = _mm256_or_si256(drop, _mm256_cmpgt_epi32(area, zero));  // back faces
-    // The small-triangle test on the re-ordered vertices (positive area: 1 and 2 swapped when
-    // the area is negative), over the at most 4 pixels of the bounds.
-    const __m256i bw = _mm256_add_epi32(_mm256_sub_epi32(px1, px0), one), bh = _mm256_add_epi32(_mm256_sub_epi32(py1, py0), one);
-    const __m256i small = _mm256_andnot_si256(
-        empty, _mm256_cmpgt_epi32(_mm256_set1_epi32(int(kSmallTrianglePixels) + 1), _mm256_mullo_epi32(bw, bh)));
-    const __m256i neg = _mm256_cmpgt_epi32(zero, area);
-    const __m256i X[3] = {x[0], _mm256_blendv_epi8(x[1], x[2], neg), _mm256_blendv_epi8(x[2], x[1], neg)};
-    const __m256i Y[3] = {y[0], _mm256_blendv_epi8(y[1], y[2], neg), _mm256_blendv_epi8(y[2], y[1], neg)};
+    b.ux0 = _mm256_srai_epi32(_mm256_add_epi32(b.xmin, half_up), kSubpixelBits);
+    b.uy0 = _mm256_srai_epi32(_mm256_add_epi32(b.ymin, half_up), kSubpixelBits);
+    b.ux1 = _mm256_srai_epi32(_mm256_sub_epi32(b.xmax, half), kSubpixelBits);
+    b.uy1 = _mm256_srai_epi32(_mm256_sub_epi32(b.ymax, half), kSubpixelBits);
+    const __m256i zero = _mm256_setzero_si256();
+    b.px0 = _mm256_max_epi32(b.ux0, zero), b.py0 = _mm256_max_epi32(b.uy0, zero);
+    b.px1 = _mm256_min_epi32(b.ux1, _mm256_set1_epi32(vp.width - 1));
+    b.py1 = _mm256_min_epi32(b.uy1, _mm256_set1_epi32(vp.height - 1));
+    return b;
+}
+
+// Lanes where a pixel centre of the at most 4 x 4 pixels of the clamped bounds (bw x bh from px0,
+// py0) lies inside the triangle X, Y (positive area, top-left rule).
+[[gnu::always_inline]] inline __m256i any_centre_inside8(const __m256i (&X)[3], const __m256i (&Y)[3], const Bounds8& b,
+                                                          __m256i bw, __m256i bh) {
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1), half = _mm256_set1_epi32(kSubpixelOne / 2);
     __m256i dx[3], dy[3], bias_m1[3];  // bias - 1: inside is E > bias - 1
     for (int e = 0; e < 3; ++e) {
-        const int a = (e + 1) % 3, b = (e + 2) % 3;
-        dx[e] = _mm256_sub_epi32(X[b], X[a]);
-        dy[e] = _mm256_sub_epi32(Y[b], Y[a]);
+        const int a = (e + 1) % 3, c = (e + 2) % 3;
+        dx[e] = _mm256_sub_epi32(X[c], X[a]);
+        dy[e] = _mm256_sub_epi32(Y[c], Y[a]);
         const __m256i top_left = _mm256_or_si256(
             _mm256_and_si256(_mm256_cmpeq_epi32(dy[e], zero), _mm256_cmpgt_epi32(dx[e], zero)), _mm256_cmpgt_epi32(zero, dy[e]));
         bias_m1[e] = _mm256_andnot_si256(top_left, one);  // bias 0 or 1, minus 1
@@ -386,8 +383,8 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
         for (int ox = 0; ox < 4; ++ox) {
             const __m256i in_bounds = _mm256_and_si256(_mm256_cmpgt_epi32(bw, _mm256_set1_epi32(ox)),
                                                        _mm256_cmpgt_epi32(bh, _mm256_set1_epi32(oy)));
-            const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(_mm256_add_epi32(px0, _mm256_set1_epi32(ox)), kSubpixelBits), half);
-            const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(_mm256_add_epi32(py0, _mm256_set1_epi32(oy)), kSubpixelBits), half);
+            const __m256i sx = _mm256_add_epi32(_mm256_slli_epi32(_mm256_add_epi32(b.px0, _mm256_set1_epi32(ox)), kSubpixelBits), half);
+            const __m256i sy = _mm256_add_epi32(_mm256_slli_epi32(_mm256_add_epi32(b.py0, _mm256_set1_epi32(oy)), kSubpixelBits), half);
             __m256i inside = in_bounds;
             for (int e = 0; e < 3; ++e) {
                 const int a = (e + 1) % 3;
@@ -397,7 +394,70 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
             }
             any = _mm256_or_si256(any, inside);
         }
-    const __m256i no_centre = _mm256_andnot_si256(any, small);
+    return any;
+}
+
+// The kept lanes' setup values into out (Lanes8).
+[[gnu::always_inline]] inline void store_lanes8(const Tris8& t, const __m256i (&X)[3], const __m256i (&Y)[3], const Bounds8& b,
+                                                __m256i neg, Lanes8& out) {
+    auto put = [](std::int32_t* d, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(d), v); };
+    for (int j = 0; j < 3; ++j) {
+        put(out.X[j], X[j]);
+        put(out.Y[j], Y[j]);
+    }
+    // Vertex indices in the index buffer's order.
+    for (int j = 0; j < 3; ++j) put(out.vi[j], t.i[j]);
+    put(out.x0, b.px0);
+    put(out.x1, b.px1);
+    put(out.y0, b.py0);
+    put(out.y1, b.py1);
+    put(out.neg, neg);
+    // TriSetup::cover (cover_bits over the lanes; a comparison is -1 where true).
+    const __m256i rl = _mm256_set1_epi32(kSubpixelOne / 2 + kCoverageReach - (kSubpixelOne - 1));
+    const __m256i rh = _mm256_set1_epi32(kSubpixelOne / 2 - kCoverageReach);
+    auto bit = [](__m256i a, __m256i c, int k) { return _mm256_and_si256(_mm256_cmpeq_epi32(a, c), _mm256_set1_epi32(1 << k)); };
+    put(out.cover, _mm256_or_si256(_mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(b.xmin, rl), kSubpixelBits), b.ux0, 0),
+                                                   bit(_mm256_srai_epi32(_mm256_sub_epi32(b.xmax, rh), kSubpixelBits), b.ux1, 1)),
+                                   _mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(b.ymin, rl), kSubpixelBits), b.uy0, 2),
+                                                   bit(_mm256_srai_epi32(_mm256_sub_epi32(b.ymax, rh), kSubpixelBits), b.uy1, 3))));
+}
+
+// ix: the 24 indices of 8 consecutive triangles.
+std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std::uint32_t* ix,
+                              const Viewport& vp, bool cull, bool keep_subpixel, bool double_sided, Lanes8& out) {
+    const Tris8 t = load_tris8(snap, nv, ix);
+    const Bounds8 b = bounds8(t, vp);
+    const __m256i zero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    __m256i ok = t.ok;
+    // setup_one's quick reject (any extent): bounds that hold no pixel centre (with keep_subpixel:
+    // no centre within a pixel, build()'s test on the clamped bounds below does the rest).
+    const __m256i no_centre_in_bounds =
+        keep_subpixel ? _mm256_setzero_si256()
+                      : _mm256_and_si256(ok, _mm256_or_si256(_mm256_cmpgt_epi32(b.ux0, b.ux1), _mm256_cmpgt_epi32(b.uy0, b.uy1)));
+    const __m256i ext = _mm256_set1_epi32(kVectorExtent);
+    ok = _mm256_and_si256(ok, _mm256_and_si256(_mm256_cmpgt_epi32(ext, _mm256_sub_epi32(b.xmax, b.xmin)),
+                                               _mm256_cmpgt_epi32(ext, _mm256_sub_epi32(b.ymax, b.ymin))));
+    const __m256i empty = _mm256_or_si256(_mm256_cmpgt_epi32(b.px0, b.px1), _mm256_cmpgt_epi32(b.py0, b.py1));
+    // build(): empty clamped bounds drop the triangle, or with keep_subpixel keep it as sub-pixel
+    // when they are empty by at most one pixel.
+    const __m256i beyond = _mm256_or_si256(_mm256_cmpgt_epi32(b.px0, _mm256_add_epi32(b.px1, one)),
+                                           _mm256_cmpgt_epi32(b.py0, _mm256_add_epi32(b.py1, one)));
+    const __m256i* x = t.x;
+    const __m256i* y = t.y;
+    const __m256i area = _mm256_sub_epi32(
+        _mm256_mullo_epi32(_mm256_sub_epi32(x[1], x[0]), _mm256_sub_epi32(y[2], y[0])),
+        _mm256_mullo_epi32(_mm256_sub_epi32(y[1], y[0]), _mm256_sub_epi32(x[2], x[0])));
+    __m256i drop = _mm256_or_si256(keep_subpixel ? beyond : empty, _mm256_cmpeq_epi32(area, zero));
+    if (cull) drop = _mm256_or_si256(drop, _mm256_cmpgt_epi32(area, zero));  // back faces
+    // The small-triangle test on the re-ordered vertices (positive area: 1 and 2 swapped when
+    // the area is negative), over the at most 4 pixels of the bounds.
+    const __m256i bw = _mm256_add_epi32(_mm256_sub_epi32(b.px1, b.px0), one), bh = _mm256_add_epi32(_mm256_sub_epi32(b.py1, b.py0), one);
+    const __m256i small = _mm256_andnot_si256(
+        empty, _mm256_cmpgt_epi32(_mm256_set1_epi32(int(kSmallTrianglePixels) + 1), _mm256_mullo_epi32(bw, bh)));
+    const __m256i neg = _mm256_cmpgt_epi32(zero, area);
+    const __m256i X[3] = {x[0], _mm256_blendv_epi8(x[1], x[2], neg), _mm256_blendv_epi8(x[2], x[1], neg)};
+    const __m256i Y[3] = {y[0], _mm256_blendv_epi8(y[1], y[2], neg), _mm256_blendv_epi8(y[2], y[1], neg)};
+    const __m256i no_centre = _mm256_andnot_si256(any_centre_inside8(X, Y, b, bw, bh), small);
     __m256i subpixel = zero;
     if (keep_subpixel) {
         subpixel = _mm256_or_si256(empty, no_centre);
@@ -410,31 +470,7 @@ std::uint32_t surely_dropped8(const SnapVertex* snap, std::int32_t nv, const std
     const std::uint32_t dropped = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(drop)));
     out.simple = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(ok))) & ~dropped;
     out.subpixel = std::uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(subpixel))) & out.simple;
-    if (out.simple) {
-        auto put = [](std::int32_t* d, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(d), v); };
-        for (int j = 0; j < 3; ++j) {
-            put(out.X[j], X[j]);
-            put(out.Y[j], Y[j]);
-        }
-        // Vertex indices in the index buffer's order.
-        for (int j = 0; j < 3; ++j) put(out.vi[j], i[j]);
-        put(out.x0, px0);
-        put(out.x1, px1);
-        put(out.y0, py0);
-        put(out.y1, py1);
-        put(out.neg, neg);
-        // TriSetup::cover (cover_bits over the lanes; a comparison is -1 where true).
-        const __m256i rl = _mm256_set1_epi32(kSubpixelOne / 2 + kCoverageReach - (kSubpixelOne - 1));
-        const __m256i rh = _mm256_set1_epi32(kSubpixelOne / 2 - kCoverageReach);
-        auto bit = [](__m256i a, __m256i b, int k) {
-            return _mm256_and_si256(_mm256_cmpeq_epi32(a, b), _mm256_set1_epi32(1 << k));
-        };
-        put(out.cover, _mm256_or_si256(
-                           _mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(xmin, rl), kSubpixelBits), ux0, 0),
-                                           bit(_mm256_srai_epi32(_mm256_sub_epi32(xmax, rh), kSubpixelBits), ux1, 1)),
-                           _mm256_or_si256(bit(_mm256_srai_epi32(_mm256_sub_epi32(ymin, rl), kSubpixelBits), uy0, 2),
-                                           bit(_mm256_srai_epi32(_mm256_sub_epi32(ymax, rh), kSubpixelBits), uy1, 3))));
-    }
+    if (out.simple) store_lanes8(t, X, Y, b, neg, out);
     return dropped;
 }
 
