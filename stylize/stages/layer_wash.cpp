@@ -44,90 +44,102 @@ void shape_row(float* o, const float* I, const float* R, const float* H, std::si
 
 }  // namespace
 
-void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h,
-                const LayerWashParams& p, const Exec& ex, float paper_spread) {
-    static const char* kPorts[4] = {"layer0", "layer1", "layer2", "layer3"};
-    const ImageF* first = nullptr;
+namespace {
+
+const char* const kPorts[4] = {"layer0", "layer1", "layer2", "layer3"};
+
+//! The checks; returns the index of the first present layer.
+int check_layers(const ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h) {
+    int first = -1;
     for (int k = 0; k < 4; ++k) {
         if (!layers[k]) continue;
         check_input(layers[k], 1, Channels::Exactly, "layer_wash", kPorts[k]);
         check_not_alias(dst, layers[k], "layer_wash", kPorts[k]);
-        if (!first) first = layers[k];
-        else check_same_size(*layers[k], *first, "layer_wash", kPorts[k], "layer0");
+        if (first < 0) first = k;
+        else check_same_size(*layers[k], *layers[first], "layer_wash", kPorts[k], "layer0");
     }
-    if (!first) throw Error("layer_wash: no input layer");
+    if (first < 0) throw Error("layer_wash: no input layer");
     if (out_w <= 0 || out_h <= 0) throw Error("layer_wash: empty output size");
     if (paper) {
         check_input(paper, 3, Channels::AtLeast, "layer_wash", "paper");
         if (paper->width() != out_w || paper->height() != out_h) throw Error("layer_wash: the paper is not the output size");
     }
-    const float flat = kFlatPaperHeight;
-    const Plane hp = paper ? plane(*paper, 2) : constant_plane(&flat, out_w, out_h);
-    if (ex.traversal == Traversal::Reference) {
-        // Plain schedule: each layer blurred on its own, every value sampled per pixel.
-        ImageF blurred[4];
-        for (int k = 0; k < 4; ++k)
-            if (layers[k]) wash_blur(blurred[k], *layers[k], p.radius, p.sigma, ex);
-        ensure_output(dst, out_w, out_h, 4);
-        float* o = dst.data();
-        plain_loop(out_w, out_h, [&](int x, int y) {
-            const float h = hp(x, y);
-            for (int k = 0; k < 4; ++k)
-                o[(std::size_t(y) * out_w + x) * 4 + k] =
-                    layers[k] ? wash_amount(sample_resampled_plane(plane(*layers[k], 0), x, y, out_w, out_h),
-                                            sample_resampled_plane(plane(blurred[k], 0), x, y, out_w, out_h), h, p.shape)
-                              : 0.0f;
-        });
-        return;
-    }
-    // Fast schedule: the layers packed into one P-channel image (P = 1 + the last present layer)
-    // and blurred in one call (the delta-form blur computes every value with the same operations
-    // whatever the channel count, blur.h), then each output row resampled from both packed
-    // images row by row (RowResampler: sample_resampled's values) and shaped in one flat loop.
-    //
-    // An all-zero layer (an empty slot of an ID pack) washes to exactly 0 everywhere when no paper
-    // height can lift ρ' = 0 + border·(h - ½) above κ - w (then a = 0, e = 0, p = 0): it is
-    // skipped like an absent one. The reference computes it; the registry-wide test and
-    // LayerWash.EmptyLayersAreSkippedWithTheSameBytes compare the two.
-    // κ - w >= border·|h - ½| at every paper texel (false for NaN), i.e. >= border·max|h - ½|
-    // (paper_height_spread: border >= 0, and rounding is monotone, so the maximum of the products
-    // is the product with the maximum; a NaN or, at border 0, an infinite spread fails the test as
-    // a NaN or infinite texel does).
-    const float room = p.shape.kappa - p.shape.width;
-    bool empty_is_zero = room >= 0.0f;
-    if (empty_is_zero && paper && p.shape.paper_before) {
-        const bool known = paper_spread >= 0.0f || paper_spread != paper_spread;
-        empty_is_zero = room >= p.shape.border * (known ? paper_spread : paper_height_spread(*paper, ex));
-    }
-    bool use[4];
-    int P = 0;
-    for (int k = 0; k < 4; ++k) {
-        use[k] = layers[k] != nullptr;
-        if (use[k] && empty_is_zero) {
-            use[k] = (nonzero_channels(ex, *layers[k]) & 1u) != 0;
-        }
-        if (use[k]) P = k + 1;
-    }
-    if (P == 0) {
-        ensure_output(dst, out_w, out_h, 4);
-        std::fill(dst.data(), dst.data() + dst.num_values(), 0.0f);
-        return;
-    }
-    const int sw = first->width(), sh = first->height();
-    ImageF packed(sw, sh, P, kUninitialized), blurred;  // every value written below
-    for_each_row_block(ex, sh, [&](int y0, int y1) {
-        const std::size_t i0 = std::size_t(y0) * sw, i1 = std::size_t(y1) * sw;
-        for (int k = 0; k < P; ++k) {
-            const float* src = use[k] ? layers[k]->data() : nullptr;
-            float* d = packed.data() + k;
-            for (std::size_t i = i0; i < i1; ++i) d[i * std::size_t(P)] = src ? src[i] : 0.0f;
-        }
-    });
-    wash_blur(blurred, packed, p.radius, p.sigma, ex);
+    return first;
+}
+
+//! The plain schedule: each layer blurred on its own, every value sampled per pixel.
+void wash_reference(ImageF& dst, const ImageF* const layers[4], const Plane& hp, int out_w, int out_h, const LayerWashParams& p,
+                    const Exec& ex) {
+    ImageF blurred[4];
+    for (int k = 0; k < 4; ++k)
+        if (layers[k]) wash_blur(blurred[k], *layers[k], p.radius, p.sigma, ex);
     ensure_output(dst, out_w, out_h, 4);
-    const ResampleAxis ax(out_w, sw), ay(out_h, sh);
     float* o = dst.data();
-    auto rows = [&]<int N>(int y0, int y1) {
+    plain_loop(out_w, out_h, [&](int x, int y) {
+        const float h = hp(x, y);
+        for (int k = 0; k < 4; ++k)
+            o[(std::size_t(y) * out_w + x) * 4 + k] =
+                layers[k] ? wash_amount(sample_resampled_plane(plane(*layers[k], 0), x, y, out_w, out_h),
+                                        sample_resampled_plane(plane(blurred[k], 0), x, y, out_w, out_h), h, p.shape)
+                          : 0.0f;
+    });
+}
+
+//! Whether an all-zero layer (an empty slot of an ID pack) washes to exactly 0 everywhere: when no
+//! paper height can lift ρ' = 0 + border·(h - ½) above κ - w (then a = 0, e = 0, p = 0). That is
+//! κ - w >= border·|h - ½| at every paper texel (false for NaN), i.e. >= border·max|h - ½|
+//! (paper_height_spread: border >= 0, and rounding is monotone, so the maximum of the products is
+//! the product with the maximum; a NaN or, at border 0, an infinite spread fails the test as a NaN
+//! or infinite texel does).
+bool empty_washes_to_zero(const ImageF* paper, const LayerWashParams& p, const Exec& ex, float paper_spread) {
+    const float room = p.shape.kappa - p.shape.width;
+    bool zero = room >= 0.0f;
+    if (zero && paper && p.shape.paper_before) {
+        const bool known = paper_spread >= 0.0f || paper_spread != paper_spread;
+        zero = room >= p.shape.border * (known ? paper_spread : paper_height_spread(*paper, ex));
+    }
+    return zero;
+}
+
+//! The fast schedule's packed layers and their blur, and what each output row reads.
+struct PackedWash {
+    const ImageF* const* layers;
+    int first;             //!< the first present layer
+    bool use[4];           //!< layer k is washed (present, and not skipped as empty)
+    int P = 0;             //!< packed channels: 1 + the last used layer
+    bool empty_is_zero;    //!< empty_washes_to_zero
+    ImageF packed, blurred;
+    ResampleAxis ax, ay;   //!< output columns / rows -> packed texels
+    Plane hp;
+    const WashShape* shape;
+
+    //! The used layers packed into one P-channel image (the others 0), then blurred in one call.
+    void pack_and_blur(const LayerWashParams& p, const Exec& ex) {
+        const int sw = layers[first]->width(), sh = layers[first]->height();
+        packed = ImageF(sw, sh, P, kUninitialized);  // every value written below
+        for_each_row_block(ex, sh, [&](int y0, int y1) {
+            const std::size_t i0 = std::size_t(y0) * sw, i1 = std::size_t(y1) * sw;
+            for (int k = 0; k < P; ++k) {
+                const float* src = use[k] ? layers[k]->data() : nullptr;
+                float* d = packed.data() + k;
+                for (std::size_t i = i0; i < i1; ++i) d[i * std::size_t(P)] = src ? src[i] : 0.0f;
+            }
+        });
+        wash_blur(blurred, packed, p.radius, p.sigma, ex);
+    }
+
+    //! The resampling from the packed images to an out_w x out_h output.
+    void set_output_size(int out_w, int out_h) {
+        ax = ResampleAxis(out_w, packed.width());
+        ay = ResampleAxis(out_h, packed.height());
+    }
+
+    //! Output rows [y0, y1) with N = P packed channels: each row resampled from both packed images
+    //! (RowResampler: sample_resampled's values) and shaped in one flat loop.
+    template <int N>
+    void rows(ImageF& dst, int y0, int y1) const {
+        const int sw = packed.width(), sh = packed.height(), out_w = dst.width();
+        float* o = dst.data();
         RowResampler<N> ri(packed.data(), sw, out_w, ax, ay), rr(blurred.data(), sw, out_w, ax, ay);
         const std::size_t n = std::size_t(out_w) * N;
         std::vector<float> I(n), R(n), H(n), A(n);
@@ -152,18 +164,50 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
             rr.row(y, R.data());
             for (int x = 0; x < out_w; ++x)
                 for (int k = 0; k < N; ++k) H[std::size_t(x) * N + k] = hp(x, y);
-            shape_row(A.data(), I.data(), R.data(), H.data(), n, p.shape);
+            shape_row(A.data(), I.data(), R.data(), H.data(), n, *shape);
             float* row = o + std::size_t(y) * out_w * 4;
             for (int x = 0; x < out_w; ++x)
                 for (int k = 0; k < 4; ++k) row[std::size_t(x) * 4 + k] = k < N && use[k] ? A[std::size_t(x) * N + k] : 0.0f;
         }
-    };
+    }
+};
+
+}  // namespace
+
+void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper, int out_w, int out_h,
+                const LayerWashParams& p, const Exec& ex, float paper_spread) {
+    const int first = check_layers(dst, layers, paper, out_w, out_h);
+    const float flat = kFlatPaperHeight;
+    const Plane hp = paper ? plane(*paper, 2) : constant_plane(&flat, out_w, out_h);
+    if (ex.traversal == Traversal::Reference) {
+        wash_reference(dst, layers, hp, out_w, out_h, p, ex);
+        return;
+    }
+    // Fast schedule: the layers packed into one P-channel image (P = 1 + the last present layer)
+    // and blurred in one call (the delta-form blur computes every value with the same operations
+    // whatever the channel count, blur.h), then each output row resampled and shaped. A layer that
+    // washes to exactly 0 (empty_washes_to_zero) is skipped like an absent one. The reference
+    // computes it; the registry-wide test and LayerWash.EmptyLayersAreSkippedWithTheSameBytes
+    // compare the two.
+    PackedWash pw{.layers = layers, .first = first, .use = {}, .P = 0, .empty_is_zero = empty_washes_to_zero(paper, p, ex, paper_spread),
+                  .packed = {}, .blurred = {}, .ax = {}, .ay = {}, .hp = hp, .shape = &p.shape};
+    for (int k = 0; k < 4; ++k) {
+        pw.use[k] = layers[k] != nullptr && (!pw.empty_is_zero || (nonzero_channels(ex, *layers[k]) & 1u) != 0);
+        if (pw.use[k]) pw.P = k + 1;
+    }
+    ensure_output(dst, out_w, out_h, 4);
+    if (pw.P == 0) {
+        std::fill(dst.data(), dst.data() + dst.num_values(), 0.0f);
+        return;
+    }
+    pw.pack_and_blur(p, ex);
+    pw.set_output_size(out_w, out_h);
     for_each_row_block(ex, out_h, [&](int y0, int y1) {
-        switch (P) {
-            case 1: rows.template operator()<1>(y0, y1); break;
-            case 2: rows.template operator()<2>(y0, y1); break;
-            case 3: rows.template operator()<3>(y0, y1); break;
-            default: rows.template operator()<4>(y0, y1); break;
+        switch (pw.P) {
+            case 1: pw.rows<1>(dst, y0, y1); break;
+            case 2: pw.rows<2>(dst, y0, y1); break;
+            case 3: pw.rows<3>(dst, y0, y1); break;
+            default: pw.rows<4>(dst, y0, y1); break;
         }
     });
 }
