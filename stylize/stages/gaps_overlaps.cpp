@@ -198,6 +198,114 @@ struct GoKernel {
 //! rounding can add a little), the bilinear footprint and the 3 x 3 gradient one more each.
 int gaps_overlaps_reach(const GapsOverlapsParams& p) { return p.steps + 2; }
 
+//! The fast schedule: a pixel whose extended edge is not above the threshold (NaN included) is
+//! its colour, the kernel's second test: 64-pixel chunks without such an edge (the background) are
+//! copied whole, their one-channel edges tested eight at a time. In place those chunks are not
+//! touched, and the chunks with an edge are computed first, the pixels whose value changes kept
+//! per row (their x and value: most active pixels fail a later test and keep their colour) and
+//! written once every row is done (write_later).
+struct GoFast {
+    static constexpr int kChunk = 64;
+    struct RowValues {
+        std::vector<int> xs;
+        std::vector<glm::vec4> values;
+    };
+    //! A row's overlaps, mixed together at its end: their colours' RYB inverses (most of an
+    //! overlap's cost, 2 to 12 Gauss-Newton steps each) four at a time (rgb_to_ryb_many).
+    struct Overlaps {
+        std::vector<int> xs;
+        std::vector<glm::vec3> rgb, ryb;  // per overlap: the pixel's colour, then the one it meets
+    };
+
+    const GoKernel& k;
+    View<glm::vec4> o;
+    const float* ed;  //!< the one-channel edges, or null (the chunk test is skipped)
+    bool in_place;
+    std::vector<RowValues> later;  //!< in place: per row, the changed pixels
+
+    //! Pixel x of row y gets v: written, or in place kept for later when it changes, bit for bit.
+    void put(int x, int y, const glm::vec4& v) {
+        if (!in_place) {
+            o(x, y) = v;
+        } else if (std::memcmp(&v, &k.c(x, y), sizeof v) != 0) {
+            RowValues& r = later[std::size_t(y)];
+            r.xs.push_back(x);
+            r.values.push_back(v);
+        }
+    }
+
+    //! Pixels [xs, xe) of row y, a chunk with an edge: the activity tests eight pixels at a time;
+    //! the pixels that pass are painted one by one, overlaps decided here (into ov) and mixed at
+    //! the row's end. Gaps that need a march (not direct edges) are marched eight at a time where
+    //! the gradient's taps are inside the image.
+    void chunk(int y, int xs, int xe, Overlaps& ov) {
+        const int w = k.w, h = k.h;
+        const bool rows_inside = y >= 1 && y + 1 < h;
+        const float direct = 2.0f / float(k.p.steps);
+        int x = xs;
+        for (; x + 8 <= xe; x += 8) {
+            v8f ee, go;
+            unsigned act = k.active8(x, y, ee, go);
+            if (!in_place) std::memcpy(&o(x, y), &k.c(x, y), 8 * sizeof(glm::vec4));
+            if (!act) continue;
+            if (rows_inside && x >= 1 && x + 9 <= w) {
+                const unsigned march = act & simd::bits8(go < -kGoCtrlThreshold) & ~simd::bits8(ee > direct);
+                if (march) {
+                    for (unsigned g = k.gaps8(x, y, march, go); g; g &= g - 1) {
+                        const int i = __builtin_ctz(g);
+                        put(x + i, y, k.gap_colour(k.c(x + i, y)));
+                    }
+                    act &= ~march;  // the others keep their colour
+                }
+            }
+            for (; act; act &= act - 1) {
+                const int i = __builtin_ctz(act);
+                const glm::vec4 col = k.c(x + i, y);
+                const GoKernel::Painted d = k.decide(x + i, y, col, ee[i], go[i]);
+                if (!d.mix) {
+                    put(x + i, y, d.value);
+                    continue;
+                }
+                ov.xs.push_back(x + i);
+                ov.rgb.push_back(glm::vec3(col));
+                ov.rgb.push_back(d.with);
+            }
+        }
+        for (; x < xe; ++x) put(x, y, k(x, y));
+    }
+
+    //! Pixels [x0, x1) of row y: background chunks copied (or untouched in place), the others
+    //! computed, then the row's overlaps mixed.
+    void row(int y, int x0, int x1) {
+        thread_local Overlaps ov;
+        ov.xs.clear();
+        ov.rgb.clear();
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int xe = std::min(x1, xs + kChunk);
+            if (ed && !any_above(ed + std::size_t(y) * k.w + xs, std::size_t(xe - xs), k.p.edge_threshold)) {
+                if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
+                continue;
+            }
+            chunk(y, xs, xe, ov);
+        }
+        ov.ryb.resize(ov.rgb.size());
+        rgb_to_ryb_many(ov.rgb.data(), ov.ryb.data(), ov.rgb.size());
+        for (std::size_t i = 0; i < ov.xs.size(); ++i) {
+            const int x = ov.xs[i];
+            put(x, y, k.overlap_colour(k.c(x, y), ov.rgb[2 * i + 1], ov.ryb[2 * i], ov.ryb[2 * i + 1]));
+        }
+        if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
+    }
+
+    //! In place, after every row: the changed pixels written.
+    void write_later(const Exec& ex) {
+        for_each_row(ex, k.w, k.h, [&](int y, int, int) {
+            const RowValues& r = later[std::size_t(y)];
+            for (std::size_t i = 0; i < r.xs.size(); ++i) o(r.xs[i], y) = r.values[i];
+        });
+    }
+};
+
 }  // namespace
 
 void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, const ImageF& ctrl_edge,
@@ -243,94 +351,13 @@ void gaps_overlaps(ImageF& dst, const ImageF& color, const ImageF& edges_ext, co
         plain_loop(w, h, [&](int x, int y) { o(x, y) = k(x, y); });
         return;
     }
-    // Fast: a pixel whose extended edge is not above the threshold (NaN included) is its colour, the
-    // kernel's second test: 64-pixel chunks without such an edge (the background) are copied
-    // whole, their one-channel edges tested eight at a time.
-    // In place those chunks are not touched, and the chunks with an edge are computed first, the
-    // pixels whose value changes kept per row (their x and value: most active pixels fail a later
-    // test and keep their colour) and written once every row is done.
-    const float* ed = edges_ext.channels() == 1 ? edges_ext.data() : nullptr;
-    constexpr int kChunk = 64;
-    struct RowValues {
-        std::vector<int> xs;
-        std::vector<glm::vec4> values;
-    };
-    std::vector<RowValues> later(in_place ? std::size_t(h) : 0);
-    // A row's overlaps are mixed together at its end: their colours' RYB inverses (most of an
-    // overlap's cost, 2 to 12 Gauss-Newton steps each) four at a time (rgb_to_ryb_many).
-    struct Overlaps {
-        std::vector<int> xs;
-        std::vector<glm::vec3> rgb, ryb;  // per overlap: the pixel's colour, then the one it meets
-    };
-    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        auto put = [&](int x, const glm::vec4& v) {
-            if (!in_place) {
-                o(x, y) = v;
-            } else if (std::memcmp(&v, &k.c(x, y), sizeof v) != 0) {  // changed, bit for bit
-                RowValues& r = later[std::size_t(y)];
-                r.xs.push_back(x);
-                r.values.push_back(v);
-            }
-        };
-        thread_local Overlaps ov;
-        ov.xs.clear();
-        ov.rgb.clear();
-        for (int xs = x0; xs < x1; xs += kChunk) {
-            const int xe = std::min(x1, xs + kChunk);
-            if (ed && !any_above(ed + std::size_t(y) * w + xs, std::size_t(xe - xs), p.edge_threshold)) {
-                if (!in_place) stream_copy(&o(xs, y).x, &k.c(xs, y).x, 4 * std::size_t(xe - xs));
-                continue;
-            }
-            // The activity tests eight pixels at a time; the pixels that pass are painted one by
-            // one, overlaps decided here and mixed at the row's end.
-            // Gaps that need a march (not direct edges) are marched eight at a time where the
-            // gradient's taps are inside the image.
-            const bool rows_inside = y >= 1 && y + 1 < h;
-            const float direct = 2.0f / float(p.steps);
-            int x = xs;
-            for (; x + 8 <= xe; x += 8) {
-                v8f ee, go;
-                unsigned act = k.active8(x, y, ee, go);
-                if (!in_place) std::memcpy(&o(x, y), &k.c(x, y), 8 * sizeof(glm::vec4));
-                if (!act) continue;
-                if (rows_inside && x >= 1 && x + 9 <= w) {
-                    const unsigned march = act & simd::bits8(go < -kGoCtrlThreshold) & ~simd::bits8(ee > direct);
-                    if (march) {
-                        for (unsigned g = k.gaps8(x, y, march, go); g; g &= g - 1) {
-                            const int i = __builtin_ctz(g);
-                            put(x + i, k.gap_colour(k.c(x + i, y)));
-                        }
-                        act &= ~march;  // the others keep their colour
-                    }
-                }
-                for (; act; act &= act - 1) {
-                    const int i = __builtin_ctz(act);
-                    const glm::vec4 col = k.c(x + i, y);
-                    const GoKernel::Painted d = k.decide(x + i, y, col, ee[i], go[i]);
-                    if (!d.mix) {
-                        put(x + i, d.value);
-                        continue;
-                    }
-                    ov.xs.push_back(x + i);
-                    ov.rgb.push_back(glm::vec3(col));
-                    ov.rgb.push_back(d.with);
-                }
-            }
-            for (; x < xe; ++x) put(x, k(x, y));
-        }
-        ov.ryb.resize(ov.rgb.size());
-        rgb_to_ryb_many(ov.rgb.data(), ov.ryb.data(), ov.rgb.size());
-        for (std::size_t i = 0; i < ov.xs.size(); ++i) {
-            const int x = ov.xs[i];
-            put(x, k.overlap_colour(k.c(x, y), ov.rgb[2 * i + 1], ov.ryb[2 * i], ov.ryb[2 * i + 1]));
-        }
-        if (!in_place) stream_fence();  // the copied chunks' non-temporal stores, before the row is done
-    });
-    if (!in_place) return;
-    for_each_row(ex, w, h, [&](int y, int, int) {
-        const RowValues& r = later[std::size_t(y)];
-        for (std::size_t i = 0; i < r.xs.size(); ++i) o(r.xs[i], y) = r.values[i];
-    });
+    GoFast fast{.k = k,
+                .o = o,
+                .ed = edges_ext.channels() == 1 ? edges_ext.data() : nullptr,
+                .in_place = in_place,
+                .later = std::vector<GoFast::RowValues>(in_place ? std::size_t(h) : 0)};
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) { fast.row(y, x0, x1); });
+    if (in_place) fast.write_later(ex);
 }
 
 void register_gaps_overlaps(Registry& r) {
