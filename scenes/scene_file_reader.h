@@ -1,6 +1,6 @@
-// scenes/scene_file_reader.h — what the two files of the scene-file reader share (scene_file.cpp:
-// the file and its general sections; scene_file_ld06.cpp: foliage, layers, strokes). Private to
-// scenes/.
+// scenes/scene_file_reader.h — what the files of the scene-file reader share (scene_file.cpp:
+// the file and its general sections; scene_file_ld06.cpp: foliage, layers, strokes;
+// control_rules.cpp: the control mapping rules). Private to scenes/.
 #pragma once
 
 #include <filesystem>
@@ -43,6 +43,9 @@ struct SceneNames {
     void read(const Ctx& ctx, const json& f, const std::string& where, const char* key, std::vector<std::string>& out,
               const std::vector<std::string>& have) const;
 };
+
+//! One control rule of a "control" section or default-control file at `key` (control_rules.cpp).
+ControlRule parse_rule(const Ctx& ctx, const json& j, const std::string& key, ControlLayout layout);
 
 //! The sections "foliage", "layers" and "strokes" (absent: nothing), in this order.
 void read_foliage(const Ctx& ctx, const json& j, const SceneNames& names, SceneDesc& d);
