@@ -30,6 +30,19 @@ struct ComputedRamps {
 void glaze(ImageF& dst, const ImageF* base, const ImageF& wash, const ComputedRamps& ramps, glm::vec3 paper_color,
            bool multiplicative, const Exec& ex = {});
 
+//! The ramps glaze reads: the color_ramp images (ramp[4]), or computed from the lighting map.
+struct GlazeRamps {
+    const ImageF* const* images = nullptr;  // ramp[4]
+    const ComputedRamps* computed = nullptr;
+    int width() const { return images ? images[0]->width() : computed->lighting->width(); }
+    int height() const { return images ? images[0]->height() : computed->lighting->height(); }
+};
+
+//! The fast schedule (glaze.schedule.cpp), which glaze runs for Traversal::Fast after its checks,
+//! with dst allocated: the reference's bytes.
+void glaze_fast(ImageF& dst, const ImageF* base, const ImageF& wash, const GlazeRamps& src, glm::vec3 paper_color,
+                bool multiplicative, const Exec& ex);
+
 void register_glaze(Registry& r);
 
 }  // namespace aq::stylize
