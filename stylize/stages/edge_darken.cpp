@@ -1,6 +1,7 @@
 // stylize/stages/edge_darken.cpp — WC17 eq. 8 (DoG) and WC18 §3.1 (RGBD) edge darkening.
 // Pointwise per pixel (plus one bilinear tap of a lower-resolution input), so the reference and
-// fast traversals evaluate the same function on the same pixels: bit-exact.
+// fast traversals evaluate the same function on the same pixels: bit-exact. The RGBD variant's
+// fast schedule is edge_darken.schedule.cpp.
 // The power loops vectorise only when GCC may evaluate both sides of a select; that needs
 // -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
 // reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".
@@ -93,93 +94,23 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
     check_not_alias(dst, &ctrl_edge, st, "ctrl_edge");
     check_not_alias(dst, bleed, st, "bleed");
     // In place (dst is color: StageVariant::in_place_input): a pixel reads only its own colour,
-    // before its output is written, and unchanged pixels are not written at all.
-    const bool in_place = &dst == &color;
+    // before its output is written, and unchanged pixels are not written at all (the fast schedule).
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
+    if (ex.traversal == Traversal::Fast) {
+        edge_darken_rgbd_fast(dst, color, edges, ctrl_edge, bleed, crowd, substrate, p, ex);
+        return;
+    }
+    // The plain reference: §3.1 pixel by pixel.
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane e = plane(edges, 0), ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     static const float kZero = 0.0f;
     const Plane bm = bleed ? plane(*bleed, bleed->channels() == 4 ? 3 : 0) : constant_plane(&kZero, w, h);
     const Plane cw = crowd ? plane(*crowd, 0) : constant_plane(&kZero, w, h);
-    const Resampler upc(w, h, cw.width, cw.height);  // the crowd map may be coarser (gaussian_blur downsample)
-    const Resampler up(w, h, bm.width, bm.height);
     const View<glm::vec4> o = dst.view<glm::vec4>();
-    if (ex.traversal == Traversal::Reference) {  // the plain reference: §3.1 pixel by pixel
-        plain_loop(w, h, [&](int x, int y) {
-            const float b = sample_resampled_plane(bm, x, y, w, h);
-            o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, sample_resampled_plane(cw, x, y, w, h), substrate, p);
-        });
-        return;
-    }
-    // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather the inputs (scalar),
-    // the exponents (vectorised, edge_darken_rgbd_exponent), then the powers of only the pixels
-    // that darken, packed (vectorised pow_c), and the output. Value for value the operations of
-    // edge_darken_rgbd_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
-    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        constexpr int kChunk = 64;
-        float cr[kChunk], cg[kChunk], cb[kChunk], ev[kChunk], ci[kChunk], bl[kChunk], cd[kChunk], d[kChunk];
-        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
-        int idx[kChunk];
-        for (int xs = x0; xs < x1; xs += kChunk) {
-            const int n = std::min(kChunk, x1 - xs);
-            // A chunk without edges is the colour as it is: an edge of 0 gives E_d = 0 or NaN (0
-            // times a non-finite control or bleeding term), hence the exponent 1, whatever the
-            // other inputs (most of a frame's background).
-            // One-channel edges (a contiguous row): tested eight at a time before they are read.
-            const bool any_edge = e.px == 1 ? nonzero_channels_of(e.p + y * e.row + xs, std::size_t(n), 1) != 0 : [&] {
-                bool any = false;
-                for (int i = 0; i < n; ++i) any |= e(xs + i, y) != 0.0f;
-                return any;
-            }();
-            if (!any_edge) {
-                if (!in_place)
-                    for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
-                continue;
-            }
-            int i8 = 0;
-            for (; i8 + 8 <= n; i8 += 8) {
-                const float* cp = &c(xs + i8, y).x;
-                store8(cr + i8, simd::strided8<4>(cp));
-                store8(cg + i8, simd::strided8<4>(cp + 1));
-                store8(cb + i8, simd::strided8<4>(cp + 2));
-                store8(ev + i8, plane8(e, xs + i8, y));
-                store8(ci + i8, plane8(ctrl, xs + i8, y));
-            }
-            for (int i = i8; i < n; ++i) {
-                const glm::vec4 cv = c(xs + i, y);
-                cr[i] = cv.x, cg[i] = cv.y, cb[i] = cv.z;
-                ev[i] = e(xs + i, y);
-                ci[i] = ctrl(xs + i, y);
-            }
-            for (int i = 0; i < i8; i += 8) store8(bl + i, up.sample8(bm, xs + i, y));
-            for (int i = i8; i < n; ++i) bl[i] = up.sample(bm, xs + i, y);
-            if (crowd) {
-                for (int i = 0; i < i8; i += 8) store8(cd + i, upc.sample8(cw, xs + i, y));
-                for (int i = i8; i < n; ++i) cd[i] = upc.sample(cw, xs + i, y);
-            } else {
-                std::fill(cd, cd + n, 0.0f);  // no crowd map: the constant 0 the plain loop samples
-            }
-            for (int i = 0; i < n; ++i)
-                d[i] = edge_darken_rgbd_exponent(cr[i], cg[i], cb[i], ev[i], ci[i], bl[i], cd[i], substrate, p);
-            int m = 0;  // pixels that darken (d != 1), packed
-            for (int i = 0; i < n; ++i) {
-                idx[m] = i;
-                m += d[i] != 1.0f;
-            }
-            for (int k = 0; k < m; ++k) {
-                const int i = idx[k];
-                base[3 * k] = cr[i], base[3 * k + 1] = cg[i], base[3 * k + 2] = cb[i];
-                dexp[3 * k] = dexp[3 * k + 1] = dexp[3 * k + 2] = d[i];
-            }
-            pow_c_many(base, dexp, r, std::size_t(3 * m));
-            if (!in_place)
-                for (int i = 0; i < n; ++i) o(xs + i, y) = c(xs + i, y);
-            for (int k = 0; k < m; ++k) {
-                const int i = idx[k];
-                o(xs + i, y) = glm::vec4(r[3 * k], r[3 * k + 1], r[3 * k + 2], c(xs + i, y).w);
-            }
-        }
+    plain_loop(w, h, [&](int x, int y) {
+        const float b = sample_resampled_plane(bm, x, y, w, h);
+        o(x, y) = edge_darken_rgbd_px(c(x, y), e(x, y), ctrl(x, y), b, sample_resampled_plane(cw, x, y, w, h), substrate, p);
     });
 }
 

@@ -109,6 +109,13 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                       const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
                       const Exec& ex = {});
 
+//! The fast schedule of the RGBD variant (edge_darken.schedule.cpp), which edge_darken_rgbd runs for
+//! Traversal::Fast after its checks, with dst allocated (dst may be color: in place): the
+//! reference's bytes.
+void edge_darken_rgbd_fast(ImageF& dst, const ImageF& color, const ImageF& edges, const ImageF& ctrl_edge,
+                           const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
+                           const Exec& ex);
+
 void register_edge_darken(Registry& r);
 
 }  // namespace aq::stylize
