@@ -81,6 +81,13 @@ inline float select(bool m, float a, float b) { return m ? a : b; }
 inline v8f select(v8i m, v8f a, v8f b) { return m ? a : b; }
 inline glm::vec3 select(bool m, glm::vec3 a, glm::vec3 b) { return m ? a : b; }
 inline Lanes3 select(v8i m, const Lanes3& a, const Lanes3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+//! Mask negation: !m for one lane, ~m for eight (-1 where true).
+inline bool mask_not(bool m) { return !m; }
+inline v8i mask_not(v8i m) { return ~m; }
+//! The mask of type M (bool or v8i) true in every lane.
+template <class M> inline M mask_all();
+template <> inline bool mask_all<bool>() { return true; }
+template <> inline v8i mask_all<v8i>() { return v8i{} - 1; }
 template <class F> inline F min_of(F a, F b) { return select(b < a, b, a); }  // std::min(a, b)
 template <class F> inline F max_of(F a, F b) { return select(a < b, b, a); }  // std::max(a, b)
 inline float root(float x) { return std::sqrt(x); }

@@ -19,6 +19,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/lanes.h"
 #include "stylize/kernels.h"
 #include "stylize/stages/toolkit.h"
 
@@ -43,16 +44,21 @@ using toolkit::store8;
 using toolkit::v8f;
 using toolkit::v8i;
 
-template <BleedRule R>
-inline bool bleeds(float cs, float cd, float zs, float zd, float t, float scope) {
+//! The bleeding rule, written once over lanes (F = float, the mask a bool; F = v8f, the mask a
+//! v8i): whether the tap d bleeds into the pixel s. zst = zs - t (the pixel's depth minus the
+//! threshold), cs / cd the controls, scope |a| / r (MNPR filterScope). Naive: always; WC17
+//! (JointBilateral): the tap's control where the pixel is behind it, else the pixel's; MNPR also
+//! needs max(cd, cs) >= scope.
+template <BleedRule R, class F>
+inline auto bleeds(F cs, F cd, F zst, F zd, float scope) {
+    using M = decltype(cs > cd);
     if constexpr (R == BleedRule::Naive) {
-        (void)cs, (void)cd, (void)zs, (void)zd, (void)t, (void)scope;
-        return true;
+        (void)cs, (void)cd, (void)zst, (void)zd, (void)scope;
+        return lanes::mask_all<M>();
     } else {
-        const float zst = zs - t;
-        const bool behind = zst > zd;
-        bool b = ((cd > 0.0f) & behind) | ((cs > 0.0f) & !behind);
-        if constexpr (R == BleedRule::Mnpr) b = b & ((cd >= scope) | (cs >= scope));  // max(cd, cs) >= scope
+        const M behind = zst > zd;
+        M b = ((cd > 0.0f) & behind) | ((cs > 0.0f) & lanes::mask_not(behind));
+        if constexpr (R == BleedRule::Mnpr) b = b & ((cd >= scope) | (cs >= scope));
         return b;
     }
 }
@@ -79,7 +85,7 @@ void pass_reference(const Planes& in, const std::vector<float>& ctrl, const std:
             for (int a = -k.r; a <= k.r; ++a) {
                 const std::size_t di = horizontal ? std::size_t(y) * w + resolve_border(x + a, w, border)
                                                   : std::size_t(resolve_border(y + a, h, border)) * w + x;
-                const bool b = bleeds<R>(cs, ctrl[di], zs, z[di], k.t, k.scope[a + k.r]);
+                const bool b = bleeds<R>(cs, ctrl[di], zs - k.t, z[di], k.scope[a + k.r]);
                 const float wa = k.w[a + k.r];
                 for (int p = 0; p < nacc; ++p) {
                     const float d = p < 3 ? in.p[p][di] : ctrl[di];
@@ -123,7 +129,7 @@ inline void row_kernel(int w, const float* const* s, const float* zs_row, float*
         // scalar tail, tap by tap. The difference is computed unconditionally and selected by the
         // rule mask (bits of +0 where no bleeding), like (b ? d - s : 0).
         const float t = k.t;
-        const v8f vt = v8f{} + t, vzero = v8f{};
+        const v8f vt = v8f{} + t;
         const float* __restrict sr = s[0];
         const float* __restrict sg = s[1];
         const float* __restrict sb = s[2];
@@ -137,17 +143,7 @@ inline void row_kernel(int w, const float* const* s, const float* zs_row, float*
             for (int ai = 0; ai <= 2 * k.r; ++ai) {
                 const int off = ai * x_shift_per_tap + x;
                 const v8f cd = load8(d[ai * 4 + 3] + off);
-                v8i b;
-                if constexpr (R == BleedRule::Naive) {
-                    b = v8i{} - 1;
-                } else {
-                    const v8i behind = zt > load8(zd[ai] + off);
-                    b = ((cd > vzero) & behind) | ((cs > vzero) & ~behind);
-                    if constexpr (R == BleedRule::Mnpr) {
-                        const float sc = k.scope[std::size_t(ai)];
-                        b &= (cd >= sc) | (cs >= sc);
-                    }
-                }
+                const v8i b = bleeds<R>(cs, cd, zt, load8(zd[ai] + off), k.scope[std::size_t(ai)]);
                 const float wa = k.w[std::size_t(ai)];
                 const v8f d0 = load8(d[ai * 4 + 0] + off) - vr, d1 = load8(d[ai * 4 + 1] + off) - vg;
                 const v8f d2 = load8(d[ai * 4 + 2] + off) - vb, d3 = cd - cs;
@@ -178,7 +174,7 @@ inline void row_kernel(int w, const float* const* s, const float* zs_row, float*
             float* __restrict o2 = o[2];
             float* __restrict o3 = o[3];
             for (x = xt; x < xe; ++x) {
-                const bool b = bleeds<R>(scs[x], dc[x], zsr[x], dz[x], t, sc);
+                const bool b = bleeds<R>(scs[x], dc[x], zsr[x] - t, dz[x], sc);
                 const float d0 = dr[x] - sr[x], d1 = dg[x] - sg[x], d2 = db[x] - sb[x], d3 = dc[x] - scs[x];
                 o0[x] = o0[x] + wa * (b ? d0 : 0.0f);
                 o1[x] = o1[x] + wa * (b ? d1 : 0.0f);
