@@ -23,6 +23,12 @@ inline glm::vec4 pigment_density_px(glm::vec4 c, float ctrl_b, glm::vec3 substra
 void pigment_density(ImageF& dst, const ImageF& color, const ImageF& ctrl_pigment, glm::vec3 substrate,
                      const PigmentDensityParams& p, const Exec& ex = {});
 
+//! The fast schedule (pigment_density.schedule.cpp), which pigment_density runs for
+//! Traversal::Fast after its checks, with dst allocated (dst may be color: in place): the
+//! reference's bytes.
+void pigment_density_fast(ImageF& dst, const ImageF& color, const ImageF& ctrl, glm::vec3 substrate,
+                          const PigmentDensityParams& p, const Exec& ex);
+
 void register_pigment_density(Registry& r);
 
 }  // namespace aq::stylize
