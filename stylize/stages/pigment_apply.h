@@ -147,6 +147,21 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
                         glm::vec3 substrate, const PigmentApplyWc18Params& p, 
                         const Exec& ex = {});
 
+//! The checked inputs both variants read: the colour, the pigment control's application channel
+//! and the paper height (flat without a paper).
+struct PigmentInputs {
+    View<const glm::vec4> c;
+    toolkit::Plane ctrl, height;
+};
+
+//! The fast schedules (pigment_apply.schedule.cpp), which the variants run for Traversal::Fast
+//! after their checks, with the output allocated: the references' bytes. in_place: o is the
+//! colour's image (uncovered pixels are not written).
+void pigment_apply_wc17_fast(const View<glm::vec4>& o, const PigmentInputs& in, const PigmentApplyWc17Params& p,
+                             const Exec& ex);
+void pigment_apply_wc18_fast(const View<glm::vec4>& o, const PigmentInputs& in, bool in_place, glm::vec3 substrate,
+                             const PigmentApplyWc18Params& p, const Exec& ex);
+
 void register_pigment_apply(Registry& r);
 
 }  // namespace aq::stylize
