@@ -140,7 +140,7 @@ void make_chunks(Frame& fr, bool parallel) {
 // tile (raster/tiles.h add_to_bins, sort_bins: each tile's list stays in submission order). The
 // 104-byte setups are written once and not re-read here.
 void setup_and_bin(Frame& fr, Chunk& c) {
-    const int ntiles = fr.tiles_x * fr.tiles_y;
+    const int ntiles = fr.grid.count();
     std::vector<std::uint64_t>& pairs = c.pairs;
     std::vector<std::uint64_t>& fine = c.fine_pairs;  // the sub-pixel setups (coverage pass only)
     pairs.clear();
@@ -150,7 +150,7 @@ void setup_and_bin(Frame& fr, Chunk& c) {
     c.fine_offsets.assign(fr.sopt.keep_subpixel ? std::size_t(ntiles) + 1 : 0, 0);
     // An item into the tiles of r: the traversal's bins, or the sub-pixel ones.
     auto bin_item = [&](const PixelRect& r, bool sub, std::uint32_t item) {
-        add_to_bins(fr.tiles_x, {r.x0, r.y0, r.x1, r.y1}, item, (sub ? c.fine_offsets : c.bin_offsets).data(),
+        add_to_bins(fr.grid.tiles_x, {r.x0, r.y0, r.x1, r.y1}, item, (sub ? c.fine_offsets : c.bin_offsets).data(),
                     sub ? fine : pairs);
     };
     for (const Chunk::Segment& sg : c.segments) {

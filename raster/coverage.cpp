@@ -207,16 +207,14 @@ void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBit
 // One tile of the tiled schedule: the flags as 64-bit rows (3x3 OR and AND of the coverage
 // bits), then the triangles binned to this tile over the flagged pixels, then the writes. Writes only this tile's
 // pixels and reads only covered neighbours' values, which no tile writes (only their alpha).
-bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile) {
-    const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
+bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile, TileRect tr) {
     // No triangle binned here (binned by coverage_bounds too): no sample of the tile is covered.
     bool binned = tile_binned(fr, tile);
     for (const Chunk& ch : fr.chunks)
         binned = binned || (!ch.fine_offsets.empty() && ch.fine_offsets[tile] != ch.fine_offsets[tile + 1]);
     if (!binned) return false;
     const int W = cov.W, H = cov.H;
-    const int X0 = tx * kTile, Y0 = ty * kTile;
-    const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+    const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1, tx = X0 / kTile;
     const int tw = X1 - X0 + 1;
     const std::uint64_t valid = low_bits(tw);
     // Per row: OR and AND of the pixel and its left and right neighbours (outside the image: 0 for

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include <tbb/parallel_for.h>
 
 namespace aq::raster {
 
@@ -145,11 +144,9 @@ std::vector<float> sum_field(const Grid& g, const std::vector<glm::vec3>& pts, c
             }
         }
     };
-    if (ex.traversal == Traversal::Reference) {
-        for (int k = 0; k < g.nz; ++k) fill_slab(k);
-    } else {
-        with_arena(ex, [&] { tbb::parallel_for(0, g.nz, fill_slab); });
-    }
+    for_each_block(ex, std::size_t(g.nz), 1, [&](std::size_t k0, std::size_t k1) {
+        for (std::size_t k = k0; k < k1; ++k) fill_slab(int(k));
+    });
     return f;
 }
 

@@ -14,7 +14,6 @@
 #include <immintrin.h>
 #endif
 
-#include <tbb/parallel_for.h>
 
 #include "core/hash.h"
 #include "raster/vertex.h"
@@ -200,11 +199,9 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
             dpix[std::size_t(y) * W + x] = Dv;
         }
     };
-    if (ex.traversal == Traversal::Reference) {
-        for (int y = 0; y < H; ++y) sample_row(y);
-    } else {
-        with_arena(ex, [&] { tbb::parallel_for(0, H, sample_row); });
-    }
+    for_each_block(ex, std::size_t(H), 1, [&](std::size_t y0, std::size_t y1) {
+        for (std::size_t y = y0; y < y1; ++y) sample_row(int(y));
+    });
     const float delta = p.test == DepthTest::Binary ? 0.0f : p.delta;
     // The one per-fragment function: blurred test of the sprite's depth (eq. 2), shape, eq. 12.
     // A saturated pixel stays 1 (every contribution is >= 0), so it is skipped: exact.
@@ -225,18 +222,18 @@ void render_particles(ImageF& dark, ImageF& medium, ImageF& bright, const PassSc
         const float fv = blurred_visibility(dpix[i], s.depth, delta, p.beta);
         b = maths::sat(fv * shape + b);
     };
-    if (ex.traversal == Traversal::Reference) {
+    // The reference: every sprite in particle order over its box. The tiles: sprites binned in
+    // particle order (raster/tiles.h), each tile drawn by one task.
+    const TileGrid grid(W, H);
+    const TileBins bins = ex.traversal == Traversal::Fast ? bin_boxes(grid, sprites.size(), [&](std::size_t k) {
+        return TileRect{sprites[k].x0, sprites[k].y0, sprites[k].x1, sprites[k].y1};
+    }) : TileBins{};
+    auto reference = [&] {
         for (const Sprite& s : sprites)
             for (int y = s.y0; y <= s.y1; ++y)
                 for (int x = s.x0; x <= s.x1; ++x) fragment(s, x, y);
-        return;
-    }
-    // Sprites binned into tiles in particle order (raster/tiles.h), each tile drawn by one task.
-    const TileGrid grid(W, H);
-    const TileBins bins = bin_boxes(grid, sprites.size(), [&](std::size_t k) {
-        return TileRect{sprites[k].x0, sprites[k].y0, sprites[k].x1, sprites[k].y1};
-    });
-    for_each_grid_tile(ex, grid, [&](int t, TileRect tr) {
+    };
+    traverse_tiles(ex, grid, reference, [&](int t, TileRect tr) {
         for (const std::uint32_t k : bins.of(t)) {
             const Sprite& s = sprites[k];
             const int xa = std::max(s.x0, tr.x0), xb = std::min(s.x1, tr.x1);

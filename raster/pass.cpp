@@ -429,16 +429,14 @@ void render_triangle_pass(ImageF& out, const PassScene& ps, const TrianglePass& 
             entry->prepared = true;
         }
         if (!p.foliage_layer && (p.value == PassValue::LayerId || p.value == PassValue::ObjectId)) mark_foliage_background(cx, sc, fr);
-        if (!fast) {
+        auto reference = [&] {
             std::vector<float> zbuf(std::size_t(W) * H, std::numeric_limits<float>::infinity());
             for_each_reference_fragment(fr, [&](const Chunk& ch, const TriSetup& t, int x, int y, const std::int64_t* e) {
                 const std::size_t i = std::size_t(y) * W + x;
                 fragment(cx, fr, ch, t, e, x, y, img + i, &zbuf[i]);
             });
-            return;
-        }
-        tbb::parallel_for(0, fr.tiles_x * fr.tiles_y, [&](int tile) {
-            const TileRect tr = TileGrid::tile_rect(tile, fr.tiles_x, W, H);
+        };
+        traverse_tiles(ex, fr.grid, reference, [&](int tile, TileRect tr) {
             if (deferred) deferred_tile(cx, fr, *entry, resolved, tile, tr, img);
             else forward_tile(cx, fr, tile, tr, img);
         });

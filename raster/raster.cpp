@@ -146,8 +146,7 @@ Frame detail::make_frame(const scene::Scene& sc, const scene::Camera& cam, const
         fr.ctx.lights.push_back(vl);
     }
     if (fr.ctx.lights.empty()) fr.ctx.lights.push_back(default_view_light());
-    fr.tiles_x = (W + kTile - 1) / kTile;
-    fr.tiles_y = (H + kTile - 1) / kTile;
+    fr.grid = TileGrid(W, H);
     fr.background_depth = cam.zfar;
     return fr;
 }
@@ -209,17 +208,10 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
         timer.lap("allocate");
         CoverageBits cov;
         if (aa) cov.reset(W, H);
-        if (!fast) {
-            raster_reference(fr, tp, W, H, count);
-            if (aa) {
-                cov.from_alpha(tp);
-                timer.lap("raster");
-                coverage_reference(fr, tp, cov);
-                timer.lap("coverage");
-            }
-        } else {
-            const int ntiles = fr.tiles_x * fr.tiles_y;
-            std::vector<std::uint8_t> background(std::size_t(ntiles), 0);
+        // Per tile (fast): no triangle binned to it, so it shows only background.
+        const int ntiles = fr.grid.count();
+        std::vector<std::uint8_t> background(fast ? std::size_t(ntiles) : 0, 0);
+        if (fast) {
             for (int t = 0; t < ntiles; ++t) background[std::size_t(t)] = !tile_binned(fr, t);
             if (kept.size() != background.size()) kept.assign(background.size(), 0);
             if (timer.on) {
@@ -227,21 +219,28 @@ Targets render(const scene::Scene& sc, const scene::Camera& cam, const RenderSet
                 for (int t = 0; t < ntiles; ++t) n += kept[std::size_t(t)] && background[std::size_t(t)];
                 std::fprintf(stderr, "  raster tiles %d, background kept from the previous frame %d\n", ntiles, n);
             }
-            tbb::parallel_for(0, ntiles, [&](int tile) {
-                const std::size_t t = std::size_t(tile);
-                raster_tile(fr, tp, W, H, tile, count, clear && !(kept[t] && background[t]), aa ? &cov : nullptr);
-            });
-            if (aa) {
-                timer.lap("raster");
-                // A tile along a silhouette may have been written by the pass even if no
-                // triangle was binned to it: not kept as background for the next frame.
-                tbb::parallel_for(0, ntiles, [&](int tile) {
-                    if (coverage_tile(fr, tp, cov, tile)) background[std::size_t(tile)] = 0;
-                });
-                timer.lap("coverage");
-            }
-            if (mode == Mode::GBuffer && K == 1) FrameScratch::record(tg, W, H, fr.background_depth, std::move(background));
         }
+        traverse_tiles(s.exec, fr.grid, [&] { raster_reference(fr, tp, W, H, count); },
+                       [&](int tile, TileRect tr) {
+                           const std::size_t t = std::size_t(tile);
+                           raster_tile(fr, tp, tile, tr, count, clear && !(kept[t] && background[t]), aa ? &cov : nullptr);
+                       });
+        if (aa) {
+            timer.lap("raster");
+            // A tile along a silhouette may have been written by the pass even if no triangle
+            // was binned to it: not kept as background for the next frame.
+            traverse_tiles(
+                s.exec, fr.grid,
+                [&] {
+                    cov.from_alpha(tp);
+                    coverage_reference(fr, tp, cov);
+                },
+                [&](int tile, TileRect tr) {
+                    if (coverage_tile(fr, tp, cov, tile, tr)) background[std::size_t(tile)] = 0;
+                });
+            timer.lap("coverage");
+        }
+        if (fast && mode == Mode::GBuffer && K == 1) FrameScratch::record(tg, W, H, fr.background_depth, std::move(background));
         timer.lap(aa ? "record" : "raster");  // after the coverage pass: what remains of the body
     };
     if (fast) with_arena(s.exec, body);

@@ -19,6 +19,7 @@
 #include "raster/material.h"
 #include "raster/raster.h"
 #include "raster/setup.h"
+#include "raster/tiles.h"
 #include "raster/vertex.h"
 #include "raster/visibility.h"
 
@@ -127,7 +128,7 @@ struct Frame {
     ShadeContext ctx;
     std::vector<DrawVertices> draws;
     std::vector<Chunk> chunks;
-    int tiles_x = 0, tiles_y = 0;
+    TileGrid grid;  //!< the image's tiles (raster/tiles.h): bins and the tiled traversal
     float background_depth = 0;
 };
 
@@ -197,7 +198,7 @@ static_assert(kTile == 64, "CoverageBits: one 64-bit word per tile row");
 void coverage_reference(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov);
 //! The coverage pass of one tile (fast schedule, after every tile's traversal). Returns whether
 //! the tile has pixels along a silhouette (it may have written some).
-bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile);
+bool coverage_tile(const Frame& fr, const TargetPtrs& tp, const CoverageBits& cov, int tile, TileRect tr);
 
 // tile.cpp
 //! Weights of the fragment on the original triangle's vertices (through the clip table for
@@ -232,7 +233,7 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
 //! One tile of the tiled traversal: visibility, then deferred shading of each pixel's winner.
 //! `clear`: write the background pixels too (else the targets already hold them).
 //! `cov`, when given, receives the tile's coverage bits.
-void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear,
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int tile, TileRect tr, float* count, bool clear,
                  CoverageBits* cov = nullptr);
 //! Writes the background values of pixel i into every target.
 void write_background(const TargetPtrs& tp, std::size_t i, float bg_depth);

@@ -807,33 +807,25 @@ private:
     int np = 0;
 };
 
-//! The tiled traversal: strokes binned into tiles in submission order (raster/tiles.h); per tile,
-//! each stroke's segments over their capsule bounds, the drawn pixels listed and shaded eight at a
-//! time, composited in drawing order (StrokeTile).
-void draw_strokes_tiled(float* img, const ProjectedStrokes& pr, float half, float r2, const StrokeShader& sh,
-                        const Exec& ex) {
+//! One tile of the tiled traversal (strokes binned into tiles in submission order, raster/tiles.h):
+//! each binned stroke's segments over their capsule bounds, the drawn pixels listed and shaded
+//! eight at a time, composited in drawing order (StrokeTile).
+void draw_stroke_tile(float* img, const ProjectedStrokes& pr, std::span<const std::uint32_t> items, TileRect tr,
+                      float half, float r2, const StrokeShader& sh) {
     const std::vector<PStroke>& ps_strokes = pr.strokes;
     const std::vector<Seg>& segs = pr.segs;
-    const TileGrid grid(sh.W, sh.H);
-    const TileBins bins = bin_boxes(grid, ps_strokes.size(), [&](std::size_t k) {
-        const PStroke& st = ps_strokes[k];
-        return TileRect{st.bx0, st.by0, st.bx1, st.by1};
-    });
-    for_each_grid_tile(ex, grid, [&](int tile, TileRect tr) {
-        StrokeTile t(img, sh, segs, tr, half, r2);
-        const std::span<const std::uint32_t> items = bins.of(tile);
-        for (std::size_t it = 0; it < items.size(); ++it) {
-            if (it + kPrefetchAhead < items.size()) {  // the strokes of a tile lie apart in memory
-                const PStroke& ahead = ps_strokes[items[it + kPrefetchAhead]];
-                __builtin_prefetch(&segs[ahead.first]);
-                __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 64);
-                __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 128);
-            }
-            if (it + 2 * kPrefetchAhead < items.size()) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
-            t.draw(ps_strokes[items[it]]);
+    StrokeTile t(img, sh, segs, tr, half, r2);
+    for (std::size_t it = 0; it < items.size(); ++it) {
+        if (it + kPrefetchAhead < items.size()) {  // the strokes of a tile lie apart in memory
+            const PStroke& ahead = ps_strokes[items[it + kPrefetchAhead]];
+            __builtin_prefetch(&segs[ahead.first]);
+            __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 64);
+            __builtin_prefetch(reinterpret_cast<const char*>(&segs[ahead.first]) + 128);
         }
-        t.flush();
-    });
+        if (it + 2 * kPrefetchAhead < items.size()) __builtin_prefetch(&ps_strokes[items[it + 2 * kPrefetchAhead]]);
+        t.draw(ps_strokes[items[it]]);
+    }
+    t.flush();
 }
 
 }  // namespace
@@ -852,8 +844,13 @@ void render_strokes(ImageF& out, const PassScene& ps, std::span<const std::vecto
     const glm::mat3 vrot(view.camera.view);
     const StrokeShader sh(p, view, pr.segs, glm::normalize(vrot * ps.light_dir));
     check_stroke_work(pr, half, W, H, ex);
-    if (ex.traversal == Traversal::Reference) draw_strokes_reference(out.data(), pr, r2, sh);
-    else draw_strokes_tiled(out.data(), pr, half, r2, sh, ex);
+    const TileGrid grid(W, H);
+    const TileBins bins = ex.traversal == Traversal::Fast ? bin_boxes(grid, pr.strokes.size(), [&](std::size_t k) {
+        const PStroke& st = pr.strokes[k];
+        return TileRect{st.bx0, st.by0, st.bx1, st.by1};
+    }) : TileBins{};
+    traverse_tiles(ex, grid, [&] { draw_strokes_reference(out.data(), pr, r2, sh); },
+                   [&](int tile, TileRect tr) { draw_stroke_tile(out.data(), pr, bins.of(tile), tr, half, r2, sh); });
 }
 
 }  // namespace aq::raster

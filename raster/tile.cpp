@@ -208,11 +208,10 @@ void resolve_tile(const Frame& fr, int tile, int X0, int Y0, int X1, int Y1, flo
 // clear: background pixels are written too (fresh or reused targets); otherwise the targets
 // already hold the background there (raster.cpp: a tile that showed only background in the
 // previous frame written into the same stamped targets).
-void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, float* count, bool clear,
+void raster_tile(const Frame& fr, const TargetPtrs& tp, int tile, TileRect tr, float* count, bool clear,
                  CoverageBits* cov) {
-    const int tx = tile % fr.tiles_x, ty = tile / fr.tiles_x;
-    const int X0 = tx * kTile, Y0 = ty * kTile;
-    const int X1 = std::min(X0 + kTile, W) - 1, Y1 = std::min(Y0 + kTile, H) - 1;
+    const int W = fr.grid.width;
+    const int X0 = tr.x0, Y0 = tr.y0, X1 = tr.x1, Y1 = tr.y1;
     const int tw = X1 - X0 + 1;
     if (count) {  // overdraw: every covered sample of every triangle, no depth test
         for (const Chunk& ch : fr.chunks)
@@ -244,7 +243,7 @@ void raster_tile(const Frame& fr, const TargetPtrs& tp, int W, int H, int tile, 
         }
         if (cov)
             for (int k = 0; k < nc; ++k)
-                cov->word(tx, Y0 + covered[k] / kTile) |= std::uint64_t(1) << (covered[k] % kTile);
+                cov->word(X0 / kTile, Y0 + covered[k] / kTile) |= std::uint64_t(1) << (covered[k] % kTile);
     }
     // Deferred shading of the covered pixels. Each pixel gathers its setup, then the vertices its
     // setup names (dependent cache misses: one small triangle per pixel on dense meshes), so those

@@ -1,9 +1,9 @@
-// raster/tiles.h — the screen tiles every tiled drawing in raster shares: the grid of kTile-pixel
-// tiles over an image, binning of bounding-boxed primitives into them in submission order, and the
-// parallel traversal that gives each tile one writer. Sprites (particles.cpp) and strokes
-// (strokes.cpp) bin through bin_boxes; the G-buffer and the triangle passes bin their chunked
-// triangles with the same two halves (add_to_bins, sort_bins; binning.cpp) and walk the same grid
-// (tile_rect).
+// raster/tiles.h — the one tile engine of raster: the grid of kTile-pixel tiles over an image,
+// binning of bounding-boxed primitives into them in submission order, and the traversal
+// (traverse_tiles: the plain reference loop, or every tile in parallel with one writer per tile).
+// Sprites (particles.cpp) and strokes (strokes.cpp) bin through bin_boxes; the G-buffer and the
+// triangle passes bin their chunked triangles with the same two halves (add_to_bins, sort_bins;
+// binning.cpp). All four draw through traverse_tiles over a TileGrid.
 #pragma once
 
 #include <algorithm>
@@ -28,13 +28,13 @@ struct TileRect {
 struct TileGrid {
     int width = 0, height = 0;  //!< the image
     int tiles_x = 0, tiles_y = 0;
+    TileGrid() = default;
     TileGrid(int w, int h) : width(w), height(h), tiles_x((w + kTile - 1) / kTile), tiles_y((h + kTile - 1) / kTile) {}
     int count() const { return tiles_x * tiles_y; }
-    TileRect rect(int tile) const { return tile_rect(tile, tiles_x, width, height); }
-    //! The tile's pixels, for a grid of tiles_x columns over a w x h image.
-    static TileRect tile_rect(int tile, int tiles_x, int w, int h) {
+    //! The pixels of tile `tile`.
+    TileRect rect(int tile) const {
         const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-        return {x0, y0, std::min(x0 + kTile, w) - 1, std::min(y0 + kTile, h) - 1};
+        return {x0, y0, std::min(x0 + kTile, width) - 1, std::min(y0 + kTile, height) - 1};
     }
 };
 
@@ -90,11 +90,18 @@ TileBins bin_boxes(const TileGrid& g, std::size_t n, BoxOf&& box) {
     return b;
 }
 
-//! f(tile index, its TileRect) for every tile of the grid, in parallel in ex's arena; each tile
-//! is one task, so what it writes inside its rect has one writer.
-template <class F>
-void for_each_grid_tile(const Exec& ex, const TileGrid& g, F&& f) {
-    with_arena(ex, [&] { tbb::parallel_for(0, g.count(), [&](int t) { f(t, g.rect(t)); }); });
+//! The one tile traversal of raster. Traversal::Reference: reference() once, on the calling
+//! thread (the drawing's plain loop: every primitive in submission order over the whole image).
+//! Fast: tile(tile index, its TileRect) for every tile of the grid, in parallel in ex's arena, each
+//! tile one task, so what it writes inside its rect has one writer. Each drawing's tests compare
+//! the two bit for bit.
+template <class Reference, class Tile>
+void traverse_tiles(const Exec& ex, const TileGrid& g, Reference&& reference, Tile&& tile) {
+    if (ex.traversal == Traversal::Reference) {
+        reference();
+        return;
+    }
+    with_arena(ex, [&] { tbb::parallel_for(0, g.count(), [&](int t) { tile(t, g.rect(t)); }); });
 }
 
 }  // namespace aq::raster
