@@ -18,9 +18,13 @@
 // Its size is the working resolution (half: ceil(w/2) x ceil(h/2)); bleed_blend upsamples it.
 #pragma once
 
+#include <vector>
+
 #include "core/exec.h"
 #include "core/image.h"
+#include "core/lanes.h"
 #include "stylize/stage.h"
+#include "stylize/stages/toolkit.h"
 
 namespace aq::stylize {
 
@@ -58,6 +62,62 @@ struct BleedParams {
 //! bleeding in B (spec §1). All the same size. dst is allocated at the working resolution.
 void bleed(ImageF& dst, const ImageF& color, const ImageF& depth, const ImageF& ctrl_abstraction, BleedRule rule,
            const BleedParams& p, const Exec& ex = {});
+
+//! The stage's working planes at the working resolution: R, G, B, the bleeding control C and
+//! the depth Z.
+struct BleedPlanes {
+    int w = 0, h = 0;
+    std::vector<float> p[5];  // R, G, B, C, Z
+    //! Sizes the planes; contents are unspecified (every pass writes all of its output). Reusing
+    //! the same Planes across calls avoids re-faulting ~100 MB of fresh pages per 1080p frame.
+    void alloc(int w_, int h_, int n) {
+        w = w_;
+        h = h_;
+        for (int k = 0; k < n; ++k) p[k].resize(std::size_t(w) * h);
+    }
+};
+
+//! The filter: radius, normalised Gaussian weights, MNPR's scope per tap, the depth threshold.
+struct BleedKernel {
+    int r;
+    std::vector<float> w;      // W[a + r], normalised
+    std::vector<float> scope;  // |a| / r (MNPR filterScope)
+    float t;
+};
+
+//! The bleeding rule, written once over lanes (F = float, the mask a bool; F = v8f, the mask a
+//! v8i): whether the tap d bleeds into the pixel s. zst = zs - t (the pixel's depth minus the
+//! threshold), cs / cd the controls, scope |a| / r (MNPR filterScope). Naive: always; WC17
+//! (JointBilateral): the tap's control where the pixel is behind it, else the pixel's; MNPR also
+//! needs max(cd, cs) >= scope.
+template <BleedRule R, class F>
+inline auto bleeds(F cs, F cd, F zst, F zd, float scope) {
+    using M = decltype(cs > cd);
+    if constexpr (R == BleedRule::Naive) {
+        (void)cs, (void)cd, (void)zst, (void)zd, (void)scope;
+        return lanes::mask_all<M>();
+    } else {
+        const M behind = zst > zd;
+        M b = ((cd > 0.0f) & behind) | ((cs > 0.0f) & lanes::mask_not(behind));
+        if constexpr (R == BleedRule::Mnpr) b = b & ((cd >= scope) | (cs >= scope));
+        return b;
+    }
+}
+
+//! The fast schedule (bleed.schedule.cpp) of the two 1-D passes, src -> tmp (horizontal) -> dst
+//! (vertical): rows, eight pixels per register, taps innermost; the reference passes' bytes.
+void bleed_passes_fast(BleedRule rule, const BleedPlanes& src, BleedPlanes& tmp, BleedPlanes& dst, const BleedKernel& k,
+                       Border border, const Exec& ex);
+//! The half-resolution planes where both axes halve exactly (ResampleAxis::pairs: output pixel x
+//! reads source pixels 2x and 2x + 1, row y rows 2y and 2y + 1): per plane
+//!   top = s(2x, 2y) + (s(2x + 1, 2y) - s(2x, 2y)) * tx,  bot likewise on row 2y + 1,
+//!   out = top + (bot - top) * ty
+//! — RowResampler's operations in its order, so the values of the tabled path (which stays the
+//! reference traversal's) — eight outputs per register, the colour's and control's RGBA pixels
+//! transposed into planes on the way: no row buffers, no de-interleaving pass, one read of each
+//! source row. zd null: the depth plane is 0.
+void bleed_halve_into_planes(BleedPlanes& src, const float* cd, const float* kd, const float* zd, int w,
+                             const toolkit::ResampleAxis& ax, const toolkit::ResampleAxis& ay, const Exec& ex);
 
 void register_bleed(Registry& r);
 
