@@ -7,6 +7,9 @@
 //         sigma = K / 2, taps |o| < K, weights normalised; W = 3 (MNPR gEdgeDarkeningKernel).
 #pragma once
 
+#include <cstddef>
+#include <vector>
+
 #include "core/exec.h"
 #include "core/image.h"
 #include "core/simd.h"
@@ -43,6 +46,17 @@ void edge_blur_wc18(ImageF& dst, const ImageF& edges, const ImageF& ctrl_edge, c
 int edge_blur_kernel_size(int width, float ctrl);
 //! edge_blur_kernel_size of eight control values: its operations lane by lane, the same K.
 simd::v8i edge_blur_kernel_size8(int width, simd::v8f ctrl);
+//! K of the pixels [i0, i0 + n) from ctrl.edge.g (channel of the 4-channel control), eight at a time.
+void edge_blur_kernel_sizes(const ImageF& ctrl, int width, std::size_t i0, std::size_t n, int* k);
+
+//! wc18's weights: w[K][o], o = 0..K-1, for K = 1..4W.
+using EdgeBlurWeights = std::vector<std::vector<float>>;
+//! wc18's fast schedule (edge_blur.schedule.cpp), which the variant runs for Traversal::Fast after
+//! its checks, with tmp and dst allocated to the edges' size: the reference's bytes. K is
+//! recomputed per row where needed: cheaper than a full-size table (8 MB at 1080p, faulted in and
+//! filled every frame).
+void edge_blur_wc18_fast(ImageF& dst, ImageF& tmp, const ImageF& edges, const ImageF& ctrl, const EdgeBlurWeights& tab,
+                         const EdgeBlurWc18Params& p, const Exec& ex);
 
 void register_edge_blur(Registry& r);
 
