@@ -11,6 +11,7 @@
 #include "core/image.h"
 #include "stylize/stage.h"
 #include "stylize/stages/gaussian_blur.h"
+#include "stylize/stages/toolkit.h"
 #include "stylize/stages/wash.h"
 
 namespace aq::stylize {
@@ -31,6 +32,12 @@ void layer_wash(ImageF& dst, const ImageF* const layers[4], const ImageF* paper,
 
 //! The blur both layer_wash and shadow_layer apply to an intensity map (radius 0: a copy).
 void wash_blur(ImageF& dst, const ImageF& src, int radius, float sigma, const Exec& ex);
+
+//! The fast schedule (layer_wash.schedule.cpp), which layer_wash runs for Traversal::Fast after its
+//! checks: first is the first present layer, hp the paper height plane at the output size (a
+//! constant flat plane without a paper). The reference's bytes.
+void layer_wash_fast(ImageF& dst, const ImageF* const layers[4], int first, const ImageF* paper, const toolkit::Plane& hp,
+                     int out_w, int out_h, const LayerWashParams& p, const Exec& ex, float paper_spread);
 
 void register_layer_wash(Registry& r);
 
