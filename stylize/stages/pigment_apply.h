@@ -97,46 +97,37 @@ inline glm::vec4 pigment_apply_wc17_px(glm::vec4 c, float height, float ctrl, co
             pigment_apply_wc17_channel(c.z, q.sub, pow_c(c.z, q.d)), c.w};
 }
 
-//! WC18 eq. 1-4, split around the three powers so rows can batch them (pow_c_many):
-//! prepare decides dry-brush / granulation and the exponent d_a, finish blends.
-struct PigmentWc18Prep {
-    glm::vec4 out;     //!< final colour when !granulate; else the input colour
-    float da = 1.0f;   //!< eq. 4 exponent
-    float fade = 0.0f; //!< MNPR substrate fade
-    bool granulate = false;
+//! WC18 eq. 1-4 but the three powers, for a covered pixel: what the reference
+//! (pigment_apply_wc18_px) and the fast schedule's chunks (pigment_apply.schedule.cpp, which calls
+//! it over arrays and so lets GCC vectorise it) both compute, written once.
+struct PigmentWc18Terms {
+    float dry;      //!< hr + a: < 0 where the paper lies below the dry-brush level (eq. 2, case 1)
+    glm::vec3 dry_brushed;  //!< the colour there: mixed towards the substrate (eq. 2, case 1)
+    float da;       //!< eq. 4 exponent of |C| where the pixel granulates (eq. 2, case 2)
+    float fade;     //!< MNPR substrate fade: how much of |C|^(d_a) is blended in
 };
 
-inline PigmentWc18Prep pigment_apply_wc18_prepare(glm::vec4 c, float height, float a, glm::vec3 substrate,
-                                                  const PigmentApplyWc18Params& p) {
-    if (!(c.w >= kPigmentAlphaMask)) return {c};
-    const glm::vec3 rgb(c);
+inline PigmentWc18Terms pigment_apply_wc18_terms(glm::vec3 rgb, float height, float a, glm::vec3 substrate,
+                                                 const PigmentApplyWc18Params& p) {
     const float hr = (height - 0.5f) * p.roughness + 0.5f;  // eq. 1
-    const float dry = hr + a;                               // < 0: the paper is below the dry-brush level
-    if (dry < 0.0f) {
-        const float t = sat(-dry * p.dry_brush_threshold);
-        return {glm::vec4(mix(rgb, substrate, t), c.w)};  // eq. 2, case 1
-    }
+    const float dry = hr + a;
+    const float t = sat(-dry * p.dry_brush_threshold);
     float dg = std::fabs(a) + p.granulation_min;
     dg = mix(dg, dg * kGranulationLuminanceGain, luminance(rgb));  // eq. 3
     const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
-    const float da = 1.0f + dg * hiv * p.density;  // eq. 4
-    const float fade = sat(length3(rgb - substrate) * kPigmentSubstrateFade);
-    return {c, da, fade, true};
-}
-
-//! g = |C|^(d_a) per channel (eq. 2, case 2), blended by the substrate fade.
-inline glm::vec4 pigment_apply_wc18_finish(const PigmentWc18Prep& q, glm::vec3 g) {
-    if (!q.granulate) return q.out;
-    return {mix(glm::vec3(q.out), g, q.fade), q.out.w};
+    return {dry, mix(rgb, substrate, t), 1.0f + dg * hiv * p.density,  // eq. 4
+            sat(length3(rgb - substrate) * kPigmentSubstrateFade)};
 }
 
 //! WC18 eq. 1-4 for one pixel: c RGBA, height H, a = ctrl.pigment.g, substrate colour Cs.
 inline glm::vec4 pigment_apply_wc18_px(glm::vec4 c, float height, float a, glm::vec3 substrate,
                                        const PigmentApplyWc18Params& p) {
-    const PigmentWc18Prep q = pigment_apply_wc18_prepare(c, height, a, substrate, p);
-    if (!q.granulate) return q.out;
-    return pigment_apply_wc18_finish(q, {pow_c(std::fabs(c.x), q.da), pow_c(std::fabs(c.y), q.da),
-                                         pow_c(std::fabs(c.z), q.da)});
+    if (!(c.w >= kPigmentAlphaMask)) return c;
+    const glm::vec3 rgb(c);
+    const PigmentWc18Terms q = pigment_apply_wc18_terms(rgb, height, a, substrate, p);
+    if (q.dry < 0.0f) return {q.dry_brushed, c.w};
+    const glm::vec3 g(pow_c(std::fabs(c.x), q.da), pow_c(std::fabs(c.y), q.da), pow_c(std::fabs(c.z), q.da));
+    return {mix(rgb, g, q.fade), c.w};
 }
 
 //! color: 4 ch; ctrl_pigment: >= 2 ch (G used), same size; paper: 3 ch (B = height) same size, or

@@ -49,16 +49,16 @@ void pigment_apply_wc18_fast(const View<glm::vec4>& o, const PigmentInputs& in, 
                              const PigmentApplyWc18Params& p, const Exec& ex) {
     const int w = in.c.width, h = in.c.height;
     // Rows in chunks of 64 pixels, each step a simple loop over arrays: gather (eight pixels per
-    // register), pigment_apply_wc18_prepare written with selects (GCC vectorises it), the powers
-    // per channel plane in pow_c_many (for chunks where a pixel granulates), the blend. Value for value the operations of
-    // pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for bit).
+    // register), pigment_apply_wc18_terms per pixel (GCC vectorises the loop), the powers per
+    // channel plane in pow_c_many (for chunks where a pixel granulates), the blend. Value for value
+    // the operations of pigment_apply_wc18_px (tests/stylize/row_kernels_test.cpp checks it bit for
+    // bit).
     for_each_row(ex, w, h, [&](int y, int x0, int x1) {
         constexpr int kChunk = 64;
         float cr[kChunk], cg[kChunk], cb[kChunk], ca[kChunk], ht[kChunk], av[kChunk];
         float outr[kChunk], outg[kChunk], outb[kChunk], da[kChunk], fade[kChunk];
         int mode[kChunk];
         float base[3 * kChunk], g[3 * kChunk];
-        const float sr = substrate.x, sg = substrate.y, sb = substrate.z;
         for (int xs = x0; xs < x1; xs += kChunk) {
             const int n = std::min(kChunk, x1 - xs);
             // Every pixel uncovered (mode 0 below; NaN alpha is uncovered): the colour as it is.
@@ -91,20 +91,13 @@ void pigment_apply_wc18_fast(const View<glm::vec4>& o, const PigmentInputs& in, 
                 av[i] = in.ctrl(xs + i, y);
             }
             for (int i = 0; i < n; ++i) {
-                const float hr = (ht[i] - 0.5f) * p.roughness + 0.5f;  // eq. 1
-                const float dry = hr + av[i];
-                const float t = sat(-dry * p.dry_brush_threshold);   // eq. 2, case 1
-                const float u = 1.0f - t;
-                outr[i] = cr[i] * u + sr * t, outg[i] = cg[i] * u + sg * t, outb[i] = cb[i] * u + sb * t;
-                float dg = std::fabs(av[i]) + p.granulation_min;      // eq. 3
-                const float l = luminance(cr[i], cg[i], cb[i]);
-                dg = dg * (1.0f - l) + (dg * kGranulationLuminanceGain) * l;
-                const float hiv = 1.0f - (hr * kGranulationHeightScale + kGranulationHeightShift);
-                da[i] = 1.0f + dg * hiv * p.density;                   // eq. 4
-                const float dr = cr[i] - sr, dgr = cg[i] - sg, db = cb[i] - sb;
-                fade[i] = sat(std::sqrt(dr * dr + dgr * dgr + db * db) * kPigmentSubstrateFade);
+                const glm::vec3 rgb(cr[i], cg[i], cb[i]);
+                const PigmentWc18Terms q = pigment_apply_wc18_terms(rgb, ht[i], av[i], substrate, p);
+                outr[i] = q.dry_brushed.x, outg[i] = q.dry_brushed.y, outb[i] = q.dry_brushed.z;
+                da[i] = q.da;
+                fade[i] = q.fade;
                 // 0: uncovered (unchanged), 1: dry-brushed, 2: granulates
-                mode[i] = !(ca[i] >= kPigmentAlphaMask) ? 0 : (dry < 0.0f ? 1 : 2);
+                mode[i] = !(ca[i] >= kPigmentAlphaMask) ? 0 : (q.dry < 0.0f ? 1 : 2);
             }
             // Covered pixels come in runs: when any pixel of the chunk granulates, the powers are
             // taken for the whole chunk (one vectorised loop) and blended where mode == 2.
@@ -117,11 +110,10 @@ void pigment_apply_wc18_fast(const View<glm::vec4>& o, const PigmentInputs& in, 
                 for (int i = 0; i < n; ++i) base[2 * kChunk + i] = std::fabs(cb[i]);
                 for (int ch = 0; ch < 3; ++ch) pow_c_many(base + ch * kChunk, da, g + ch * kChunk, std::size_t(n));
                 for (int i = 0; i < n; ++i) {  // eq. 2, case 2, blended by the substrate fade
-                    const float f = fade[i], u = 1.0f - f;
                     const bool gr = mode[i] == 2;
-                    outr[i] = gr ? cr[i] * u + g[i] * f : outr[i];
-                    outg[i] = gr ? cg[i] * u + g[kChunk + i] * f : outg[i];
-                    outb[i] = gr ? cb[i] * u + g[2 * kChunk + i] * f : outb[i];
+                    outr[i] = gr ? mix(cr[i], g[i], fade[i]) : outr[i];
+                    outg[i] = gr ? mix(cg[i], g[kChunk + i], fade[i]) : outg[i];
+                    outb[i] = gr ? mix(cb[i], g[2 * kChunk + i], fade[i]) : outb[i];
                 }
             }
             for (int i = 0; i < n; ++i)
