@@ -32,6 +32,10 @@ inline glm::vec4 bleed_blend_px(glm::vec4 c, glm::vec4 b, float gain) {
 void bleed_blend(ImageF& dst, const ImageF& color, const ImageF& bleed, const BleedBlendParams& p,
                  const Exec& ex = {});
 
+//! The fast schedule (bleed_blend.schedule.cpp), which the stage runs for Traversal::Fast after its
+//! checks, with dst allocated (dst may be color: in place, kept pixels are not written).
+void bleed_blend_fast(ImageF& dst, const ImageF& color, const ImageF& bleed, float gain, const Exec& ex);
+
 void register_bleed_blend(Registry& r);
 
 }  // namespace aq::stylize
