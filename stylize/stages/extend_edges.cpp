@@ -1,15 +1,12 @@
 // stylize/stages/extend_edges.cpp — see extend_edges.h. The separable part is blur.h (bit-exact
-// reference/fast); the pointwise gamma is extend_edges_gamma, pixel by pixel in the reference and
-// packed by chunks in the fast schedule, with the deterministic pow_c of core/fastmath.h (vectorised; needs -fno-trapping-math: FP exception
-// flags only, no value changes).
-#pragma GCC optimize("no-trapping-math")
+// reference/fast); the pointwise gamma is extend_edges_gamma, pixel by pixel in the reference here
+// and packed by chunks in the fast schedule (extend_edges.schedule.cpp).
 #include "stylize/stages/extend_edges.h"
 
-#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "stylize/kernels.h"
-#include <vector>
 
 #include "stylize/stages/blur.h"
 #include "stylize/stages/toolkit.h"
@@ -42,47 +39,7 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
         });
         return;
     }
-    toolkit::for_each_row_block(ex, dst.height(), [&](int y0, int y1) {
-        // b > 0: (b^(1/b))^(2/W) = b^((1/b) (2/W)), taken as one power (MNPR takes two; the
-        // results differ by rounding only, and where b^(1/b) alone would underflow: values below
-        // 1e-30, checked against the two-power GLSL twin by tests/reference); b <= 0 (and NaN) -> 0.
-        // The positive values of a chunk are packed and only they take the power (vectorised).
-        constexpr std::size_t kChunk = 256;
-        float bs[kChunk], t[kChunk];
-        int idx[kChunk];
-        const std::size_t end = std::size_t(y1) * w;
-        for (std::size_t i0 = std::size_t(y0) * w; i0 < end; i0 += kChunk) {
-            const std::size_t n = std::min(kChunk, end - i0);
-            float* di = d + i0;
-            // No positive value (the background's zeros): only the clamp below.
-            if (!toolkit::any_above(di, n, 0.0f)) {
-                for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;
-                continue;
-            }
-            int m = 0;
-            for (std::size_t j = 0; j < n; ++j) m += di[j] > 0.0f;
-            if (std::size_t(4 * m) >= n) {
-                // Mostly positive (inside a model's edges): every value takes the power, without
-                // packing, and the non-positive ones are replaced by 0 — a positive value's power
-                // is the same operations either way.
-                for (std::size_t j = 0; j < n; ++j) bs[j] = di[j] > 0.0f ? di[j] : 1.0f;
-                for (std::size_t j = 0; j < n; ++j) t[j] = (1.0f / bs[j]) * g;
-                pow_c_many(bs, t, t, n);
-                for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? t[j] : 0.0f;
-                continue;
-            }
-            m = 0;
-            for (std::size_t j = 0; j < n; ++j) {
-                idx[m] = int(j);
-                m += di[j] > 0.0f;
-            }
-            for (int q = 0; q < m; ++q) bs[q] = di[idx[q]];
-            for (int q = 0; q < m; ++q) t[q] = (1.0f / bs[q]) * g;
-            pow_c_many(bs, t, t, std::size_t(m));
-            for (std::size_t j = 0; j < n; ++j) di[j] = di[j] > 0.0f ? di[j] : 0.0f;  // <= 0, NaN -> 0
-            for (int q = 0; q < m; ++q) di[idx[q]] = t[q];
-        }
-    });
+    extend_edges_gamma_fast(dst, g, ex);
 }
 
 void register_extend_edges(Registry& r) {

@@ -36,6 +36,10 @@ void extend_edges(ImageF& dst, const ImageF& edges, const ExtendEdgesParams& p, 
 //! Normalised linear weights for taps -(W-1)..(W-1).
 std::vector<float> linear_weights(int width);
 
+//! The gamma's fast schedule (extend_edges.schedule.cpp): extend_edges_gamma(v, g) of every value of
+//! the blurred edges d, in place, for Traversal::Fast.
+void extend_edges_gamma_fast(ImageF& d, float g, const Exec& ex);
+
 void register_extend_edges(Registry& r);
 
 }  // namespace aq::stylize
