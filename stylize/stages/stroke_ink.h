@@ -29,6 +29,11 @@ inline float ink_opacity(float alpha, float cov) { return sat(alpha * cov); }
 //! place: only inked pixels are written; StageVariant::in_place_input).
 void stroke_ink(ImageF& dst, const ImageF& color, const ImageF& ink, const StrokeInkParams& p, const Exec& ex = {});
 
+//! The fast schedule (stroke_ink.schedule.cpp), which the stage runs for Traversal::Fast after its
+//! checks, with dst allocated; in_place: dst is color (only the inked pixels are written).
+void stroke_ink_fast(ImageF& dst, const ImageF& color, const ImageF& ink, bool in_place, const StrokeInkParams& p,
+                     const Exec& ex);
+
 void register_stroke_ink(Registry& r);
 
 }  // namespace aq::stylize
