@@ -1,11 +1,7 @@
-// stylize/stages/edge_darken.cpp — WC17 eq. 8 (DoG) and WC18 §3.1 (RGBD) edge darkening.
-// Pointwise per pixel (plus one bilinear tap of a lower-resolution input), so the reference and
-// fast traversals evaluate the same function on the same pixels: bit-exact. The RGBD variant's
-// fast schedule is edge_darken.schedule.cpp.
-// The power loops vectorise only when GCC may evaluate both sides of a select; that needs
-// -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
-// reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".
-#pragma GCC optimize("no-trapping-math")
+// stylize/stages/edge_darken.cpp — WC17 eq. 8 (DoG) and WC18 §3.1 (RGBD) edge darkening: the
+// checks, the plain reference loops and the declarations. Pointwise per pixel (plus one bilinear tap
+// of a lower-resolution input), so the reference and the fast schedules (edge_darken.schedule.cpp)
+// evaluate the same function on the same pixels: bit-exact.
 #include "stylize/stages/edge_darken.h"
 
 #include <algorithm>
@@ -21,7 +17,7 @@ void check_edge_darken_dog_params(const EdgeDarkenDogParams& p) {
 }
 
 void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
-                     const EdgeDarkenDogParams& p,  const Exec& ex) {
+                     const EdgeDarkenDogParams& p, const Exec& ex) {
     const std::string st = "edge_darken/dog";
     check_input(&color, 4, Channels::Exactly, st, "color");
     check_input(&blurred, 3, Channels::AtLeast, st, "blurred");
@@ -34,42 +30,20 @@ void edge_darken_dog(ImageF& dst, const ImageF& color, const ImageF& blurred, co
     check_edge_darken_dog_params(p);
     const int w = color.width(), h = color.height();
     ensure_output(dst, w, h, 4);
-    // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
+    if (ex.traversal == Traversal::Fast) {
+        edge_darken_dog_fast(dst, color, blurred, ctrl_edge, p, ex);
+        return;
+    }
+    // The plain reference: eq. 8 pixel by pixel; the blurred colour (RGB planes of a 3- or
+    // 4-channel image) sampled at full or half size.
     const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
-    const Resampler up(w, h, blurred.width(), blurred.height());
-    auto blur_at = [&](int x, int y) -> glm::vec3 {
-        return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
-    };
     const View<const glm::vec4> c = color.view<glm::vec4>();
     const Plane ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
     const View<glm::vec4> o = dst.view<glm::vec4>();
-    if (ex.traversal == Traversal::Reference) {  // the plain reference: eq. 8 pixel by pixel
-        plain_loop(w, h, [&](int x, int y) {
-            const glm::vec3 b(sample_resampled_plane(br, x, y, w, h), sample_resampled_plane(bg, x, y, w, h),
-                              sample_resampled_plane(bb, x, y, w, h));
-            o(x, y) = edge_darken_dog_px(c(x, y), b, ctrl(x, y), p);
-        });
-        return;
-    }
-    // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
-    // operations as edge_darken_dog_px, pixel by pixel).
-    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
-        constexpr int kChunk = 64;
-        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
-        for (int xs = x0; xs < x1; xs += kChunk) {
-            const int n = std::min(kChunk, x1 - xs);
-            for (int i = 0; i < n; ++i) {
-                const int x = xs + i;
-                const glm::vec4 cv = c(x, y);
-                const float d = edge_darken_dog_exponent(cv, blur_at(x, y), ctrl(x, y), p);
-                for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = d;
-            }
-            pow_c_many(base, dexp, r, std::size_t(3 * n));
-            for (int i = 0; i < n; ++i) {
-                const int x = xs + i;
-                o(x, y) = dexp[3 * i] == 1.0f ? c(x, y) : glm::vec4(r[3 * i], r[3 * i + 1], r[3 * i + 2], c(x, y).w);
-            }
-        }
+    plain_loop(w, h, [&](int x, int y) {
+        const glm::vec3 b(sample_resampled_plane(br, x, y, w, h), sample_resampled_plane(bg, x, y, w, h),
+                          sample_resampled_plane(bb, x, y, w, h));
+        o(x, y) = edge_darken_dog_px(c(x, y), b, ctrl(x, y), p);
     });
 }
 

@@ -109,6 +109,10 @@ void edge_darken_rgbd(ImageF& dst, const ImageF& color, const ImageF& edges, con
                       const ImageF* bleed, const ImageF* crowd, glm::vec3 substrate, const EdgeDarkenRgbdParams& p,
                       const Exec& ex = {});
 
+//! The fast schedule of the DoG variant (edge_darken.schedule.cpp), which edge_darken_dog runs for
+//! Traversal::Fast after its checks, with dst allocated: the reference's bytes.
+void edge_darken_dog_fast(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
+                          const EdgeDarkenDogParams& p, const Exec& ex);
 //! The fast schedule of the RGBD variant (edge_darken.schedule.cpp), which edge_darken_rgbd runs for
 //! Traversal::Fast after its checks, with dst allocated (dst may be color: in place): the
 //! reference's bytes.

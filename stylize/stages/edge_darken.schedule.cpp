@@ -1,11 +1,15 @@
-// stylize/stages/edge_darken.schedule.cpp — the fast schedule of edge_darken/rgbd (WC18 §3.1; the
+// stylize/stages/edge_darken.schedule.cpp — the fast schedules of edge_darken: dog (WC17 eq. 8:
+// rows in chunks, the exponents per pixel with edge_darken_dog_exponent, the powers in one
+// vectorised loop) and rgbd (WC18 §3.1; the
 // maths, edge_darken_rgbd_exponent and edge_darken_rgbd_px, in edge_darken.h; the checks and the
 // plain reference loop in edge_darken.cpp). Rows in chunks of 64 pixels, each step a simple loop
 // over arrays: gather the inputs, the exponents (vectorised), then the powers of only the pixels
 // that darken, packed (vectorised pow_c), and the output. Value for value the operations of
 // edge_darken_rgbd_px (tests/stylize/row_kernels_test.cpp checks it bit for bit; the
 // registry-wide traversal test compares the two schedules).
-// -fno-trapping-math: see edge_darken.cpp.
+// The power loops vectorise only when GCC may evaluate both sides of a select; that needs
+// -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
+// reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".
 #pragma GCC optimize("no-trapping-math")
 #include "stylize/stages/edge_darken.h"
 
@@ -139,6 +143,39 @@ void edge_darken_rgbd_fast(ImageF& dst, const ImageF& color, const ImageF& edges
                       .substrate = substrate,
                       .p = p};
     for_each_row(ex, w, h, [&](int y, int x0, int x1) { run.row(y, x0, x1); });
+}
+
+void edge_darken_dog_fast(ImageF& dst, const ImageF& color, const ImageF& blurred, const ImageF& ctrl_edge,
+                          const EdgeDarkenDogParams& p, const Exec& ex) {
+    const int w = color.width(), h = color.height();
+    // The blurred colour (RGB planes of a 3- or 4-channel image), upsampled when at half size.
+    const Plane br = plane(blurred, 0), bg = plane(blurred, 1), bb = plane(blurred, 2);
+    const Resampler up(w, h, blurred.width(), blurred.height());
+    auto blur_at = [&](int x, int y) -> glm::vec3 {
+        return {up.sample(br, x, y), up.sample(bg, x, y), up.sample(bb, x, y)};
+    };
+    const View<const glm::vec4> c = color.view<glm::vec4>();
+    const Plane ctrl = plane(ctrl_edge, control::kEdgeIntensity.channel);
+    const View<glm::vec4> o = dst.view<glm::vec4>();
+    // Rows in chunks: exponents per pixel, then the powers in one vectorisable loop (the same
+    // operations as edge_darken_dog_px, pixel by pixel).
+    for_each_row(ex, w, h, [&](int y, int x0, int x1) {
+        float base[3 * kChunk], dexp[3 * kChunk], r[3 * kChunk];
+        for (int xs = x0; xs < x1; xs += kChunk) {
+            const int n = std::min(kChunk, x1 - xs);
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                const glm::vec4 cv = c(x, y);
+                const float d = edge_darken_dog_exponent(cv, blur_at(x, y), ctrl(x, y), p);
+                for (int k = 0; k < 3; ++k) base[3 * i + k] = cv[k], dexp[3 * i + k] = d;
+            }
+            pow_c_many(base, dexp, r, std::size_t(3 * n));
+            for (int i = 0; i < n; ++i) {
+                const int x = xs + i;
+                o(x, y) = dexp[3 * i] == 1.0f ? c(x, y) : glm::vec4(r[3 * i], r[3 * i + 1], r[3 * i + 2], c(x, y).w);
+            }
+        }
+    });
 }
 
 }  // namespace aq::stylize
