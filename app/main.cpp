@@ -444,7 +444,7 @@ int cmd_stages(Args& a) {
         std::string arg = a.next();
         if (arg == "--help" || arg == "-h") {
             std::cout << "usage: aquarelle stages\n\nLists every registered stage variant and raster pass: ports "
-                         "(port -> default target, channels), parameters (default, range, or the names a\n"
+                         "(port -> default target, channels, size relation), parameters (default, range, or the names a\n"
                          "parameter with named values takes: --set STEP.border=mirror or the number 1).\n";
             return 0;
         }
@@ -459,7 +459,11 @@ int cmd_stages(Args& a) {
                 std::cout << "  " << v->variant << " — " << v->doc << "\n";
                 for (auto& p : v->inputs)
                     std::cout << "      in  " << p.name << " <- " << p.default_target << " (" << p.channels << " ch"
-                              << (p.optional ? ", optional" : "") << ")\n";
+                              << (p.optional ? ", optional" : "")
+                              << (p.size == aq::stylize::SizeRule::Same         ? ", the size of " + p.like
+                                  : p.size == aq::stylize::SizeRule::FullOrHalf ? ", the size of " + p.like + " or half"
+                                                                                 : std::string())
+                              << ")\n";
                 for (auto& p : v->outputs)
                     std::cout << "      out " << p.name << " -> " << p.default_target << " (" << p.channels << " ch)\n";
                 for (auto& p : v->params) {

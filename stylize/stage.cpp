@@ -7,6 +7,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "stylize/stages/toolkit.h"
+
 namespace aq::stylize {
 
 void check_io(const std::string& key, const std::vector<Port>& inputs, const std::vector<Port>& outputs,
@@ -23,6 +25,14 @@ void check_io(const std::string& key, const std::vector<Port>& inputs, const std
         if (img->channels() != inputs[k].channels)
             throw Error(key + ": input '" + inputs[k].name + "' has " + std::to_string(img->channels()) + " channels, expected " +
                         std::to_string(inputs[k].channels));
+    }
+    for (std::size_t k = 0; k < inputs.size(); ++k) {  // the size relations, once every input is there
+        const Port& p = inputs[k];
+        if (p.size == SizeRule::Any || !io.in[k] || io.in[k]->empty()) continue;
+        const ImageF* like = io.in[std::size_t(port_index(inputs, p.like))];
+        if (!like || like->empty()) continue;  // an absent optional input relates to nothing
+        if (p.size == SizeRule::Same) toolkit::check_same_size(*io.in[k], *like, key, p.name, p.like);
+        else toolkit::check_full_or_half(*io.in[k], *like, key, p.name, p.like);
     }
     for (std::size_t k = 0; k < outputs.size(); ++k)
         if (!io.out[k]) throw Error(key + ": output '" + outputs[k].name + "' has no destination");
@@ -41,6 +51,10 @@ void Registry::add(StageVariant v) {
             throw Error("stage variant '" + v.key() + "': in place from input '" + v.in_place_input + "' to output '" +
                         v.in_place_output + "' needs both ports, with the same channel count");
     }
+    for (const Port& p : v.inputs)
+        if ((p.size == SizeRule::Any) != p.like.empty() || (!p.like.empty() && (p.like == p.name || !find_port(v.inputs, p.like))))
+            throw Error("stage variant '" + v.key() + "': input '" + p.name +
+                        "' relates its size to '" + p.like + "', which is not another input (or has no rule)");
     // Framework entry check, shared by every stage (check_io), on both ways in: run and the
     // bound step a compiled pipeline keeps.
     v.run = [inner = std::move(v.run), key = v.key(), inputs = v.inputs, outputs = v.outputs](

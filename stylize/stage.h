@@ -174,11 +174,21 @@ struct Globals {
 // ---------------------------------------------------------------------------------------------
 // Ports: the logical inputs and outputs of a stage, bound to target names by the pipeline.
 
+//! How an input's size relates to another input's: the port's resolution relation, checked with
+//! its channel count before the stage runs (check_io).
+enum class SizeRule {
+    Any,         //!< no relation (the stage resamples the input, or the input sets the size)
+    Same,        //!< the size of input `like`
+    FullOrHalf,  //!< the size of `like`, or half of it (ceil(w/2) x ceil(h/2), the WC17 intermediates)
+};
+
 struct Port {
     std::string name;            //!< logical name used in pipeline files ("color", "edges", ...)
     std::string default_target;  //!< target name used when the pipeline does not bind the port
     int channels = 4;            //!< required channel count
     bool optional = false;       //!< inputs only: may be absent (stage documents its fallback)
+    SizeRule size = SizeRule::Any;  //!< inputs only: the size relation to input `like`
+    std::string like = {};          //!< inputs only: the input `size` refers to (empty for Any)
 };
 
 //! The port called `name` in `ports`, or null.

@@ -91,7 +91,7 @@ void register_adjust(Registry& r) {
          .variant = "mnpr",
          .doc = "MNPR adjust-load: normalised depth (near..far -> 0..1), saturation/contrast/brightness, "
                 "atmosphere, background = substrate colour (spec 4.1)",
-         .inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false}},
+         .inputs = {{"color", target::kColor, 4, false}, {"depth", target::kDepthLinear, 1, false, SizeRule::Same, "color"}},
          .outputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}},
          .reference = StageVariant::Reference::SharedMaths,
          .row_halo = pointwise_rows},

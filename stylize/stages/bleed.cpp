@@ -163,8 +163,8 @@ void add_bleed(Registry& r, const char* variant, BleedRule rule, bool half_defau
     t.b("half_res", &P::half_res, "run at half resolution (WC17 as published)");
     t.border(&P::border);
     std::vector<Port> inputs = {{"color", "color.density", 4, false}};
-    if (rule != BleedRule::Naive) inputs.push_back({"depth", "depth", 1, false});
-    inputs.push_back({"ctrl_abstraction", target::kCtrlAbstraction, 4, false});
+    if (rule != BleedRule::Naive) inputs.push_back({"depth", "depth", 1, false, SizeRule::Same, "color"});
+    inputs.push_back({"ctrl_abstraction", target::kCtrlAbstraction, 4, false, SizeRule::Same, "color"});
     StageVariant v = declare({.stage = "bleed",
                               .variant = variant,
                               .doc = doc,

@@ -36,7 +36,7 @@ void register_bleed_blend(Registry& r) {
     r.add(declare({.stage = "bleed_blend",
                    .variant = "eq7",
                    .doc = "WC17 eq. 7: I_cb = k (B - I) + I, k = sat(gain * mask); half-res bleeds upsampled bilinearly",
-                   .inputs = {{"color", "color.density", 4, false}, {"bleed", "bleed", 4, false}},
+                   .inputs = {{"color", "color.density", 4, false}, {"bleed", "bleed", 4, false, SizeRule::FullOrHalf, "color"}},
                    .outputs = {{"color", "color.bled", 4, false}},
                    .reference = StageVariant::Reference::PlainLoop,
                    .in_place_input = "color",  // pointwise in the colour (the bleed is another image)

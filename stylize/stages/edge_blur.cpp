@@ -135,7 +135,7 @@ void register_edge_blur(Registry& r) {
     r.add(declare({.stage = "edge_blur",
                    .variant = "wc18",
                    .doc = "WC18 3.1: Gaussian blur of the Sobel edges, per-pixel width from ctrl.edge.g, sigma = K/2, |o| < K",
-                   .inputs = {{"edges", "edges", 1, false}, {"ctrl_edge", target::kCtrlEdge, 4, false}},
+                   .inputs = {{"edges", "edges", 1, false}, {"ctrl_edge", target::kCtrlEdge, 4, false, SizeRule::Same, "edges"}},
                    .outputs = {{"blurred", "edges.blurred", 1, false}},
                    .reference = StageVariant::Reference::PlainLoop},
                   ParamTable<P18>()

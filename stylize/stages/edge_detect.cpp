@@ -58,7 +58,7 @@ void register_edge_detect(Registry& r) {
     StageVariant v = declare({.stage = "edge_detect",
                               .variant = "rgbd_sobel",
                               .doc = "WC18 3: 3x3 Sobel on (r, g, b, depth*wD), magnitude clamped to 1",
-                              .inputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false}},
+                              .inputs = {{"color", "color.adjusted", 4, false}, {"depth", "depth", 1, false, SizeRule::Same, "color"}},
                               .outputs = {{"edges", "edges", 1, false}},
                               .reference = StageVariant::Reference::PlainLoop},
                              ParamTable<P>()

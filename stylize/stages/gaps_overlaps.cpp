@@ -82,9 +82,9 @@ void register_gaps_overlaps(Registry& r) {
                    .variant = "wc18",
                    .doc = "WC18 Algorithm 1: march along the extended-edge gradient; overlaps mix in RYB, gaps show the substrate",
                    .inputs = {{"color", target::kColor, 4, false},
-                              {"edges", "edges.extended", 1, false},
-                              {"ctrl_edge", target::kCtrlEdge, 4, false},
-                              {"bleed", "bleed", 4, true}},
+                              {"edges", "edges.extended", 1, false, SizeRule::Same, "color"},
+                              {"ctrl_edge", target::kCtrlEdge, 4, false, SizeRule::Same, "color"},
+                              {"bleed", "bleed", 4, true, SizeRule::FullOrHalf, "color"}},
                    .outputs = {{"color", "color.gaps_overlaps", 4, false}},
                    .reference = StageVariant::Reference::SharedMaths,
                    .in_place_input = "color",  // pixels without an edge are left as they are

@@ -104,9 +104,12 @@ void register_glaze(Registry& r) {
              .doc = mul ? "LD06 §4.2 glazing, subtractive-like: dst·(1 - k·(1 - c)) per layer, back to front, over the "
                           "picture or the paper colour"
                         : "LD06 §4.2 glazing as plain alpha blending: mix(dst, c, k) per layer, back to front",
-             .inputs = {{"color", "color.ld06", 4, true},     {"wash", "ld06.wash", 4, false},
-                        {"ramp0", "ld06.ramp.0", 4, false},   {"ramp1", "ld06.ramp.1", 4, false},
-                        {"ramp2", "ld06.ramp.2", 4, false},   {"ramp3", "ld06.ramp.3", 4, false}},
+             .inputs = {{"color", "color.ld06", 4, true, SizeRule::Same, "wash"},
+                        {"wash", "ld06.wash", 4, false},
+                        {"ramp0", "ld06.ramp.0", 4, false},
+                        {"ramp1", "ld06.ramp.1", 4, false, SizeRule::Same, "ramp0"},
+                        {"ramp2", "ld06.ramp.2", 4, false, SizeRule::Same, "ramp0"},
+                        {"ramp3", "ld06.ramp.3", 4, false, SizeRule::Same, "ramp0"}},
              .outputs = {{"color", "color.glazed", 4, false}},
              .reference = StageVariant::Reference::PlainLoop},
             ParamTable<NoParams>(), [mul](StageIO& io, const NoParams&, const Exec& ex) {

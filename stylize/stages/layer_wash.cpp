@@ -94,9 +94,9 @@ void register_layer_wash(Registry& r) {
                               (additive ? "p = a + e" : "p = a·(1 + e)") +
                               "), paper border and granulation, per layer; output at the paper's size",
                        .inputs = {{"layer0", "ld06.layer.0", 1, false},
-                                  {"layer1", "ld06.layer.1", 1, true},
-                                  {"layer2", "ld06.layer.2", 1, true},
-                                  {"layer3", "ld06.layer.3", 1, true}},
+                                  {"layer1", "ld06.layer.1", 1, true, SizeRule::Same, "layer0"},
+                                  {"layer2", "ld06.layer.2", 1, true, SizeRule::Same, "layer0"},
+                                  {"layer3", "ld06.layer.3", 1, true, SizeRule::Same, "layer0"}},
                        .outputs = {{"wash", "ld06.wash", 4, false}},
                        .reference = StageVariant::Reference::PlainLoop},
                       t, [additive](StageIO& io, P p, const Exec& ex) {

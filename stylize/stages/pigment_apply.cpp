@@ -64,7 +64,7 @@ void pigment_apply_wc18(ImageF& dst, const ImageF& color, const ImageF& ctrl_pig
 void register_pigment_apply(Registry& r) {
     using P17 = PigmentApplyWc17Params;
     using P18 = PigmentApplyWc18Params;
-    const std::vector<Port> inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}};
+    const std::vector<Port> inputs = {{"color", target::kColor, 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false, SizeRule::Same, "color"}};
     const std::vector<Port> outputs = {{"color", "color.pigment", 4, false}};
     r.add(declare({.stage = "pigment_apply",
                    .variant = "wc18",

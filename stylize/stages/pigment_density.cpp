@@ -33,7 +33,7 @@ void register_pigment_density(Registry& r) {
     r.add(declare({.stage = "pigment_density",
                    .variant = "mnpr",
                    .doc = "WC18/MNPR image-space turbulence: d = 1 + ctrl.pigment.b, c' = |c|^d, mix(substrate, c', sat(d))",
-                   .inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false}},
+                   .inputs = {{"color", "color.adjusted", 4, false}, {"ctrl_pigment", target::kCtrlPigment, 4, false, SizeRule::Same, "color"}},
                    .outputs = {{"color", "color.density", 4, false}},
                    .reference = StageVariant::Reference::PlainLoop,
                    .in_place_input = "color",  // pointwise: each chunk's colour is read before it is written

@@ -4,6 +4,7 @@
 // compiled step that binds its values once.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -115,6 +116,59 @@ TEST(Declare, TheEntryChecksItsPortsAndRunsWithTypedValues) {
     EXPECT_THROW(v.run(no_output, pv, Exec::reference()), Error);
     EXPECT_THROW(v.bound(pv)(wrong, Exec::reference()), Error) << "the bound step is checked too";
     EXPECT_EQ(runs, 1) << "no run after a failed check";
+}
+
+// Ports' size relations (Port::size, Port::like), checked with the channels before the run.
+TEST(Declare, SizeRelationsOfPortsAreCheckedBeforeTheRun) {
+    int runs = 0;
+    Registry reg;
+    reg.add(declare({.stage = "sized_example",
+                     .variant = "v",
+                     .doc = "test",
+                     .inputs = {{"a", "a", 1, false},
+                                {"same", "same", 1, false, SizeRule::Same, "a"},
+                                {"half", "half", 1, true, SizeRule::FullOrHalf, "a"}},
+                     .outputs = {{"out", "out", 1, false}}},
+                    ParamTable<Params>(), [&runs](StageIO& io, const Params&, const Exec&) {
+                        ++runs;
+                        ensure_output(*io.out[0], 1, 1, 1);
+                    }));
+    const StageVariant& v = reg.get("sized_example", "v");
+    const ParamValues pv = Registry::resolve_params(v, {}, "test");
+    ImageF a(5, 3, 1), same(5, 3, 1), other(4, 3, 1), half(3, 2, 1), quarter(2, 1, 1), out;
+    StageIO ok{{&a, &same, &half}, {&out}, nullptr};
+    v.run(ok, pv, Exec::reference());
+    StageIO full{{&a, &same, &same}, {&out}, nullptr};
+    v.run(full, pv, Exec::reference());
+    StageIO absent{{&a, &same, nullptr}, {&out}, nullptr};
+    v.run(absent, pv, Exec::reference());
+    EXPECT_EQ(runs, 3) << "the same size, full or half (ceil(5/2) x ceil(3/2)), an absent optional input";
+    auto message = [&](StageIO io) {
+        try {
+            v.run(io, pv, Exec::reference());
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("ran");
+    };
+    EXPECT_EQ(message({{&a, &other, &half}, {&out}, nullptr}), "sized_example/v: input 'same' is 4x3, expected 5x3 like 'a'");
+    EXPECT_NE(message({{&a, &same, &quarter}, {&out}, nullptr}).find("input 'half' is 2x1, expected the size of 'a' (5x3) or half"),
+              std::string::npos);
+    EXPECT_EQ(runs, 3) << "no run after a failed check";
+}
+
+TEST(Declare, ASizeRelationMustNameAnotherInput) {
+    auto add = [](std::vector<Port> inputs) {
+        Registry reg;
+        reg.add(declare({.stage = "bad_size", .variant = "v", .doc = "test", .inputs = std::move(inputs),
+                         .outputs = {{"out", "out", 1, false}}},
+                        ParamTable<Params>(), [](StageIO&, const Params&, const Exec&) {}));
+    };
+    EXPECT_THROW(add({{"a", "a", 1, false}, {"b", "b", 1, false, SizeRule::Same, "c"}}), Error) << "no input c";
+    EXPECT_THROW(add({{"a", "a", 1, false, SizeRule::Same, "a"}}), Error) << "itself";
+    EXPECT_THROW(add({{"a", "a", 1, false}, {"b", "b", 1, false, SizeRule::Same, ""}}), Error) << "a rule without a port";
+    EXPECT_THROW(add({{"a", "a", 1, false}, {"b", "b", 1, false, SizeRule::Any, "a"}}), Error) << "a port without a rule";
+    EXPECT_NO_THROW(add({{"a", "a", 1, false}, {"b", "b", 1, false, SizeRule::FullOrHalf, "a"}}));
 }
 
 TEST(Declare, ABoundStepKeepsTheValuesItWasBoundWith) {
