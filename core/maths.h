@@ -63,6 +63,18 @@ inline std::vector<float> gaussian_weights(int radius, float sigma) {
 //! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
 //! texture() with GL_LINEAR), with the given border rule for the four taps. V is any view with
 //! `at(x, y, border)` (View<const T>, toolkit.h's Plane). Coordinates must be finite.
+//! The bilinear blend of four taps — a at (x0, y0), c at (x0 + 1, y0), d at (x0, y0 + 1), e at
+//! (x0 + 1, y0 + 1) — by the fractions tx, ty: top = a + (c - a) tx, bot = d + (e - d) tx,
+//! top + (bot - top) ty, in this order. The one formula of every bilinear tap (sample_bilinear, the
+//! resampling tables, the fast schedules' gathered taps): T is a float, a vector of channels or
+//! lanes; tx and ty a float or lanes of T's shape. Each lane and channel gets the scalar's bits.
+template <class T, class X, class Y>
+inline T bilerp(const T& a, const T& c, const T& d, const T& e, const X& tx, const Y& ty) {
+    const T top = a + (c - a) * tx;
+    const T bot = d + (e - d) * tx;
+    return top + (bot - top) * ty;
+}
+
 template <class V>
 auto sample_bilinear(const V& v, float px, float py, Border b) {
     using T = std::decay_t<decltype(v.at(0, 0, b))>;
@@ -72,9 +84,7 @@ auto sample_bilinear(const V& v, float px, float py, Border b) {
     const int x0 = int(x0f), y0 = int(y0f);
     const T a = v.at(x0, y0, b), c = v.at(x0 + 1, y0, b);
     const T d = v.at(x0, y0 + 1, b), e = v.at(x0 + 1, y0 + 1, b);
-    const T top = a + (c - a) * tx;
-    const T bot = d + (e - d) * tx;
-    return top + (bot - top) * ty;
+    return bilerp(a, c, d, e, tx, ty);
 }
 
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "core/hash.h"
+#include "core/maths.h"
 #include "raster/pass.h"
 #include "scenes/scene_file.h"
 
@@ -67,9 +68,7 @@ scene::Texture derive_intensity_texture(const scene::Scene& sc, const scene::Mat
         const float fx = (float(x) + 0.5f) / float(w) * kNoiseCells, fy = (float(y) + 0.5f) / float(h) * kNoiseCells;
         const int i = int(std::floor(fx)), j = int(std::floor(fy));
         const float tx = fx - float(i), ty = fy - float(j);
-        const float a = lattice(i, j) + (lattice(i + 1, j) - lattice(i, j)) * tx;
-        const float b = lattice(i, j + 1) + (lattice(i + 1, j + 1) - lattice(i, j + 1)) * tx;
-        return a + (b - a) * ty;
+        return maths::bilerp(lattice(i, j), lattice(i + 1, j), lattice(i, j + 1), lattice(i + 1, j + 1), tx, ty);
     };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/color.h"
+#include "core/maths.h"
 #include "core/simd.h"
 
 namespace aq::raster {
@@ -103,9 +104,7 @@ inline glm::vec4 sample_with(int w, int h, scene::Filter f, const scene::Sampler
     int x0, x1, y0, y1;
     wrap_pair(ix, w, s.wrap_s, x0, x1);
     wrap_pair(iy, h, s.wrap_t, y0, y1);
-    const glm::vec4 top = lerp4(fetch(x0, y0), fetch(x1, y0), tx);
-    const glm::vec4 bot = lerp4(fetch(x0, y1), fetch(x1, y1), tx);
-    return lerp4(top, bot, ty);
+    return maths::bilerp(fetch(x0, y0), fetch(x1, y0), fetch(x0, y1), fetch(x1, y1), tx, ty);
 }
 }  // namespace
 

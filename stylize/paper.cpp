@@ -231,11 +231,7 @@ ImageF prepare_paper(const PaperSpec& spec, int width, int height, const Exec& e
                 const float* c = t + (std::size_t(y1) * tw + x0) * 3;
                 const float* d = t + (std::size_t(y1) * tw + x1) * 3;
                 float* dst = o + (std::size_t(y) * width + x) * 3;
-                for (int k = 0; k < 3; ++k) {
-                    const float top = a[k] + (b[k] - a[k]) * tx;
-                    const float bot = c[k] + (d[k] - c[k]) * tx;
-                    dst[k] = adjust(top + (bot - top) * ty);
-                }
+                for (int k = 0; k < 3; ++k) dst[k] = adjust(maths::bilerp(a[k], b[k], c[k], d[k], tx, ty));
             }
         }
     });

@@ -240,10 +240,7 @@ void bleed_halve_into_planes(BleedPlanes& src, const float* cd, const float* kd,
             const float ty = ay.t[std::size_t(y)];
             const float* tx = ax.t.data();
             // Eight outputs: the lerps of the even (e) and odd (d) source values of rows 2y (0) and 2y + 1 (1).
-            auto lerp8 = [&](v8f e0, v8f d0, v8f e1, v8f d1, v8f t, v8f vty) {
-                const v8f top = e0 + (d0 - e0) * t, bot = e1 + (d1 - e1) * t;
-                return top + (bot - top) * vty;
-            };
+            auto lerp8 = [&](v8f e0, v8f d0, v8f e1, v8f d1, v8f t, v8f vty) { return maths::bilerp(e0, d0, e1, d1, t, vty); };
             // Source pixels 2x .. 2x + 15 of an RGBA image in both rows, transposed: a[c] / a[4 + c] =
             // channel c of the even / odd pixels of row 2y, b the same of row 2y + 1.
             auto rgba_pairs = [&](const float* p, int xs, v8f a[8], v8f b[8]) {
@@ -274,9 +271,7 @@ void bleed_halve_into_planes(BleedPlanes& src, const float* cd, const float* kd,
             for (; x < wr; ++x) {  // the same operations, one output pixel at a time
                 const std::size_t e0 = s0 + 2 * std::size_t(x), e1 = s1 + 2 * std::size_t(x);
                 auto lerp2 = [&](const float* p, std::size_t stride) {
-                    const float top = p[stride * e0] + (p[stride * (e0 + 1)] - p[stride * e0]) * tx[x];
-                    const float bot = p[stride * e1] + (p[stride * (e1 + 1)] - p[stride * e1]) * tx[x];
-                    return top + (bot - top) * ty;
+                    return maths::bilerp(p[stride * e0], p[stride * (e0 + 1)], p[stride * e1], p[stride * (e1 + 1)], tx[x], ty);
                 };
                 for (int c = 0; c < 3; ++c) src.p[c][o + x] = lerp2(cd + c, 4);
                 src.p[3][o + x] = lerp2(kd + kc, 4);

@@ -60,9 +60,7 @@ unsigned GapsOverlapsKernel::gaps8(int x, int y, unsigned lanes, v8f go) const {
         const v8i idx = (on & inside) ? (y0 - ybase) * row + x0 * px : v8i{};
         const v8f a = simd::gather8(base, idx), c = simd::gather8(base, idx + px);
         const v8f dd = simd::gather8(base, idx + row), ed = simd::gather8(base, idx + row + px);
-        const v8f top = a + (c - a) * tx;
-        const v8f bot = dd + (ed - dd) * tx;
-        v8f val = top + (bot - top) * ty;
+        v8f val = maths::bilerp(a, c, dd, ed, tx, ty);
         for (unsigned out = still & ~bits8(inside); out; out &= out - 1) {
             const int k = __builtin_ctz(out);
             val[k] = sample_bilinear(e, sx[k], sy[k], b);

@@ -192,16 +192,14 @@ void DistortRun::one(const Chunk& k, int x, int i, int y) const {
         ya = resolve_border(ya, h, b), yb = resolve_border(yb, h, b);
     }
     const float za = z(xa, ya), zc = z(xb, ya), zd0 = z(xa, yb), ze = z(xb, yb);
-    const float ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
-    const float dz = z(x, y) - (ztop + (zbot - ztop) * ty);
+    const float dz = z(x, y) - maths::bilerp(za, zc, zd0, ze, tx, ty);
     const bool blocked = p.both_sides ? !(std::fabs(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
     if (blocked) {
         o(x, y) = c(x, y);
         return;
     }
     const glm::vec4 ca = c(xa, ya), cc = c(xb, ya), cd = c(xa, yb), ce = c(xb, yb);
-    const glm::vec4 top = ca + (cc - ca) * tx, bot = cd + (ce - cd) * tx;
-    o(x, y) = top + (bot - top) * ty;
+    o(x, y) = maths::bilerp(ca, cc, cd, ce, tx, ty);
 }
 
 //! Pixels x.. x + 7 (indices i.. of their chunk) of row y at once where none of their taps needs
@@ -227,8 +225,7 @@ bool DistortRun::eight(const Chunk& k, int x, int i, int y) const {
     const v8i ia = (ya * zrow + xa * zpx) & tapped;
     const v8f za = simd::gather8(zp, ia), zc = simd::gather8(zp, ia + zpx);
     const v8f zd0 = simd::gather8(zp, ia + zrow), ze = simd::gather8(zp, ia + (zrow + zpx));
-    const v8f ztop = za + (zc - za) * tx, zbot = zd0 + (ze - zd0) * tx;
-    const v8f dz = plane8(z, x, y) - (ztop + (zbot - ztop) * ty);
+    const v8f dz = plane8(z, x, y) - maths::bilerp(za, zc, zd0, ze, tx, ty);
     const v8i blocked = p.both_sides ? ~(simd::abs8(dz) <= p.depth_threshold) : (dz > p.depth_threshold);
     const v8i sample = tapped & ~blocked;
     const v8i plus0 = blocked_flat ? v8i{} : ~zero & flat;

@@ -404,9 +404,7 @@ struct Resampler {
         if (identity()) return p(ox, oy);
         const std::size_t i = std::size_t(ox), j = std::size_t(oy);
         const float a = p(x.i0[i], y.i0[j]), c = p(x.i1[i], y.i0[j]), d = p(x.i0[i], y.i1[j]), e = p(x.i1[i], y.i1[j]);
-        const float top = a + (c - a) * x.t[i];
-        const float bot = d + (e - d) * x.t[i];
-        return top + (bot - top) * y.t[j];
+        return maths::bilerp(a, c, d, e, x.t[i], y.t[j]);
     }
     //! sample(p, ox + i, oy) for i < 8 (ox + 8 <= the output width): the same operations lane by
     //! lane, the taps gathered.
@@ -420,10 +418,7 @@ struct Resampler {
         const float* r0 = p.p + std::ptrdiff_t(y.i0[j]) * p.row;
         const float* r1 = p.p + std::ptrdiff_t(y.i1[j]) * p.row;
         const v8f a = simd::gather8(r0, i0), c = simd::gather8(r0, i1), d = simd::gather8(r1, i0), e = simd::gather8(r1, i1);
-        const v8f tx = load8(x.t.data() + i);
-        const v8f top = a + (c - a) * tx;
-        const v8f bot = d + (e - d) * tx;
-        return top + (bot - top) * y.t[j];
+        return maths::bilerp(a, c, d, e, load8(x.t.data() + i), y.t[j]);
     }
 };
 
