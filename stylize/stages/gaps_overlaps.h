@@ -14,10 +14,14 @@
 //   ("transparent gaps are obtained by zeroing the output color alpha channel").
 #pragma once
 
+#include <limits>
+#include <type_traits>
+
 #include <glm/glm.hpp>
 
 #include "core/exec.h"
 #include "core/image.h"
+#include "core/lanes.h"
 #include "stylize/ryb.h"
 #include "stylize/stage.h"
 #include "stylize/stages/toolkit.h"
@@ -67,15 +71,26 @@ struct GapsOverlapsKernel {
         return up->sample(bleed, x, y);
     }
 
+    //! The gradient's maths over lanes, written once (F = float for one pixel, simd::v8f for eight
+    //! of a row): tap(dx, dy) is the extended edge at the neighbour (dx, dy); gu, gv the Sobel-like
+    //! sums, len their length. Returns where it can be normalised (len > 1e-12 and finite): a bool,
+    //! or a lane mask.
+    template <class F, class Tap>
+    static auto gradient_parts(Tap&& tap, F& gu, F& gv, F& len) {
+        const F r = tap(1, 0), l = tap(-1, 0), d = tap(0, 1), u = tap(0, -1);
+        const F tr = tap(1, -1), tl = tap(-1, -1), dr = tap(1, 1), dl = tap(-1, 1);
+        gu = (r + 0.5f * (tr + dr)) - (l + 0.5f * (tl + dl));
+        gv = (d + 0.5f * (dr + dl)) - (u + 0.5f * (tr + tl));
+        len = lanes::root(gu * gu + gv * gv);
+        if constexpr (std::is_same_v<F, float>) return len > 1e-12f && len < std::numeric_limits<float>::infinity();
+        else return (len > 1e-12f) & (len < std::numeric_limits<float>::infinity());
+    }
+
     //! Normalised gradient of the extended edges; false if it is zero or not finite.
     bool gradient(int x, int y, glm::vec2& g) const {
-        const float r = e.at(x + 1, y, b), l = e.at(x - 1, y, b), d = e.at(x, y + 1, b), u = e.at(x, y - 1, b);
-        const float tr = e.at(x + 1, y - 1, b), tl = e.at(x - 1, y - 1, b);
-        const float dr = e.at(x + 1, y + 1, b), dl = e.at(x - 1, y + 1, b);
-        const float gu = (r + 0.5f * (tr + dr)) - (l + 0.5f * (tl + dl));
-        const float gv = (d + 0.5f * (dr + dl)) - (u + 0.5f * (tr + tl));
-        const float len = std::sqrt(gu * gu + gv * gv);
-        if (!(len > 1e-12f) || !std::isfinite(len)) return false;
+        float gu, gv, len;
+        const bool usable = gradient_parts([&](int dx, int dy) { return e.at(x + dx, y + dy, b); }, gu, gv, len);
+        if (!usable) return false;
         g = {gu / len, gv / len};
         return true;
     }

@@ -28,13 +28,8 @@ unsigned GapsOverlapsKernel::active8(int x, int y, v8f& ee, v8f& go) const {
 unsigned GapsOverlapsKernel::gaps8(int x, int y, unsigned lanes, v8f go) const {
     using simd::bits8;
     using simd::v8i;
-    auto at8 = [&](int dx, int dy) { return plane8(e, x + dx, y + dy); };
-    const v8f r = at8(1, 0), l = at8(-1, 0), d = at8(0, 1), u = at8(0, -1);
-    const v8f tr = at8(1, -1), tl = at8(-1, -1), dr = at8(1, 1), dl = at8(-1, 1);
-    const v8f gu = (r + 0.5f * (tr + dr)) - (l + 0.5f * (tl + dl));
-    const v8f gv = (d + 0.5f * (dr + dl)) - (u + 0.5f * (tr + tl));
-    const v8f len = simd::sqrt8(gu * gu + gv * gv);
-    lanes &= bits8((len > 1e-12f) & (len < std::numeric_limits<float>::infinity()));  // gradient()'s test
+    v8f gu, gv, len;
+    lanes &= bits8(gradient_parts([&](int dx, int dy) { return plane8(e, x + dx, y + dy); }, gu, gv, len));
     const v8f gx = gu / len, gy = gv / len;
     const v8i iota = simd::kLaneIndex8;
     const v8f cx = (float(x) + __builtin_convertvector(iota, v8f)) + 0.5f;  // float(x + i) + 0.5f, exact
