@@ -1,4 +1,4 @@
-// stylize/stages/glaze.schedule.cpp — the fast schedule of glaze (the maths, glaze_px4, in
+// stylize/stages/glaze.schedule.cpp — the fast schedule of glaze (the maths, glaze_of, in
 // wash.h; the checks and the plain reference loop in glaze.cpp): each used ramp's row resampled
 // once per output row, layers whose wash is 0 skipped where that provably changes no bit, the
 // layers composited over the row with the variant as a constant. The reference's values bit for
@@ -32,7 +32,7 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
                const float* __restrict rows, int w, const int* ch) {
     int c4[N > 0 ? N : 1];
     for (int j = 0; j < N; ++j) c4[j] = ch[j];
-    // A pixel's RGB in one 4-lane register (glaze_px4; the fourth lane is replaced).
+    // A pixel's RGB in one 4-lane register (glaze_of; the fourth lane is replaced).
     for (int x = 0; x < w; ++x) {
         const std::size_t i = std::size_t(x) * 4;
         v4f c;
@@ -40,7 +40,7 @@ void glaze_row(float* __restrict o, const float* __restrict base, const float* _
         for (int j = 0; j < N; ++j) {
             v4f col;
             std::memcpy(&col, rows + (std::size_t(j) * w + x) * 4, sizeof col);
-            c = glaze_px4<Mul>(c, col, sat(col[3] * wash[i + std::size_t(c4[j])]));
+            c = glaze_of<Mul>(c, col, sat(col[3] * wash[i + std::size_t(c4[j])]));
         }
         c[3] = 1.0f;
         std::memcpy(o + i, &c, sizeof c);

@@ -1,6 +1,6 @@
 // stylize/stages/stroke_ink.schedule.cpp — the fast schedule of stroke_ink/over (stroke_ink.h
 // stroke_ink_fast): the ink row resampled once (RowResampler; the ink itself at the same size),
-// then the row glazed in registers (glaze_px4: glaze_px's values); in place, uninked pixels are not
+// then the row glazed in registers (glaze_of: glaze_px's values); in place, uninked pixels are not
 // written. The registry-wide traversal test compares it with the reference.
 #include "stylize/stages/stroke_ink.h"
 
@@ -21,7 +21,7 @@ void stroke_ink_fast(ImageF& dst, const ImageF& color, const ImageF& ink, bool i
     const float* c = color.data();
     float* o = dst.data();
     // Fast: the ink row resampled once (RowResampler; the ink itself at the same size), then the
-    // row glazed in registers (glaze_px4: glaze_px's values); in place, uninked pixels untouched.
+    // row glazed in registers (glaze_of: glaze_px's values); in place, uninked pixels untouched.
     const ResampleAxis ax(w, ink.width()), ay(h, ink.height());
     const v4f col = {p.color.r, p.color.g, p.color.b, 0.0f};
     constexpr int kGroup = 8;
@@ -51,7 +51,7 @@ void stroke_ink_fast(ImageF& dst, const ImageF& color, const ImageF& ink, bool i
                     std::memcpy(&d, src + std::size_t(x) * 4, sizeof d);
                     if (k != 0.0f) {
                         const float a = d[3];
-                        d = glaze_px4<false>(d, col, k);
+                        d = glaze_of<false>(d, col, k);
                         d[3] = a;
                     }
                     std::memcpy(out + std::size_t(x) * 4, &d, sizeof d);

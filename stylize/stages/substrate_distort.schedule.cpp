@@ -144,8 +144,8 @@ struct DistortRun {
     void row(int y, int x0, int x1) const;
 };
 
-//! Offsets and bilinear weights of pixels [xs, xs + n) of row y: the operations of
-//! substrate_offset and the scalar taps, value by value, in one vectorisable loop.
+//! Offsets (substrate_offset itself) and bilinear weights of pixels [xs, xs + n) of row y: the
+//! scalar taps' operations, value by value, in one vectorisable loop.
 void DistortRun::offsets(Chunk& k, int xs, int n, int y) const {
     float tr[kChunk], tg[kChunk], tc[kChunk];
     int i8 = 0;
@@ -155,16 +155,10 @@ void DistortRun::offsets(Chunk& k, int xs, int n, int y) const {
         store8(tc + i8, plane8(ctrl, xs + i8, y));
     }
     for (int i = i8; i < n; ++i) tr[i] = nr(xs + i, y), tg[i] = ng(xs + i, y), tc[i] = ctrl(xs + i, y);
-    const float dist5 = p.distortion;
     const float fyc = float(y) + 0.5f;
     for (int i = 0; i < n; ++i) {
-        float vx = tr[i] * 2.0f - 1.0f, vy = tg[i] * 2.0f - 1.0f;
-        vx = vx > -1.0f ? (vx < 1.0f ? vx : 1.0f) : -1.0f;
-        vy = vy > -1.0f ? (vy < 1.0f ? vy : 1.0f) : -1.0f;
-        float kc = tc[i] + kDistortCtrlBias;
-        kc = kc > 0.0f ? (kc < 1.0f ? kc : 1.0f) : 0.0f;
-        const float sc = dist5 * kDistortPixelsPerUnit * kc;
-        const float offx = vx * sc, offy = vy * sc;
+        const glm::vec2 off = substrate_offset(tr[i], tg[i], tc[i], p);
+        const float offx = off.x, offy = off.y;
         k.ox[i] = offx, k.oy[i] = offy;
         const float px = float(xs + i) + 0.5f + offx, py = fyc + offy;
         const float fx = px - 0.5f, fy = py - 0.5f;

@@ -53,21 +53,22 @@ inline float wash_amount(float I, float rho, float h, const WashShape& s) {
 
 //! Spec §4.7 glazing of one wash of colour c and opacity k = sat(alpha·p) over dst.
 //! Multiplicative (subtractive-like, the watercolor default): dst·(1 - k·(1 - c)); over: mix(dst, c, k).
-inline glm::vec3 glaze_px(glm::vec3 dst, glm::vec3 c, float k, bool multiplicative) {
-    return multiplicative ? dst * (1.0f - k * (1.0f - c)) : dst * (1.0f - k) + c * k;
-}
-
-//! glaze_px with a pixel's RGB in the first three lanes of a 4-lane register: its operations lane by
-//! lane, bit for bit its vec3 form (the fourth lane is computed; callers replace it).
-template <bool Multiplicative>
-inline toolkit::v4f glaze_px4(toolkit::v4f dst, toolkit::v4f c, float k) {
+//! The glazing maths written once, over any colour type: glm::vec3, or a pixel's RGB in the first
+//! three lanes of a 4-lane register (the fast schedules; the fourth lane is computed and callers
+//! replace it), each lane bit for bit the vec3 form.
+template <bool Multiplicative, class V>
+inline V glaze_of(V dst, V c, float k) {
     if constexpr (Multiplicative) return dst * (1.0f - k * (1.0f - c));
     else return dst * (1.0f - k) + c * k;
 }
 
+inline glm::vec3 glaze_px(glm::vec3 dst, glm::vec3 c, float k, bool multiplicative) {
+    return multiplicative ? glaze_of<true>(dst, c, k) : glaze_of<false>(dst, c, k);
+}
+
 //! glaze_px of one colour over a row of w RGBA pixels: o[x].rgb = glaze_px(dst[x].rgb, c,
 //! sat(alpha·p[x·stride]), multiplicative), o[x].a = dst[x].a (shadow_layer), through
-//! glaze_px4.
+//! glaze_of over 4-lane registers.
 template <bool Multiplicative>
 inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const float* __restrict p, std::size_t stride,
                          int w, glm::vec3 c, float alpha) {
@@ -75,7 +76,7 @@ inline void glaze_row_of(float* __restrict o, const float* __restrict dst, const
     for (int x = 0; x < w; ++x) {
         toolkit::v4f d;
         std::memcpy(&d, dst + std::size_t(x) * 4, sizeof d);
-        toolkit::v4f r = glaze_px4<Multiplicative>(d, col, sat(alpha * p[std::size_t(x) * stride]));
+        toolkit::v4f r = glaze_of<Multiplicative>(d, col, sat(alpha * p[std::size_t(x) * stride]));
         r[3] = d[3];
         std::memcpy(o + std::size_t(x) * 4, &r, sizeof r);
     }
