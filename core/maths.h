@@ -60,9 +60,6 @@ inline std::vector<float> gaussian_weights(int radius, float sigma) {
     return w;
 }
 
-//! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
-//! texture() with GL_LINEAR), with the given border rule for the four taps. V is any view with
-//! `at(x, y, border)` (View<const T>, toolkit.h's Plane). Coordinates must be finite.
 //! The bilinear blend of four taps — a at (x0, y0), c at (x0 + 1, y0), d at (x0, y0 + 1), e at
 //! (x0 + 1, y0 + 1) — by the fractions tx, ty: top = a + (c - a) tx, bot = d + (e - d) tx,
 //! top + (bot - top) ty, in this order. The one formula of every bilinear tap (sample_bilinear, the
@@ -75,6 +72,9 @@ inline T bilerp(const T& a, const T& c, const T& d, const T& e, const X& tx, con
     return top + (bot - top) * ty;
 }
 
+//! Bilinear sample at continuous pixel coordinates (pixel centres at integer + 0.5, as GL's
+//! texture() with GL_LINEAR), with the given border rule for the four taps. V is any view with
+//! `at(x, y, border)` (View<const T>, toolkit.h's Plane). Coordinates must be finite.
 template <class V>
 auto sample_bilinear(const V& v, float px, float py, Border b) {
     using T = std::decay_t<decltype(v.at(0, 0, b))>;

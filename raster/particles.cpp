@@ -14,7 +14,6 @@
 #include <immintrin.h>
 #endif
 
-
 #include "core/hash.h"
 #include "raster/vertex.h"
 #include "core/maths.h"

@@ -1,9 +1,10 @@
 // stylize/stages/pigment_apply.schedule.cpp — the fast schedules of pigment_apply (WC17 eq. 9,
-// WC18 eq. 1-4; the per-pixel maths, pigment_apply_*_px and their prepare / channel parts, in
-// pigment_apply.h; the checks and the plain reference loops in pigment_apply.cpp). Rows in chunks
-// of 64 pixels, each step a simple loop over arrays, the powers in one vectorised pow_c_many;
-// value for value the operations of the _px functions (tests/stylize/row_kernels_test.cpp checks
-// them bit for bit; the registry-wide traversal test compares the schedules).
+// WC18 eq. 1-4; the per-pixel maths, pigment_apply_*_px and the parts both call (wc17's prepare
+// and channel, wc18's terms), in pigment_apply.h; the checks and the plain reference loops in
+// pigment_apply.cpp). Rows in chunks of 64 pixels, each step a simple loop over arrays, the powers
+// in one vectorised pow_c_many; value for value the operations of the _px functions
+// (tests/stylize/row_kernels_test.cpp checks them bit for bit; the registry-wide traversal test
+// compares the schedules).
 // The power loops vectorise only when GCC may evaluate both sides of a select; that needs
 // -fno-trapping-math (FP exception flags only — no value changes, unlike -ffast-math: no
 // reassociation, no FMA, no reciprocal approximations). See docs/stylize.md "Speed".

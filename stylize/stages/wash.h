@@ -53,15 +53,16 @@ inline float wash_amount(float I, float rho, float h, const WashShape& s) {
 
 //! Spec §4.7 glazing of one wash of colour c and opacity k = sat(alpha·p) over dst.
 //! Multiplicative (subtractive-like, the watercolor default): dst·(1 - k·(1 - c)); over: mix(dst, c, k).
-//! The glazing maths written once, over any colour type: glm::vec3, or a pixel's RGB in the first
-//! three lanes of a 4-lane register (the fast schedules; the fourth lane is computed and callers
-//! replace it), each lane bit for bit the vec3 form.
+//! Written once over any colour type: glm::vec3, or a pixel's RGB in the first three lanes of a
+//! 4-lane register (the fast schedules; the fourth lane is computed and callers replace it), each
+//! lane bit for bit the vec3 form.
 template <bool Multiplicative, class V>
 inline V glaze_of(V dst, V c, float k) {
     if constexpr (Multiplicative) return dst * (1.0f - k * (1.0f - c));
     else return dst * (1.0f - k) + c * k;
 }
 
+//! glaze_of of one pixel, the mode chosen at run time.
 inline glm::vec3 glaze_px(glm::vec3 dst, glm::vec3 c, float k, bool multiplicative) {
     return multiplicative ? glaze_of<true>(dst, c, k) : glaze_of<false>(dst, c, k);
 }
